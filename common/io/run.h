@@ -1,0 +1,73 @@
+// Readers and writers for the files of CONTRACT sections 3–5: camera.json, a run directory
+// (run.json, frames.csv, odometry.csv, truth.csv) and poses.csv. Every reader rejects a file that
+// breaks the contract with a one-line message naming the file, the line and the field.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <opencv2/core.hpp>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "base/status.h"
+#include "geometry/camera_model.h"
+#include "geometry/pose2.h"
+
+namespace fleetloc::io {
+
+// The `raw` block of camera.json: an uncalibrated physical camera.
+struct RawCamera {
+  std::array<double, 9> K{};      // row-major intrinsics
+  std::vector<double> dist;       // k1, k2, p1, p2, k3
+  std::array<double, 9> H_ground{};  // undistorted pixels → camera_ground metres
+};
+
+struct CameraFile {
+  geometry::CameraModel model;
+  std::optional<RawCamera> raw;
+};
+
+struct FrameRef {
+  double t = 0.0;
+  std::filesystem::path file;  // absolute (resolved against the run directory)
+};
+
+struct Run {
+  std::filesystem::path dir;
+  std::string vehicle_id;
+  CameraFile camera;
+  geometry::Pose2 initial_pose;              // base_link in map at the first frame's time
+  Eigen::Vector3d initial_sigma{0, 0, 0};    // 1-sigma x, y, theta
+  std::vector<FrameRef> frames;
+  std::vector<geometry::StampedPose> odometry;  // base_link in odom
+  std::vector<geometry::StampedPose> truth;     // base_link in map, empty if absent
+};
+
+// One row of poses.csv (CONTRACT section 5).
+struct PoseRecord {
+  double t = 0.0;
+  geometry::Pose2 pose;
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  std::string status;  // tracking | coasting | lost | relocalized
+  int inliers = 0;
+};
+
+Result<CameraFile> ReadCameraJson(const std::filesystem::path& path);
+Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& camera);
+
+// Reads and validates a whole run directory (not the images themselves: they are read lazily by
+// the tracker with ReadFrame so that a bad image is reported with its file name).
+Result<Run> ReadRun(const std::filesystem::path& dir);
+// Writes run.json, camera.json, frames.csv, odometry.csv and (if non-empty) truth.csv. Frame
+// files are written by the caller; FrameRef::file is written relative to the run directory.
+Status WriteRun(const Run& run);
+
+// Reads one frame as 8-bit gray; checks its size against the camera.
+Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera);
+
+Result<std::vector<PoseRecord>> ReadPosesCsv(const std::filesystem::path& path);
+Status WritePosesCsv(const std::filesystem::path& path, const std::vector<PoseRecord>& poses);
+
+}  // namespace fleetloc::io

@@ -1,0 +1,16 @@
+// fleetctl subcommand registration. Each Register* adds its subcommands to the app; a subcommand's
+// callback stores its outcome in *result (main turns it into the exit status of CONTRACT §6).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "base/status.h"
+
+namespace fleetloc::fleetctl {
+
+void RegisterMosaicCommands(CLI::App& app, Status* result);
+void RegisterSimCommand(CLI::App& app, Status* result);
+void RegisterTrackCommand(CLI::App& app, Status* result);
+void RegisterBenchCommand(CLI::App& app, Status* result);
+
+}  // namespace fleetloc::fleetctl
