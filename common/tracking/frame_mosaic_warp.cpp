@@ -1,0 +1,28 @@
+// Frame ↔ mosaic affine from three mapped points (the composition is exactly affine).
+#include "tracking/frame_mosaic_warp.h"
+
+#include <Eigen/LU>
+
+namespace fleetloc::tracking {
+
+FrameMosaicWarp FrameMosaicWarp::For(const geometry::Pose2& camera_in_map,
+                                     const geometry::CameraModel& camera,
+                                     const geometry::Geotransform& geo) {
+  auto map = [&](double u, double v) {
+    return geo.MapToPixel(camera_in_map * camera.PixelToGround({u, v}));
+  };
+  FrameMosaicWarp warp;
+  warp.offset = map(0, 0);
+  warp.linear.col(0) = map(1, 0) - warp.offset;
+  warp.linear.col(1) = map(0, 1) - warp.offset;
+  return warp;
+}
+
+FrameMosaicWarp FrameMosaicWarp::Inverse() const {
+  FrameMosaicWarp inverse;
+  inverse.linear = linear.inverse();
+  inverse.offset = -inverse.linear * offset;
+  return inverse;
+}
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,26 @@
+// The affine map between a frame's continuous pixel coordinates and the mosaic's level-0
+// continuous pixel coordinates for a camera pose (camera_ground in map): frame pixel → ground
+// (CONTRACT §3) → map (pose) → mosaic pixel (CONTRACT §2). Both use pixel centres at i + 0.5.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "geometry/camera_model.h"
+#include "geometry/geotransform.h"
+
+namespace fleetloc::tracking {
+
+struct FrameMosaicWarp {
+  Eigen::Matrix2d linear = Eigen::Matrix2d::Identity();  // mosaic = linear · frame + offset
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+
+  static FrameMosaicWarp For(const geometry::Pose2& camera_in_map,
+                             const geometry::CameraModel& camera,
+                             const geometry::Geotransform& geo);
+  Eigen::Vector2d operator()(const Eigen::Vector2d& frame_px) const {
+    return linear * frame_px + offset;
+  }
+  FrameMosaicWarp Inverse() const;
+};
+
+}  // namespace fleetloc::tracking

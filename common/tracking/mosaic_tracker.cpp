@@ -1,0 +1,185 @@
+// The tracker cycle: input transforms, lookup, preprocessing, overlap, selection, matching,
+// Kalman refinement with outlier rejection, output transforms.
+#include "tracking/mosaic_tracker.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "imaging/texture.h"
+#include "tracking/feature_selection.h"
+#include "tracking/motion_model.h"
+
+namespace fleetloc::tracking {
+
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
+
+const char* LockStateName(LockState state) {
+  switch (state) {
+    case LockState::kTracking: return "tracking";
+    case LockState::kCoasting: return "coasting";
+    case LockState::kLost: return "lost";
+    case LockState::kRelocalized: return "relocalized";
+  }
+  return "lost";
+}
+
+MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::CameraModel& camera,
+                             mosaic::RasterSource* mosaic)
+    : options_(options), camera_(camera), mosaic_(mosaic), matcher_(options, mosaic) {}
+
+void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
+  internal_ = geometry::ComposeFixed(base_in_map, camera_.mount);
+  odom_last_ = odom;
+  initialized_ = true;
+  coasting_frames_ = 0;
+  state_ = LockState::kTracking;
+  t_last_ = std::nan("");
+}
+
+// Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
+// last estimate (never the external absolute pose), with covariance growth.
+PoseWithCovariance MosaicTracker::PredictCamera(double t, const Pose2& odom) {
+  const Pose2 base_increment = geometry::Between(odom_last_, odom);
+  // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
+  const Pose2 camera_increment = camera_.mount.Inverse() * base_increment * camera_.mount;
+  const double dt = std::isnan(t_last_) ? 0.0 : t - t_last_;
+  PoseWithCovariance predicted = Predict(internal_, camera_increment, dt, options_.odometry);
+  odom_last_ = odom;
+  t_last_ = t;
+  return predicted;
+}
+
+// Search half-size for a frame point: 3 sigma of the predicted position of that point.
+int MosaicTracker::SearchRadius(const PoseWithCovariance& camera, const Eigen::Vector2d& px) const {
+  const Eigen::Matrix<double, 2, 3> j =
+      geometry::PointJacobian(camera.pose, camera_.PixelToGround(px));
+  const Eigen::Matrix2d cov = j * camera.covariance * j.transpose();
+  const double sigma_px =
+      std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff()) /
+      camera_.resolution_m;
+  const double r = std::ceil(options_.search_sigma_multiple * sigma_px) + 1.0;
+  return static_cast<int>(std::clamp(r, double(options_.min_search_radius_px), 1e6));
+}
+
+// Steps 3–5: texture score, overlap polygon, greedy selection.
+std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& frame, const Pose2& camera,
+                                                     int radius_px) const {
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const FrameMosaicWarp to_frame = FrameMosaicWarp::For(camera, camera_, layout.geo).Inverse();
+  geometry::ConvexPolygon mosaic_in_frame;
+  for (const auto& corner : geometry::Rectangle(0, 0, layout.width_px, layout.height_px)) {
+    mosaic_in_frame.push_back(to_frame(corner));
+  }
+  const geometry::ConvexPolygon overlap = geometry::ClipConvex(
+      geometry::Rectangle(0, 0, frame.cols, frame.rows), mosaic_in_frame);
+  cv::Mat half;
+  cv::resize(frame, half, {frame.cols / 2, frame.rows / 2}, 0, 0, cv::INTER_AREA);
+  const cv::Mat texture = imaging::TextureScore(half, options_.texture_window_px);
+  const double half_extent = options_.template_size_px / 2.0 + radius_px + matcher_.margin_px();
+  const std::vector<TemplateSite> candidates = CandidateSites(
+      texture, overlap, options_.candidate_step_px, half_extent, options_.min_texture);
+  return SelectSites(candidates, options_.max_templates, options_.spread_sigma_px,
+                     options_.template_size_px);
+}
+
+// Step 6: each site matched within its own radius (or a fixed one), as map correspondences.
+MosaicTracker::Measured MosaicTracker::MatchSites(const cv::Mat& frame,
+                                                  const std::vector<TemplateSite>& sites,
+                                                  const PoseWithCovariance& camera,
+                                                  int fixed_radius_px) const {
+  const geometry::Geotransform& geo = mosaic_->layout().geo;
+  const FrameMosaicWarp warp = FrameMosaicWarp::For(camera.pose, camera_, geo);
+  const double sigma_m = options_.measurement_sigma_px * camera_.resolution_m;
+  Measured measured;
+  for (const TemplateSite& site : sites) {
+    const int radius = fixed_radius_px > 0 ? fixed_radius_px
+                                           : std::min(SearchRadius(camera, site.center_px),
+                                                      options_.max_search_radius_px);
+    const std::optional<SiteMatch> match = matcher_.Match(frame, site.center_px, radius, warp);
+    if (!match) continue;
+    const Eigen::Vector2d observed = geo.PixelToMap(warp(site.center_px + match->shift_px));
+    measured.sites.push_back(site);
+    measured.matches.push_back({camera_.PixelToGround(site.center_px), observed, sigma_m});
+  }
+  return measured;
+}
+
+PoseUpdate MosaicTracker::Update(const PoseWithCovariance& prior, const Measured& measured) const {
+  OutlierOptions outliers;
+  outliers.ratio = options_.outlier_ratio;
+  outliers.min_residual_m = options_.min_outlier_residual_px * camera_.resolution_m;
+  outliers.min_inliers = options_.min_inliers;
+  return KalmanPoseUpdate(prior, measured.matches, outliers);
+}
+
+FrameResult MosaicTracker::Coast(double t, const Pose2& odom) {
+  FLEETLOC_CHECK(initialized_);
+  internal_ = PredictCamera(t, odom);
+  ++coasting_frames_;
+  const bool lost = coasting_frames_ > options_.max_coasting_frames ||
+                    SearchRadius(internal_, {camera_.cx_px, camera_.cy_px}) >
+                        options_.max_search_radius_px;
+  return Finish(t, internal_, lost ? LockState::kLost : LockState::kCoasting);
+}
+
+FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom) {
+  FLEETLOC_CHECK(initialized_);
+  FLEETLOC_CHECK(frame.type() == CV_8UC1);
+  const PoseWithCovariance prior = PredictCamera(t, odom);
+  internal_ = prior;
+  int frame_radius = 0;
+  for (const auto& corner : geometry::Rectangle(0, 0, frame.cols, frame.rows)) {
+    frame_radius = std::max(frame_radius, SearchRadius(prior, corner));
+  }
+  if (frame_radius > options_.max_search_radius_px) {
+    ++coasting_frames_;
+    FrameResult lost = Finish(t, prior, LockState::kLost);
+    lost.search_radius_px = frame_radius;
+    return lost;
+  }
+  const std::vector<TemplateSite> sites = ChooseSites(frame, prior.pose, frame_radius);
+  Measured measured = MatchSites(frame, sites, prior, 0);
+  const int templates = static_cast<int>(measured.matches.size());
+  PoseUpdate update = Update(prior, measured);
+  // Second pass: re-resample the mosaic at the refined pose and re-match the inliers in a small
+  // window, so the sub-pixel fit works near zero shift where its bias vanishes.
+  for (int pass = 0; pass < options_.refine_passes && update.inliers >= options_.min_inliers;
+       ++pass) {
+    std::vector<TemplateSite> kept;
+    for (size_t i = 0; i < measured.sites.size(); ++i) {
+      if (update.inlier[i]) kept.push_back(measured.sites[i]);
+    }
+    measured = MatchSites(frame, kept, update.posterior, options_.refine_search_radius_px);
+    update = Update(prior, measured);
+  }
+  LockState state = LockState::kCoasting;
+  if (update.inliers >= options_.min_inliers) {
+    internal_ = update.posterior;
+    state = state_ == LockState::kLost ? LockState::kRelocalized : LockState::kTracking;
+    coasting_frames_ = 0;
+  } else {
+    ++coasting_frames_;
+    if (coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
+  }
+  FrameResult result = Finish(t, internal_, state);
+  result.templates = templates;
+  result.inliers = state == LockState::kCoasting || state == LockState::kLost ? 0 : update.inliers;
+  result.rms_residual_px = update.rms_residual_m / camera_.resolution_m;
+  result.search_radius_px = frame_radius;
+  return result;
+}
+
+// Step 8: output transforms — remove the mount offset, report base_link at the frame time.
+FrameResult MosaicTracker::Finish(double t, const PoseWithCovariance& camera, LockState state) {
+  state_ = state;
+  FrameResult result;
+  result.t = t;
+  result.base_in_map = geometry::ComposeFixed(camera, camera_.mount.Inverse());
+  result.state = state;
+  return result;
+}
+
+}  // namespace fleetloc::tracking

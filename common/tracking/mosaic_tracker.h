@@ -1,0 +1,73 @@
+// The mosaic tracker cycle (paper 000 §2, DESIGN §3): one call per camera frame turns the frame,
+// its capture time and the odometry pose at that time into base_link's pose in map.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "geometry/camera_model.h"
+#include "mosaic/raster_source.h"
+#include "tracking/feature_selection.h"
+#include "tracking/pose_update.h"
+#include "tracking/template_matcher.h"
+#include "tracking/tracker_options.h"
+
+namespace fleetloc::tracking {
+
+enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
+const char* LockStateName(LockState state);
+
+struct FrameResult {
+  double t = 0.0;
+  geometry::PoseWithCovariance base_in_map;  // at the frame's time
+  LockState state = LockState::kLost;
+  int templates = 0;              // templates matched (before outlier rejection)
+  int inliers = 0;                // correspondences kept by the pose update
+  double rms_residual_px = 0.0;
+  int search_radius_px = 0;
+};
+
+class MosaicTracker {
+ public:
+  // `mosaic` must outlive the tracker. Options must have passed Validate().
+  MosaicTracker(const TrackerOptions& options, const geometry::CameraModel& camera,
+                mosaic::RasterSource* mosaic);
+
+  // Starts tracking from base_link's pose in map (with covariance) at the time whose odometry
+  // pose is `odom`.
+  void Reset(const geometry::PoseWithCovariance& base_in_map, const geometry::Pose2& odom);
+
+  // One cycle. `frame` is the rectified CV_8UC1 image (camera size), `odom` base_link in odom
+  // at time t (interpolated by the caller). Reset() must have been called.
+  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom);
+
+  // Odometry-only step (a frame that could not be read or used): the pose coasts.
+  FrameResult Coast(double t, const geometry::Pose2& odom);
+
+ private:
+  struct Measured {
+    std::vector<TemplateSite> sites;
+    std::vector<Correspondence> matches;
+  };
+  geometry::PoseWithCovariance PredictCamera(double t, const geometry::Pose2& odom);
+  int SearchRadius(const geometry::PoseWithCovariance& camera, const Eigen::Vector2d& px) const;
+  std::vector<TemplateSite> ChooseSites(const cv::Mat& frame, const geometry::Pose2& camera,
+                                        int radius_px) const;
+  Measured MatchSites(const cv::Mat& frame, const std::vector<TemplateSite>& sites,
+                      const geometry::PoseWithCovariance& camera, int fixed_radius_px) const;
+  PoseUpdate Update(const geometry::PoseWithCovariance& prior, const Measured& measured) const;
+  FrameResult Finish(double t, const geometry::PoseWithCovariance& camera, LockState state);
+
+  TrackerOptions options_;
+  geometry::CameraModel camera_;
+  mosaic::RasterSource* mosaic_;
+  TemplateMatcher matcher_;
+  geometry::PoseWithCovariance internal_;  // camera_ground in map: the tracker's own estimate
+  geometry::Pose2 odom_last_;
+  double t_last_ = 0.0;
+  bool initialized_ = false;
+  int coasting_frames_ = 0;
+  LockState state_ = LockState::kLost;
+};
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,35 @@
+// Odometry noise model and prediction.
+#include "tracking/motion_model.h"
+
+#include <cmath>
+
+namespace fleetloc::tracking {
+
+Eigen::Matrix3d IncrementCovariance(const geometry::Pose2& increment, double dt_s,
+                                    const OdometryNoiseOptions& n) {
+  const double distance = std::hypot(increment.x, increment.y);
+  const double turn = std::abs(increment.theta);
+  const double along = n.along_sigma_per_m * distance + n.floor_sigma_m;
+  const double lateral = n.lateral_sigma_per_m * distance + n.floor_sigma_m;
+  const double heading = n.heading_sigma_per_rad * turn + n.heading_sigma_per_m * distance +
+                         n.heading_sigma_per_s * std::abs(dt_s) + n.floor_sigma_m;
+  // Along/lateral are relative to the direction of travel; rotate into the increment's frame.
+  const double direction = distance > 0 ? std::atan2(increment.y, increment.x) : 0.0;
+  const double c = std::cos(direction), s = std::sin(direction);
+  Eigen::Matrix2d rotation;
+  rotation << c, -s, s, c;
+  Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
+  q.topLeftCorner<2, 2>() =
+      rotation * Eigen::Vector2d(along * along, lateral * lateral).asDiagonal() *
+      rotation.transpose();
+  q(2, 2) = heading * heading;
+  return q;
+}
+
+geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& internal,
+                                     const geometry::Pose2& increment, double dt_s,
+                                     const OdometryNoiseOptions& noise) {
+  return geometry::Compose(internal, {increment, IncrementCovariance(increment, dt_s, noise)});
+}
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,20 @@
+// Covariance propagation with odometry (paper 000 §2.2.3, DESIGN §3 step 1): the prediction is the
+// tracker's own last estimate plus the odometry increment, and its uncertainty grows with the
+// distance driven, the angle turned and the time elapsed.
+#pragma once
+
+#include "geometry/pose2.h"
+#include "tracking/tracker_options.h"
+
+namespace fleetloc::tracking {
+
+// Covariance of an odometry increment (expressed in the frame of its start pose).
+Eigen::Matrix3d IncrementCovariance(const geometry::Pose2& increment, double dt_s,
+                                    const OdometryNoiseOptions& noise);
+
+// internal ⊕ increment with first-order covariance propagation.
+geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& internal,
+                                     const geometry::Pose2& increment, double dt_s,
+                                     const OdometryNoiseOptions& noise);
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,34 @@
+// Tests for the odometry noise model and covariance propagation.
+#include "tracking/motion_model.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace fleetloc::tracking {
+namespace {
+
+TEST(MotionModel, AlongTrackSigmaScalesWithDistanceInTravelDirection) {
+  OdometryNoiseOptions n;
+  n.along_sigma_per_m = 0.01;
+  n.lateral_sigma_per_m = 0.0;
+  n.floor_sigma_m = 1e-12;
+  // Driving 2 m along +y of the start frame: all position uncertainty is along y.
+  const Eigen::Matrix3d q = IncrementCovariance({0.0, 2.0, 0.0}, 1.0, n);
+  EXPECT_NEAR(std::sqrt(q(1, 1)), 0.02, 1e-9);
+  EXPECT_NEAR(q(0, 0), 0.0, 1e-12);
+}
+
+TEST(MotionModel, PredictionAddsIncrementAndGrowsUncertainty) {
+  OdometryNoiseOptions n;
+  geometry::PoseWithCovariance start{{1.0, 1.0, M_PI / 2}, Eigen::Matrix3d::Identity() * 1e-8};
+  const auto p = Predict(start, {0.5, 0.0, 0.1}, 0.2, n);
+  EXPECT_NEAR(p.pose.x, 1.0, 1e-12);
+  EXPECT_NEAR(p.pose.y, 1.5, 1e-12);
+  EXPECT_NEAR(p.pose.theta, M_PI / 2 + 0.1, 1e-12);
+  EXPECT_GT(p.covariance(1, 1), start.covariance(1, 1));
+  EXPECT_GT(p.covariance(2, 2), start.covariance(2, 2));
+}
+
+}  // namespace
+}  // namespace fleetloc::tracking

@@ -1,0 +1,54 @@
+// Validation of tracker options.
+#include "tracking/tracker_options.h"
+
+#include <cmath>
+#include <string>
+
+namespace fleetloc::tracking {
+namespace {
+
+Status Check(bool ok, const char* field, const char* rule) {
+  return ok ? Status::Ok() : InvalidInput(std::string("tracker option '") + field + "' " + rule);
+}
+
+}  // namespace
+
+Status Validate(const TrackerOptions& o) {
+  FLEETLOC_RETURN_IF_ERROR(Check(o.template_size_px >= 8 && o.template_size_px <= 128 &&
+                                     o.template_size_px % 2 == 0,
+                                 "template_size_px", "must be even, in [8, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.max_templates >= 2 && o.max_templates <= 256, "max_templates",
+                                 "must be in [2, 256]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.min_inliers >= 2 && o.min_inliers <= o.max_templates,
+                                 "min_inliers", "must be in [2, max_templates]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.candidate_step_px >= 1, "candidate_step_px", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.texture_window_px >= 3 && o.texture_window_px % 2 == 1,
+                                 "texture_window_px", "must be odd, ≥ 3"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.normalize_window_px >= 3 && o.normalize_window_px % 2 == 1,
+                                 "normalize_window_px", "must be odd, ≥ 3"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.min_texture >= 0, "min_texture", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.spread_sigma_px > 0, "spread_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.min_peak_correlation > -1 && o.min_peak_correlation < 1,
+                                 "min_peak_correlation", "must be in (-1, 1)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.max_ambiguity_ratio > 0 && o.max_ambiguity_ratio <= 1,
+                                 "max_ambiguity_ratio", "must be in (0, 1]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.search_sigma_multiple > 0, "search_sigma_multiple", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.min_search_radius_px >= 1 &&
+                                     o.min_search_radius_px <= o.max_search_radius_px,
+                                 "min_search_radius_px", "must be in [1, max_search_radius_px]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.refine_search_radius_px >= 1, "refine_search_radius_px",
+                                 "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes",
+                                 "must be in [0, 5]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.measurement_sigma_px > 0, "measurement_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.outlier_ratio > 1, "outlier_ratio", "must be > 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.max_coasting_frames >= 0, "max_coasting_frames", "must be ≥ 0"));
+  const auto& n = o.odometry;
+  FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&
+                                     n.heading_sigma_per_rad >= 0 && n.heading_sigma_per_m >= 0 &&
+                                     n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0,
+                                 "odometry", "noise terms must be ≥ 0 (floor_sigma_m > 0)"));
+  return Status::Ok();
+}
+
+}  // namespace fleetloc::tracking
