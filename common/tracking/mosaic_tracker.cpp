@@ -16,7 +16,7 @@ namespace fleetloc::tracking {
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
-const char* LockStateName(LockState state) {
+const char* LockStateName(LockState state) {  // declared in frame_localizer.h
   switch (state) {
     case LockState::kTracking: return "tracking";
     case LockState::kCoasting: return "coasting";

@@ -8,26 +8,14 @@
 #include "geometry/camera_model.h"
 #include "mosaic/raster_source.h"
 #include "tracking/feature_selection.h"
+#include "tracking/frame_localizer.h"
 #include "tracking/pose_update.h"
 #include "tracking/template_matcher.h"
 #include "tracking/tracker_options.h"
 
 namespace fleetloc::tracking {
 
-enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
-const char* LockStateName(LockState state);
-
-struct FrameResult {
-  double t = 0.0;
-  geometry::PoseWithCovariance base_in_map;  // at the frame's time
-  LockState state = LockState::kLost;
-  int templates = 0;              // templates matched (before outlier rejection)
-  int inliers = 0;                // correspondences kept by the pose update
-  double rms_residual_px = 0.0;
-  int search_radius_px = 0;
-};
-
-class MosaicTracker {
+class MosaicTracker : public FrameLocalizer {
  public:
   // `mosaic` must outlive the tracker. Options must have passed Validate().
   MosaicTracker(const TrackerOptions& options, const geometry::CameraModel& camera,
@@ -35,14 +23,16 @@ class MosaicTracker {
 
   // Starts tracking from base_link's pose in map (with covariance) at the time whose odometry
   // pose is `odom`.
-  void Reset(const geometry::PoseWithCovariance& base_in_map, const geometry::Pose2& odom);
+  std::string name() const override { return "fleetloc"; }
+  void Reset(const geometry::PoseWithCovariance& base_in_map,
+             const geometry::Pose2& odom) override;
 
   // One cycle. `frame` is the rectified CV_8UC1 image (camera size), `odom` base_link in odom
   // at time t (interpolated by the caller). Reset() must have been called.
-  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom);
+  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom) override;
 
   // Odometry-only step (a frame that could not be read or used): the pose coasts.
-  FrameResult Coast(double t, const geometry::Pose2& odom);
+  FrameResult Coast(double t, const geometry::Pose2& odom) override;
 
  private:
   struct Measured {

@@ -1,0 +1,46 @@
+// Offline replay of a run directory through a FrameLocalizer, exactly as the agent feeds it live:
+// odometry interpolated at each frame's time, frames read and checked one by one, and the
+// accuracy against truth.csv when the run has one.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "io/run.h"
+#include "tracking/frame_localizer.h"
+
+namespace fleetloc::replay {
+
+struct ReplayResult {
+  std::vector<io::PoseRecord> poses;  // one per frame, in frame order
+  std::vector<double> cycle_ms;       // time inside the localizer per frame
+};
+
+using Progress = std::function<void(size_t done, size_t total)>;
+
+// Replays every frame. A frame image that cannot be read or has the wrong size is bad input:
+// the run is rejected with that file's error (exit status 2), nothing is half-reported.
+Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
+                               const Progress& progress = {});
+
+// Accuracy of base_link (and of the camera, which the tracker measures directly) against truth.
+struct Accuracy {
+  size_t frames = 0;
+  double position_rms_m = 0, position_p95_m = 0, position_max_m = 0;
+  double camera_position_rms_m = 0, camera_position_p95_m = 0;
+  double heading_rms_rad = 0, heading_max_rad = 0;
+  double lock_rate = 0;            // fraction of frames tracking or relocalized
+  size_t lost_frames = 0;
+  size_t longest_unlocked_run = 0;  // consecutive frames not tracking
+};
+
+// Requires truth with one row per pose (same order). Errors are taken over the locked frames
+// (tracking/relocalized); the lock rate and unlocked runs say how many those are.
+Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
+                  const std::vector<geometry::StampedPose>& truth,
+                  const geometry::CameraModel& camera);
+
+// Median, percentile (0..100) of a sample; 0 for an empty one.
+double Percentile(std::vector<double> values, double percent);
+
+}  // namespace fleetloc::replay

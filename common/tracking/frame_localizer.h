@@ -1,0 +1,39 @@
+// FrameLocalizer: anything that turns (frame, time, odometry) into base_link's pose in map — the
+// mosaic tracker, and the OpenCV-based peers it is benchmarked against — so one replay loop,
+// one agent and one benchmark drive them all the same way.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "geometry/pose2.h"
+
+namespace fleetloc::tracking {
+
+enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
+const char* LockStateName(LockState state);
+
+struct FrameResult {
+  double t = 0.0;
+  geometry::PoseWithCovariance base_in_map;  // at the frame's time
+  LockState state = LockState::kLost;
+  int templates = 0;              // correspondences measured (before outlier rejection)
+  int inliers = 0;                // correspondences kept by the pose update
+  double rms_residual_px = 0.0;
+  int search_radius_px = 0;
+};
+
+class FrameLocalizer {
+ public:
+  virtual ~FrameLocalizer() = default;
+  virtual std::string name() const = 0;
+  // Starts from base_link's pose in map at the time whose odometry pose is `odom`.
+  virtual void Reset(const geometry::PoseWithCovariance& base_in_map,
+                     const geometry::Pose2& odom) = 0;
+  // One frame (CV_8UC1, camera size) at time t with base_link's odometry pose at t.
+  virtual FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom) = 0;
+  // A frame that cannot be used: odometry only.
+  virtual FrameResult Coast(double t, const geometry::Pose2& odom) = 0;
+};
+
+}  // namespace fleetloc::tracking
