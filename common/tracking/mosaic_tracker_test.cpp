@@ -1,53 +1,21 @@
-// End-to-end tests of the tracker cycle on a real photo: frames rendered at known poses straight
-// from the CONTRACT formulas (cv::remap, independent of the tracker's own warp code), drifting
-// odometry, photometric change. Checks accuracy against ground truth and the lock states.
+// End-to-end tests of the tracker cycle on a real photo (tracking/test_scene.h: frames rendered
+// at known poses from the CONTRACT formulas), drifting odometry, photometric change. Checks
+// accuracy against ground truth and the lock states.
 #include "tracking/mosaic_tracker.h"
 
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-#include <random>
+#include <cmath>
+#include <cstdio>
+
+#include "tracking/test_scene.h"
 
 namespace fleetloc::tracking {
 namespace {
 
 using geometry::Pose2;
 
-struct Scene {
-  cv::Mat floor;
-  geometry::Geotransform geo{0.0, 512 * 0.0005, 0.0005};
-  geometry::CameraModel camera;
-  Scene() {
-    floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
-    camera.width_px = 160;
-    camera.height_px = 120;
-    camera.cx_px = 80;
-    camera.cy_px = 60;
-    camera.mount = {0.1, 0.0, 0.0};
-  }
-  // The frame base_link at `base` sees: pixel centre → ground → map → mosaic, per CONTRACT.
-  cv::Mat Render(const Pose2& base, double gain, double bias, std::mt19937& rng) const {
-    cv::Mat map_x(camera.height_px, camera.width_px, CV_32F), map_y = map_x.clone();
-    const Pose2 cam = base * camera.mount;
-    for (int j = 0; j < camera.height_px; ++j) {
-      for (int i = 0; i < camera.width_px; ++i) {
-        const Eigen::Vector2d uv = geo.MapToPixel(cam * camera.PixelToGround({i + 0.5, j + 0.5}));
-        map_x.at<float>(j, i) = static_cast<float>(uv.x() - 0.5);
-        map_y.at<float>(j, i) = static_cast<float>(uv.y() - 0.5);
-      }
-    }
-    cv::Mat frame, noise(camera.height_px, camera.width_px, CV_32F);
-    cv::remap(floor, frame, map_x, map_y, cv::INTER_CUBIC, cv::BORDER_CONSTANT);
-    frame.convertTo(frame, CV_32F, gain, bias);
-    cv::GaussianBlur(frame, frame, {0, 0}, 0.7);
-    cv::randn(noise, 0, 2.0);
-    frame += noise;
-    frame.convertTo(frame, CV_8U);
-    (void)rng;
-    return frame;
-  }
-};
+using Scene = TestScene;
 
 Pose2 CircleBase(double s) {  // camera centre circles the middle of the floor
   const double r = 0.05, cx = 0.128, cy = 0.128;
@@ -63,7 +31,6 @@ TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
   options.max_templates = 12;
   ASSERT_TRUE(Validate(options).ok());
   MosaicTracker tracker(options, scene.camera, &source);
-  std::mt19937 rng(7);
   // Odometry: 2 % scale error and a heading bias, integrated from true increments.
   Pose2 odom{0, 0, 0}, truth_prev = CircleBase(0);
   tracker.Reset({{truth_prev.x + 0.001, truth_prev.y - 0.001, truth_prev.theta + 0.005},
@@ -77,7 +44,7 @@ TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
     step = {step.x * 1.02, step.y * 1.02, step.theta * 1.01 + 0.002};
     odom = odom * step;
     truth_prev = truth;
-    const cv::Mat frame = scene.Render(truth, 0.8 + 0.01 * k, 10.0, rng);
+    const cv::Mat frame = scene.Render(truth, 0.8 + 0.01 * k, 10.0);
     const FrameResult r = tracker.Track(frame, 0.1 * k, odom);
     ASSERT_EQ(r.state, LockState::kTracking) << "frame " << k;
     EXPECT_GE(r.inliers, options.min_inliers);

@@ -33,7 +33,6 @@ class TemplateMatcher {
   int margin_px() const { return options_.normalize_window_px / 2 + 1; }
 
  private:
-  cv::Mat PredictedView(const cv::Point& top_left, int size_px, const FrameMosaicWarp& warp) const;
   bool PassesGates(const imaging::Match& m) const;
 
   TrackerOptions options_;

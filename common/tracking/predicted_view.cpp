@@ -1,0 +1,39 @@
+// Predicted mosaic view: read the covering block of level 0, then one inverse-mapped warpAffine.
+#include "tracking/predicted_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace fleetloc::tracking {
+
+cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
+                            const FrameMosaicWarp& warp) {
+  // Bounding box of the view's corners in the mosaic, with room for interpolation.
+  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+  for (int corner = 0; corner < 4; ++corner) {
+    const Eigen::Vector2d f(frame_rect.x + (corner & 1) * frame_rect.width,
+                            frame_rect.y + (corner >> 1) * frame_rect.height);
+    const Eigen::Vector2d m = warp(f);
+    min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
+    min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
+  }
+  const cv::Rect block_rect(static_cast<int>(std::floor(min_x)) - 2,
+                            static_cast<int>(std::floor(min_y)) - 2,
+                            static_cast<int>(std::ceil(max_x - min_x)) + 5,
+                            static_cast<int>(std::ceil(max_y - min_y)) + 5);
+  const cv::Mat block = mosaic->ReadBlock(0, block_rect);
+  // View index (i, j) is frame point tl + (i, j) + 0.5; its block index is
+  // warp(frame point) − 0.5 − block origin.
+  const Eigen::Vector2d origin =
+      warp(Eigen::Vector2d(frame_rect.x + 0.5, frame_rect.y + 0.5)) -
+      Eigen::Vector2d(0.5 + block_rect.x, 0.5 + block_rect.y);
+  const cv::Matx23d view_to_block(warp.linear(0, 0), warp.linear(0, 1), origin.x(),
+                                  warp.linear(1, 0), warp.linear(1, 1), origin.y());
+  cv::Mat view;
+  cv::warpAffine(block, view, view_to_block, frame_rect.size(),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT);
+  return view;
+}
+
+}  // namespace fleetloc::tracking

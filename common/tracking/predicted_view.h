@@ -1,0 +1,20 @@
+// The predicted mosaic view of a frame-aligned rectangle: the mosaic resampled into the frame's
+// pixel grid and orientation as the camera at a predicted pose would see it. Shared by the
+// template matcher and by the OpenCV peer localizers.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "mosaic/raster_source.h"
+#include "tracking/frame_mosaic_warp.h"
+
+namespace fleetloc::tracking {
+
+// Renders `frame_rect` (frame pixels, may extend beyond the frame) through `warp` (frame →
+// level-0 mosaic pixels): view pixel (i, j) shows the frame point frame_rect.tl() + (i, j) + 0.5,
+// bilinearly interpolated. Returns a CV_8UC1 image of frame_rect's size; mosaic pixels outside
+// the mosaic are 0. Reads level 0 of `mosaic`, which must not be null.
+cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
+                            const FrameMosaicWarp& warp);
+
+}  // namespace fleetloc::tracking
