@@ -12,5 +12,6 @@ void RegisterMosaicCommands(CLI::App& app, Status* result);
 void RegisterSimCommand(CLI::App& app, Status* result);
 void RegisterTrackCommand(CLI::App& app, Status* result);
 void RegisterBenchCommand(CLI::App& app, Status* result);
+void RegisterComposeCommand(CLI::App& app, Status* result);
 
 }  // namespace fleetloc::fleetctl

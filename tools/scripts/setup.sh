@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs fleetloc's Debian 12 build dependencies (only those missing) and builds the project
+# into build/ (Release, ccache when present). Used by both README commands and by CI.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libeigen3-dev
+          libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
+          cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+BUILD_TYPE="${FLEETLOC_BUILD_TYPE:-Release}"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >/dev/null
+cmake --build build -j "$(nproc)"
