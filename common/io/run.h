@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 #include <array>
-#include <opencv2/core.hpp>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,8 +19,8 @@ namespace fleetloc::io {
 
 // The `raw` block of camera.json: an uncalibrated physical camera.
 struct RawCamera {
-  std::array<double, 9> K{};      // row-major intrinsics
-  std::vector<double> dist;       // k1, k2, p1, p2, k3
+  std::array<double, 9> K{};         // row-major intrinsics
+  std::vector<double> dist;          // k1, k2, p1, p2, k3 (OpenCV order; 4, 5, 8, 12 or 14 values)
   std::array<double, 9> H_ground{};  // undistorted pixels → camera_ground metres
 };
 
@@ -38,8 +38,8 @@ struct Run {
   std::filesystem::path dir;
   std::string vehicle_id;
   CameraFile camera;
-  geometry::Pose2 initial_pose;              // base_link in map at the first frame's time
-  Eigen::Vector3d initial_sigma{0, 0, 0};    // 1-sigma x, y, theta
+  geometry::Pose2 initial_pose;            // base_link in map at the first frame's time
+  Eigen::Vector3d initial_sigma{0, 0, 0};  // 1-sigma x, y, theta
   std::vector<FrameRef> frames;
   std::vector<geometry::StampedPose> odometry;  // base_link in odom
   std::vector<geometry::StampedPose> truth;     // base_link in map, empty if absent
@@ -54,6 +54,13 @@ struct PoseRecord {
   int inliers = 0;
 };
 
+// Every reader below returns NotFound "<file>: not found" for a missing file and InvalidInput
+// "<file>[:<line>]: field '<name>': <what>" for a file that breaks the contract; writers write
+// atomically (temporary file, then rename) and refuse, with InvalidInput and without writing,
+// content their reader would reject (NaN, an unknown status, ...). Angles are wrapped to
+// (-pi, pi] on read and on write. The per-table readers are in io/run_tables.h.
+
+// camera.json (also forward_camera.json): unknown members are ignored, known ones are checked.
 Result<CameraFile> ReadCameraJson(const std::filesystem::path& path);
 Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& camera);
 
@@ -67,6 +74,13 @@ Status WriteRun(const Run& run);
 // Reads one frame as 8-bit gray; checks its size against the camera.
 Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera);
 
+// Reads any image file (PNG, 8-bit or 16-bit, gray or colour) as 8-bit gray, without a size check
+// (for raw frames, whose size is the physical camera's). NotFound "<file>: not found",
+// InvalidInput "<file>: cannot decode image ..." for a corrupt or unsupported file.
+Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path);
+
+// poses.csv: every number finite, t strictly ascending, variances non-negative, status one of
+// the four names, inliers a non-negative integer. Written numbers round-trip exactly.
 Result<std::vector<PoseRecord>> ReadPosesCsv(const std::filesystem::path& path);
 Status WritePosesCsv(const std::filesystem::path& path, const std::vector<PoseRecord>& poses);
 

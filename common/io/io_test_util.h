@@ -1,0 +1,45 @@
+// Test helpers for the io tests: a temporary directory per test, small files, a valid run, and
+// checks of the one-line "<file>:<line>: field '<name>': ..." error format.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "base/status.h"
+#include "io/run.h"
+
+namespace fleetloc::io::testing {
+
+// A fresh directory under the system temp dir, removed with its content on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Writes `text` to `path` (creating parent directories).
+void WriteText(const std::filesystem::path& path, const std::string& text);
+std::string ReadText(const std::filesystem::path& path);
+
+// Writes a width×height 8-bit gray PNG with a deterministic pattern.
+void WriteGrayPng(const std::filesystem::path& path, int width, int height);
+
+// A valid run of 3 frames (t = 0, 0.1, 0.2; 16×12 px images img/f<i>.png), 5 odometry samples
+// (t = 0 … 0.2 every 0.05) and truth, written into `dir` with WriteRun and returned.
+Run WriteValidRun(const std::filesystem::path& dir);
+
+// Asserts `status` has `code` and a one-line message starting "<file>:<line>: field '<field>': ".
+// line <= 0 means the message has no line; an empty field means it names no field.
+::testing::AssertionResult HasError(const Status& status, StatusCode code,
+                                    const std::filesystem::path& file, int line,
+                                    const std::string& field);
+
+}  // namespace fleetloc::io::testing

@@ -1,0 +1,60 @@
+// Typed, validated access to the members of a JSON object for the io readers, with one-line errors
+// "<file>: field '<dotted.name>': <what>". Unknown members are ignored (CONTRACT: extend, never
+// break); a known member of the wrong type or range is an error.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "base/status.h"
+
+namespace fleetloc::io {
+
+// Parses a JSON file whose top level must be an object. NotFound when the file does not exist;
+// InvalidInput "<file>:<line>: invalid JSON: ..." for a syntax error.
+Result<nlohmann::json> ReadJsonObjectFile(const std::filesystem::path& path);
+
+// Serialises `object` (pretty-printed, numbers round-trip exactly) and writes it atomically.
+Status WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& object);
+
+// A view of one JSON object inside a file. Holds a pointer: the json must outlive the view.
+class JsonFields {
+ public:
+  // `object` must be a JSON object (checked). `prefix` names it in messages ("mount.").
+  JsonFields(const nlohmann::json& object, std::filesystem::path file, std::string prefix = "");
+
+  // True when the member exists and is not null.
+  bool Has(std::string_view key) const;
+  // Each getter requires the member to exist with the right type and range.
+  Status Number(std::string_view key, double* out) const;  // finite
+  Status NonNegativeNumber(std::string_view key, double* out) const;
+  Status PositiveNumber(std::string_view key, double* out) const;
+  Status PositiveInt(std::string_view key, int* out) const;
+  Status NonEmptyString(std::string_view key, std::string* out) const;
+  // An array of finite numbers whose length is one of `sizes`.
+  Status Numbers(std::string_view key, std::initializer_list<std::size_t> sizes,
+                 std::vector<double>* out) const;
+  // The member must be a JSON object; the returned view prefixes its members' names.
+  Result<JsonFields> Object(std::string_view key) const;
+  // The member "format" must be the string `expected`.
+  Status CheckFormat(std::string_view expected) const;
+
+  // InvalidInput "<file>: field '<prefix><key>': <what>".
+  Status Error(std::string_view key, std::string_view what) const;
+
+ private:
+  // The member, or an error when it is absent or null.
+  Status Find(std::string_view key, const nlohmann::json** value) const;
+  Status WrongType(std::string_view key, const nlohmann::json& value, std::string_view want) const;
+
+  const nlohmann::json* object_;
+  std::filesystem::path file_;
+  std::string prefix_;
+};
+
+}  // namespace fleetloc::io
