@@ -3,6 +3,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "mosaic/tile_key.h"
+
 namespace fleetloc::mosaic {
 
 cv::Mat CopyBlockWithZeroBorder(const cv::Mat& image, const cv::Rect& rect) {
@@ -18,12 +20,7 @@ ImageRasterSource::ImageRasterSource(cv::Mat gray, geometry::Geotransform geo) {
   layout_.width_px = gray.cols;
   layout_.height_px = gray.rows;
   layout_.geo = geo;
-  int levels = 1;
-  while (std::max(layout_.LevelWidth(levels - 1), layout_.LevelHeight(levels - 1)) >
-         layout_.tile_size_px) {
-    ++levels;
-  }
-  layout_.levels = levels;
+  layout_.levels = PyramidLevelCount(gray.cols, gray.rows, layout_.tile_size_px);
   levels_.push_back(std::move(gray));
 }
 
@@ -31,8 +28,8 @@ const cv::Mat& ImageRasterSource::Level(int level) {
   while (static_cast<int>(levels_.size()) <= level) {
     const int k = static_cast<int>(levels_.size());
     cv::Mat next;
-    cv::resize(levels_.back(), next, cv::Size(layout_.LevelWidth(k), layout_.LevelHeight(k)), 0,
-               0, cv::INTER_AREA);
+    cv::resize(levels_.back(), next, cv::Size(layout_.LevelWidth(k), layout_.LevelHeight(k)), 0, 0,
+               cv::INTER_AREA);
     levels_.push_back(next);
   }
   return levels_[level];

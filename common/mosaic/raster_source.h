@@ -12,12 +12,12 @@ namespace fleetloc::mosaic {
 
 struct MosaicLayout {
   std::string mosaic_id;
-  int width_px = 0;        // level 0
+  int width_px = 0;  // level 0
   int height_px = 0;
   int tile_size_px = 256;
-  int levels = 1;          // level 0 .. levels-1
+  int levels = 1;  // level 0 .. levels-1
   geometry::Geotransform geo;
-  long long version = 1;   // mosaic version (incremented by re-mapping)
+  long long version = 1;  // mosaic version (incremented by re-mapping)
 
   int LevelWidth(int level) const { return (width_px + (1 << level) - 1) >> level; }
   int LevelHeight(int level) const { return (height_px + (1 << level) - 1) >> level; }

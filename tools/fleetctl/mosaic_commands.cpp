@@ -1,6 +1,164 @@
-// (being written in this session)
+// fleetctl mosaic import | info | export (CONTRACT section 6): thin wrappers over the mosaic store
+// library. Progress and diagnostics go to stderr (spdlog); `info` prints JSON on stdout.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "commands.h"
+#include "mosaic/exporter.h"
+#include "mosaic/importer.h"
+#include "mosaic/mosaic_info.h"
+#include "mosaic/mosaic_view.h"
+#include "mosaic/tile_store.h"
 
 namespace fleetloc::fleetctl {
-void RegisterMosaicCommands(CLI::App&, Status*) {}
+namespace {
+
+struct ImportArgs {
+  std::string image;
+  double resolution_m = 0.0;
+  std::string origin;  // "X,Y" or empty
+  std::string out;
+};
+
+struct ExportArgs {
+  std::string mosaic;
+  std::string out;
+  int level = 0;
+  std::string region;  // "x0,y0,x1,y1" or empty
+};
+
+// Parses `count` comma-separated finite numbers, e.g. "1.5,-2". InvalidInput naming the option.
+Result<std::vector<double>> ParseNumbers(const std::string& text, std::size_t count,
+                                         const std::string& option, const std::string& form) {
+  std::vector<double> numbers;
+  const char* at = text.data();
+  const char* end = text.data() + text.size();
+  while (at <= end && numbers.size() <= count) {
+    double value = 0;
+    const auto [next, ec] = std::from_chars(at, end, value);
+    if (ec != std::errc() || !std::isfinite(value) || (next != end && *next != ',')) break;
+    numbers.push_back(value);
+    at = next + 1;
+  }
+  if (numbers.size() != count || at != end + 1) {
+    return InvalidInput(option + ": expected " + form + " (metres), got '" + text + "'");
+  }
+  return numbers;
+}
+
+Status RunImport(const ImportArgs& args) {
+  mosaic::ImportOptions options;
+  options.resolution_m = args.resolution_m;
+  if (!args.origin.empty()) {
+    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin", "X,Y");
+    if (!origin.ok()) return origin.status();
+    options.origin_x_m = (*origin)[0];
+    options.origin_y_m = (*origin)[1];
+  }
+  int last_percent = -1;
+  const auto progress = [&](int rows_done, int rows_total) {
+    const int percent = static_cast<int>(100LL * rows_done / rows_total);
+    if (percent / 10 == last_percent / 10 && rows_done != rows_total) return;
+    last_percent = percent;
+    spdlog::info("import {}: {} of {} rows ({}%)", args.image, rows_done, rows_total, percent);
+  };
+  Result<mosaic::MosaicLayout> layout =
+      mosaic::ImportImage(args.image, options, args.out, progress);
+  if (!layout.ok()) return layout.status();
+  spdlog::info("wrote {}: {}x{} px, {} levels, {} m/px, origin ({}, {}), mosaic_id {}", args.out,
+               layout->width_px, layout->height_px, layout->levels, layout->geo.resolution,
+               layout->geo.origin_x, layout->geo.origin_y, layout->mosaic_id);
+  return Status::Ok();
+}
+
+Status RunInfo(const std::string& path) {
+  Result<std::unique_ptr<mosaic::TileStore>> store =
+      mosaic::TileStore::Open(path, mosaic::OpenMode::kReadOnly);
+  if (!store.ok()) return store.status();
+  Result<nlohmann::json> info = mosaic::DescribeMosaic(**store);
+  if (!info.ok()) return info.status();
+  std::cout << info->dump(2) << "\n";
+  return Status::Ok();
+}
+
+Status RunExport(const ExportArgs& args) {
+  std::optional<mosaic::MapRegion> region;
+  if (!args.region.empty()) {
+    Result<std::vector<double>> r = ParseNumbers(args.region, 4, "--region", "x0,y0,x1,y1");
+    if (!r.ok()) return r.status();
+    region = mosaic::MapRegion{(*r)[0], (*r)[1], (*r)[2], (*r)[3]};
+  }
+  Result<std::unique_ptr<mosaic::TileStore>> opened =
+      mosaic::TileStore::Open(args.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) return opened.status();
+  std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
+  // Export walks strips of one tile height that need at most two tile rows at a time.
+  const mosaic::MosaicLayout layout = store->layout();
+  const int tiles_across =
+      mosaic::TileColumns(layout, std::clamp(args.level, 0, layout.levels - 1));
+  const std::size_t cache_bytes =
+      2 * static_cast<std::size_t>(tiles_across + 1) * layout.tile_size_px * layout.tile_size_px;
+  mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
+                          std::make_shared<mosaic::TileCache>(cache_bytes));
+  Result<cv::Rect> rect = mosaic::ExportImage(view, args.level, region, args.out);
+  if (!rect.ok()) {
+    return Status(rect.status().code(), args.mosaic + ": " + rect.status().message());
+  }
+  if (view.missing_tiles() + view.unreadable_tiles() > 0) {
+    spdlog::warn("{}: {} missing and {} unreadable tiles exported as black", args.mosaic,
+                 view.missing_tiles(), view.unreadable_tiles());
+  }
+  spdlog::info("wrote {}: level {}, pixels x {}..{}, y {}..{}", args.out, args.level, rect->x,
+               rect->x + rect->width, rect->y, rect->y + rect->height);
+  return Status::Ok();
+}
+
+void AddImport(CLI::App& mosaic, Status* result) {
+  auto args = std::make_shared<ImportArgs>();
+  CLI::App* cmd = mosaic.add_subcommand(
+      "import", "Cut an image into a tiled, versioned SQLite mosaic with its pyramid");
+  cmd->add_option("IMAGE", args->image, "Image file (PNG, PGM/PPM, JPEG, ...)")->required();
+  cmd->add_option("--resolution", args->resolution_m, "Metres per pixel")->required();
+  cmd->add_option("--origin", args->origin,
+                  "Map X,Y of the image's top-left corner (default 0,height*resolution)");
+  cmd->add_option("--out", args->out, "Mosaic file to create (must not exist)")->required();
+  cmd->callback([args, result] { *result = RunImport(*args); });
+}
+
+void AddInfo(CLI::App& mosaic, Status* result) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* cmd = mosaic.add_subcommand("info", "Print a mosaic's metadata as JSON");
+  cmd->add_option("MOSAIC", *path, "Mosaic file")->required();
+  cmd->callback([path, result] { *result = RunInfo(*path); });
+}
+
+void AddExport(CLI::App& mosaic, Status* result) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* cmd = mosaic.add_subcommand("export", "Render (part of) a mosaic level to an image");
+  cmd->add_option("MOSAIC", args->mosaic, "Mosaic file")->required();
+  cmd->add_option("--out", args->out, "Image file to write (.png streams; others whole)")
+      ->required();
+  cmd->add_option("--level", args->level, "Pyramid level (0 = full resolution)");
+  cmd->add_option("--region", args->region, "Map region x0,y0,x1,y1 in metres (default: all)");
+  cmd->callback([args, result] { *result = RunExport(*args); });
+}
+
+}  // namespace
+
+void RegisterMosaicCommands(CLI::App& app, Status* result) {
+  CLI::App* mosaic = app.add_subcommand("mosaic", "Create, inspect and export mosaics");
+  mosaic->require_subcommand(1);
+  AddImport(*mosaic, result);
+  AddInfo(*mosaic, result);
+  AddExport(*mosaic, result);
+}
+
 }  // namespace fleetloc::fleetctl

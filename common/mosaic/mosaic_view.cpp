@@ -1,0 +1,47 @@
+// MosaicView: block assembly from cached tiles.
+#include "mosaic/mosaic_view.h"
+
+#include <utility>
+
+namespace fleetloc::mosaic {
+
+MosaicView::MosaicView(MosaicLayout layout, TileLoader loader, std::shared_ptr<TileCache> cache)
+    : layout_(std::move(layout)), loader_(std::move(loader)), cache_(std::move(cache)) {
+  FLEETLOC_CHECK(loader_ != nullptr && cache_ != nullptr);
+  FLEETLOC_CHECK(layout_.tile_size_px > 0 && layout_.levels > 0);
+}
+
+cv::Mat MosaicView::ReadBlock(int level, const cv::Rect& rect) {
+  FLEETLOC_CHECK(level >= 0 && level < layout_.levels);
+  FLEETLOC_CHECK(rect.width >= 0 && rect.height >= 0);
+  cv::Mat block = cv::Mat::zeros(rect.size(), CV_8UC1);
+  const cv::Rect level_bounds(0, 0, layout_.LevelWidth(level), layout_.LevelHeight(level));
+  const cv::Rect wanted = rect & level_bounds;  // never copy a tile's zero padding
+  TilesCovering(layout_, level, wanted).ForEach([&](const TileKey& key) {
+    const TilePtr tile = FetchTile(key);
+    if (tile == nullptr) return;
+    const cv::Rect tile_rect = TilePixelRect(layout_, key);
+    const cv::Rect overlap = tile_rect & wanted;
+    (*tile)(overlap - tile_rect.tl()).copyTo(block(overlap - rect.tl()));
+  });
+  return block;
+}
+
+TilePtr MosaicView::FetchTile(const TileKey& key) {
+  if (TilePtr cached = cache_->Get(key)) return cached;
+  Result<cv::Mat> loaded = loader_(key);
+  if (!loaded.ok()) {
+    ++(loaded.status().code() == StatusCode::kNotFound ? missing_tiles_ : unreadable_tiles_);
+    return nullptr;
+  }
+  const int t = layout_.tile_size_px;
+  if (loaded->type() != CV_8UC1 || loaded->rows != t || loaded->cols != t) {
+    ++unreadable_tiles_;
+    return nullptr;
+  }
+  auto tile = std::make_shared<const cv::Mat>(std::move(loaded).value());
+  cache_->Put(key, tile);
+  return tile;
+}
+
+}  // namespace fleetloc::mosaic

@@ -1,0 +1,57 @@
+// PyramidBuilder: turns level-0 image rows, fed top to bottom, into every tile of the pyramid with
+// bounded memory — one strip of tile_size rows per level (about 2 × width × tile_size bytes).
+// Level k is the 2×2 area average of level k-1 (edge pixels average the pixels that exist).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <span>
+#include <vector>
+
+#include "base/status.h"
+#include "mosaic/raster_source.h"
+#include "mosaic/tile_key.h"
+
+namespace fleetloc::mosaic {
+
+class PyramidBuilder {
+ public:
+  // Receives each finished tile (CV_8UC1, tile_size square, zero padded past the level's edge).
+  // The Mat is only valid during the call. A non-ok Status stops the build and is returned by
+  // AddRow.
+  using TileSink = std::function<Status(const TileKey&, const cv::Mat&)>;
+
+  // Requires layout sizes > 0, an even tile size and levels == PyramidLevelCount(...).
+  PyramidBuilder(const MosaicLayout& layout, TileSink sink);
+
+  // Adds the next level-0 row (exactly layout.width_px gray pixels). Tiles are emitted as soon as
+  // their strip is complete. Requires fewer than height_px rows added so far.
+  Status AddRow(std::span<const std::uint8_t> row);
+  // Checks that all height_px rows were added (and therefore all tiles emitted).
+  Status Finish() const;
+
+  long long tiles_emitted() const { return tiles_emitted_; }
+
+ private:
+  struct Level {
+    cv::Mat strip;  // tile_size rows × level width
+    int rows_in_strip = 0;
+    int strip_index = 0;                 // tile row of the strip
+    int rows_done = 0;                   // rows of this level received so far
+    std::vector<std::uint8_t> down_row;  // scratch row for the next level
+  };
+
+  Status AddRowToLevel(int level, std::span<const std::uint8_t> row);
+  // Averages strip rows [first, first + count) (count 1 or 2) horizontally by pairs into the next
+  // level's row and adds it there.
+  Status PushDown(int level, int first_row, int count);
+  Status EmitStrip(int level);
+
+  MosaicLayout layout_;
+  TileSink sink_;
+  std::vector<Level> levels_;
+  long long tiles_emitted_ = 0;
+};
+
+}  // namespace fleetloc::mosaic
