@@ -25,9 +25,8 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
   const cv::Mat block = mosaic->ReadBlock(0, block_rect);
   // View index (i, j) is frame point tl + (i, j) + 0.5; its block index is
   // warp(frame point) − 0.5 − block origin.
-  const Eigen::Vector2d origin =
-      warp(Eigen::Vector2d(frame_rect.x + 0.5, frame_rect.y + 0.5)) -
-      Eigen::Vector2d(0.5 + block_rect.x, 0.5 + block_rect.y);
+  const Eigen::Vector2d origin = warp(Eigen::Vector2d(frame_rect.x + 0.5, frame_rect.y + 0.5)) -
+                                 Eigen::Vector2d(0.5 + block_rect.x, 0.5 + block_rect.y);
   const cv::Matx23d view_to_block(warp.linear(0, 0), warp.linear(0, 1), origin.x(),
                                   warp.linear(1, 0), warp.linear(1, 1), origin.y());
   cv::Mat view;

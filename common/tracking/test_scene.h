@@ -16,6 +16,7 @@ struct TestScene {
   cv::Mat floor;  // tests/data/gravel.png, 512×512, 0.5 mm per pixel
   geometry::Geotransform geo{0.0, 512 * 0.0005, 0.0005};
   geometry::CameraModel camera;
+  cv::RNG rng{7};
 
   TestScene() {
     floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
@@ -27,9 +28,9 @@ struct TestScene {
   }
 
   // The frame base_link at `base` sees: pixel centre → ground → map → mosaic, per CONTRACT;
-  // bicubic, then gain and bias, a slight blur and Gaussian noise (sigma 2 grey levels, from
-  // OpenCV's global RNG).
-  cv::Mat Render(const geometry::Pose2& base, double gain, double bias) const {
+  // bicubic, then gain and bias, a slight blur and Gaussian noise (sigma 2 grey levels, from the
+  // scene's own seeded generator, so results do not depend on which tests ran before).
+  cv::Mat Render(const geometry::Pose2& base, double gain, double bias) {
     cv::Mat map_x(camera.height_px, camera.width_px, CV_32F), map_y = map_x.clone();
     const geometry::Pose2 cam = base * camera.mount;
     for (int j = 0; j < camera.height_px; ++j) {
@@ -43,7 +44,7 @@ struct TestScene {
     cv::remap(floor, frame, map_x, map_y, cv::INTER_CUBIC, cv::BORDER_CONSTANT);
     frame.convertTo(frame, CV_32F, gain, bias);
     cv::GaussianBlur(frame, frame, {0, 0}, 0.7);
-    cv::randn(noise, 0, 2.0);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
     frame += noise;
     frame.convertTo(frame, CV_8U);
     return frame;
