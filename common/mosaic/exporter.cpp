@@ -93,6 +93,10 @@ Result<cv::Rect> ExportImage(RasterSource& source, int level,
                              const std::optional<MapRegion>& region, const std::string& out_path) {
   Result<cv::Rect> rect = CheckedRect(source.layout(), level, region);
   if (!rect.ok()) return rect.status();
+  std::error_code ec;
+  if (!std::filesystem::is_directory(std::filesystem::absolute(out_path, ec).parent_path(), ec)) {
+    return InvalidInput(out_path + ": the directory does not exist");
+  }
   const bool png = IsPng(out_path);
   if (!png && !cv::haveImageWriter(out_path)) {
     return InvalidInput(out_path + ": unknown image format (use .png, .jpg, .tif, ...)");
@@ -100,7 +104,6 @@ Result<cv::Rect> ExportImage(RasterSource& source, int level,
   const Status written = png ? WritePngStrips(source, level, *rect, out_path)
                              : WriteWhole(source, level, *rect, out_path);
   if (!written.ok()) {
-    std::error_code ec;
     std::filesystem::remove(out_path, ec);
     return written;
   }

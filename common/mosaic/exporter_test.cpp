@@ -82,6 +82,8 @@ TEST_F(ExporterTest, BadLevelRegionOrFormatIsRejected) {
             StatusCode::kInvalidInput);
   EXPECT_EQ(ExportImage(*view_, 0, std::nullopt, dir_.File("a.xyz")).status().code(),
             StatusCode::kInvalidInput);
+  EXPECT_EQ(ExportImage(*view_, 0, std::nullopt, dir_.File("no/dir/a.png")).status().code(),
+            StatusCode::kInvalidInput);
   EXPECT_FALSE(std::filesystem::exists(dir_.File("a.png")));
 }
 

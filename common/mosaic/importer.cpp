@@ -7,6 +7,7 @@
 
 #include "mosaic/pyramid_builder.h"
 #include "mosaic/row_image_io.h"
+#include "mosaic/sqlite_util.h"
 #include "mosaic/tile_key.h"
 #include "mosaic/tile_store.h"
 
@@ -14,12 +15,6 @@ namespace fleetloc::mosaic {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Removes a SQLite database and its WAL side files, ignoring absent ones.
-void RemoveDatabase(const std::string& path) {
-  std::error_code ec;
-  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) fs::remove(path + suffix, ec);
-}
 
 // True if a database's write-ahead log still holds frames (then the main file alone is incomplete).
 bool HasUnfoldedWal(const std::string& path) {
@@ -91,10 +86,13 @@ Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOpti
   if (fs::exists(out_db, ec)) {
     return InvalidInput(out_db + ": already exists (remove it or choose another --out)");
   }
+  if (!fs::is_directory(fs::absolute(out_db, ec).parent_path(), ec)) {
+    return InvalidInput(out_db + ": the directory does not exist");
+  }
   Result<std::unique_ptr<GrayRowReader>> reader = OpenGrayRowReader(image_path);
   if (!reader.ok()) return reader.status();
   const std::string partial = out_db + ".partial";
-  RemoveDatabase(partial);  // left over from an interrupted import
+  sqlite::RemoveDatabaseFiles(partial);  // left over from an interrupted import
   Result<MosaicLayout> layout = BuildMosaic(**reader, options, partial, progress);
   if (layout.ok() && HasUnfoldedWal(partial)) {
     layout = Internal(partial + ": the write-ahead log was not folded into the mosaic");
@@ -104,7 +102,7 @@ Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOpti
     if (ec)
       layout = Internal(out_db + ": cannot move the finished mosaic into place: " + ec.message());
   }
-  if (!layout.ok()) RemoveDatabase(partial);
+  if (!layout.ok()) sqlite::RemoveDatabaseFiles(partial);
   return layout;
 }
 

@@ -115,6 +115,8 @@ TEST(Importer, BadInputIsRejectedAndLeavesNoFiles) {
   ImportOptions bad = options;
   bad.resolution_m = -1;
   EXPECT_EQ(ImportImage(photo, bad, dir.File("c.db")).status().code(), StatusCode::kInvalidInput);
+  EXPECT_EQ(ImportImage(photo, options, dir.File("no/such/dir/m.db")).status().code(),
+            StatusCode::kInvalidInput);
   ASSERT_TRUE(ImportImage(photo, options, dir.File("d.db")).ok());
   const Result<MosaicLayout> again = ImportImage(photo, options, dir.File("d.db"));
   EXPECT_EQ(again.status().code(), StatusCode::kInvalidInput);

@@ -3,6 +3,8 @@
 
 #include <sqlite3.h>
 
+#include <filesystem>
+
 namespace fleetloc::mosaic::sqlite {
 
 void DbCloser::operator()(sqlite3* db) const { sqlite3_close_v2(db); }
@@ -35,6 +37,13 @@ Status Exec(sqlite3* db, const char* sql) {
     return Internal(ErrorMessage(db));
   }
   return Status::Ok();
+}
+
+void RemoveDatabaseFiles(const std::string& path) {
+  std::error_code ec;
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+    std::filesystem::remove(path + suffix, ec);
+  }
 }
 
 std::string ErrorMessage(sqlite3* db) { return sqlite3_errmsg(db); }

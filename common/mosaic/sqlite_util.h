@@ -31,6 +31,10 @@ Result<Stmt> Prepare(sqlite3* db, std::string_view sql);
 // Runs SQL without results (several statements allowed).
 Status Exec(sqlite3* db, const char* sql);
 
+// Removes a database file and its side files (-wal, -shm, -journal), ignoring absent ones. The
+// database must not be open.
+void RemoveDatabaseFiles(const std::string& path);
+
 // SQLite's current error message of a connection.
 std::string ErrorMessage(sqlite3* db);
 

@@ -39,6 +39,15 @@ Status InsertMetadata(sqlite3* db, const Metadata& metadata) {
   return Status::Ok();
 }
 
+// Sets WAL mode and writes the schema and the metadata of `layout` in one transaction.
+Status InitializeFile(sqlite3* db, const MosaicLayout& layout) {
+  sqlite3_busy_timeout(db, kBusyTimeoutMs);
+  FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA journal_mode=WAL; BEGIN"));
+  FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db, kSchema));
+  FLEETLOC_RETURN_IF_ERROR(InsertMetadata(db, LayoutToMetadata(layout, IsoTimeNowUtc())));
+  return sqlite::Exec(db, "COMMIT");
+}
+
 std::string ColumnText(sqlite3_stmt* stmt, int column) {
   const unsigned char* text = sqlite3_column_text(stmt, column);
   return text ? reinterpret_cast<const char*>(text) : "";
@@ -79,13 +88,11 @@ Result<std::unique_ptr<TileStore>> TileStore::Create(const std::string& path, Mo
   if (std::filesystem::exists(path, ec)) return InvalidInput(path + ": already exists");
   Result<sqlite::Db> db = sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   if (!db.ok()) return db.status();
-  sqlite3* raw = db->get();
-  sqlite3_busy_timeout(raw, kBusyTimeoutMs);
-  Status created = sqlite::Exec(raw, "PRAGMA journal_mode=WAL; BEGIN");
-  if (created.ok()) created = sqlite::Exec(raw, kSchema);
-  if (created.ok()) created = InsertMetadata(raw, LayoutToMetadata(layout, IsoTimeNowUtc()));
-  if (created.ok()) created = sqlite::Exec(raw, "COMMIT");
-  if (!created.ok()) return Internal(path + ": cannot create mosaic: " + created.message());
+  if (Status created = InitializeFile(db->get(), layout); !created.ok()) {
+    db->reset();  // close before removing
+    sqlite::RemoveDatabaseFiles(path);
+    return Internal(path + ": cannot create mosaic: " + created.message());
+  }
   std::unique_ptr<TileStore> store(
       new TileStore(path, std::move(db).value(), OpenMode::kReadWrite));
   FLEETLOC_RETURN_IF_ERROR(store->Init(path + ": cannot create mosaic: "));

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <thread>
 
 #include "mosaic/importer.h"
 #include "mosaic/test_util.h"
@@ -245,14 +246,25 @@ TEST(TileStore, RejectsWrongOrMissingOrNonsenseMetadata) {
   }
 }
 
-TEST(TileStore, LoaderFeedsAMosaicView) {
+TEST(TileStore, LoaderFeedsViewsOnSeveralThreads) {
   ScratchDir dir;
   ImportPhoto(dir.File("m.db"));
   std::shared_ptr<TileStore> store = OpenOrDie(dir.File("m.db"), OpenMode::kReadOnly);
-  MosaicView view(store->layout(), MakeTileLoader(store), std::make_shared<TileCache>(1 << 20));
+  auto cache = std::make_shared<TileCache>(2 * 256 * 256);  // small: forces reloads
   const cv::Mat gray = LoadGray(SourcePath(kPhoto));
-  const cv::Rect rect(200, 230, 100, 60);
-  EXPECT_EQ(MaxAbsDiff(view.ReadBlock(0, rect), gray(rect)), 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      MosaicView view(store->layout(), MakeTileLoader(store), cache);
+      for (int i = 0; i < 50; ++i) {
+        const cv::Rect rect((i * 37 + t * 101) % 400, (i * 53 + t * 29) % 400, 100, 90);
+        EXPECT_EQ(MaxAbsDiff(view.ReadBlock(0, rect), gray(rect)), 0) << rect;
+      }
+      EXPECT_EQ(view.missing_tiles() + view.unreadable_tiles(), 0);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_GT(cache->stats().evictions, 0);
 }
 
 }  // namespace
