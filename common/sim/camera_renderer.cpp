@@ -5,17 +5,15 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
+#include "sim/area_sampler.h"
 #include "sim/photometric.h"
 #include "sim/random.h"
 
 namespace fleetloc::sim {
 namespace {
 
-constexpr int kBlockPaddingPx = 2;
-constexpr std::uint64_t kFrameStream =
-    0x6672616d;  // "fram"  // source pixels beyond the footprint for bilinear sampling
+constexpr std::uint64_t kFrameStream = 0x6672616d;  // "fram"
 
 using Affine = Eigen::Matrix<double, 2, 3>;
 
@@ -92,41 +90,13 @@ cv::Mat CameraRenderer::ReadMirrored(const cv::Rect& rect) {
 }
 
 cv::Mat CameraRenderer::RenderFloor(const geometry::Pose2& camera_in_map, int margin_px) {
-  const int k = options_.supersample;
   const cv::Size size(camera_.width_px + 2 * margin_px, camera_.height_px + 2 * margin_px);
   // Rendered pixel p (continuous) ↦ mosaic pixel coordinates.
-  const Affine to_mosaic =
-      Shifted(Chain(MapToMosaic(floor_->layout().geo), ImageToMap(camera_in_map)), margin_px);
-  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
-  for (const Eigen::Vector2d& p :
-       {Eigen::Vector2d(0, 0), Eigen::Vector2d(size.width, 0), Eigen::Vector2d(0, size.height),
-        Eigen::Vector2d(size.width, size.height)}) {
-    const Eigen::Vector2d uv = to_mosaic * p.homogeneous();
-    lo = lo.cwiseMin(uv);
-    hi = hi.cwiseMax(uv);
-  }
-  const cv::Point tl(static_cast<int>(std::floor(lo.x())) - kBlockPaddingPx,
-                     static_cast<int>(std::floor(lo.y())) - kBlockPaddingPx);
-  const cv::Point br(static_cast<int>(std::ceil(hi.x())) + kBlockPaddingPx,
-                     static_cast<int>(std::ceil(hi.y())) + kBlockPaddingPx);
-  const cv::Mat block = ReadMirrored(cv::Rect(tl, br));
-  // Supersampled pixel index q ↦ continuous p = (q + 0.5) / k ↦ mosaic U ↦ block index U - 0.5 -
-  // tl.
-  Affine index_map;
-  index_map.leftCols<2>() = to_mosaic.leftCols<2>() / k;
-  index_map.col(2) =
-      to_mosaic * Eigen::Vector3d(0.5 / k, 0.5 / k, 1.0) - Eigen::Vector2d(tl.x + 0.5, tl.y + 0.5);
-  cv::Mat warp(2, 3, CV_64FC1);
-  for (int r = 0; r < 2; ++r) {
-    for (int c = 0; c < 3; ++c) warp.at<double>(r, c) = index_map(r, c);
-  }
-  cv::Mat fine, floor;
-  cv::warpAffine(block, fine, warp, size * k, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                 cv::BORDER_REPLICATE);
-  fine.convertTo(fine, CV_32FC1);
-  if (k == 1) return fine;
-  cv::resize(fine, floor, size, 0, 0, cv::INTER_AREA);
-  return floor;
+  const AreaSampler sampler(
+      Shifted(Chain(MapToMosaic(floor_->layout().geo), ImageToMap(camera_in_map)), margin_px),
+      options_.supersample);
+  const cv::Rect block_rect = sampler.SourceRect(size);
+  return sampler.Sample(ReadMirrored(block_rect), block_rect, size);
 }
 
 RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,
@@ -141,10 +111,14 @@ RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,
   frame.dust_coverage = dust_.Apply(Shifted(ImageToMap(camera_in_map), margin), frame_rect, &floor);
   ApplyBlur(options_.blur_sigma_px, motion_px, &floor);
   cv::RNG rng(MixSeed(MixSeed(seed_, kFrameStream), frame_index));
-  const cv::Mat lighting = LightingField(frame_rect.size(), options_.lighting_amplitude, rng);
-  const cv::Mat irradiance = floor(frame_rect).mul(lighting).mul(vignetting_);
+  cv::Mat shading = LightingField(frame_rect.size(), options_.lighting_amplitude, rng);
+  if (shading.empty()) {
+    shading = vignetting_;
+  } else if (!vignetting_.empty()) {
+    cv::multiply(shading, vignetting_, shading);
+  }
   const SensorDraw draw = DrawSensor(options_, rng);
-  frame.image = ApplySensor(irradiance, draw, options_, rng);
+  frame.image = ApplySensor(floor(frame_rect), shading, draw, options_, rng);
   frame.gain = draw.gain;
   frame.bias_dn = draw.bias_dn;
   return frame;

@@ -21,11 +21,12 @@ struct SensorDraw {
 SensorDraw DrawSensor(const RenderOptions& options, cv::RNG& rng);
 
 // A smooth multiplicative light field of `size`: 1 + amplitude · f with |f| ≤ 1, made of a random
-// linear gradient and a coarse random grid interpolated bicubically. All ones for amplitude 0.
+// linear gradient and a coarse random grid interpolated bicubically. Empty (no change) for
+// amplitude 0.
 cv::Mat LightingField(cv::Size size, double amplitude, cv::RNG& rng);
 
 // cos^4 falloff around the principal point, scaled so that the image corners lose
-// `corner_loss` of their brightness. All ones for corner_loss 0.
+// `corner_loss` of their brightness. Empty (no change) for corner_loss 0.
 cv::Mat VignettingField(const geometry::CameraModel& camera, double corner_loss);
 
 // The normalized line kernel of a uniform motion by `displacement_px` (centred: the frame time is
@@ -37,11 +38,11 @@ cv::Mat MotionBlurKernel(const Eigen::Vector2d& displacement_px);
 void ApplyBlur(double sigma_px, const Eigen::Vector2d& displacement_px, cv::Mat* image);
 int MarginForBlur(double sigma_px, const Eigen::Vector2d& displacement_px);
 
-// The sensor: signal = gain · irradiance, plus Gaussian noise of variance
-// noise_sigma_dn² + shot_noise_dn · signal, through the response curve
-// y = 255 · ((1 - s) · x^γ + s · smoothstep(x^γ)) with x = signal / 255, plus the bias, rounded
-// and saturated to 8 bits.
-cv::Mat ApplySensor(const cv::Mat& irradiance, const SensorDraw& draw, const RenderOptions& options,
-                    cv::RNG& rng);
+// The sensor: signal = gain · radiance · shading (shading: lighting × vignetting, or empty for
+// none), plus Gaussian noise of variance noise_sigma_dn² + shot_noise_dn · signal, through the
+// response curve y = 255 · ((1 - s) · x^γ + s · smoothstep(x^γ)) with x = signal / 255, plus the
+// bias, rounded and saturated to 8 bits.
+cv::Mat ApplySensor(const cv::Mat& radiance, const cv::Mat& shading, const SensorDraw& draw,
+                    const RenderOptions& options, cv::RNG& rng);
 
 }  // namespace fleetloc::sim

@@ -16,6 +16,7 @@ constexpr std::uint64_t kInitialStream = 0x696e6974;  // "init"
 constexpr int kCoverageGridPx = 1024;                 // longest side of the seen-floor grid
 constexpr int kPolygonShiftBits = 4;                  // sub-cell precision of fillConvexPoly
 constexpr double kVelocityStepS = 1e-3;
+constexpr double kMaxResolutionRatio = 8.0;  // camera vs floor metres per pixel
 
 Status ValidateCamera(const geometry::CameraModel& c) {
   if (c.width_px < 8 || c.height_px < 8 || c.width_px > 16384 || c.height_px > 16384) {
@@ -70,6 +71,12 @@ Result<std::unique_ptr<RunSimulator>> RunSimulator::Create(mosaic::RasterSource*
   const mosaic::MosaicLayout& layout = floor->layout();
   if (layout.width_px <= 0 || layout.height_px <= 0 || !(layout.geo.resolution > 0)) {
     return InvalidInput("the floor raster is empty or has no positive resolution");
+  }
+  const double scale = camera.resolution_m / layout.geo.resolution;
+  if (scale < 1.0 / kMaxResolutionRatio || scale > kMaxResolutionRatio) {
+    return InvalidInput("camera resolution " + std::to_string(camera.resolution_m) +
+                        " m/px is too far from the floor's " +
+                        std::to_string(layout.geo.resolution) + " m/px (at most 8× apart)");
   }
   Result<Route> route = Route::Fit(FloorOutline(layout), FootprintInGround(camera), options.route,
                                    layout.geo.resolution);

@@ -1,6 +1,373 @@
-// (being written in this session)
+// fleetctl sim: make a simulated run (CONTRACT section 4) over a floor given as a mosaic or as an
+// image with its resolution. Frames, odometry and truth come from the sim library; the run files
+// are written with the io library. Progress goes to stderr, a JSON summary to stdout.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <future>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
 #include "commands.h"
+#include "io/run.h"
+#include "mosaic/tile_store.h"
+#include "sim/run_simulator.h"
 
 namespace fleetloc::fleetctl {
-void RegisterSimCommand(CLI::App&, Status*) {}
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kProgressEvery = 50;  // frames between progress lines
+constexpr std::size_t kTileCacheBytes = 256 << 20;
+
+struct SimArgs {
+  std::string mosaic;
+  std::string image;
+  double resolution_m = 0.0;
+  std::string origin;  // "X,Y"
+  std::string out;
+  bool overwrite = false;
+  std::string camera;  // camera.json; default: width × height at the floor's resolution
+  int width_px = 640;
+  int height_px = 480;
+  std::string vehicle_id = "sim-1";
+  std::string route = "figure8";
+  std::string initial_sigma = "0.002,0.002,0.5";  // metres, metres, degrees
+  std::string gain = "0.85,1.15";
+  std::string bias = "-8,8";
+  double speed_m_s = 0.0;  // overrides speed_px_s when > 0
+  double crab_deg = 0.0;
+  double frame_jitter_ms = 1.0;
+  double odometry_jitter_ms = 0.5;
+  double heading_drift_deg_s = 0.2;
+  double exposure_ms = 0.0;
+  bool odom_at_origin = false;
+  bool clean = false;
+  sim::SimOptions options;
+};
+
+// Parses "a,b[,c...]" into exactly `count` finite numbers. InvalidInput naming the option.
+Result<std::vector<double>> ParseNumbers(const std::string& text, size_t count,
+                                         const std::string& option) {
+  std::vector<double> values;
+  const char* p = text.data();
+  const char* end = text.data() + text.size();
+  while (p <= end) {
+    double value = 0.0;
+    const auto [next, ec] = std::from_chars(p, end, value);
+    if (ec != std::errc() || !std::isfinite(value)) break;
+    values.push_back(value);
+    if (next == end) {
+      if (values.size() == count) return values;
+      break;
+    }
+    if (*next != ',') break;
+    p = next + 1;
+  }
+  return InvalidInput(option + " '" + text + "': expected " + std::to_string(count) +
+                      " comma-separated numbers");
+}
+
+// The floor: an in-memory image or a mosaic file (its level 0), kept alive together.
+struct Floor {
+  std::shared_ptr<mosaic::TileStore> store;
+  std::unique_ptr<mosaic::RasterSource> source;
+};
+
+Result<Floor> OpenImageFloor(const SimArgs& args) {
+  if (!(args.resolution_m > 0)) {
+    return InvalidInput("--resolution must be a positive number of metres per pixel");
+  }
+  Result<cv::Mat> image = io::ReadGrayImage(args.image);
+  if (!image.ok()) return image.status();
+  geometry::Geotransform geo{0.0, image->rows * args.resolution_m, args.resolution_m};
+  if (!args.origin.empty()) {
+    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin");
+    if (!origin.ok()) return origin.status();
+    geo.origin_x = (*origin)[0];
+    geo.origin_y = (*origin)[1];
+  }
+  Floor floor;
+  floor.source = std::make_unique<mosaic::ImageRasterSource>(std::move(*image), geo);
+  return floor;
+}
+
+Result<Floor> OpenFloor(const SimArgs& args) {
+  if (args.mosaic.empty() == args.image.empty()) {
+    return InvalidInput("give the floor as exactly one of --mosaic or --image");
+  }
+  if (!args.image.empty()) return OpenImageFloor(args);
+  if (!args.origin.empty() || args.resolution_m != 0.0) {
+    return InvalidInput("--origin and --resolution apply to --image only (a mosaic has its own)");
+  }
+  Result<std::unique_ptr<mosaic::TileStore>> opened =
+      mosaic::TileStore::Open(args.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) return opened.status();
+  Floor floor;
+  floor.store = std::move(*opened);
+  floor.source = std::make_unique<mosaic::MosaicView>(
+      floor.store->layout(), mosaic::MakeTileLoader(floor.store),
+      std::make_shared<mosaic::TileCache>(kTileCacheBytes));
+  return floor;
+}
+
+// camera.json when given, else the default camera (principal point at the centre, mounted 0.40 m
+// ahead of base_link) at the floor's resolution.
+Result<io::CameraFile> LoadCamera(const SimArgs& args, double floor_resolution_m) {
+  if (!args.camera.empty()) return io::ReadCameraJson(args.camera);
+  io::CameraFile camera;
+  camera.model.width_px = args.width_px;
+  camera.model.height_px = args.height_px;
+  camera.model.cx_px = 0.5 * args.width_px;
+  camera.model.cy_px = 0.5 * args.height_px;
+  camera.model.resolution_m = floor_resolution_m;
+  camera.model.mount = {0.40, 0.0, 0.0};
+  return camera;
+}
+
+// Completes args.options from the options given in other units or as lists.
+Status ResolveOptions(SimArgs* args, double floor_resolution_m) {
+  sim::SimOptions& o = args->options;
+  if (args->route == "figure8") {
+    o.route.shape = sim::RouteShape::kFigureEight;
+  } else if (args->route == "rectangle") {
+    o.route.shape = sim::RouteShape::kRoundedRectangle;
+  } else {
+    return InvalidInput("--route '" + args->route + "': expected figure8 or rectangle");
+  }
+  if (args->speed_m_s > 0) o.route.speed_px_s = args->speed_m_s / floor_resolution_m;
+  o.route.crab_rad = args->crab_deg * M_PI / 180.0;
+  o.timing.frame_jitter_s = args->frame_jitter_ms * 1e-3;
+  o.timing.odometry_jitter_s = args->odometry_jitter_ms * 1e-3;
+  o.odometry.heading_drift_rad_s = args->heading_drift_deg_s * M_PI / 180.0;
+  if (args->odom_at_origin) o.odometry.start_pose = geometry::Pose2{};
+  o.render.exposure_s = args->exposure_ms * 1e-3;
+  Result<std::vector<double>> sigma = ParseNumbers(args->initial_sigma, 3, "--initial-sigma");
+  Result<std::vector<double>> gain = ParseNumbers(args->gain, 2, "--gain");
+  Result<std::vector<double>> bias = ParseNumbers(args->bias, 2, "--bias");
+  for (const Status& s : {sigma.status(), gain.status(), bias.status()}) {
+    FLEETLOC_RETURN_IF_ERROR(s);
+  }
+  o.initial_pose.sigma = {(*sigma)[0], (*sigma)[1], (*sigma)[2] * M_PI / 180.0};
+  o.render.gain_min = (*gain)[0];
+  o.render.gain_max = (*gain)[1];
+  o.render.bias_min_dn = (*bias)[0];
+  o.render.bias_max_dn = (*bias)[1];
+  if (args->clean) o = sim::CleanSimOptions(o);
+  return sim::Validate(o);
+}
+
+// Makes `dir` ready for a new run: created if missing; an existing non-empty directory only with
+// --overwrite, and then only the run's own files are removed.
+Status PrepareRunDir(const fs::path& dir, bool overwrite) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
+    if (!overwrite) {
+      return InvalidInput(dir.string() + ": exists and is not empty (use --overwrite)");
+    }
+    for (const char* name :
+         {"run.json", "camera.json", "frames.csv", "odometry.csv", "truth.csv"}) {
+      fs::remove(dir / name, ec);
+    }
+    fs::remove_all(dir / "frames", ec);
+  }
+  fs::create_directories(dir / "frames", ec);
+  if (ec) return Internal(dir.string() + ": cannot create the run directory: " + ec.message());
+  return Status::Ok();
+}
+
+Status WriteFrame(const fs::path& path, const cv::Mat& image) {
+  try {
+    if (cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1})) return Status::Ok();
+  } catch (const cv::Exception& e) {
+    return Internal(path.string() + ": cannot write frame: " + e.err);
+  }
+  return Internal(path.string() + ": cannot write frame");
+}
+
+// Wall-clock milliseconds spent rendering frames and waiting for their files to be written.
+struct FrameTimes {
+  double render_ms = 0.0;
+  double write_wait_ms = 0.0;
+};
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Renders and writes every frame; returns their references for frames.csv. PNG encoding takes
+// about as long as rendering, so frame i is written on a second thread while frame i + 1 renders.
+Result<std::vector<io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, const fs::path& dir,
+                                              FrameTimes* times) {
+  std::vector<io::FrameRef> frames;
+  std::future<Status> writing;
+  auto wait_for_write = [&]() -> Status {
+    if (!writing.valid()) return Status::Ok();
+    const auto start = std::chrono::steady_clock::now();
+    Status written = writing.get();
+    times->write_wait_ms += MillisecondsSince(start);
+    return written;
+  };
+  for (int i = 0; i < simulator.frame_count(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frames/%06d.png", i);
+    const auto start = std::chrono::steady_clock::now();
+    sim::RenderedFrame frame = simulator.RenderFrame(i);
+    times->render_ms += MillisecondsSince(start);
+    FLEETLOC_RETURN_IF_ERROR(wait_for_write());
+    writing = std::async(std::launch::async, [path = dir / name, image = std::move(frame.image)] {
+      return WriteFrame(path, image);
+    });
+    frames.push_back({simulator.truth()[i].t, dir / name});
+    if ((i + 1) % kProgressEvery == 0 || i + 1 == simulator.frame_count()) {
+      spdlog::info("sim: {}/{} frames", i + 1, simulator.frame_count());
+    }
+  }
+  FLEETLOC_RETURN_IF_ERROR(wait_for_write());
+  return frames;
+}
+
+nlohmann::ordered_json SummaryJson(const sim::SimSummary& s, const SimArgs& args,
+                                   const FrameTimes& times) {
+  const double frames = std::max(1, s.frames);
+  return {{"out", args.out},
+          {"seed", args.options.seed},
+          {"frames", s.frames},
+          {"duration_s", s.duration_s},
+          {"speed_px_s", s.speed_px_s},
+          {"speed_m_s", s.speed_m_s},
+          {"distance_m", s.distance_m},
+          {"route_length_m", s.route_length_m},
+          {"laps", s.laps},
+          {"route_margin_m", s.route_margin_m},
+          {"overlapping_pairs_fraction", s.overlapping_pairs_fraction},
+          {"mean_pair_overlap", s.mean_pair_overlap},
+          {"floor_fraction_seen", s.floor_fraction_seen},
+          {"min_frame_on_floor", s.min_frame_on_floor},
+          {"odometry_drift_m", s.odometry_drift_m},
+          {"odometry_drift_rad", s.odometry_drift_rad},
+          {"render_ms_per_frame", times.render_ms / frames},
+          {"write_wait_ms_per_frame", times.write_wait_ms / frames}};
+}
+
+Status RunSim(SimArgs& args) {
+  Result<Floor> floor = OpenFloor(args);
+  if (!floor.ok()) return floor.status();
+  const double floor_resolution_m = floor->source->layout().geo.resolution;
+  Result<io::CameraFile> camera = LoadCamera(args, floor_resolution_m);
+  if (!camera.ok()) return camera.status();
+  FLEETLOC_RETURN_IF_ERROR(ResolveOptions(&args, floor_resolution_m));
+  Result<std::unique_ptr<sim::RunSimulator>> simulator =
+      sim::RunSimulator::Create(floor->source.get(), camera->model, args.options);
+  if (!simulator.ok()) return simulator.status();
+  const fs::path dir = fs::absolute(args.out);
+  FLEETLOC_RETURN_IF_ERROR(PrepareRunDir(dir, args.overwrite));
+  FrameTimes times;
+  Result<std::vector<io::FrameRef>> frames = WriteFrames(**simulator, dir, &times);
+  if (!frames.ok()) return frames.status();
+  io::Run run;
+  run.dir = dir;
+  run.vehicle_id = args.vehicle_id;
+  run.camera = *camera;
+  run.initial_pose = (*simulator)->initial_pose();
+  run.initial_sigma = (*simulator)->initial_sigma();
+  run.frames = std::move(*frames);
+  run.odometry = (*simulator)->odometry();
+  run.truth = (*simulator)->truth();
+  FLEETLOC_RETURN_IF_ERROR(io::WriteRun(run));
+  std::cout << SummaryJson((*simulator)->summary(), args, times).dump(2) << "\n";
+  return Status::Ok();
+}
+
+void AddFloorAndOutputOptions(CLI::App* sim, SimArgs* a) {
+  sim->add_option("--mosaic", a->mosaic, "Floor: a mosaic file (its level 0)");
+  sim->add_option("--image", a->image, "Floor: an image file (read as 8-bit gray)");
+  sim->add_option("--resolution", a->resolution_m, "Metres per pixel of --image");
+  sim->add_option("--origin", a->origin,
+                  "X,Y map coordinates of --image's top-left corner (default 0,height*resolution)");
+  sim->add_option("--out", a->out, "Run directory to create")->required();
+  sim->add_flag("--overwrite", a->overwrite, "Replace the run files in an existing directory");
+  sim->add_option("--camera", a->camera, "camera.json (default: --width x --height, pp centred)");
+  sim->add_option("--width", a->width_px, "Frame width without --camera")
+      ->check(CLI::Range(8, 16384));
+  sim->add_option("--height", a->height_px, "Frame height without --camera")
+      ->check(CLI::Range(8, 16384));
+  sim->add_option("--vehicle-id", a->vehicle_id, "run.json vehicle_id");
+  sim->add_option("--seed", a->options.seed, "Random seed (same seed, same run)");
+  sim->add_flag(
+      "--clean", a->clean,
+      "Everything off: no photometric effects, exact odometry, no jitter or perturbation");
+}
+
+void AddMotionOptions(CLI::App* sim, SimArgs* a) {
+  sim::SimOptions& o = a->options;
+  sim->add_option("--frames", o.timing.frames, "Number of frames");
+  sim->add_option("--rate-hz", o.timing.frame_rate_hz, "Frame rate");
+  sim->add_option("--odom-rate-hz", o.timing.odometry_rate_hz, "Odometry rate (>= frame rate)");
+  sim->add_option("--start-time", o.timing.start_time_s, "Time of the first odometry sample, s");
+  sim->add_option("--frame-jitter-ms", a->frame_jitter_ms, "Uniform ± jitter of frame times");
+  sim->add_option("--odom-jitter-ms", a->odometry_jitter_ms, "Uniform ± jitter of odometry times");
+  sim->add_option("--route", a->route, "figure8 or rectangle");
+  sim->add_option("--speed-px-s", o.route.speed_px_s, "Footprint speed, floor pixels per second");
+  sim->add_option("--speed-m-s", a->speed_m_s, "Footprint speed in m/s (overrides --speed-px-s)");
+  sim->add_option("--speed-variation", o.route.speed_variation_fraction,
+                  "Relative sinusoidal speed variation (0..0.9)");
+  sim->add_option("--crab-deg", a->crab_deg, "Heading minus direction of travel");
+  sim->add_option("--min-floor-overlap", o.route.min_floor_overlap_fraction,
+                  "Share of every frame that must lie on the floor");
+  sim->add_option("--start-fraction", o.route.start_fraction, "Start point along the route (0..1)");
+}
+
+void AddOdometryOptions(CLI::App* sim, SimArgs* a) {
+  sim::OdometryOptions& o = a->options.odometry;
+  sim->add_option("--odom-scale-error", o.distance_scale_error, "Relative distance error");
+  sim->add_option("--odom-turn-error", o.heading_scale_error, "Relative turn error");
+  sim->add_option("--odom-drift-deg-s", a->heading_drift_deg_s, "Heading bias, deg/s");
+  sim->add_option("--odom-distance-noise", o.distance_noise_m_per_sqrt_m, "m per sqrt(m)");
+  sim->add_option("--odom-heading-noise", o.heading_noise_rad_per_sqrt_s, "rad per sqrt(s)");
+  sim->add_flag("--odom-at-origin", a->odom_at_origin, "Start odom at (0,0,0), not at truth");
+  sim->add_option("--initial-sigma", a->initial_sigma, "SX_M,SY_M,STHETA_DEG of initial_pose");
+  sim->add_flag("!--no-initial-perturb", a->options.initial_pose.perturb,
+                "initial_pose = truth (sigma still written)");
+}
+
+void AddRenderOptions(CLI::App* sim, SimArgs* a) {
+  sim::RenderOptions& o = a->options.render;
+  sim->add_option("--supersample", o.supersample, "Area-sensor supersampling factor");
+  sim->add_option("--dust", o.dust_fraction, "Share of the floor covered by dust and grime");
+  sim->add_option("--lighting", o.lighting_amplitude, "Relative amplitude of uneven lighting");
+  sim->add_option("--blur-sigma-px", o.blur_sigma_px, "Lens blur (Gaussian sigma)");
+  sim->add_option("--exposure-ms", a->exposure_ms, "Exposure time for motion blur (0: none)");
+  sim->add_option("--vignetting", o.vignetting_corner_loss, "Brightness lost at the corners");
+  sim->add_option("--gain", a->gain, "MIN,MAX per-frame gain");
+  sim->add_option("--bias", a->bias, "MIN,MAX per-frame bias, DN");
+  sim->add_option("--noise-sigma", o.noise_sigma_dn, "Read noise sigma, DN");
+  sim->add_option("--shot-noise", o.shot_noise_dn, "Shot-noise variance per DN of signal");
+  sim->add_option("--gamma", o.response_gamma, "Camera response exponent");
+  sim->add_option("--s-curve", o.response_s_curve, "Camera response S-curve weight (0..1)");
+}
+
+}  // namespace
+
+void RegisterSimCommand(CLI::App& app, Status* result) {
+  auto args = std::make_shared<SimArgs>();
+  CLI::App* sim = app.add_subcommand("sim", "Make a simulated run over a floor mosaic or image");
+  AddFloorAndOutputOptions(sim, args.get());
+  AddMotionOptions(sim, args.get());
+  AddOdometryOptions(sim, args.get());
+  AddRenderOptions(sim, args.get());
+  sim->callback([args, result] { *result = RunSim(*args); });
+}
+
 }  // namespace fleetloc::fleetctl
