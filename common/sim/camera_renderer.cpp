@@ -48,6 +48,7 @@ CameraRenderer::CameraRenderer(mosaic::RasterSource* floor, geometry::CameraMode
       camera_(camera),
       options_(options),
       seed_(seed),
+      grain_(options.floor_grain_dn, seed),
       dust_(options, camera.resolution_m, seed),
       vignetting_(VignettingField(camera, options.vignetting_corner_loss)) {}
 
@@ -96,7 +97,9 @@ cv::Mat CameraRenderer::RenderFloor(const geometry::Pose2& camera_in_map, int ma
       Shifted(Chain(MapToMosaic(floor_->layout().geo), ImageToMap(camera_in_map)), margin_px),
       options_.supersample);
   const cv::Rect block_rect = sampler.SourceRect(size);
-  return sampler.Sample(ReadMirrored(block_rect), block_rect, size);
+  cv::Mat block = ReadMirrored(block_rect);
+  grain_.Apply(block_rect, &block);
+  return sampler.Sample(block, block_rect, size);
 }
 
 RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,

@@ -1,5 +1,6 @@
 // Renders the rectified top view a real downward camera would capture at a given base_link pose
-// over a mosaic floor: area-sensor sampling of the floor, dust on the floor, uneven lighting, lens
+// over a mosaic floor: area-sensor sampling of the floor (with grain the mosaic lacks), dust on
+// the floor, uneven lighting, lens
 // and motion blur, vignetting, sensor noise, response curve, gain and bias, 8-bit output.
 //
 // Image pixel convention (the same as the mosaic's, CONTRACT section 2): pixel (i, j) covers
@@ -13,6 +14,7 @@
 #include "geometry/camera_model.h"
 #include "mosaic/raster_source.h"
 #include "sim/floor_dust.h"
+#include "sim/floor_grain.h"
 #include "sim/sim_options.h"
 
 namespace fleetloc::sim {
@@ -58,6 +60,7 @@ class CameraRenderer {
   geometry::CameraModel camera_;
   RenderOptions options_;
   std::uint64_t seed_;
+  FloorGrain grain_;
   FloorDust dust_;
   cv::Mat vignetting_;
 };

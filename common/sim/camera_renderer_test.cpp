@@ -292,6 +292,28 @@ TEST(CameraRenderer, DefaultEffectsChangeTheImageButKeepItsStructure) {
   EXPECT_LT(correlation.at<float>(0, 0), 0.98);
 }
 
+TEST(CameraRenderer, ExposureBlursAlongTheImageVelocity) {
+  mosaic::ImageRasterSource floor = GravelFloor();
+  const geometry::CameraModel camera = SmallCamera();
+  RenderOptions options = Clean(3);
+  CameraRenderer sharp(&floor, camera, options, 1);
+  options.exposure_s = 0.01;
+  CameraRenderer blurred(&floor, camera, options, 1);
+  const geometry::Pose2 base = BaseSeeing(camera, 256.0, 256.0, 0.2);
+  // The floor sweeps 10 px along +v during the exposure.
+  const Eigen::Vector2d velocity_px_s(0.0, 1000.0);
+  cv::Mat a, b;
+  sharp.Render(base, velocity_px_s, 0).image.convertTo(a, CV_32F);
+  blurred.Render(base, velocity_px_s, 0).image.convertTo(b, CV_32F);
+  auto energy = [](const cv::Mat& image, int dx, int dy) {
+    cv::Mat gradient;
+    cv::Sobel(image, gradient, CV_32F, dx, dy);
+    return cv::norm(gradient);
+  };
+  EXPECT_LT(energy(b, 0, 1) / energy(a, 0, 1), 0.5);  // along v: smeared
+  EXPECT_GT(energy(b, 1, 0) / energy(a, 1, 0), 0.6);  // along u: mostly kept
+}
+
 TEST(CameraRenderer, SameSeedGivesIdenticalFramesOtherSeedsDiffer) {
   mosaic::ImageRasterSource floor = GravelFloor();
   const geometry::CameraModel camera = SmallCamera();

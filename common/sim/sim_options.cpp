@@ -68,6 +68,7 @@ void CheckOdometry(const OdometryOptions& o, const InitialPoseOptions& i, Checke
 
 void CheckRender(const RenderOptions& r, Checker* c) {
   c->Range("supersample", r.supersample, 1, 8);
+  c->Range("floor_grain_dn", r.floor_grain_dn, 0.0, 50.0);
   c->Range("dust_fraction", r.dust_fraction, 0.0, 0.9);
   c->Range("dust_min_radius_px", r.dust_min_radius_px, 0.5, 1000.0);
   c->Range("dust_max_radius_px", r.dust_max_radius_px, 0.5, 1000.0);
@@ -103,6 +104,7 @@ Status Validate(const SimOptions& options) {
 }
 
 RenderOptions CleanRenderOptions(RenderOptions o) {
+  o.floor_grain_dn = 0.0;
   o.dust_fraction = 0.0;
   o.lighting_amplitude = 0.0;
   o.blur_sigma_px = 0.0;

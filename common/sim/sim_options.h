@@ -61,8 +61,9 @@ struct InitialPoseOptions {
 // The camera renderer's sampling and photometric effects, in the order they are applied.
 // Dust sizes are in camera pixels; intensities in DN (0..255).
 struct RenderOptions {
-  int supersample = 3;              // area-sensor sampling: render k× larger, INTER_AREA down
-  double dust_fraction = 0.08;      // share of the floor covered by dust and grime blobs
+  int supersample = 3;          // area-sensor sampling: mean of k × k bilinear samples per pixel
+  double floor_grain_dn = 2.0;  // floor-attached pixel noise the mosaic lacks (its capture noise)
+  double dust_fraction = 0.08;  // share of the floor covered by dust and grime blobs
   double dust_min_radius_px = 2.0;  // blob semi-major axis, log-uniform in [min, max]
   double dust_max_radius_px = 20.0;
   double dust_streak_fraction = 0.3;    // share of blobs that are thin streaks

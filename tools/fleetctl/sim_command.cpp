@@ -345,6 +345,8 @@ void AddOdometryOptions(CLI::App* sim, SimArgs* a) {
 void AddRenderOptions(CLI::App* sim, SimArgs* a) {
   sim::RenderOptions& o = a->options.render;
   sim->add_option("--supersample", o.supersample, "Area-sensor supersampling factor");
+  sim->add_option("--floor-grain", o.floor_grain_dn,
+                  "Floor-attached pixel noise the mosaic lacks (its capture noise), DN");
   sim->add_option("--dust", o.dust_fraction, "Share of the floor covered by dust and grime");
   sim->add_option("--lighting", o.lighting_amplitude, "Relative amplitude of uneven lighting");
   sim->add_option("--blur-sigma-px", o.blur_sigma_px, "Lens blur (Gaussian sigma)");
