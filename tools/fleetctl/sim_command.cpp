@@ -45,7 +45,7 @@ struct SimArgs {
   std::string initial_sigma = "0.002,0.002,0.5";  // metres, metres, degrees
   std::string gain = "0.85,1.15";
   std::string bias = "-8,8";
-  double speed_m_s = 0.0;  // overrides speed_px_s when > 0
+  double speed_m_s = 0.0;  // overrides speed_px_s when given (non-zero)
   double crab_deg = 0.0;
   double frame_jitter_ms = 1.0;
   double odometry_jitter_ms = 0.5;
@@ -145,7 +145,7 @@ Status ResolveOptions(SimArgs* args, double floor_resolution_m) {
   } else {
     return InvalidInput("--route '" + args->route + "': expected figure8 or rectangle");
   }
-  if (args->speed_m_s > 0) o.route.speed_px_s = args->speed_m_s / floor_resolution_m;
+  if (args->speed_m_s != 0) o.route.speed_px_s = args->speed_m_s / floor_resolution_m;
   o.route.crab_rad = args->crab_deg * M_PI / 180.0;
   o.timing.frame_jitter_s = args->frame_jitter_ms * 1e-3;
   o.timing.odometry_jitter_s = args->odometry_jitter_ms * 1e-3;
@@ -365,6 +365,7 @@ void AddRenderOptions(CLI::App* sim, SimArgs* a) {
 void RegisterSimCommand(CLI::App& app, Status* result) {
   auto args = std::make_shared<SimArgs>();
   CLI::App* sim = app.add_subcommand("sim", "Make a simulated run over a floor mosaic or image");
+  sim->option_defaults()->always_capture_default();  // --help shows every default
   AddFloorAndOutputOptions(sim, args.get());
   AddMotionOptions(sim, args.get());
   AddOdometryOptions(sim, args.get());
