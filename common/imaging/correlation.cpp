@@ -1,6 +1,8 @@
 // NCC template matching with sub-pixel peak and peak quality.
 #include "imaging/correlation.h"
 
+#include "imaging/fast_patch.h"
+
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
 
@@ -25,11 +27,22 @@ SubpixelPeak RefinePeak(const cv::Mat& surface, cv::Point p) {
   return result;
 }
 
+namespace {
+// Above this many multiply-adds the DFT path is faster (measured on 32² and 16² templates).
+constexpr double kDirectNccLimit = 400000.0;
+}  // namespace
+
 Match MatchTemplate(const cv::Mat& window, const cv::Mat& templ, const PeakOptions& options) {
   CV_Assert(window.type() == CV_32F && templ.type() == CV_32F);
   CV_Assert(window.cols >= templ.cols && window.rows >= templ.rows);
+  // Small searches directly (no DFT set-up); large ones through OpenCV's DFT-based matchTemplate.
+  const double positions = (window.cols - templ.cols + 1.0) * (window.rows - templ.rows + 1.0);
   cv::Mat surface;
-  cv::matchTemplate(window, templ, surface, cv::TM_CCOEFF_NORMED);
+  if (positions * templ.total() <= kDirectNccLimit) {
+    surface = NccSurface(window, templ);
+  } else {
+    cv::matchTemplate(window, templ, surface, cv::TM_CCOEFF_NORMED);
+  }
   Match match;
   double best = 0;
   cv::Point best_at;

@@ -11,20 +11,26 @@ MosaicView::MosaicView(MosaicLayout layout, TileLoader loader, std::shared_ptr<T
   FLEETLOC_CHECK(layout_.tile_size_px > 0 && layout_.levels > 0);
 }
 
-cv::Mat MosaicView::ReadBlock(int level, const cv::Rect& rect) {
-  FLEETLOC_CHECK(level >= 0 && level < layout_.levels);
+cv::Mat AssembleBlock(const MosaicLayout& layout, int level, const cv::Rect& rect, int type,
+                      const std::function<TilePtr(const TileKey&)>& fetch) {
+  FLEETLOC_CHECK(level >= 0 && level < layout.levels);
   FLEETLOC_CHECK(rect.width >= 0 && rect.height >= 0);
-  cv::Mat block = cv::Mat::zeros(rect.size(), CV_8UC1);
-  const cv::Rect level_bounds(0, 0, layout_.LevelWidth(level), layout_.LevelHeight(level));
+  cv::Mat block = cv::Mat::zeros(rect.size(), type);
+  const cv::Rect level_bounds(0, 0, layout.LevelWidth(level), layout.LevelHeight(level));
   const cv::Rect wanted = rect & level_bounds;  // never copy a tile's zero padding
-  TilesCovering(layout_, level, wanted).ForEach([&](const TileKey& key) {
-    const TilePtr tile = FetchTile(key);
+  TilesCovering(layout, level, wanted).ForEach([&](const TileKey& key) {
+    const TilePtr tile = fetch(key);
     if (tile == nullptr) return;
-    const cv::Rect tile_rect = TilePixelRect(layout_, key);
+    const cv::Rect tile_rect = TilePixelRect(layout, key);
     const cv::Rect overlap = tile_rect & wanted;
     (*tile)(overlap - tile_rect.tl()).copyTo(block(overlap - rect.tl()));
   });
   return block;
+}
+
+cv::Mat MosaicView::ReadBlock(int level, const cv::Rect& rect) {
+  return AssembleBlock(layout_, level, rect, CV_8UC1,
+                       [this](const TileKey& key) { return FetchTile(key); });
 }
 
 TilePtr MosaicView::FetchTile(const TileKey& key) {

@@ -18,6 +18,11 @@ namespace fleetloc::mosaic {
 // tile; any other error when it exists but cannot be read. Must be callable from any thread.
 using TileLoader = std::function<Result<cv::Mat>(const TileKey&)>;
 
+// Assembles the pixels of `rect` (level coordinates) from tiles of `type` given by `fetch`
+// (nullptr: no tile, left as zeros). Shared by every tiled raster.
+cv::Mat AssembleBlock(const MosaicLayout& layout, int level, const cv::Rect& rect, int type,
+                      const std::function<TilePtr(const TileKey&)>& fetch);
+
 class MosaicView : public RasterSource {
  public:
   // `cache` may be shared with other views of the same mosaic version; requires loader and cache.

@@ -1,30 +1,50 @@
 // Candidate sites and greedy texture-and-spread selection.
 #include "tracking/feature_selection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace fleetloc::tracking {
 
-std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_half,
-                                         const geometry::ConvexPolygon& region, int step_px,
-                                         double half_extent_px, double min_texture) {
+namespace {
+
+// True if the square of half-size h around c lies inside the counter-clockwise convex polygon:
+// for each edge a→b, the square's worst corner must be on the left, i.e.
+// cross(b − a, c − a) ≥ h·(|b.x − a.x| + |b.y − a.y|).
+bool SquareInside(const geometry::ConvexPolygon& ccw, const Eigen::Vector2d& c, double h) {
+  for (size_t i = 0; i < ccw.size(); ++i) {
+    const Eigen::Vector2d& a = ccw[i];
+    const Eigen::Vector2d e = ccw[(i + 1) % ccw.size()] - a;
+    const double cross = e.x() * (c.y() - a.y()) - e.y() * (c.x() - a.x());
+    if (cross < h * (std::abs(e.x()) + std::abs(e.y()))) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_px,
+                                         const geometry::ConvexPolygon& region,
+                                         double half_extent_px, double min_texture,
+                                         size_t max_sites) {
   std::vector<TemplateSite> sites;
   if (region.size() < 3) return sites;
-  const double h = half_extent_px;
-  for (int v = step_px; v < 2 * texture_half.rows; v += step_px) {
-    for (int u = step_px; u < 2 * texture_half.cols; u += step_px) {
-      const Eigen::Vector2d c(u, v);
-      const float texture = texture_half.at<float>(v / 2, u / 2);
+  const geometry::ConvexPolygon ccw = geometry::CounterClockwise(region);
+  for (int r = 0; r < texture_grid.rows; ++r) {
+    for (int c = 0; c < texture_grid.cols; ++c) {
+      const float texture = texture_grid.at<float>(r, c);
       if (texture < min_texture) continue;
-      if (!geometry::Contains(region, c + Eigen::Vector2d(-h, -h)) ||
-          !geometry::Contains(region, c + Eigen::Vector2d(h, -h)) ||
-          !geometry::Contains(region, c + Eigen::Vector2d(h, h)) ||
-          !geometry::Contains(region, c + Eigen::Vector2d(-h, h))) {
-        continue;
-      }
-      sites.push_back({c, texture});
+      const Eigen::Vector2d center((c + 1.0) * step_px, (r + 1.0) * step_px);
+      if (SquareInside(ccw, center, half_extent_px)) sites.push_back({center, texture});
     }
+  }
+  if (sites.size() > max_sites) {
+    std::nth_element(sites.begin(), sites.begin() + max_sites, sites.end(),
+                     [](const TemplateSite& a, const TemplateSite& b) {
+                       return a.texture > b.texture;
+                     });
+    sites.resize(max_sites);
   }
   return sites;
 }
@@ -35,13 +55,16 @@ std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidate
   // Squared distance from each candidate to its nearest chosen site.
   std::vector<double> nearest_sq(candidates.size(), std::numeric_limits<double>::infinity());
   const double two_sigma_sq = 2.0 * spread_sigma_px * spread_sigma_px;
+  // Spread factor d² / (d² + 2σ²): the same saturating shape as 1 − exp(−d²/2σ²) without an
+  // exp per candidate and pick.
   const double min_sep_sq = min_separation_px * min_separation_px;
   while (static_cast<int>(chosen.size()) < max_sites) {
     int best = -1;
     double best_score = 0.0;
     for (size_t i = 0; i < candidates.size(); ++i) {
       if (nearest_sq[i] < min_sep_sq) continue;
-      const double spread = chosen.empty() ? 1.0 : 1.0 - std::exp(-nearest_sq[i] / two_sigma_sq);
+      const double spread =
+          chosen.empty() ? 1.0 : nearest_sq[i] / (nearest_sq[i] + two_sigma_sq);
       const double score = candidates[i].texture * spread;
       if (score > best_score) {
         best_score = score;

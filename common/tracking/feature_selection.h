@@ -14,14 +14,15 @@ struct TemplateSite {
   double texture = 0.0;
 };
 
-// Grid sites (every step_px) whose square of half-size half_extent_px around the centre lies
-// inside `region` (frame pixels), with texture ≥ min_texture. `texture_half` is the texture score
-// of the frame at half resolution.
-std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_half,
-                                         const geometry::ConvexPolygon& region, int step_px,
-                                         double half_extent_px, double min_texture);
+// Grid sites whose square of half-size half_extent_px around the centre lies inside `region`
+// (frame pixels), with texture ≥ min_texture; at most max_sites, the best textured.
+// `texture_grid` element (r, c) scores frame point ((c + 1)·step_px, (r + 1)·step_px).
+std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_px,
+                                         const geometry::ConvexPolygon& region,
+                                         double half_extent_px, double min_texture,
+                                         size_t max_sites = 600);
 
-// Greedy selection: each pick maximizes texture × (1 − exp(−d² / 2σ²)), d being the distance to
+// Greedy selection: each pick maximizes texture × d² / (d² + 2σ²), d being the distance to
 // the nearest site already picked; sites closer than min_separation_px are never picked.
 std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidates, int max_sites,
                                       double spread_sigma_px, double min_separation_px);

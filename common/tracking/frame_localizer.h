@@ -21,6 +21,9 @@ struct FrameResult {
   int inliers = 0;                // correspondences kept by the pose update
   double rms_residual_px = 0.0;
   int search_radius_px = 0;
+  // Where the cycle's time went (ms): choosing sites (texture, overlap, selection), the coarse
+  // search and the full-resolution search with the pose updates.
+  double select_ms = 0, coarse_ms = 0, fine_ms = 0;
 };
 
 class FrameLocalizer {

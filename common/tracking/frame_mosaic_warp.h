@@ -21,6 +21,11 @@ struct FrameMosaicWarp {
     return linear * frame_px + offset;
   }
   FrameMosaicWarp Inverse() const;
+  // The same map between pyramid level `level` of the frame and of the mosaic (both halved per
+  // level, INTER_AREA-style, so continuous coordinates scale by exactly 2^-level).
+  FrameMosaicWarp AtLevel(int level) const {
+    return {linear, offset / static_cast<double>(1 << level)};
+  }
 };
 
 }  // namespace fleetloc::tracking

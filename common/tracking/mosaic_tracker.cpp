@@ -4,10 +4,11 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "imaging/texture.h"
+#include "imaging/fast_patch.h"
 #include "tracking/feature_selection.h"
 #include "tracking/motion_model.h"
 
@@ -28,7 +29,12 @@ const char* LockStateName(LockState state) {  // declared in frame_localizer.h
 
 MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::CameraModel& camera,
                              mosaic::RasterSource* mosaic)
-    : options_(options), camera_(camera), mosaic_(mosaic), matcher_(options, mosaic) {}
+    : options_(options),
+      camera_(camera),
+      mosaic_(mosaic),
+      normalized_(mosaic, options.normalize_window_px,
+                  static_cast<size_t>(options.normalized_cache_mb) << 20),
+      matcher_(options, &normalized_) {}
 
 void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
   internal_ = geometry::ComposeFixed(base_in_map, camera_.mount);
@@ -65,7 +71,7 @@ int MosaicTracker::SearchRadius(const PoseWithCovariance& camera, const Eigen::V
 }
 
 // Steps 3–5: texture score, overlap polygon, greedy selection.
-std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& frame, const Pose2& camera,
+std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const Pose2& camera,
                                                      int radius_px) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
   const FrameMosaicWarp to_frame = FrameMosaicWarp::For(camera, camera_, layout.geo).Inverse();
@@ -74,45 +80,68 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& frame, const
     mosaic_in_frame.push_back(to_frame(corner));
   }
   const geometry::ConvexPolygon overlap = geometry::ClipConvex(
-      geometry::Rectangle(0, 0, frame.cols, frame.rows), mosaic_in_frame);
-  cv::Mat half;
-  cv::resize(frame, half, {frame.cols / 2, frame.rows / 2}, 0, 0, cv::INTER_AREA);
-  const cv::Mat texture = imaging::TextureScore(half, options_.texture_window_px);
+      geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px), mosaic_in_frame);
+  // Texture on the half-resolution frame, at the candidate grid only.
+  const int half_step = std::max(1, options_.candidate_step_px / 2);
+  const cv::Mat texture =
+      imaging::TextureScoreGrid(half, half_step, options_.texture_window_px);
   const double half_extent = options_.template_size_px / 2.0 + radius_px + matcher_.margin_px();
   const std::vector<TemplateSite> candidates = CandidateSites(
-      texture, overlap, options_.candidate_step_px, half_extent, options_.min_texture);
+      texture, 2 * half_step, overlap, half_extent, options_.min_texture);
   return SelectSites(candidates, options_.max_templates, options_.spread_sigma_px,
                      options_.template_size_px);
 }
 
+// Step 3 (frame side): normalized templates, cut once per frame and level.
+std::vector<MosaicTracker::PreparedSite> MosaicTracker::Prepare(
+    const cv::Mat& frame_at_level, const std::vector<TemplateSite>& sites, int size_px,
+    int level) const {
+  std::vector<PreparedSite> prepared;
+  for (const TemplateSite& site : sites) {
+    cv::Mat templ = matcher_.Template(frame_at_level, site.center_px, size_px, level);
+    if (!templ.empty()) prepared.push_back({site, std::move(templ)});
+  }
+  return prepared;
+}
+
 // Step 6: each site matched within its own radius (or a fixed one), as map correspondences.
-MosaicTracker::Measured MosaicTracker::MatchSites(const cv::Mat& frame,
-                                                  const std::vector<TemplateSite>& sites,
+MosaicTracker::Measured MosaicTracker::MatchSites(const std::vector<PreparedSite>& sites,
                                                   const PoseWithCovariance& camera,
-                                                  int fixed_radius_px) const {
+                                                  int fixed_radius_px, int level) const {
   const geometry::Geotransform& geo = mosaic_->layout().geo;
   const FrameMosaicWarp warp = FrameMosaicWarp::For(camera.pose, camera_, geo);
-  const double sigma_m = options_.measurement_sigma_px * camera_.resolution_m;
+  const double sigma_m = options_.measurement_sigma_px * (1 << level) * camera_.resolution_m;
   Measured measured;
-  for (const TemplateSite& site : sites) {
-    const int radius = fixed_radius_px > 0 ? fixed_radius_px
-                                           : std::min(SearchRadius(camera, site.center_px),
-                                                      options_.max_search_radius_px);
-    const std::optional<SiteMatch> match = matcher_.Match(frame, site.center_px, radius, warp);
+  for (const PreparedSite& prepared : sites) {
+    const Eigen::Vector2d& center = prepared.site.center_px;
+    const int full_radius = std::min(SearchRadius(camera, center), options_.max_search_radius_px);
+    const int radius = fixed_radius_px > 0 ? fixed_radius_px : (full_radius >> level) + 1;
+    const std::optional<SiteMatch> match =
+        matcher_.Match(prepared.templ, center, radius, warp, level);
     if (!match) continue;
-    const Eigen::Vector2d observed = geo.PixelToMap(warp(site.center_px + match->shift_px));
-    measured.sites.push_back(site);
-    measured.matches.push_back({camera_.PixelToGround(site.center_px), observed, sigma_m});
+    const Eigen::Vector2d observed = geo.PixelToMap(warp(center + match->shift_px));
+    measured.sites.push_back(prepared);
+    measured.matches.push_back({camera_.PixelToGround(center), observed, sigma_m});
   }
   return measured;
 }
 
-PoseUpdate MosaicTracker::Update(const PoseWithCovariance& prior, const Measured& measured) const {
+PoseUpdate MosaicTracker::Update(const PoseWithCovariance& prior, const Measured& measured,
+                                 int level) const {
   OutlierOptions outliers;
   outliers.ratio = options_.outlier_ratio;
-  outliers.min_residual_m = options_.min_outlier_residual_px * camera_.resolution_m;
+  outliers.min_residual_m = options_.min_outlier_residual_px * (1 << level) * camera_.resolution_m;
   outliers.min_inliers = options_.min_inliers;
   return KalmanPoseUpdate(prior, measured.matches, outliers);
+}
+
+std::vector<MosaicTracker::PreparedSite> MosaicTracker::Inliers(const Measured& measured,
+                                                                const PoseUpdate& update) {
+  std::vector<PreparedSite> kept;
+  for (size_t i = 0; i < measured.sites.size(); ++i) {
+    if (update.inlier[i]) kept.push_back(measured.sites[i]);
+  }
+  return kept;
 }
 
 FrameResult MosaicTracker::Coast(double t, const Pose2& odom) {
@@ -134,26 +163,63 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   for (const auto& corner : geometry::Rectangle(0, 0, frame.cols, frame.rows)) {
     frame_radius = std::max(frame_radius, SearchRadius(prior, corner));
   }
-  if (frame_radius > options_.max_search_radius_px) {
-    ++coasting_frames_;
-    FrameResult lost = Finish(t, prior, LockState::kLost);
-    lost.search_radius_px = frame_radius;
-    return lost;
+  // Beyond the largest search the prediction may still be good (3 sigma is conservative):
+  // search the largest window anyway, and call the vehicle lost only if that fails.
+  const bool beyond_search = frame_radius > options_.max_search_radius_px;
+  frame_radius = std::min(frame_radius, options_.max_search_radius_px);
+  cv::Mat half;
+  cv::resize(frame, half, {frame.cols / 2, frame.rows / 2}, 0, 0, cv::INTER_AREA);
+  using Clock = std::chrono::steady_clock;
+  auto ms_since = [](Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  };
+  const auto t_start = Clock::now();
+  const std::vector<TemplateSite> sites = ChooseSites(half, prior.pose, frame_radius);
+  const double select_ms = ms_since(t_start);
+  const auto t_coarse = Clock::now();
+  // Coarse to fine when the window is large: search the frame pyramid from the coarsest level
+  // whose window is small, refine ±refine radius at each finer level; the full-resolution search
+  // then only needs ±refine radius around a pose already good to a fraction of a pixel.
+  PoseWithCovariance center = prior;
+  int fine_radius = 0;  // 0: each site's own 3-sigma radius
+  int templates = 0;
+  bool coarse_failed = false;
+  if (frame_radius > options_.coarse_above_radius_px) {
+    const std::vector<TemplateSite> coarse_sites(
+        sites.begin(), sites.begin() + std::min<size_t>(sites.size(), options_.coarse_templates));
+    std::vector<cv::Mat> pyramid{frame, half};
+    while (static_cast<int>(pyramid.size()) <= options_.coarse_levels) {
+      cv::Mat next;
+      cv::resize(pyramid.back(), next, {pyramid.back().cols / 2, pyramid.back().rows / 2}, 0, 0,
+                 cv::INTER_AREA);
+      pyramid.push_back(next);
+    }
+    for (int level = options_.coarse_levels; level >= 1 && !coarse_failed; --level) {
+      const bool first = level == options_.coarse_levels;
+      const Measured coarse =
+          MatchSites(Prepare(pyramid[level], coarse_sites, options_.coarse_template_size_px, level),
+                     center, first ? 0 : options_.refine_search_radius_px, level);
+      const PoseUpdate coarse_update = Update(prior, coarse, level);
+      templates = std::max(templates, static_cast<int>(coarse.matches.size()));
+      coarse_failed = coarse_update.inliers < options_.min_inliers;
+      center = coarse_update.posterior;
+    }
+    fine_radius = options_.refine_search_radius_px;
   }
-  const std::vector<TemplateSite> sites = ChooseSites(frame, prior.pose, frame_radius);
-  Measured measured = MatchSites(frame, sites, prior, 0);
-  const int templates = static_cast<int>(measured.matches.size());
-  PoseUpdate update = Update(prior, measured);
-  // Second pass: re-resample the mosaic at the refined pose and re-match the inliers in a small
+  const double coarse_ms = ms_since(t_coarse);
+  const auto t_fine = Clock::now();
+  std::vector<PreparedSite> fine_sites = Prepare(frame, sites, options_.template_size_px, 0);
+  if (coarse_failed) fine_sites.clear();
+  Measured measured = MatchSites(fine_sites, center, fine_radius, 0);
+  templates = std::max(templates, static_cast<int>(measured.matches.size()));
+  PoseUpdate update = Update(prior, measured, 0);
+  // Further passes: resample the mosaic at the refined pose and re-match the inliers in a small
   // window, so the sub-pixel fit works near zero shift where its bias vanishes.
   for (int pass = 0; pass < options_.refine_passes && update.inliers >= options_.min_inliers;
        ++pass) {
-    std::vector<TemplateSite> kept;
-    for (size_t i = 0; i < measured.sites.size(); ++i) {
-      if (update.inlier[i]) kept.push_back(measured.sites[i]);
-    }
-    measured = MatchSites(frame, kept, update.posterior, options_.refine_search_radius_px);
-    update = Update(prior, measured);
+    measured = MatchSites(Inliers(measured, update), update.posterior,
+                          options_.refine_search_radius_px, 0);
+    update = Update(prior, measured, 0);
   }
   LockState state = LockState::kCoasting;
   if (update.inliers >= options_.min_inliers) {
@@ -162,13 +228,16 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
     coasting_frames_ = 0;
   } else {
     ++coasting_frames_;
-    if (coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
+    if (beyond_search || coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
   }
   FrameResult result = Finish(t, internal_, state);
   result.templates = templates;
   result.inliers = state == LockState::kCoasting || state == LockState::kLost ? 0 : update.inliers;
   result.rms_residual_px = update.rms_residual_m / camera_.resolution_m;
   result.search_radius_px = frame_radius;
+  result.select_ms = select_ms;
+  result.coarse_ms = coarse_ms;
+  result.fine_ms = ms_since(t_fine);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "mosaic/raster_source.h"
 #include "tracking/feature_selection.h"
 #include "tracking/frame_localizer.h"
+#include "tracking/normalized_mosaic.h"
 #include "tracking/pose_update.h"
 #include "tracking/template_matcher.h"
 #include "tracking/tracker_options.h"
@@ -35,22 +36,37 @@ class MosaicTracker : public FrameLocalizer {
   FrameResult Coast(double t, const geometry::Pose2& odom) override;
 
  private:
+  // A site with its normalized template at the level it is matched at.
+  struct PreparedSite {
+    TemplateSite site;
+    cv::Mat templ;
+  };
   struct Measured {
-    std::vector<TemplateSite> sites;
+    std::vector<PreparedSite> sites;
     std::vector<Correspondence> matches;
   };
   geometry::PoseWithCovariance PredictCamera(double t, const geometry::Pose2& odom);
   int SearchRadius(const geometry::PoseWithCovariance& camera, const Eigen::Vector2d& px) const;
-  std::vector<TemplateSite> ChooseSites(const cv::Mat& frame, const geometry::Pose2& camera,
+  std::vector<TemplateSite> ChooseSites(const cv::Mat& half_frame, const geometry::Pose2& camera,
                                         int radius_px) const;
-  Measured MatchSites(const cv::Mat& frame, const std::vector<TemplateSite>& sites,
-                      const geometry::PoseWithCovariance& camera, int fixed_radius_px) const;
-  PoseUpdate Update(const geometry::PoseWithCovariance& prior, const Measured& measured) const;
+  std::vector<PreparedSite> Prepare(const cv::Mat& frame_at_level,
+                                    const std::vector<TemplateSite>& sites, int size_px,
+                                    int level) const;
+  // Matches sites at a pyramid level around `camera`; each site searches its own 3-sigma
+  // radius, or fixed_radius_px (level pixels) when > 0.
+  Measured MatchSites(const std::vector<PreparedSite>& sites,
+                      const geometry::PoseWithCovariance& camera, int fixed_radius_px,
+                      int level) const;
+  PoseUpdate Update(const geometry::PoseWithCovariance& prior, const Measured& measured,
+                    int level) const;
+  // Keeps the sites the update kept.
+  static std::vector<PreparedSite> Inliers(const Measured& measured, const PoseUpdate& update);
   FrameResult Finish(double t, const geometry::PoseWithCovariance& camera, LockState state);
 
   TrackerOptions options_;
   geometry::CameraModel camera_;
   mosaic::RasterSource* mosaic_;
+  NormalizedMosaic normalized_;
   TemplateMatcher matcher_;
   geometry::PoseWithCovariance internal_;  // camera_ground in map: the tracker's own estimate
   geometry::Pose2 odom_last_;

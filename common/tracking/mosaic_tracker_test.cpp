@@ -27,8 +27,13 @@ TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
   Scene scene;
   ASSERT_FALSE(scene.floor.empty());
   mosaic::ImageRasterSource source(scene.floor, scene.geo);
+  // A 160×120 frame holds fewer and smaller templates than the 640×480 default.
   TrackerOptions options;
   options.max_templates = 12;
+  options.template_size_px = 32;
+  options.coarse_template_size_px = 32;
+  options.coarse_levels = 1;
+  options.candidate_step_px = 8;
   ASSERT_TRUE(Validate(options).ok());
   MosaicTracker tracker(options, scene.camera, &source);
   // Odometry: 2 % scale error and a heading bias, integrated from true increments.

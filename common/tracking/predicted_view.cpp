@@ -1,14 +1,27 @@
-// Predicted mosaic view: read the covering block of level 0, then one inverse-mapped warpAffine.
+// Predicted mosaic view: read the covering block of the level, then one inverse-mapped warpAffine.
 #include "tracking/predicted_view.h"
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <opencv2/imgproc.hpp>
+
+#include "imaging/fast_patch.h"
 
 namespace fleetloc::tracking {
 
-cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
-                            const FrameMosaicWarp& warp) {
+namespace {
+
+// The mosaic block covering a view and the affine from view pixel index to block pixel index.
+struct ViewSource {
+  cv::Mat block;
+  cv::Matx23d view_to_block;
+};
+
+using BlockReader = std::function<cv::Mat(int level, const cv::Rect& rect)>;
+
+ViewSource CoveringBlock(const BlockReader& read, const cv::Rect& frame_rect,
+                         const FrameMosaicWarp& warp, int level) {
   // Bounding box of the view's corners in the mosaic, with room for interpolation.
   double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
   for (int corner = 0; corner < 4; ++corner) {
@@ -22,17 +35,34 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
                             static_cast<int>(std::floor(min_y)) - 2,
                             static_cast<int>(std::ceil(max_x - min_x)) + 5,
                             static_cast<int>(std::ceil(max_y - min_y)) + 5);
-  const cv::Mat block = mosaic->ReadBlock(0, block_rect);
   // View index (i, j) is frame point tl + (i, j) + 0.5; its block index is
   // warp(frame point) − 0.5 − block origin.
   const Eigen::Vector2d origin = warp(Eigen::Vector2d(frame_rect.x + 0.5, frame_rect.y + 0.5)) -
                                  Eigen::Vector2d(0.5 + block_rect.x, 0.5 + block_rect.y);
-  const cv::Matx23d view_to_block(warp.linear(0, 0), warp.linear(0, 1), origin.x(),
-                                  warp.linear(1, 0), warp.linear(1, 1), origin.y());
+  return {read(level, block_rect),
+          cv::Matx23d(warp.linear(0, 0), warp.linear(0, 1), origin.x(), warp.linear(1, 0),
+                      warp.linear(1, 1), origin.y())};
+}
+
+}  // namespace
+
+cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
+                            const FrameMosaicWarp& warp, int level) {
+  const ViewSource source = CoveringBlock(
+      [mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); }, frame_rect, warp,
+      level);
   cv::Mat view;
-  cv::warpAffine(block, view, view_to_block, frame_rect.size(),
+  cv::warpAffine(source.block, view, source.view_to_block, frame_rect.size(),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT);
   return view;
+}
+
+cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,
+                             const FrameMosaicWarp& warp, int level) {
+  const ViewSource source = CoveringBlock(
+      [mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); }, frame_rect, warp,
+      level);
+  return imaging::ResampleAffine(source.block, source.view_to_block, frame_rect.size());
 }
 
 }  // namespace fleetloc::tracking

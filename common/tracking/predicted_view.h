@@ -7,14 +7,20 @@
 
 #include "mosaic/raster_source.h"
 #include "tracking/frame_mosaic_warp.h"
+#include "tracking/normalized_mosaic.h"
 
 namespace fleetloc::tracking {
 
 // Renders `frame_rect` (frame pixels, may extend beyond the frame) through `warp` (frame →
-// level-0 mosaic pixels): view pixel (i, j) shows the frame point frame_rect.tl() + (i, j) + 0.5,
-// bilinearly interpolated. Returns a CV_8UC1 image of frame_rect's size; mosaic pixels outside
-// the mosaic are 0. Reads level 0 of `mosaic`, which must not be null.
+// mosaic pixels of pyramid level `level`): view pixel (i, j) shows the frame point
+// frame_rect.tl() + (i, j) + 0.5, bilinearly interpolated. Returns a CV_8UC1 image of
+// frame_rect's size; mosaic pixels outside the mosaic are 0. `mosaic` must not be null.
 cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
-                            const FrameMosaicWarp& warp);
+                            const FrameMosaicWarp& warp, int level = 0);
+
+// The same view of the locally normalized mosaic, as CV_32F, resampled by the tracker's own
+// small-patch kernel (fast on the template-sized views of the hot loop; see imaging/fast_patch.h).
+cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,
+                             const FrameMosaicWarp& warp, int level);
 
 }  // namespace fleetloc::tracking

@@ -1,12 +1,12 @@
-// Mosaic resampling, normalization and NCC for one template site.
+// Normalized template extraction and NCC against the normalized mosaic view.
 #include "tracking/template_matcher.h"
 
-#include "imaging/normalize.h"
+#include "imaging/fast_patch.h"
 #include "tracking/predicted_view.h"
 
 namespace fleetloc::tracking {
 
-TemplateMatcher::TemplateMatcher(const TrackerOptions& options, mosaic::RasterSource* mosaic)
+TemplateMatcher::TemplateMatcher(const TrackerOptions& options, NormalizedMosaic* mosaic)
     : options_(options), mosaic_(mosaic) {}
 
 bool TemplateMatcher::PassesGates(const imaging::Match& m) const {
@@ -15,26 +15,34 @@ bool TemplateMatcher::PassesGates(const imaging::Match& m) const {
          m.curvature >= options_.min_peak_curvature;
 }
 
-std::optional<SiteMatch> TemplateMatcher::Match(const cv::Mat& frame,
+cv::Point TemplateMatcher::TopLeft(const Eigen::Vector2d& center_px, int t, int level) {
+  return {static_cast<int>(center_px.x()) / (1 << level) - t / 2,
+          static_cast<int>(center_px.y()) / (1 << level) - t / 2};
+}
+
+cv::Mat TemplateMatcher::Template(const cv::Mat& frame, const Eigen::Vector2d& center_px,
+                                  int size_px, int level) const {
+  const int t = size_px >> level, w = mosaic_->WindowAt(level), m = w / 2 + 1;
+  const cv::Point top_left = TopLeft(center_px, t, level);
+  const cv::Rect padded(top_left.x - m, top_left.y - m, t + 2 * m, t + 2 * m);
+  if ((padded & cv::Rect(0, 0, frame.cols, frame.rows)) != padded) return {};
+  // Normalize with a margin, then crop, so every template pixel sees its whole neighbourhood.
+  return imaging::NormalizePatch(frame(padded), w)(cv::Rect(m, m, t, t)).clone();
+}
+
+std::optional<SiteMatch> TemplateMatcher::Match(const cv::Mat& templ,
                                                 const Eigen::Vector2d& center_px, int radius_px,
-                                                const FrameMosaicWarp& warp) const {
-  const int t = options_.template_size_px, m = margin_px();
-  const cv::Point top_left(static_cast<int>(center_px.x()) - t / 2,
-                           static_cast<int>(center_px.y()) - t / 2);
-  const cv::Rect template_rect(top_left.x - m, top_left.y - m, t + 2 * m, t + 2 * m);
-  if ((template_rect & cv::Rect(0, 0, frame.cols, frame.rows)) != template_rect) return {};
-  // Normalize with a margin, then crop, so template and view pixels see whole neighbourhoods.
-  const int w = options_.normalize_window_px;
-  const cv::Mat templ = imaging::LocalNormalize(frame(template_rect), w)(cv::Rect(m, m, t, t));
-  const int view_size = t + 2 * radius_px + 2 * m;
-  const cv::Mat view = RenderPredictedView(
-      mosaic_, {top_left - cv::Point(radius_px + m, radius_px + m), cv::Size(view_size, view_size)},
-      warp);
-  const cv::Mat view_n = imaging::LocalNormalize(view, w)(
-      cv::Rect(m, m, view_size - 2 * m, view_size - 2 * m));
-  const imaging::Match match = imaging::MatchTemplate(view_n, templ.clone());
+                                                const FrameMosaicWarp& warp, int level) const {
+  if (templ.empty()) return {};
+  const int view_size = templ.cols + 2 * radius_px;
+  const cv::Mat view = RenderNormalizedView(
+      mosaic_,
+      {TopLeft(center_px, templ.cols, level) - cv::Point(radius_px, radius_px), cv::Size(view_size, view_size)},
+      warp.AtLevel(level), level);
+  const imaging::Match match = imaging::MatchTemplate(view, templ);
   if (!PassesGates(match)) return {};
-  return SiteMatch{match.offset_px - Eigen::Vector2d(radius_px, radius_px), match};
+  const double scale = 1 << level;
+  return SiteMatch{(match.offset_px - Eigen::Vector2d(radius_px, radius_px)) * scale, match};
 }
 
 }  // namespace fleetloc::tracking

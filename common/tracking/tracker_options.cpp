@@ -15,8 +15,13 @@ Status Check(bool ok, const char* field, const char* rule) {
 
 Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.template_size_px >= 8 && o.template_size_px <= 128 &&
-                                     o.template_size_px % 2 == 0,
-                                 "template_size_px", "must be even, in [8, 128]"));
+                                     o.template_size_px % 4 == 0,
+                                 "template_size_px", "must be a multiple of 4, in [8, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_template_size_px >= 8 &&
+                                     o.coarse_template_size_px <= o.template_size_px &&
+                                     o.coarse_template_size_px % 8 == 0,
+                                 "coarse_template_size_px",
+                                 "must be a multiple of 8, in [8, template_size_px]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_templates >= 2 && o.max_templates <= 256, "max_templates",
                                  "must be in [2, 256]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_inliers >= 2 && o.min_inliers <= o.max_templates,
@@ -40,8 +45,18 @@ Status Validate(const TrackerOptions& o) {
                                  "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes",
                                  "must be in [0, 5]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_above_radius_px >= o.refine_search_radius_px,
+                                 "coarse_above_radius_px", "must be ≥ refine_search_radius_px"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_levels >= 1 && o.coarse_levels <= 3, "coarse_levels",
+                                 "must be in [1, 3]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_template_size_px >> o.coarse_levels >= 8,
+                                 "coarse_template_size_px",
+                                 "must keep ≥ 8 px at the coarsest level (coarse_levels)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_templates >= o.min_inliers, "coarse_templates",
+                                 "must be ≥ min_inliers"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.measurement_sigma_px > 0, "measurement_sigma_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.outlier_ratio > 1, "outlier_ratio", "must be > 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.normalized_cache_mb >= 1, "normalized_cache_mb", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_coasting_frames >= 0, "max_coasting_frames", "must be ≥ 0"));
   const auto& n = o.odometry;
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "io/tracker_config.h"
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
 #include "tracking/mosaic_tracker.h"
@@ -19,6 +20,7 @@ struct TrackArgs {
   std::string mosaic;
   std::string run;
   std::string out;
+  std::string config;
   long long cache_mb = 256;
 };
 
@@ -31,7 +33,12 @@ Status RunTrack(const TrackArgs& args) {
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
-  const tracking::TrackerOptions options;
+  tracking::TrackerOptions options;
+  if (!args.config.empty()) {
+    Result<tracking::TrackerOptions> configured = io::ReadTrackerOptions(args.config);
+    if (!configured.ok()) return configured.status();
+    options = *configured;
+  }
   tracking::MosaicTracker tracker(options, run->camera.model, &view);
   Result<replay::ReplayResult> replayed =
       replay::ReplayRun(*run, tracker, [](size_t done, size_t total) {
@@ -51,6 +58,7 @@ void RegisterTrackCommand(CLI::App& app, Status* result) {
   track->add_option("--mosaic", args->mosaic, "Mosaic file (SQLite)")->required();
   track->add_option("--run", args->run, "Run directory (CONTRACT §4)")->required();
   track->add_option("--out", args->out, "Output poses.csv")->required();
+  track->add_option("--config", args->config, "Tracker options (JSON; defaults for absent keys)");
   track->add_option("--cache-mb", args->cache_mb, "Tile cache bound in MiB")
       ->check(CLI::Range(1, 1 << 20));
   track->callback([args, result] { *result = RunTrack(*args); });

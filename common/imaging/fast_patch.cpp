@@ -1,0 +1,304 @@
+// Hand-written small-patch kernels (see fast_patch.h for why).
+#include "imaging/fast_patch.h"
+
+#include <immintrin.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <type_traits>
+#include <vector>
+
+namespace fleetloc::imaging {
+namespace {
+
+// Hot kernels are compiled twice, for AVX2 and for the baseline, and picked at run time, so the
+// build stays portable while a modern CPU gets 8-wide vectors.
+#define FLEETLOC_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+
+cv::Mat AsFloat(const cv::Mat& m) {
+  if (m.type() == CV_32F) return m;
+  cv::Mat f;
+  m.convertTo(f, CV_32F);
+  return f;
+}
+
+// Window [lo, hi) of each index, clipped to [0, n).
+void ClippedWindows(int n, int half, std::vector<int>& lo, std::vector<int>& hi) {
+  lo.resize(n), hi.resize(n);
+  for (int i = 0; i < n; ++i) lo[i] = std::max(0, i - half), hi[i] = std::min(n, i + half + 1);
+}
+
+FLEETLOC_VECTOR_CLONES
+void AddRow(const float* in, float* sum, float* sum_sq, int n, float sign) {
+  for (int x = 0; x < n; ++x) sum[x] += sign * in[x], sum_sq[x] += sign * in[x] * in[x];
+}
+
+// sum[x] = prefix[x + half + 1] − prefix[x − half] for x in [begin, end).
+FLEETLOC_VECTOR_CLONES
+void WindowDifferences(const float* prefix, const float* prefix_sq, int begin, int end, int half,
+                       float* sum, float* sq) {
+  for (int x = begin; x < end; ++x) {
+    sum[x] = prefix[x + half + 1] - prefix[x - half];
+    sq[x] = prefix_sq[x + half + 1] - prefix_sq[x - half];
+  }
+}
+
+FLEETLOC_VECTOR_CLONES
+void ScaleInto(const float* in, float scale, float* out, int n) {
+  for (int x = 0; x < n; ++x) out[x] = in[x] * scale;
+}
+
+FLEETLOC_VECTOR_CLONES
+void NormalizeRow(const float* in, const float* mean_sum, const float* sq_sum, const float* inv_n,
+                  float epsilon, float* out, int n) {
+  for (int x = 0; x < n; ++x) {
+    const float mean = mean_sum[x] * inv_n[x];
+    const float variance = std::max(0.0f, sq_sum[x] * inv_n[x] - mean * mean);
+    out[x] = (in[x] - mean) / (std::sqrt(variance) + epsilon);
+  }
+}
+
+// A float dot product: the compiler may not reorder a float sum into SIMD lanes, Eigen does.
+float Dot(const float* a, const float* b, int n) {
+  return Eigen::Map<const Eigen::VectorXf>(a, n).dot(Eigen::Map<const Eigen::VectorXf>(b, n));
+}
+
+FLEETLOC_VECTOR_CLONES
+void Axpy(float a, const float* x, float* y, int n) {
+  for (int i = 0; i < n; ++i) y[i] += a * x[i];
+}
+
+// Σ t·v for every placement of the template (rows × cols placements).
+void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
+  const int th = t0.rows, tw = t0.cols, rows = cross.rows, cols = cross.cols;
+  if (cols >= 16) {  // many placements per row: vectorize across placements
+    for (int ty = 0; ty < th; ++ty) {
+      const float* trow = t0.ptr<float>(ty);
+      for (int y = 0; y < rows; ++y) {
+        const float* vrow = window.ptr<float>(y + ty);
+        float* c = cross.ptr<float>(y);
+        for (int tx = 0; tx < tw; ++tx) Axpy(trow[tx], vrow + tx, c, cols);
+      }
+    }
+    return;
+  }
+  for (int y = 0; y < rows; ++y) {  // few placements: vectorize along template rows
+    float* c = cross.ptr<float>(y);
+    for (int x = 0; x < cols; ++x) {
+      float s = 0.0f;
+      for (int ty = 0; ty < th; ++ty) s += Dot(t0.ptr<float>(ty), window.ptr<float>(y + ty) + x, tw);
+      c[x] = s;
+    }
+  }
+}
+
+}  // namespace
+
+cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon) {
+  CV_Assert(window_px >= 3 && window_px % 2 == 1);
+  const cv::Mat f = AsFloat(patch);
+  const int rows = f.rows, cols = f.cols, half = window_px / 2;
+  std::vector<int> x_lo, x_hi, y_lo, y_hi;
+  ClippedWindows(cols, half, x_lo, x_hi);
+  ClippedWindows(rows, half, y_lo, y_hi);
+  // Column sums over the vertical window, updated row by row; then horizontal window sums from
+  // prefix sums (interior columns as a difference of shifted prefixes, borders clipped).
+  std::vector<float> col_sum(cols, 0.0f), col_sq(cols, 0.0f);
+  std::vector<float> prefix(cols + 1), prefix_sq(cols + 1), sum(cols), sq(cols), inv_n(cols);
+  std::vector<float> inv_cols(cols);
+  for (int x = 0; x < cols; ++x) inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
+  for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), col_sum.data(), col_sq.data(), cols, 1);
+  cv::Mat out(f.size(), CV_32F);
+  const int interior_begin = std::min(half, cols), interior_end = std::max(interior_begin, cols - half);
+  for (int y = 0; y < rows; ++y) {
+    if (y > 0 && y_hi[y] > y_hi[y - 1]) {
+      AddRow(f.ptr<float>(y_hi[y] - 1), col_sum.data(), col_sq.data(), cols, 1);
+    }
+    if (y > 0 && y_lo[y] > y_lo[y - 1]) {
+      AddRow(f.ptr<float>(y_lo[y] - 1), col_sum.data(), col_sq.data(), cols, -1);
+    }
+    prefix[0] = prefix_sq[0] = 0.0f;
+    for (int x = 0; x < cols; ++x) {
+      prefix[x + 1] = prefix[x] + col_sum[x];
+      prefix_sq[x + 1] = prefix_sq[x] + col_sq[x];
+    }
+    for (int x = 0; x < interior_begin; ++x) {
+      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]], sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
+    }
+    WindowDifferences(prefix.data(), prefix_sq.data(), interior_begin, interior_end, half,
+                      sum.data(), sq.data());
+    for (int x = interior_end; x < cols; ++x) {
+      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]], sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
+    }
+    const float inv_rows = 1.0f / static_cast<float>(y_hi[y] - y_lo[y]);
+    ScaleInto(inv_cols.data(), inv_rows, inv_n.data(), cols);
+    NormalizeRow(f.ptr<float>(y), sum.data(), sq.data(), inv_n.data(), epsilon,
+                 out.ptr<float>(y), cols);
+  }
+  return out;
+}
+
+namespace {
+
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+
+// The range [j_begin, j_end) of j ≥ 0 for which lo ≤ s0 + a·j < hi (all j when a = 0 and s0 fits).
+void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int* j_end) {
+  if (a == 0.0f) {
+    const bool inside = s0 >= lo && s0 < hi;
+    *j_begin = 0, *j_end = inside ? n : 0;
+    return;
+  }
+  double first = (lo - s0) / a, last = (hi - s0) / a;
+  if (a < 0) std::swap(first, last);
+  *j_begin = std::clamp(static_cast<int>(std::ceil(first)), 0, n);
+  *j_end = std::clamp(static_cast<int>(std::ceil(last)), *j_begin, n);
+}
+
+// Bilinear samples of a float image along one output row, 8 at a time with AVX2 gathers; returns
+// the first j it did not do. Only called when the CPU has AVX2 (checked at run time).
+__attribute__((target("avx2"))) int ResampleRowAvx2(const float* base, int stride, float sx0,
+                                                    float sy0, float a, float c, int begin,
+                                                    int end, float* out) {
+  const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i stride_v = _mm256_set1_epi32(stride);
+  int j = begin;
+  for (; j + 8 <= end; j += 8) {
+    const __m256 jj = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), lane);
+    const __m256 sx = _mm256_add_ps(_mm256_set1_ps(sx0), _mm256_mul_ps(_mm256_set1_ps(a), jj));
+    const __m256 sy = _mm256_add_ps(_mm256_set1_ps(sy0), _mm256_mul_ps(_mm256_set1_ps(c), jj));
+    const __m256i x0 = _mm256_cvttps_epi32(sx), y0 = _mm256_cvttps_epi32(sy);
+    const __m256 ax = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(x0));
+    const __m256 ay = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
+    const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(y0, stride_v), x0);
+    const __m256i below = _mm256_add_epi32(index, stride_v);
+    const __m256 p00 = _mm256_i32gather_ps(base, index, 4);
+    const __m256 p01 = _mm256_i32gather_ps(base + 1, index, 4);
+    const __m256 p10 = _mm256_i32gather_ps(base, below, 4);
+    const __m256 p11 = _mm256_i32gather_ps(base + 1, below, 4);
+    const __m256 top = _mm256_add_ps(p00, _mm256_mul_ps(ax, _mm256_sub_ps(p01, p00)));
+    const __m256 bottom = _mm256_add_ps(p10, _mm256_mul_ps(ax, _mm256_sub_ps(p11, p10)));
+    _mm256_storeu_ps(out + j, _mm256_add_ps(top, _mm256_mul_ps(ay, _mm256_sub_ps(bottom, top))));
+  }
+  return j;
+}
+
+template <typename Pixel>
+void ResampleRows(const cv::Mat& src, const cv::Matx23d& m, cv::Mat& dst) {
+  // A margin of 1e-3 px keeps float rounding at the range ends inside the source.
+  const float max_x = static_cast<float>(src.cols - 1) - 1e-3f;
+  const float max_y = static_cast<float>(src.rows - 1) - 1e-3f;
+  const float a = static_cast<float>(m(0, 0)), c = static_cast<float>(m(1, 0));
+  const size_t stride = src.step[0] / sizeof(Pixel);
+  const Pixel* base = src.ptr<Pixel>(0);
+  for (int i = 0; i < dst.rows; ++i) {
+    float* out = dst.ptr<float>(i);
+    const float sx0 = static_cast<float>(m(0, 1) * i + m(0, 2));
+    const float sy0 = static_cast<float>(m(1, 1) * i + m(1, 2));
+    int bx, ex, by, ey;
+    ValidRange(sx0, a, 1e-3f, max_x, dst.cols, &bx, &ex);
+    ValidRange(sy0, c, 1e-3f, max_y, dst.cols, &by, &ey);
+    const int begin = std::max(bx, by), end = std::max(begin, std::min(ex, ey));
+    std::fill(out, out + begin, 0.0f);
+    std::fill(out + end, out + dst.cols, 0.0f);
+    int j = begin;
+    if constexpr (std::is_same_v<Pixel, float>) {
+      if (kHasAvx2) {
+        j = ResampleRowAvx2(base, static_cast<int>(stride), sx0, sy0, a, c, begin, end, out);
+      }
+    }
+    for (; j < end; ++j) {
+      const float sx = sx0 + a * j, sy = sy0 + c * j;
+      const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);  // floor: both > 0
+      const float ax = sx - x0, ay = sy - y0;
+      const Pixel* r0 = base + y0 * stride + x0;
+      const Pixel* r1 = r0 + stride;
+      const float top = r0[0] + ax * (static_cast<float>(r0[1]) - r0[0]);
+      const float bottom = r1[0] + ax * (static_cast<float>(r1[1]) - r1[0]);
+      out[j] = top + ay * (bottom - top);
+    }
+  }
+}
+
+}  // namespace
+
+cv::Mat ResampleAffine(const cv::Mat& src, const cv::Matx23d& m, cv::Size size) {
+  CV_Assert(src.type() == CV_8UC1 || src.type() == CV_32FC1);
+  cv::Mat dst(size, CV_32F);
+  if (src.type() == CV_8UC1) {
+    ResampleRows<uchar>(src, m, dst);
+  } else {
+    ResampleRows<float>(src, m, dst);
+  }
+  return dst;
+}
+
+cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
+  CV_Assert(window.type() == CV_32F && templ.type() == CV_32F);
+  const int th = templ.rows, tw = templ.cols;
+  const int rows = window.rows - th + 1, cols = window.cols - tw + 1;
+  CV_Assert(rows > 0 && cols > 0);
+  // Zero-mean template: Σ t'·(v − v̄) = Σ t'·v, so only one product sum per position is needed.
+  const double n = static_cast<double>(th) * tw;
+  cv::Mat t0 = templ - cv::mean(templ)[0];
+  const double t_norm = std::sqrt(t0.dot(t0));
+  cv::Mat cross = cv::Mat::zeros(rows, cols, CV_32F);
+  CrossSums(window, t0, cross);
+  // Window sums and sums of squares per placement from running sums (double: no cancellation).
+  std::vector<double> sum(static_cast<size_t>(window.rows + 1) * (window.cols + 1), 0.0);
+  std::vector<double> sq(sum.size(), 0.0);
+  const int w = window.cols + 1;
+  for (int y = 0; y < window.rows; ++y) {
+    const float* row = window.ptr<float>(y);
+    double run = 0.0, run_sq = 0.0;
+    for (int x = 0; x < window.cols; ++x) {
+      run += row[x], run_sq += static_cast<double>(row[x]) * row[x];
+      sum[(y + 1) * w + x + 1] = sum[y * w + x + 1] + run;
+      sq[(y + 1) * w + x + 1] = sq[y * w + x + 1] + run_sq;
+    }
+  }
+  for (int y = 0; y < rows; ++y) {
+    float* c = cross.ptr<float>(y);
+    for (int x = 0; x < cols; ++x) {
+      const int y1 = y + th, x1 = x + tw;
+      const double s = sum[y1 * w + x1] - sum[y * w + x1] - sum[y1 * w + x] + sum[y * w + x];
+      const double s2 = sq[y1 * w + x1] - sq[y * w + x1] - sq[y1 * w + x] + sq[y * w + x];
+      const double denominator = std::sqrt(std::max(0.0, s2 - s * s / n)) * t_norm;
+      c[x] = denominator > 1e-9 ? static_cast<float>(c[x] / denominator) : 0.0f;
+    }
+  }
+  return cross;
+}
+
+cv::Mat TextureScoreGrid(const cv::Mat& gray, int step_px, int window_px) {
+  CV_Assert(gray.type() == CV_8UC1 && step_px >= 1 && window_px >= 3 && window_px % 2 == 1);
+  const int rows = gray.rows / step_px - 1, cols = gray.cols / step_px - 1, h = window_px / 2;
+  cv::Mat score(rows, cols, CV_32F, cv::Scalar(0));
+  for (int gy = 0; gy < rows; ++gy) {
+    const int cy = (gy + 1) * step_px;
+    for (int gx = 0; gx < cols; ++gx) {
+      const int cx = (gx + 1) * step_px;
+      if (cy - h < 1 || cx - h < 1 || cy + h + 1 >= gray.rows || cx + h + 1 >= gray.cols) continue;
+      float a = 0, b = 0, c = 0;
+      for (int y = cy - h; y <= cy + h; ++y) {
+        const uchar* up = gray.ptr<uchar>(y - 1);
+        const uchar* mid = gray.ptr<uchar>(y);
+        const uchar* down = gray.ptr<uchar>(y + 1);
+        for (int x = cx - h; x <= cx + h; ++x) {
+          const float dx = 0.5f * (mid[x + 1] - mid[x - 1]);
+          const float dy = 0.5f * (down[x] - up[x]);
+          a += dx * dx, b += dx * dy, c += dy * dy;
+        }
+      }
+      const float n = static_cast<float>(window_px * window_px);
+      a /= n, b /= n, c /= n;
+      const float half_diff = 0.5f * (a - c);
+      score.at<float>(gy, gx) =
+          std::max(0.0f, 0.5f * (a + c) - std::sqrt(half_diff * half_diff + b * b));
+    }
+  }
+  return score;
+}
+
+}  // namespace fleetloc::imaging

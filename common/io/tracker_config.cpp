@@ -1,0 +1,113 @@
+// Tracker options <-> JSON through one table of fields, so reading and writing cannot drift apart.
+#include "io/tracker_config.h"
+
+#include <cmath>
+#include <functional>
+#include <variant>
+
+#include "io/json_fields.h"
+
+namespace fleetloc::io {
+namespace {
+
+using Field = std::variant<int*, double*>;
+using FieldTable = std::vector<std::pair<const char*, Field>>;
+
+FieldTable TrackerFields(tracking::TrackerOptions& o) {
+  return {{"template_size_px", &o.template_size_px},
+          {"max_templates", &o.max_templates},
+          {"min_inliers", &o.min_inliers},
+          {"candidate_step_px", &o.candidate_step_px},
+          {"texture_window_px", &o.texture_window_px},
+          {"min_texture", &o.min_texture},
+          {"spread_sigma_px", &o.spread_sigma_px},
+          {"normalize_window_px", &o.normalize_window_px},
+          {"min_peak_correlation", &o.min_peak_correlation},
+          {"max_ambiguity_ratio", &o.max_ambiguity_ratio},
+          {"min_peak_curvature", &o.min_peak_curvature},
+          {"search_sigma_multiple", &o.search_sigma_multiple},
+          {"min_search_radius_px", &o.min_search_radius_px},
+          {"max_search_radius_px", &o.max_search_radius_px},
+          {"refine_search_radius_px", &o.refine_search_radius_px},
+          {"refine_passes", &o.refine_passes},
+          {"coarse_above_radius_px", &o.coarse_above_radius_px},
+          {"coarse_levels", &o.coarse_levels},
+          {"coarse_templates", &o.coarse_templates},
+          {"coarse_template_size_px", &o.coarse_template_size_px},
+          {"measurement_sigma_px", &o.measurement_sigma_px},
+          {"outlier_ratio", &o.outlier_ratio},
+          {"min_outlier_residual_px", &o.min_outlier_residual_px},
+          {"max_coasting_frames", &o.max_coasting_frames},
+          {"normalized_cache_mb", &o.normalized_cache_mb}};
+}
+
+FieldTable OdometryFields(tracking::OdometryNoiseOptions& n) {
+  return {{"along_sigma_per_m", &n.along_sigma_per_m},
+          {"lateral_sigma_per_m", &n.lateral_sigma_per_m},
+          {"heading_sigma_per_rad", &n.heading_sigma_per_rad},
+          {"heading_sigma_per_m", &n.heading_sigma_per_m},
+          {"heading_sigma_per_s", &n.heading_sigma_per_s},
+          {"floor_sigma_m", &n.floor_sigma_m}};
+}
+
+Status ReadFields(const nlohmann::json& object, const FieldTable& table, const std::string& where,
+                  const std::string& prefix) {
+  if (!object.is_object()) return InvalidInput(where + ": '" + prefix + "' must be an object");
+  for (const auto& [key, value] : object.items()) {
+    if (prefix.empty() && key == "odometry") continue;
+    const auto it = std::find_if(table.begin(), table.end(),
+                                 [&](const auto& f) { return key == f.first; });
+    const std::string name = prefix + key;
+    if (it == table.end()) return InvalidInput(where + ": field '" + name + "': unknown option");
+    if (const auto* i = std::get_if<int*>(&it->second)) {
+      if (!value.is_number_integer()) {
+        return InvalidInput(where + ": field '" + name + "': must be an integer");
+      }
+      **i = value.get<int>();
+    } else {
+      if (!value.is_number() || !std::isfinite(value.get<double>())) {
+        return InvalidInput(where + ": field '" + name + "': must be a finite number");
+      }
+      *std::get<double*>(it->second) = value.get<double>();
+    }
+  }
+  return Status::Ok();
+}
+
+nlohmann::json WriteFields(const FieldTable& table) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, field] : table) {
+    std::visit([&](auto* p) { j[key] = *p; }, field);
+  }
+  return j;
+}
+
+}  // namespace
+
+Result<tracking::TrackerOptions> TrackerOptionsFromJson(const nlohmann::json& object,
+                                                        const std::string& where) {
+  tracking::TrackerOptions options;
+  FLEETLOC_RETURN_IF_ERROR(ReadFields(object, TrackerFields(options), where, ""));
+  if (object.contains("odometry")) {
+    FLEETLOC_RETURN_IF_ERROR(
+        ReadFields(object["odometry"], OdometryFields(options.odometry), where, "odometry."));
+  }
+  const Status valid = tracking::Validate(options);
+  if (!valid.ok()) return InvalidInput(where + ": " + valid.message());
+  return options;
+}
+
+Result<tracking::TrackerOptions> ReadTrackerOptions(const std::filesystem::path& path) {
+  Result<nlohmann::json> json = ReadJsonObjectFile(path);
+  if (!json.ok()) return json.status();
+  return TrackerOptionsFromJson(*json, path.string());
+}
+
+nlohmann::json TrackerOptionsToJson(const tracking::TrackerOptions& options) {
+  tracking::TrackerOptions copy = options;
+  nlohmann::json j = WriteFields(TrackerFields(copy));
+  j["odometry"] = WriteFields(OdometryFields(copy.odometry));
+  return j;
+}
+
+}  // namespace fleetloc::io

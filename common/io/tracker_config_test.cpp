@@ -1,0 +1,39 @@
+// Tests for tracker options from JSON: defaults, overrides, unknown keys, types, ranges.
+#include "io/tracker_config.h"
+
+#include <gtest/gtest.h>
+
+namespace fleetloc::io {
+namespace {
+
+TEST(TrackerConfig, EmptyObjectGivesDefaultsAndRoundTrips) {
+  const auto options = TrackerOptionsFromJson(nlohmann::json::object(), "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->template_size_px, tracking::TrackerOptions{}.template_size_px);
+  const auto again = TrackerOptionsFromJson(TrackerOptionsToJson(*options), "t.json");
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(TrackerOptionsToJson(*again), TrackerOptionsToJson(*options));
+}
+
+TEST(TrackerConfig, OverridesNestedOdometryModel) {
+  const auto options = TrackerOptionsFromJson(
+      {{"max_templates", 32}, {"odometry", {{"along_sigma_per_m", 0.02}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->max_templates, 32);
+  EXPECT_DOUBLE_EQ(options->odometry.along_sigma_per_m, 0.02);
+}
+
+TEST(TrackerConfig, RejectsUnknownWrongTypeAndOutOfRange) {
+  auto bad = TrackerOptionsFromJson({{"max_templats", 32}}, "t.json");
+  EXPECT_EQ(bad.status().message(), "t.json: field 'max_templats': unknown option");
+  bad = TrackerOptionsFromJson({{"max_templates", 3.5}}, "t.json");
+  EXPECT_EQ(bad.status().message(), "t.json: field 'max_templates': must be an integer");
+  bad = TrackerOptionsFromJson({{"odometry", {{"along", 1}}}}, "t.json");
+  EXPECT_EQ(bad.status().message(), "t.json: field 'odometry.along': unknown option");
+  bad = TrackerOptionsFromJson({{"template_size_px", 31}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("template_size_px"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fleetloc::io

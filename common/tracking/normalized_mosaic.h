@@ -1,0 +1,33 @@
+// The locally normalized mosaic (paper 000 §2.4: "and optionally mosaic images"): each tile of a
+// pyramid level is normalized once, with the margin its neighbours provide, and kept as floats in
+// a byte-bounded LRU cache, so the hot loop only resamples already normalized pixels.
+#pragma once
+
+#include <memory>
+
+#include "mosaic/raster_source.h"
+#include "mosaic/tile_cache.h"
+#include "mosaic/tile_key.h"
+
+namespace fleetloc::tracking {
+
+class NormalizedMosaic {
+ public:
+  // `mosaic` must outlive this. window_px(level) is the normalization window at each level.
+  NormalizedMosaic(mosaic::RasterSource* mosaic, int window_level0_px, size_t cache_bytes);
+
+  // CV_32F normalized pixels of `rect` at `level`; outside the mosaic 0.
+  cv::Mat ReadBlock(int level, const cv::Rect& rect);
+  int WindowAt(int level) const { return std::max(5, (window_level0_px_ >> level) | 1); }
+  const mosaic::MosaicLayout& layout() const { return mosaic_->layout(); }
+  mosaic::TileCache& cache() { return *cache_; }
+
+ private:
+  mosaic::TilePtr NormalizedTile(const mosaic::TileKey& key);
+
+  mosaic::RasterSource* mosaic_;
+  int window_level0_px_;
+  std::unique_ptr<mosaic::TileCache> cache_;
+};
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,131 @@
+// Google Benchmark of one tracker cycle on a 640×480 frame over a real floor (rock and dirt,
+// 2048² px at 0.5 mm/px), frames rendered in memory by the simulator with all photometric
+// effects, the mosaic in memory (a warm tile cache). Also the hot stages on their own.
+#include <benchmark/benchmark.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "imaging/correlation.h"
+#include "imaging/fast_patch.h"
+#include "imaging/normalize.h"
+#include "imaging/texture.h"
+#include "sim/run_simulator.h"
+#include "tracking/mosaic_tracker.h"
+#include "tracking/odometry_history.h"
+
+namespace fleetloc {
+namespace {
+
+struct Fixture {
+  std::unique_ptr<mosaic::ImageRasterSource> floor;
+  geometry::CameraModel camera;
+  std::unique_ptr<sim::RunSimulator> simulator;
+  std::vector<cv::Mat> frames;
+
+  Fixture() {
+    cv::setNumThreads(1);  // one core, as the target states
+    const cv::Mat gray = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                    cv::IMREAD_GRAYSCALE);
+    floor = std::make_unique<mosaic::ImageRasterSource>(
+        gray, geometry::Geotransform{0.0, gray.rows * 0.0005, 0.0005});
+    camera.mount = {0.4, 0.0, 0.0};
+    sim::SimOptions options;
+    options.timing.frames = 100;
+    simulator = std::move(sim::RunSimulator::Create(floor.get(), camera, options)).value();
+    for (int i = 0; i < simulator->frame_count(); ++i) {
+      frames.push_back(simulator->RenderFrame(i).image);
+    }
+  }
+};
+
+Fixture& Shared() {
+  static Fixture fixture;
+  return fixture;
+}
+
+void BM_TrackFrame640x480(benchmark::State& state) {
+  Fixture& f = Shared();
+  tracking::MosaicTracker tracker({}, f.camera, f.floor.get());
+  const auto& truth = f.simulator->truth();
+  const auto& odometry = f.simulator->odometry();
+  size_t i = 0;
+  tracking::OdometryHistory history(1e12, 0.0);
+  for (const auto& sample : odometry) (void)history.Add(sample);
+  auto odom_at = [&](double t) { return history.At(t).value(); };
+  auto reset = [&] {
+    tracker.Reset({truth[0].pose, Eigen::Vector3d(4e-6, 4e-6, 1e-4).asDiagonal()},
+                  odom_at(truth[0].t));
+    i = 0;
+  };
+  reset();
+  int tracked = 0;
+  double select_ms = 0, coarse_ms = 0, fine_ms = 0;
+  for (auto _ : state) {
+    if (i == f.frames.size()) {
+      state.PauseTiming();
+      reset();
+      state.ResumeTiming();
+    }
+    const auto r = tracker.Track(f.frames[i], truth[i].t, odom_at(truth[i].t));
+    tracked += r.state == tracking::LockState::kTracking;
+    select_ms += r.select_ms, coarse_ms += r.coarse_ms, fine_ms += r.fine_ms;
+    ++i;
+  }
+  state.counters["lock_rate"] = benchmark::Counter(tracked, benchmark::Counter::kAvgIterations);
+  state.counters["select_ms"] = benchmark::Counter(select_ms, benchmark::Counter::kAvgIterations);
+  state.counters["coarse_ms"] = benchmark::Counter(coarse_ms, benchmark::Counter::kAvgIterations);
+  state.counters["fine_ms"] = benchmark::Counter(fine_ms, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_TrackFrame640x480)->Unit(benchmark::kMillisecond)->Iterations(300);
+
+void BM_TextureScoreHalfResolution(benchmark::State& state) {
+  cv::Mat half;
+  cv::resize(Shared().frames[0], half, {320, 240}, 0, 0, cv::INTER_AREA);
+  for (auto _ : state) benchmark::DoNotOptimize(imaging::TextureScore(half, 5));
+}
+BENCHMARK(BM_TextureScoreHalfResolution)->Unit(benchmark::kMicrosecond);
+
+void BM_NormalizeAndMatch32(benchmark::State& state) {
+  const int radius = static_cast<int>(state.range(0));
+  const cv::Mat& frame = Shared().frames[0];
+  const cv::Mat templ = imaging::LocalNormalize(frame(cv::Rect(300, 200, 44, 44)), 11)(
+      cv::Rect(6, 6, 32, 32)).clone();
+  const cv::Rect window(300 - radius, 200 - radius, 44 + 2 * radius, 44 + 2 * radius);
+  for (auto _ : state) {
+    const cv::Mat w = imaging::LocalNormalize(frame(window), 11);
+    benchmark::DoNotOptimize(imaging::MatchTemplate(w, templ));
+  }
+}
+BENCHMARK(BM_NormalizeAndMatch32)->Arg(2)->Arg(8)->Arg(24)->Unit(benchmark::kMicrosecond);
+
+void BM_ResampleAffine(benchmark::State& state) {
+  const int size = static_cast<int>(state.range(0));
+  const cv::Mat src = Shared().frames[0](cv::Rect(100, 100, size + 40, size + 40)).clone();
+  const cv::Matx23d m(0.96, -0.28, 20.3, 0.28, 0.96, 5.7);
+  for (auto _ : state) benchmark::DoNotOptimize(imaging::ResampleAffine(src, m, {size, size}));
+}
+BENCHMARK(BM_ResampleAffine)->Arg(52)->Arg(64)->Unit(benchmark::kMicrosecond);
+
+void BM_NormalizePatch(benchmark::State& state) {
+  const int size = static_cast<int>(state.range(0));
+  const cv::Mat patch = Shared().frames[0](cv::Rect(100, 100, size, size));
+  for (auto _ : state) benchmark::DoNotOptimize(imaging::NormalizePatch(patch, 11));
+}
+BENCHMARK(BM_NormalizePatch)->Arg(60)->Arg(36)->Unit(benchmark::kMicrosecond);
+
+void BM_NccSurface(benchmark::State& state) {
+  const int t = static_cast<int>(state.range(0)), r = static_cast<int>(state.range(1));
+  cv::Mat f;
+  Shared().frames[0].convertTo(f, CV_32F);
+  const cv::Mat window = f(cv::Rect(100, 100, t + 2 * r, t + 2 * r)).clone();
+  const cv::Mat templ = f(cv::Rect(100 + r, 100 + r, t, t)).clone();
+  for (auto _ : state) benchmark::DoNotOptimize(imaging::NccSurface(window, templ));
+}
+BENCHMARK(BM_NccSurface)->Args({48, 2})->Args({16, 8})->Args({16, 13})->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace fleetloc
+
+BENCHMARK_MAIN();
