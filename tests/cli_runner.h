@@ -1,0 +1,62 @@
+// Runs build/bin/fleetctl as a child process for integration tests and captures its exit status,
+// stdout and stderr.
+#pragma once
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace fleetloc::testing {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string ReadWhole(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `fleetctl <args>` (args already shell-quoted by the caller) in a fresh temp directory for
+// its captured streams.
+inline CommandResult RunFleetctl(const std::string& args) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("fleetctl_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
+  std::filesystem::create_directories(dir);
+  const std::string command = std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl ") + args + " >" +
+                              (dir / "out").string() + " 2>" + (dir / "err").string();
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = ReadWhole(dir / "out");
+  r.err = ReadWhole(dir / "err");
+  std::filesystem::remove_all(dir);
+  return r;
+}
+
+// A scratch directory removed at the end of the test.
+class ScratchDir {
+ public:
+  explicit ScratchDir(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() /
+              (name + "_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()))) {
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDir() { std::filesystem::remove_all(path_); }
+  const std::filesystem::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace fleetloc::testing
