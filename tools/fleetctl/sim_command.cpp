@@ -5,15 +5,11 @@
 
 #include <algorithm>
 #include <charconv>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <future>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -21,6 +17,7 @@
 #include "io/run.h"
 #include "mosaic/tile_store.h"
 #include "sim/run_simulator.h"
+#include "sim_run_writer.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -125,14 +122,7 @@ Result<Floor> OpenFloor(const SimArgs& args) {
 // ahead of base_link) at the floor's resolution.
 Result<io::CameraFile> LoadCamera(const SimArgs& args, double floor_resolution_m) {
   if (!args.camera.empty()) return io::ReadCameraJson(args.camera);
-  io::CameraFile camera;
-  camera.model.width_px = args.width_px;
-  camera.model.height_px = args.height_px;
-  camera.model.cx_px = 0.5 * args.width_px;
-  camera.model.cy_px = 0.5 * args.height_px;
-  camera.model.resolution_m = floor_resolution_m;
-  camera.model.mount = {0.40, 0.0, 0.0};
-  return camera;
+  return DefaultSimCamera(args.width_px, args.height_px, floor_resolution_m);
 }
 
 // Completes args.options from the options given in other units or as lists.
@@ -165,77 +155,6 @@ Status ResolveOptions(SimArgs* args, double floor_resolution_m) {
   o.render.bias_max_dn = (*bias)[1];
   if (args->clean) o = sim::CleanSimOptions(o);
   return sim::Validate(o);
-}
-
-// Makes `dir` ready for a new run: created if missing; an existing non-empty directory only with
-// --overwrite, and then only the run's own files are removed.
-Status PrepareRunDir(const fs::path& dir, bool overwrite) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
-    if (!overwrite) {
-      return InvalidInput(dir.string() + ": exists and is not empty (use --overwrite)");
-    }
-    for (const char* name :
-         {"run.json", "camera.json", "frames.csv", "odometry.csv", "truth.csv"}) {
-      fs::remove(dir / name, ec);
-    }
-    fs::remove_all(dir / "frames", ec);
-  }
-  fs::create_directories(dir / "frames", ec);
-  if (ec) return Internal(dir.string() + ": cannot create the run directory: " + ec.message());
-  return Status::Ok();
-}
-
-Status WriteFrame(const fs::path& path, const cv::Mat& image) {
-  try {
-    if (cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1})) return Status::Ok();
-  } catch (const cv::Exception& e) {
-    return Internal(path.string() + ": cannot write frame: " + e.err);
-  }
-  return Internal(path.string() + ": cannot write frame");
-}
-
-// Wall-clock milliseconds spent rendering frames and waiting for their files to be written.
-struct FrameTimes {
-  double render_ms = 0.0;
-  double write_wait_ms = 0.0;
-};
-
-double MillisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-// Renders and writes every frame; returns their references for frames.csv. PNG encoding takes
-// about as long as rendering, so frame i is written on a second thread while frame i + 1 renders.
-Result<std::vector<io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, const fs::path& dir,
-                                              FrameTimes* times) {
-  std::vector<io::FrameRef> frames;
-  std::future<Status> writing;
-  auto wait_for_write = [&]() -> Status {
-    if (!writing.valid()) return Status::Ok();
-    const auto start = std::chrono::steady_clock::now();
-    Status written = writing.get();
-    times->write_wait_ms += MillisecondsSince(start);
-    return written;
-  };
-  for (int i = 0; i < simulator.frame_count(); ++i) {
-    char name[32];
-    std::snprintf(name, sizeof(name), "frames/%06d.png", i);
-    const auto start = std::chrono::steady_clock::now();
-    sim::RenderedFrame frame = simulator.RenderFrame(i);
-    times->render_ms += MillisecondsSince(start);
-    FLEETLOC_RETURN_IF_ERROR(wait_for_write());
-    writing = std::async(std::launch::async, [path = dir / name, image = std::move(frame.image)] {
-      return WriteFrame(path, image);
-    });
-    frames.push_back({simulator.truth()[i].t, dir / name});
-    if ((i + 1) % kProgressEvery == 0 || i + 1 == simulator.frame_count()) {
-      spdlog::info("sim: {}/{} frames", i + 1, simulator.frame_count());
-    }
-  }
-  FLEETLOC_RETURN_IF_ERROR(wait_for_write());
-  return frames;
 }
 
 nlohmann::ordered_json SummaryJson(const sim::SimSummary& s, const SimArgs& args,
@@ -274,18 +193,12 @@ Status RunSim(SimArgs& args) {
   const fs::path dir = fs::absolute(args.out);
   FLEETLOC_RETURN_IF_ERROR(PrepareRunDir(dir, args.overwrite));
   FrameTimes times;
-  Result<std::vector<io::FrameRef>> frames = WriteFrames(**simulator, dir, &times);
-  if (!frames.ok()) return frames.status();
-  io::Run run;
-  run.dir = dir;
-  run.vehicle_id = args.vehicle_id;
-  run.camera = *camera;
-  run.initial_pose = (*simulator)->initial_pose();
-  run.initial_sigma = (*simulator)->initial_sigma();
-  run.frames = std::move(*frames);
-  run.odometry = (*simulator)->odometry();
-  run.truth = (*simulator)->truth();
-  FLEETLOC_RETURN_IF_ERROR(io::WriteRun(run));
+  const auto progress = [](int done, int total) {
+    if (done % kProgressEvery == 0 || done == total) spdlog::info("sim: {}/{} frames", done, total);
+  };
+  Result<io::Run> run =
+      WriteSimulatedRun(**simulator, *camera, dir, args.vehicle_id, progress, &times);
+  if (!run.ok()) return run.status();
   std::cout << SummaryJson((*simulator)->summary(), args, times).dump(2) << "\n";
   return Status::Ok();
 }
