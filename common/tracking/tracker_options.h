@@ -18,14 +18,14 @@ struct OdometryNoiseOptions {
 
 struct TrackerOptions {
   int template_size_px = 48;              // side of a square template (multiple of 4)
-  int max_templates = 24;
+  int max_templates = 28;
   int min_inliers = 4;                    // fewer kept matches than this → coasting
   int candidate_step_px = 16;             // grid of template candidates in the frame
   int texture_window_px = 5;              // at half resolution
   double min_texture = 2.0;               // smallest eigenvalue, (grey levels/px)²
   double spread_sigma_px = 120.0;         // feature selection: distance scale of the spread bonus
   int normalize_window_px = 7;
-  double min_peak_correlation = 0.5;
+  double min_peak_correlation = 0.4;
   double max_ambiguity_ratio = 0.92;      // second peak / best peak
   double min_peak_curvature = 0.005;      // NCC per px² at the peak; flatter peaks are rejected
   double search_sigma_multiple = 3.0;     // search window half-size = this × prediction sigma
@@ -39,7 +39,7 @@ struct TrackerOptions {
   // search only covers ±refine radius.
   int coarse_above_radius_px = 4;
   int coarse_levels = 2;
-  int coarse_templates = 10;
+  int coarse_templates = 12;
   int coarse_template_size_px = 48;       // level-0 pixels (halved per level)
   double measurement_sigma_px = 0.15;     // 1-sigma of one template correspondence
   double outlier_ratio = 3.0;             // reject residual > ratio × median of the rest …
