@@ -2,13 +2,15 @@
 // stdout and stderr.
 #pragma once
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace fleetloc::testing {
 
@@ -17,6 +19,13 @@ struct CommandResult {
   std::string out;
   std::string err;
 };
+
+// `text` quoted for the shell (single quotes; embedded ones escaped).
+inline std::string Quote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
 
 inline std::string ReadWhole(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
