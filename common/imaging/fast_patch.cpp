@@ -16,6 +16,9 @@ namespace {
 // build stays portable while a modern CPU gets 8-wide vectors.
 #define FLEETLOC_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 
+const bool kHasAvx2 = __builtin_cpu_supports("avx2");
+const bool kHasAvx2Fma = kHasAvx2 && __builtin_cpu_supports("fma");
+
 cv::Mat AsFloat(const cv::Mat& m) {
   if (m.type() == CV_32F) return m;
   cv::Mat f;
@@ -59,8 +62,29 @@ void NormalizeRow(const float* in, const float* mean_sum, const float* sq_sum, c
   }
 }
 
-// A float dot product: the compiler may not reorder a float sum into SIMD lanes, Eigen does.
+// A float dot product with 8-wide AVX2 multiply-adds (the compiler may not reorder a float sum
+// into SIMD lanes by itself).
+__attribute__((target("avx2,fma"))) float DotAvx2(const float* a, const float* b, int n) {
+  __m256 acc0 = _mm256_setzero_ps(), acc1 = _mm256_setzero_ps();
+  int i = 0;
+  for (; i + 16 <= n; i += 16) {
+    acc0 = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), _mm256_loadu_ps(b + i), acc0);
+    acc1 = _mm256_fmadd_ps(_mm256_loadu_ps(a + i + 8), _mm256_loadu_ps(b + i + 8), acc1);
+  }
+  for (; i + 8 <= n; i += 8) {
+    acc0 = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), _mm256_loadu_ps(b + i), acc0);
+  }
+  const __m256 acc = _mm256_add_ps(acc0, acc1);
+  const __m128 half = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
+  const __m128 pair = _mm_add_ps(half, _mm_movehl_ps(half, half));
+  float s = _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+  for (; i < n; ++i) s += a[i] * b[i];
+  return s;
+}
+
+// Without AVX2: Eigen's SIMD reduction for the baseline instruction set.
 float Dot(const float* a, const float* b, int n) {
+  if (kHasAvx2Fma) return DotAvx2(a, b, n);
   return Eigen::Map<const Eigen::VectorXf>(a, n).dot(Eigen::Map<const Eigen::VectorXf>(b, n));
 }
 
@@ -140,8 +164,6 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon) {
 }
 
 namespace {
-
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
 
 // The range [j_begin, j_end) of j ≥ 0 for which lo ≤ s0 + a·j < hi (all j when a = 0 and s0 fits).
 void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int* j_end) {
@@ -245,27 +267,32 @@ cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
   const double t_norm = std::sqrt(t0.dot(t0));
   cv::Mat cross = cv::Mat::zeros(rows, cols, CV_32F);
   CrossSums(window, t0, cross);
-  // Window sums and sums of squares per placement from running sums (double: no cancellation).
-  std::vector<double> sum(static_cast<size_t>(window.rows + 1) * (window.cols + 1), 0.0);
-  std::vector<double> sq(sum.size(), 0.0);
-  const int w = window.cols + 1;
+  // Sum and sum of squares of the window under each placement: per row, the sums over each
+  // tw-wide segment (one SIMD sum, then sliding), then sliding th rows down.
+  std::vector<float> seg(static_cast<size_t>(window.rows) * cols), seg_sq(seg.size());
   for (int y = 0; y < window.rows; ++y) {
-    const float* row = window.ptr<float>(y);
-    double run = 0.0, run_sq = 0.0;
-    for (int x = 0; x < window.cols; ++x) {
-      run += row[x], run_sq += static_cast<double>(row[x]) * row[x];
-      sum[(y + 1) * w + x + 1] = sum[y * w + x + 1] + run;
-      sq[(y + 1) * w + x + 1] = sq[y * w + x + 1] + run_sq;
+    const float* v = window.ptr<float>(y);
+    const Eigen::Map<const Eigen::ArrayXf> first(v, tw);
+    float run = first.sum(), run_sq = first.square().sum();
+    for (int x = 0; x < cols; ++x) {
+      if (x > 0) {
+        run += v[x + tw - 1] - v[x - 1];
+        run_sq += v[x + tw - 1] * v[x + tw - 1] - v[x - 1] * v[x - 1];
+      }
+      seg[y * cols + x] = run, seg_sq[y * cols + x] = run_sq;
     }
   }
-  for (int y = 0; y < rows; ++y) {
-    float* c = cross.ptr<float>(y);
-    for (int x = 0; x < cols; ++x) {
-      const int y1 = y + th, x1 = x + tw;
-      const double s = sum[y1 * w + x1] - sum[y * w + x1] - sum[y1 * w + x] + sum[y * w + x];
-      const double s2 = sq[y1 * w + x1] - sq[y * w + x1] - sq[y1 * w + x] + sq[y * w + x];
+  for (int x = 0; x < cols; ++x) {
+    double s = 0.0, s2 = 0.0;
+    for (int y = 0; y < th; ++y) s += seg[y * cols + x], s2 += seg_sq[y * cols + x];
+    for (int y = 0; y < rows; ++y) {
+      if (y > 0) {
+        s += seg[(y + th - 1) * cols + x] - seg[(y - 1) * cols + x];
+        s2 += seg_sq[(y + th - 1) * cols + x] - seg_sq[(y - 1) * cols + x];
+      }
       const double denominator = std::sqrt(std::max(0.0, s2 - s * s / n)) * t_norm;
-      c[x] = denominator > 1e-9 ? static_cast<float>(c[x] / denominator) : 0.0f;
+      float& c = cross.at<float>(y, x);
+      c = denominator > 1e-9 ? static_cast<float>(c / denominator) : 0.0f;
     }
   }
   return cross;

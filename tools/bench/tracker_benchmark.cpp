@@ -113,7 +113,7 @@ void BM_NormalizePatch(benchmark::State& state) {
   const cv::Mat patch = Shared().frames[0](cv::Rect(100, 100, size, size));
   for (auto _ : state) benchmark::DoNotOptimize(imaging::NormalizePatch(patch, 11));
 }
-BENCHMARK(BM_NormalizePatch)->Arg(60)->Arg(36)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NormalizePatch)->Arg(56)->Arg(28)->Unit(benchmark::kMicrosecond);
 
 void BM_NccSurface(benchmark::State& state) {
   const int t = static_cast<int>(state.range(0)), r = static_cast<int>(state.range(1));
