@@ -184,18 +184,20 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   int fine_radius = 0;  // 0: each site's own 3-sigma radius
   int templates = 0;
   bool coarse_failed = false;
-  if (frame_radius > options_.coarse_above_radius_px) {
+  // A small mosaic may have fewer pyramid levels than the coarse search would use.
+  const int coarse_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
+  if (frame_radius > options_.coarse_above_radius_px && coarse_levels >= 1) {
     const std::vector<TemplateSite> coarse_sites(
         sites.begin(), sites.begin() + std::min<size_t>(sites.size(), options_.coarse_templates));
     std::vector<cv::Mat> pyramid{frame, half};
-    while (static_cast<int>(pyramid.size()) <= options_.coarse_levels) {
+    while (static_cast<int>(pyramid.size()) <= coarse_levels) {
       cv::Mat next;
       cv::resize(pyramid.back(), next, {pyramid.back().cols / 2, pyramid.back().rows / 2}, 0, 0,
                  cv::INTER_AREA);
       pyramid.push_back(next);
     }
-    for (int level = options_.coarse_levels; level >= 1 && !coarse_failed; --level) {
-      const bool first = level == options_.coarse_levels;
+    for (int level = coarse_levels; level >= 1 && !coarse_failed; --level) {
+      const bool first = level == coarse_levels;
       const Measured coarse =
           MatchSites(Prepare(pyramid[level], coarse_sites, options_.coarse_template_size_px, level),
                      center, first ? 0 : options_.refine_search_radius_px, level);

@@ -65,6 +65,29 @@ TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
   EXPECT_LT(rms_deg, 0.05);  // a 160 px frame has a short lever arm for heading
 }
 
+TEST(MosaicTracker, MosaicWithFewerPyramidLevelsThanTheCoarseSearchStillTracks) {
+  Scene scene;
+  mosaic::ImageRasterSource source(scene.floor, scene.geo);  // 512² px: levels 0 and 1 only
+  ASSERT_EQ(source.layout().levels, 2);
+  TrackerOptions options;
+  options.template_size_px = 32;
+  options.coarse_template_size_px = 32;
+  options.coarse_levels = 2;  // asks for level 2, which this mosaic does not have
+  options.candidate_step_px = 8;
+  options.max_templates = 12;
+  ASSERT_TRUE(Validate(options).ok());
+  MosaicTracker tracker(options, scene.camera, &source);
+  const Pose2 start = CircleBase(0);
+  tracker.Reset({{start.x + 0.002, start.y, start.theta}, Eigen::Vector3d(4e-6, 4e-6, 1e-4).asDiagonal()},
+                {0, 0, 0});
+  const Pose2 next = CircleBase(0.1);
+  const FrameResult r =
+      tracker.Track(scene.Render(next, 1.0, 0.0), 0.1, geometry::Between(start, next));
+  EXPECT_EQ(r.state, LockState::kTracking);
+  const Pose2 error = geometry::Between(next, r.base_in_map.pose);
+  EXPECT_LT(std::hypot(error.x, error.y), 0.25 * scene.camera.resolution_m);
+}
+
 TEST(MosaicTracker, CoastsOnABlankFrameAndReportsLostWhenUncertaintyOutgrowsSearch) {
   Scene scene;
   mosaic::ImageRasterSource source(scene.floor, scene.geo);
