@@ -100,6 +100,35 @@ void BM_NormalizeAndMatch32(benchmark::State& state) {
 }
 BENCHMARK(BM_NormalizeAndMatch32)->Arg(2)->Arg(8)->Arg(24)->Unit(benchmark::kMicrosecond);
 
+// A fixed scalar loop (bilinear sampling of a 48×48 patch, no library calls) whose time per
+// pixel gauges how fast this host runs right now: on a shared VM the same binary's timings move
+// with the host's load, so every timing is reported next to this.
+void BM_ReferenceScalarLoop(benchmark::State& state) {
+  std::vector<unsigned char> src(200 * 200);
+  for (size_t i = 0; i < src.size(); ++i) src[i] = static_cast<unsigned char>(i * 37);
+  std::vector<float> out(48 * 48);
+  for (auto _ : state) {
+    for (int i = 0; i < 48; ++i) {
+      const float sx0 = 10 + 0.3f * i, sy0 = 20 + 0.96f * i;
+      for (int j = 0; j < 48; ++j) {
+        const float sx = sx0 + 0.96f * j, sy = sy0 - 0.28f * j;
+        const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);
+        const float ax = sx - x0, ay = sy - y0;
+        const unsigned char* r0 = &src[y0 * 200 + x0];
+        const unsigned char* r1 = r0 + 200;
+        const float top = r0[0] + ax * (r0[1] - r0[0]), bottom = r1[0] + ax * (r1[1] - r1[0]);
+        out[i * 48 + j] = top + ay * (bottom - top);
+      }
+    }
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_px"] = benchmark::Counter(static_cast<double>(state.iterations()) * 2304,
+                                                   benchmark::Counter::kIsRate |
+                                                       benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ReferenceScalarLoop);
+
 void BM_ResampleAffine(benchmark::State& state) {
   const int size = static_cast<int>(state.range(0));
   const cv::Mat src = Shared().frames[0](cv::Rect(100, 100, size + 40, size + 40)).clone();
