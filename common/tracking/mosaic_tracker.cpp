@@ -34,28 +34,13 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
       mosaic_(mosaic),
       normalized_(mosaic, options.normalize_window_px,
                   static_cast<size_t>(options.normalized_cache_mb) << 20),
-      matcher_(options, &normalized_) {}
+      matcher_(options, &normalized_),
+      estimate_(camera.mount, options.odometry) {}
 
 void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
-  internal_ = geometry::ComposeFixed(base_in_map, camera_.mount);
-  odom_last_ = odom;
-  initialized_ = true;
+  estimate_.Reset(base_in_map, odom);
   coasting_frames_ = 0;
   state_ = LockState::kTracking;
-  t_last_ = std::nan("");
-}
-
-// Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
-// last estimate (never the external absolute pose), with covariance growth.
-PoseWithCovariance MosaicTracker::PredictCamera(double t, const Pose2& odom) {
-  const Pose2 base_increment = geometry::Between(odom_last_, odom);
-  // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
-  const Pose2 camera_increment = camera_.mount.Inverse() * base_increment * camera_.mount;
-  const double dt = std::isnan(t_last_) ? 0.0 : t - t_last_;
-  PoseWithCovariance predicted = Predict(internal_, camera_increment, dt, options_.odometry);
-  odom_last_ = odom;
-  t_last_ = t;
-  return predicted;
 }
 
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
@@ -145,20 +130,21 @@ std::vector<MosaicTracker::PreparedSite> MosaicTracker::Inliers(const Measured& 
 }
 
 FrameResult MosaicTracker::Coast(double t, const Pose2& odom) {
-  FLEETLOC_CHECK(initialized_);
-  internal_ = PredictCamera(t, odom);
+  FLEETLOC_CHECK(estimate_.initialized());
+  const PoseWithCovariance& predicted = estimate_.Predict(t, odom);
   ++coasting_frames_;
   const bool lost = coasting_frames_ > options_.max_coasting_frames ||
-                    SearchRadius(internal_, {camera_.cx_px, camera_.cy_px}) >
+                    SearchRadius(predicted, {camera_.cx_px, camera_.cy_px}) >
                         options_.max_search_radius_px;
-  return Finish(t, internal_, lost ? LockState::kLost : LockState::kCoasting);
+  return Finish(t, lost ? LockState::kLost : LockState::kCoasting);
 }
 
 FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom) {
-  FLEETLOC_CHECK(initialized_);
+  FLEETLOC_CHECK(estimate_.initialized());
   FLEETLOC_CHECK(frame.type() == CV_8UC1);
-  const PoseWithCovariance prior = PredictCamera(t, odom);
-  internal_ = prior;
+  // Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
+  // last estimate (never the external absolute pose), with covariance growth.
+  const PoseWithCovariance prior = estimate_.Predict(t, odom);
   int frame_radius = 0;
   for (const auto& corner : geometry::Rectangle(0, 0, frame.cols, frame.rows)) {
     frame_radius = std::max(frame_radius, SearchRadius(prior, corner));
@@ -225,14 +211,14 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   }
   LockState state = LockState::kCoasting;
   if (update.inliers >= options_.min_inliers) {
-    internal_ = update.posterior;
+    estimate_.Correct(update.posterior);
     state = state_ == LockState::kLost ? LockState::kRelocalized : LockState::kTracking;
     coasting_frames_ = 0;
   } else {
     ++coasting_frames_;
     if (beyond_search || coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
   }
-  FrameResult result = Finish(t, internal_, state);
+  FrameResult result = Finish(t, state);
   result.templates = templates;
   result.inliers = state == LockState::kCoasting || state == LockState::kLost ? 0 : update.inliers;
   result.rms_residual_px = update.rms_residual_m / camera_.resolution_m;
@@ -244,11 +230,11 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
 }
 
 // Step 8: output transforms — remove the mount offset, report base_link at the frame time.
-FrameResult MosaicTracker::Finish(double t, const PoseWithCovariance& camera, LockState state) {
+FrameResult MosaicTracker::Finish(double t, LockState state) {
   state_ = state;
   FrameResult result;
   result.t = t;
-  result.base_in_map = geometry::ComposeFixed(camera, camera_.mount.Inverse());
+  result.base_in_map = estimate_.BaseInMap();
   result.state = state;
   return result;
 }

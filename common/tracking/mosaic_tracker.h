@@ -9,6 +9,7 @@
 #include "mosaic/raster_source.h"
 #include "tracking/feature_selection.h"
 #include "tracking/frame_localizer.h"
+#include "tracking/internal_estimate.h"
 #include "tracking/normalized_mosaic.h"
 #include "tracking/pose_update.h"
 #include "tracking/template_matcher.h"
@@ -45,7 +46,6 @@ class MosaicTracker : public FrameLocalizer {
     std::vector<PreparedSite> sites;
     std::vector<Correspondence> matches;
   };
-  geometry::PoseWithCovariance PredictCamera(double t, const geometry::Pose2& odom);
   int SearchRadius(const geometry::PoseWithCovariance& camera, const Eigen::Vector2d& px) const;
   std::vector<TemplateSite> ChooseSites(const cv::Mat& half_frame, const geometry::Pose2& camera,
                                         int radius_px) const;
@@ -61,17 +61,14 @@ class MosaicTracker : public FrameLocalizer {
                     int level) const;
   // Keeps the sites the update kept.
   static std::vector<PreparedSite> Inliers(const Measured& measured, const PoseUpdate& update);
-  FrameResult Finish(double t, const geometry::PoseWithCovariance& camera, LockState state);
+  FrameResult Finish(double t, LockState state);
 
   TrackerOptions options_;
   geometry::CameraModel camera_;
   mosaic::RasterSource* mosaic_;
   NormalizedMosaic normalized_;
   TemplateMatcher matcher_;
-  geometry::PoseWithCovariance internal_;  // camera_ground in map: the tracker's own estimate
-  geometry::Pose2 odom_last_;
-  double t_last_ = 0.0;
-  bool initialized_ = false;
+  InternalEstimate estimate_;  // camera_ground in map: the tracker's own estimate
   int coasting_frames_ = 0;
   LockState state_ = LockState::kLost;
 };

@@ -32,29 +32,19 @@ bool AllFinite(const cv::Matx23d& m) {
 
 PeerLocalizer::PeerLocalizer(const geometry::CameraModel& camera, mosaic::RasterSource* mosaic,
                              int view_margin_px, const PeerOptions& options)
-    : camera_(camera), mosaic_(mosaic), view_margin_px_(view_margin_px), options_(options) {
+    : camera_(camera),
+      mosaic_(mosaic),
+      view_margin_px_(view_margin_px),
+      options_(options),
+      estimate_(camera.mount, options.odometry) {
   FLEETLOC_CHECK(mosaic_ != nullptr);
   FLEETLOC_CHECK(view_margin_px_ >= 0);
 }
 
 void PeerLocalizer::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
-  internal_ = geometry::ComposeFixed(base_in_map, camera_.mount);
-  odom_last_ = odom;
-  t_last_ = std::nan("");
-  initialized_ = true;
+  estimate_.Reset(base_in_map, odom);
   coasting_frames_ = 0;
   state_ = LockState::kTracking;
-}
-
-// Exactly fleetloc's step 1: the odometry increment, moved to the camera, added to the peer's
-// own last estimate with fleetloc's covariance growth (tracking::Predict).
-PoseWithCovariance PeerLocalizer::PredictCamera(double t, const Pose2& odom) {
-  const Pose2 base_increment = geometry::Between(odom_last_, odom);
-  const Pose2 camera_increment = camera_.mount.Inverse() * base_increment * camera_.mount;
-  const double dt_s = std::isnan(t_last_) ? 0.0 : t - t_last_;
-  odom_last_ = odom;
-  t_last_ = t;
-  return tracking::Predict(internal_, camera_increment, dt_s, options_.odometry);
 }
 
 std::optional<Registration> PeerLocalizer::TryRegister(const cv::Mat& frame, const cv::Mat& view) {
@@ -108,19 +98,20 @@ tracking::PoseUpdate PeerLocalizer::SolvePose(const PoseWithCovariance& prior,
 }
 
 FrameResult PeerLocalizer::Coast(double t, const Pose2& odom) {
-  FLEETLOC_CHECK(initialized_);
-  internal_ = PredictCamera(t, odom);
+  FLEETLOC_CHECK(estimate_.initialized());
+  estimate_.Predict(t, odom);
   ++coasting_frames_;
   return Finish(
       t, coasting_frames_ > options_.max_coasting_frames ? LockState::kLost : LockState::kCoasting);
 }
 
 FrameResult PeerLocalizer::Track(const cv::Mat& frame, double t, const Pose2& odom) {
-  FLEETLOC_CHECK(initialized_);
+  FLEETLOC_CHECK(estimate_.initialized());
   FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
                  frame.rows == camera_.height_px);
-  const PoseWithCovariance prior = PredictCamera(t, odom);
-  internal_ = prior;
+  // Exactly fleetloc's step 1 (the shared InternalEstimate): odometry increment added to the
+  // peer's own last estimate, with fleetloc's covariance growth.
+  const PoseWithCovariance prior = estimate_.Predict(t, odom);
   const tracking::FrameMosaicWarp warp =
       tracking::FrameMosaicWarp::For(prior.pose, camera_, mosaic_->layout().geo);
   const int m = view_margin_px_;
@@ -129,7 +120,7 @@ FrameResult PeerLocalizer::Track(const cv::Mat& frame, double t, const Pose2& od
   const std::optional<Registration> registration = TryRegister(frame, view);
   const bool ok = registration && Plausible(*registration, view.size());
   if (ok) {
-    internal_ = SolvePose(prior, *registration, view_rect.tl(), warp).posterior;
+    estimate_.Correct(SolvePose(prior, *registration, view_rect.tl(), warp).posterior);
     coasting_frames_ = 0;
   } else {
     ++coasting_frames_;
@@ -153,7 +144,7 @@ FrameResult PeerLocalizer::Finish(double t, LockState state) {
   state_ = state;
   FrameResult result;
   result.t = t;
-  result.base_in_map = geometry::ComposeFixed(internal_, camera_.mount.Inverse());
+  result.base_in_map = estimate_.BaseInMap();
   result.state = state;
   return result;
 }

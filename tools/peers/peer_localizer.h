@@ -12,6 +12,7 @@
 #include "geometry/camera_model.h"
 #include "mosaic/raster_source.h"
 #include "tracking/frame_localizer.h"
+#include "tracking/internal_estimate.h"
 #include "tracking/frame_mosaic_warp.h"
 #include "tracking/pose_update.h"
 #include "tracking/tracker_options.h"
@@ -68,7 +69,6 @@ class PeerLocalizer : public tracking::FrameLocalizer {
   virtual std::optional<Registration> Register(const cv::Mat& frame, const cv::Mat& view) = 0;
 
  private:
-  geometry::PoseWithCovariance PredictCamera(double t, const geometry::Pose2& odom);
   std::optional<Registration> TryRegister(const cv::Mat& frame, const cv::Mat& view);
   bool Plausible(const Registration& registration, const cv::Size& view_size) const;
   tracking::PoseUpdate SolvePose(const geometry::PoseWithCovariance& prior,
@@ -80,10 +80,7 @@ class PeerLocalizer : public tracking::FrameLocalizer {
   mosaic::RasterSource* mosaic_;
   int view_margin_px_;
   PeerOptions options_;
-  geometry::PoseWithCovariance internal_;  // camera_ground in map: the peer's own estimate
-  geometry::Pose2 odom_last_;
-  double t_last_ = 0.0;
-  bool initialized_ = false;
+  tracking::InternalEstimate estimate_;  // camera_ground in map: the peer's own estimate
   int coasting_frames_ = 0;
   tracking::LockState state_ = tracking::LockState::kLost;
 };

@@ -1,0 +1,35 @@
+// Odometry-increment prediction of the tracker's own camera estimate.
+#include "tracking/internal_estimate.h"
+
+#include "base/status.h"
+#include "tracking/motion_model.h"
+
+namespace fleetloc::tracking {
+
+void InternalEstimate::Reset(const geometry::PoseWithCovariance& base_in_map,
+                             const geometry::Pose2& odom) {
+  camera_ = geometry::ComposeFixed(base_in_map, mount_);
+  odom_last_ = odom;
+  has_time_ = false;
+  initialized_ = true;
+}
+
+const geometry::PoseWithCovariance& InternalEstimate::Predict(double t,
+                                                              const geometry::Pose2& odom) {
+  FLEETLOC_CHECK(initialized_);
+  const geometry::Pose2 base_increment = geometry::Between(odom_last_, odom);
+  // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
+  const geometry::Pose2 camera_increment = mount_.Inverse() * base_increment * mount_;
+  const double dt_s = has_time_ ? t - t_last_ : 0.0;
+  camera_ = tracking::Predict(camera_, camera_increment, dt_s, noise_);
+  odom_last_ = odom;
+  t_last_ = t;
+  has_time_ = true;
+  return camera_;
+}
+
+geometry::PoseWithCovariance InternalEstimate::BaseInMap() const {
+  return geometry::ComposeFixed(camera_, mount_.Inverse());
+}
+
+}  // namespace fleetloc::tracking
