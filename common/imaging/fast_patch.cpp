@@ -88,31 +88,72 @@ float Dot(const float* a, const float* b, int n) {
   return Eigen::Map<const Eigen::VectorXf>(a, n).dot(Eigen::Map<const Eigen::VectorXf>(b, n));
 }
 
-FLEETLOC_VECTOR_CLONES
-void Axpy(float a, const float* x, float* y, int n) {
+inline void Axpy(float a, const float* x, float* y, int n) {
   for (int i = 0; i < n; ++i) y[i] += a * x[i];
+}
+
+// Σ t·v per placement with many placements per row: vectorized across placements (the loops
+// are inlined into each clone, so the AVX2 clone vectorizes 8-wide without a call per row).
+FLEETLOC_VECTOR_CLONES
+void CrossSumsAcrossPlacements(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
+  const int th = t0.rows, tw = t0.cols, rows = cross.rows, cols = cross.cols;
+  for (int ty = 0; ty < th; ++ty) {
+    const float* trow = t0.ptr<float>(ty);
+    for (int y = 0; y < rows; ++y) {
+      const float* vrow = window.ptr<float>(y + ty);
+      float* c = cross.ptr<float>(y);
+      for (int tx = 0; tx < tw; ++tx) Axpy(trow[tx], vrow + tx, c, cols);
+    }
+  }
+}
+
+// Σ t·v per placement with few placements: one 8-wide multiply-add loop over the whole template
+// per placement (masked tail for widths that are not a multiple of 8).
+__attribute__((target("avx2,fma"))) void CrossSumsAlongTemplateAvx2(const cv::Mat& window,
+                                                                    const cv::Mat& t0,
+                                                                    cv::Mat& cross) {
+  const int th = t0.rows, tw = t0.cols, full = tw & ~7, tail = tw - full;
+  alignas(32) int mask_bits[8];
+  for (int i = 0; i < 8; ++i) mask_bits[i] = i < tail ? -1 : 0;
+  const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(mask_bits));
+  for (int y = 0; y < cross.rows; ++y) {
+    float* c = cross.ptr<float>(y);
+    for (int x = 0; x < cross.cols; ++x) {
+      __m256 acc = _mm256_setzero_ps();
+      for (int ty = 0; ty < th; ++ty) {
+        const float* t = t0.ptr<float>(ty);
+        const float* v = window.ptr<float>(y + ty) + x;
+        for (int i = 0; i < full; i += 8) {
+          acc = _mm256_fmadd_ps(_mm256_loadu_ps(t + i), _mm256_loadu_ps(v + i), acc);
+        }
+        if (tail > 0) {
+          acc = _mm256_fmadd_ps(_mm256_maskload_ps(t + full, mask),
+                                _mm256_maskload_ps(v + full, mask), acc);
+        }
+      }
+      const __m128 half = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
+      const __m128 pair = _mm_add_ps(half, _mm_movehl_ps(half, half));
+      c[x] = _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+    }
+  }
 }
 
 // Σ t·v for every placement of the template (rows × cols placements).
 void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
-  const int th = t0.rows, tw = t0.cols, rows = cross.rows, cols = cross.cols;
-  if (cols >= 16) {  // many placements per row: vectorize across placements
-    for (int ty = 0; ty < th; ++ty) {
-      const float* trow = t0.ptr<float>(ty);
-      for (int y = 0; y < rows; ++y) {
-        const float* vrow = window.ptr<float>(y + ty);
-        float* c = cross.ptr<float>(y);
-        for (int tx = 0; tx < tw; ++tx) Axpy(trow[tx], vrow + tx, c, cols);
+  if (cross.cols >= 16) {
+    CrossSumsAcrossPlacements(window, t0, cross);
+  } else if (kHasAvx2Fma) {
+    CrossSumsAlongTemplateAvx2(window, t0, cross);
+  } else {
+    for (int y = 0; y < cross.rows; ++y) {
+      float* c = cross.ptr<float>(y);
+      for (int x = 0; x < cross.cols; ++x) {
+        float s = 0.0f;
+        for (int ty = 0; ty < t0.rows; ++ty) {
+          s += Dot(t0.ptr<float>(ty), window.ptr<float>(y + ty) + x, t0.cols);
+        }
+        c[x] = s;
       }
-    }
-    return;
-  }
-  for (int y = 0; y < rows; ++y) {  // few placements: vectorize along template rows
-    float* c = cross.ptr<float>(y);
-    for (int x = 0; x < cols; ++x) {
-      float s = 0.0f;
-      for (int ty = 0; ty < th; ++ty) s += Dot(t0.ptr<float>(ty), window.ptr<float>(y + ty) + x, tw);
-      c[x] = s;
     }
   }
 }
