@@ -32,4 +32,12 @@ geometry::PoseWithCovariance InternalEstimate::BaseInMap() const {
   return geometry::ComposeFixed(camera_, mount_.Inverse());
 }
 
+FrameResult InternalEstimate::Report(double t, LockState state) const {
+  FrameResult result;
+  result.t = t;
+  result.base_in_map = BaseInMap();
+  result.state = state;
+  return result;
+}
+
 }  // namespace fleetloc::tracking

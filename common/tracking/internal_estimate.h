@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geometry/pose2.h"
+#include "tracking/frame_localizer.h"
 #include "tracking/tracker_options.h"
 
 namespace fleetloc::tracking {
@@ -24,6 +25,8 @@ class InternalEstimate {
   const geometry::PoseWithCovariance& camera() const { return camera_; }
   // Output transform: base_link = camera ⊕ mount⁻¹, with covariance.
   geometry::PoseWithCovariance BaseInMap() const;
+  // A frame result carrying BaseInMap() at time t with `state` (other fields left default).
+  FrameResult Report(double t, LockState state) const;
 
  private:
   geometry::Pose2 mount_;

@@ -232,11 +232,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
 // Step 8: output transforms — remove the mount offset, report base_link at the frame time.
 FrameResult MosaicTracker::Finish(double t, LockState state) {
   state_ = state;
-  FrameResult result;
-  result.t = t;
-  result.base_in_map = estimate_.BaseInMap();
-  result.state = state;
-  return result;
+  return estimate_.Report(t, state);
 }
 
 }  // namespace fleetloc::tracking

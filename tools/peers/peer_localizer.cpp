@@ -142,11 +142,7 @@ FrameResult PeerLocalizer::Track(const cv::Mat& frame, double t, const Pose2& od
 // Output transforms as fleetloc's: base_link = camera ⊕ mount⁻¹ at the frame time.
 FrameResult PeerLocalizer::Finish(double t, LockState state) {
   state_ = state;
-  FrameResult result;
-  result.t = t;
-  result.base_in_map = estimate_.BaseInMap();
-  result.state = state;
-  return result;
+  return estimate_.Report(t, state);
 }
 
 }  // namespace fleetloc::peers
