@@ -1,6 +1,7 @@
 // Tests for the camera renderer: geometry against the geotransform and camera model, sub-pixel
 // shifts, photometric effects and determinism.
 #include "sim/camera_renderer.h"
+#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,8 @@
 namespace fleetloc::sim {
 namespace {
 
-constexpr double kResolutionM = 0.0005;
+using testing::kResolutionM;
+using testing::SmallCamera;
 
 cv::Mat Gravel() {
   cv::Mat image = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
@@ -20,17 +22,6 @@ cv::Mat Gravel() {
   return image;
 }
 
-// A 128×96 camera at the floor's resolution, mounted 0.40 m ahead of base_link.
-geometry::CameraModel SmallCamera() {
-  geometry::CameraModel camera;
-  camera.width_px = 128;
-  camera.height_px = 96;
-  camera.cx_px = 64.0;
-  camera.cy_px = 48.0;
-  camera.resolution_m = kResolutionM;
-  camera.mount = {0.40, 0.0, 0.0};
-  return camera;
-}
 
 // The gravel image as a floor with its top-left corner at map (1, 2).
 mosaic::ImageRasterSource GravelFloor() {

@@ -1,6 +1,7 @@
 // Tests for the simulated route: it stays over the floor, runs at the requested speed and heads
 // along its direction of travel.
 #include "sim/route.h"
+#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,8 @@
 namespace fleetloc::sim {
 namespace {
 
-constexpr double kResolutionM = 0.0005;
+using testing::kResolutionM;
+using testing::SmallCamera;
 
 // The 512×512 px test floor at 0.5 mm/px with its top-left corner at map (1, 2).
 geometry::ConvexPolygon TestFloor() {
@@ -17,13 +19,7 @@ geometry::ConvexPolygon TestFloor() {
 }
 
 geometry::ConvexPolygon SmallFootprint() {
-  geometry::CameraModel camera;
-  camera.width_px = 128;
-  camera.height_px = 96;
-  camera.cx_px = 64.0;
-  camera.cy_px = 48.0;
-  camera.resolution_m = kResolutionM;
-  return FootprintInGround(camera);
+  return FootprintInGround(SmallCamera());  // the mount does not change the footprint
 }
 
 class RouteShapes : public ::testing::TestWithParam<RouteShape> {};

@@ -1,6 +1,7 @@
 // Tests for the run simulator: the planned run follows the contract (times, coverage of odometry,
 // truth), its odometry drifts as configured, its summary is right and it is reproducible.
 #include "sim/run_simulator.h"
+#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +11,8 @@
 namespace fleetloc::sim {
 namespace {
 
-constexpr double kResolutionM = 0.0005;
+using testing::kResolutionM;
+using testing::SmallCamera;
 
 mosaic::ImageRasterSource GravelFloor() {
   cv::Mat gravel = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
@@ -18,16 +20,6 @@ mosaic::ImageRasterSource GravelFloor() {
   return mosaic::ImageRasterSource(gravel, geometry::Geotransform{1.0, 2.0, kResolutionM});
 }
 
-geometry::CameraModel SmallCamera() {
-  geometry::CameraModel camera;
-  camera.width_px = 128;
-  camera.height_px = 96;
-  camera.cx_px = 64.0;
-  camera.cy_px = 48.0;
-  camera.resolution_m = kResolutionM;
-  camera.mount = {0.40, 0.0, 0.0};
-  return camera;
-}
 
 TEST(RunSimulator, PlansAscendingFramesCoveredByOdometry) {
   mosaic::ImageRasterSource floor = GravelFloor();
