@@ -1,0 +1,52 @@
+// QoS as values: a RAII dds_qos_t with chainable setters, and the few named profiles every
+// fleetloc topic uses (docs/topics.md says which topic takes which, and why).
+#pragma once
+
+#include <dds/dds.h>
+
+#include <string>
+#include <vector>
+
+namespace fleetloc::transport {
+
+class Qos {
+ public:
+  Qos();
+  ~Qos();
+  Qos(const Qos& other);
+  Qos& operator=(const Qos& other);
+
+  Qos& Reliable(double max_blocking_s = 1.0);
+  Qos& BestEffort();
+  Qos& KeepLast(int depth);
+  Qos& KeepAll();
+  Qos& Volatile();
+  Qos& TransientLocal();
+  // A writer promises (a reader expects) a sample of each instance at least this often.
+  Qos& Deadline(double period_s);
+  // Automatic liveliness: the participant asserts it; lost after `lease_s` of silence.
+  Qos& Liveliness(double lease_s);
+  Qos& Partitions(const std::vector<std::string>& names);
+  // Bounds a KEEP_ALL history (samples in total and per instance); -1 = unlimited.
+  Qos& Limits(int max_samples, int max_instances, int max_samples_per_instance);
+
+  const dds_qos_t* get() const { return qos_; }
+
+ private:
+  dds_qos_t* qos_;
+};
+
+// Profiles (see docs/topics.md):
+// Commands and requests: reliable, every sample delivered in order, nothing kept for late joiners.
+Qos CommandQos();
+// Latest-state announcements late joiners must get (MosaicInfo, RemapStatus): reliable,
+// transient-local, the last `depth` samples of each instance.
+Qos DurableStateQos(int depth = 1);
+// Bulk payloads (Tile, PatchObservation): reliable so lost fragments are resent, KEEP_ALL with a
+// bound so a slow reader throttles the writer instead of losing tiles.
+Qos BulkQos(int max_samples = 256);
+// Periodic state (VehiclePose, VehicleHealth, ServiceHealth): the newest sample per instance
+// matters; reliable keep-last 1 with a deadline and liveliness so silence is detected.
+Qos PeriodicStateQos(double deadline_s, double lease_s);
+
+}  // namespace fleetloc::transport
