@@ -1,0 +1,64 @@
+// The vehicle side of tile streaming: announces nothing, asks the map server for tiles
+// (TileRequest) and takes the answers from its own partition, plus the servers' MosaicInfo.
+// Used by the tracker agent, the benchmarks and the integration tests.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mosaic/tile_key.h"
+#include "transport/typed_io.h"
+
+namespace fleetloc::transport {
+
+struct ReceivedTile {
+  mosaic::TileKey key;
+  uint32_t request_id = 0;
+  fleetloc_TileStatus status = fleetloc_TILE_ERROR;
+  long long version = 0;
+  std::string mosaic_id;
+  std::string error;
+  std::vector<std::uint8_t> data;  // encoded tile when status is TILE_OK
+};
+
+class TileClient {
+ public:
+  // `vehicle_id` must satisfy IsValidEntityId (InvalidInput otherwise).
+  static Result<std::unique_ptr<TileClient>> Create(const Participant& participant,
+                                                    const std::string& vehicle_id);
+
+  // Sends one request for `tiles` (at most 256). `mosaic_id` empty: whatever the server serves.
+  Status Request(uint32_t request_id, const std::string& mosaic_id,
+                 const std::vector<mosaic::TileKey>& tiles);
+  // The tiles received since the last call.
+  Result<std::vector<ReceivedTile>> TakeTiles();
+  // The newest MosaicInfo received from any server (kept until a newer one arrives).
+  std::optional<fleetloc_MosaicInfo> LatestMosaicInfo();
+
+  // True when a map server reads our requests and our tile reader is matched by its writer.
+  bool ServerMatched() const;
+  bool RequestsMatched() const { return requests_.MatchedReaders() > 0; }
+  dds_entity_t tile_reader() const { return tile_reader_.get(); }
+  const std::string& vehicle_id() const { return vehicle_id_; }
+
+ private:
+  TileClient(std::string vehicle_id, Entity subscriber, Topic<fleetloc_TileRequest> request_topic,
+             Topic<fleetloc_Tile> tile_topic, Topic<fleetloc_MosaicInfo> info_topic,
+             Writer<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
+             Reader<fleetloc_MosaicInfo> info_reader);
+
+  std::string vehicle_id_;
+  Entity subscriber_;
+  Topic<fleetloc_TileRequest> request_topic_;
+  Topic<fleetloc_Tile> tile_topic_;
+  Topic<fleetloc_MosaicInfo> info_topic_;
+  Writer<fleetloc_TileRequest> requests_;
+  Reader<fleetloc_Tile> tile_reader_;
+  Reader<fleetloc_MosaicInfo> info_reader_;
+  std::optional<fleetloc_MosaicInfo> latest_info_;
+};
+
+}  // namespace fleetloc::transport

@@ -1,0 +1,26 @@
+// The DDS topic names and partition naming of fleetloc (docs/topics.md explains each).
+#pragma once
+
+#include <string>
+
+namespace fleetloc::transport::topics {
+
+inline constexpr const char* kMosaicInfo = "fleetloc/mosaic_info";
+inline constexpr const char* kTileRequest = "fleetloc/tile_request";
+inline constexpr const char* kTile = "fleetloc/tile";
+inline constexpr const char* kTileUpdate = "fleetloc/tile_update";
+inline constexpr const char* kPatchObservation = "fleetloc/patch_observation";
+inline constexpr const char* kPatchAck = "fleetloc/patch_ack";
+inline constexpr const char* kRemapCommand = "fleetloc/remap_command";
+inline constexpr const char* kRemapStatus = "fleetloc/remap_status";
+inline constexpr const char* kVehiclePose = "fleetloc/vehicle_pose";
+inline constexpr const char* kVehicleHealth = "fleetloc/vehicle_health";
+inline constexpr const char* kServiceHealth = "fleetloc/service_health";
+
+// Replies meant for one vehicle (Tile, PatchAck) are written in this partition only, so a
+// vehicle's traffic does not grow with the fleet. Requires a valid vehicle id (IsValidEntityId).
+inline std::string VehiclePartition(const std::string& vehicle_id) {
+  return "fleetloc.vehicle." + vehicle_id;
+}
+
+}  // namespace fleetloc::transport::topics

@@ -1,0 +1,58 @@
+// The map server: owns the one shared mosaic (SQLite), announces it (MosaicInfo, durable),
+// answers tile requests into each vehicle's partition, and reports its health (ServiceHealth).
+// One thread runs the DDS loop; Run() returns when the stop flag is set.
+#pragma once
+
+#include <atomic>
+#include <memory>
+
+#include "map_server/map_server_config.h"
+#include "map_server/server_counters.h"
+#include "map_server/tile_service.h"
+#include "map_server/vehicle_channels.h"
+#include "mosaic/tile_store.h"
+#include "transport/typed_io.h"
+#include "transport/waitset.h"
+
+namespace fleetloc::map_server {
+
+class MapServer {
+ public:
+  // Opens the mosaic and every DDS entity. NotFound/InvalidInput for a missing or foreign
+  // mosaic file; Internal for DDS failures (named).
+  static Result<std::unique_ptr<MapServer>> Create(const MapServerConfig& config);
+  ~MapServer();
+
+  // Serves until `stop` becomes true (checked every 100 ms).
+  Status Run(const std::atomic<bool>& stop);
+
+  const ServerCounters& counters() const { return counters_; }
+
+ private:
+  explicit MapServer(const MapServerConfig& config);
+  Status Open();
+  Status PublishMosaicInfo();
+  Status PublishHealth();
+  Status ServeOnce();
+
+  MapServerConfig config_;
+  ServerCounters counters_;
+  std::unique_ptr<mosaic::TileStore> store_;
+  mosaic::TileOwnership owned_;
+  std::unique_ptr<transport::Participant> participant_;
+  std::unique_ptr<transport::Topic<fleetloc_MosaicInfo>> info_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_TileRequest>> request_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_Tile>> tile_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_PatchAck>> ack_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_ServiceHealth>> health_topic_;
+  std::unique_ptr<transport::Writer<fleetloc_MosaicInfo>> info_writer_;
+  std::unique_ptr<transport::Writer<fleetloc_ServiceHealth>> health_writer_;
+  std::unique_ptr<transport::Reader<fleetloc_TileRequest>> request_reader_;
+  std::unique_ptr<transport::WaitSet> waitset_;
+  std::unique_ptr<VehicleChannels> channels_;
+  std::unique_ptr<TileService> tiles_;
+  uint64_t reported_rejected_ = 0;     // counts in the last health report
+  uint64_t reported_read_errors_ = 0;
+};
+
+}  // namespace fleetloc::map_server

@@ -1,0 +1,86 @@
+// Map server configuration from JSON.
+#include "map_server/map_server_config.h"
+
+#include <set>
+
+#include "io/json_fields.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::map_server {
+
+Status Validate(const MapServerConfig& c) {
+  auto bad = [](const std::string& field, const std::string& what) {
+    return InvalidInput("map server config: field '" + field + "': " + what);
+  };
+  if (!transport::IsValidEntityId(c.server_id)) return bad("server_id", "must be 1-11 of [A-Za-z0-9_-]");
+  if (c.mosaic_path.empty()) return bad("mosaic", "is required");
+  if (c.domain_id < 0 || c.domain_id > 232) return bad("domain", "must be in [0, 232]");
+  if (c.owned_tiles && c.owned_tiles->empty()) return bad("owned_tiles", "is empty");
+  if (c.max_tiles_per_request < 1 || c.max_tiles_per_request > 256) {
+    return bad("max_tiles_per_request", "must be in [1, 256]");
+  }
+  if (c.max_patch_bytes < 1024) return bad("max_patch_bytes", "must be >= 1024");
+  if (c.max_patch_side_px < 16) return bad("max_patch_side_px", "must be >= 16");
+  if (c.max_vehicles < 1) return bad("max_vehicles", "must be >= 1");
+  if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) {
+    return bad("health_period_s", "must be in [0.05, 60]");
+  }
+  return Status::Ok();
+}
+
+namespace {
+
+Status ReadOwnedTiles(const io::JsonFields& fields, MapServerConfig* c) {
+  Result<io::JsonFields> owned = fields.Object("owned_tiles");
+  if (!owned.ok()) return owned.status();
+  mosaic::TileOwnership o;
+  int* targets[] = {&o.col_begin, &o.col_end, &o.row_begin, &o.row_end};
+  const char* names[] = {"col_begin", "col_end", "row_begin", "row_end"};
+  for (int i = 0; i < 4; ++i) {
+    double value = 0;
+    FLEETLOC_RETURN_IF_ERROR(owned->NonNegativeNumber(names[i], &value));
+    *targets[i] = static_cast<int>(value);
+  }
+  c->owned_tiles = o;
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
+  Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
+  if (!json.ok()) return json.status();
+  const io::JsonFields fields(*json, path);
+  static const std::set<std::string> known = {
+      "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
+      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "health_period_s"};
+  for (const auto& [key, value] : json->items()) {
+    if (!known.contains(key)) return fields.Error(key, "unknown option");
+  }
+  MapServerConfig c;
+  if (fields.Has("server_id")) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("server_id", &c.server_id));
+  if (fields.Has("mosaic")) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("mosaic", &c.mosaic_path));
+  if (fields.Has("dds_config")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("dds_config", &c.dds_config_path));
+  }
+  struct IntField { const char* key; int* target; bool allow_zero; };
+  for (const IntField& f : {IntField{"domain", &c.domain_id, true},
+                            IntField{"max_tiles_per_request", &c.max_tiles_per_request, false},
+                            IntField{"max_patch_bytes", &c.max_patch_bytes, false},
+                            IntField{"max_patch_side_px", &c.max_patch_side_px, false},
+                            IntField{"max_vehicles", &c.max_vehicles, false}}) {
+    if (!fields.Has(f.key)) continue;
+    double value = 0;
+    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(f.key, &value));
+    if (value != static_cast<int>(value)) return fields.Error(f.key, "must be an integer");
+    *f.target = static_cast<int>(value);
+  }
+  if (fields.Has("health_period_s")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber("health_period_s", &c.health_period_s));
+  }
+  if (fields.Has("owned_tiles")) FLEETLOC_RETURN_IF_ERROR(ReadOwnedTiles(fields, &c));
+  if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
+  return c;
+}
+
+}  // namespace fleetloc::map_server

@@ -1,0 +1,31 @@
+// The map server's configuration: typed options with defaults, read from a JSON file (unknown keys
+// rejected, every field range-checked with a message naming it).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "base/status.h"
+#include "mosaic/tile_ownership.h"
+
+namespace fleetloc::map_server {
+
+struct MapServerConfig {
+  std::string server_id = "map-1";         // 1-11 of [A-Za-z0-9_-]
+  std::string mosaic_path;                 // the SQLite mosaic this server owns (required)
+  int domain_id = 0;
+  std::string dds_config_path;             // empty: CYCLONEDDS_URI or the compiled-in loopback
+  std::optional<mosaic::TileOwnership> owned_tiles;  // level-0 tile range; absent: every tile
+  int max_tiles_per_request = 256;
+  int max_patch_bytes = 4 << 20;           // encoded patch image; larger ones are rejected
+  int max_patch_side_px = 4096;
+  int max_vehicles = 4096;                 // reply channels kept open (LRU)
+  double health_period_s = 1.0;
+};
+
+Status Validate(const MapServerConfig& config);
+
+// Reads `path` over the defaults. NotFound / InvalidInput "<file>: field '<name>': <what>".
+Result<MapServerConfig> LoadMapServerConfig(const std::string& path);
+
+}  // namespace fleetloc::map_server

@@ -1,0 +1,41 @@
+// map_server: serves the shared floor mosaic over DDS until SIGINT/SIGTERM.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "io/logging.h"
+#include "io/stop_signal.h"
+#include "map_server/map_server.h"
+
+int main(int argc, char** argv) {
+  using fleetloc::map_server::MapServerConfig;
+  CLI::App app{"fleetloc map server: the shared mosaic over DDS"};
+  std::string config_path, mosaic, server_id, dds_config;
+  int domain = -1;
+  app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
+  app.add_option("--mosaic", mosaic, "Mosaic file (overrides the configuration)");
+  app.add_option("--server-id", server_id, "Server id (overrides the configuration)");
+  app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
+  app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
+  CLI11_PARSE(app, argc, argv);
+
+  MapServerConfig config;
+  if (!config_path.empty()) {
+    auto loaded = fleetloc::map_server::LoadMapServerConfig(config_path);
+    if (!loaded.ok()) return std::fprintf(stderr, "map_server: %s\n", loaded.status().message().c_str()), 2;
+    config = *loaded;
+  }
+  if (!mosaic.empty()) config.mosaic_path = mosaic;
+  if (!server_id.empty()) config.server_id = server_id;
+  if (domain >= 0) config.domain_id = domain;
+  if (!dds_config.empty()) config.dds_config_path = dds_config;
+  fleetloc::io::SetupLogging(config.server_id);
+  const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
+  auto server = fleetloc::map_server::MapServer::Create(config);
+  if (!server.ok()) {
+    spdlog::error("{}", server.status().message());
+    return server.status().ExitCode();
+  }
+  const fleetloc::Status ran = (*server)->Run(stop);
+  if (!ran.ok()) spdlog::error("{}", ran.message());
+  return ran.ExitCode();
+}

@@ -1,0 +1,133 @@
+// TileRequest → Tile replies in the vehicle's partition.
+#include "map_server/tile_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "transport/mosaic_messages.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::map_server {
+
+using transport::GetBounded;
+
+std::vector<std::string> TileService::CounterNames() {
+  return {"tile_requests",          "tiles_served",           "tile_bytes_served",
+          "rejected_tile_request",  "rejected_tile_range",    "rejected_unknown_mosaic",
+          "tiles_not_found",        "tile_read_errors",       "tile_requests_unmatched",
+          "tiles_not_owned"};
+}
+
+TileService::TileService(mosaic::TileStore* store, mosaic::TileOwnership owned,
+                         VehicleChannels* channels, ServerCounters* counters,
+                         int max_tiles_per_request)
+    : store_(store),
+      owned_(owned),
+      channels_(channels),
+      counters_(counters),
+      max_tiles_per_request_(max_tiles_per_request) {}
+
+void TileService::Receive(const fleetloc_TileRequest& sample) {
+  counters_->Add("tile_requests");
+  const std::string vehicle_id = GetBounded(sample.vehicle_id);
+  if (sample.wire_version != fleetloc_WIRE_VERSION) {
+    counters_->Reject("rejected_tile_request", "TileRequest from '" + vehicle_id +
+                                                   "': unknown wire_version " +
+                                                   std::to_string(sample.wire_version));
+    return;
+  }
+  if (!transport::IsValidEntityId(vehicle_id)) {
+    counters_->Reject("rejected_tile_request",
+                      "TileRequest: vehicle_id '" + vehicle_id + "' is not 1-11 of [A-Za-z0-9_-]");
+    return;
+  }
+  if (static_cast<int>(sample.tiles._length) > max_tiles_per_request_) {
+    counters_->Reject("rejected_tile_request",
+                      "TileRequest from '" + vehicle_id + "': " +
+                          std::to_string(sample.tiles._length) + " tiles, more than " +
+                          std::to_string(max_tiles_per_request_));
+    return;
+  }
+  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {},
+                  std::chrono::steady_clock::now()};
+  for (uint32_t i = 0; i < sample.tiles._length; ++i) {
+    request.tiles.push_back(transport::FromIdl(sample.tiles._buffer[i]));
+  }
+  pending_.push_back(std::move(request));
+}
+
+void TileService::AnswerPending(std::chrono::steady_clock::duration match_timeout) {
+  const auto now = std::chrono::steady_clock::now();
+  std::deque<Request> waiting;
+  for (Request& request : pending_) {
+    Result<VehicleChannel*> channel = channels_->Get(request.vehicle_id);
+    if (!channel.ok()) {
+      counters_->Reject("tile_read_errors", channel.status().message());
+      continue;
+    }
+    if ((*channel)->tiles.MatchedReaders() > 0) {
+      Answer(request, **channel);
+    } else if (now - request.received < match_timeout) {
+      waiting.push_back(std::move(request));
+    } else {
+      counters_->Reject("tile_requests_unmatched",
+                        "TileRequest " + std::to_string(request.request_id) + " from '" +
+                            request.vehicle_id + "': no tile reader of that vehicle matched");
+    }
+  }
+  pending_ = std::move(waiting);
+}
+
+void TileService::Answer(const Request& request, VehicleChannel& channel) {
+  for (const mosaic::TileKey& key : request.tiles) {
+    if (transport::InGrid(store_->layout(), key) && !owned_.Owns(key)) {
+      counters_->Add("tiles_not_owned");  // another map server answers for it
+      continue;
+    }
+    std::vector<std::uint8_t> bytes;
+    const fleetloc_Tile tile = Reply(request, key, &bytes);
+    if (Status written = channel.tiles.Write(tile); !written.ok()) {
+      counters_->Reject("tile_read_errors", written.message());
+      continue;
+    }
+    if (tile.status == fleetloc_TILE_OK) {
+      counters_->Add("tiles_served");
+      counters_->Add("tile_bytes_served", bytes.size());
+    }
+  }
+}
+
+fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& key,
+                                 std::vector<std::uint8_t>* bytes) {
+  const mosaic::MosaicLayout layout = store_->layout();
+  fleetloc_Tile tile{};
+  tile.wire_version = fleetloc_WIRE_VERSION;
+  tile.level = static_cast<uint16_t>(key.level), tile.col = key.col, tile.row = key.row;
+  transport::SetBounded(tile.vehicle_id, request.vehicle_id);
+  tile.request_id = request.request_id;
+  transport::SetBounded(tile.mosaic_id, layout.mosaic_id);
+  tile.version = layout.version;
+  const std::string what = "tile " + mosaic::ToString(key) + " for '" + request.vehicle_id + "'";
+  if (!request.mosaic_id.empty() && request.mosaic_id != layout.mosaic_id) {
+    tile.status = fleetloc_TILE_UNKNOWN_MOSAIC;
+    counters_->Reject("rejected_unknown_mosaic", what + ": unknown mosaic '" + request.mosaic_id + "'");
+  } else if (!transport::InGrid(layout, key)) {
+    tile.status = fleetloc_TILE_OUT_OF_RANGE;
+    counters_->Reject("rejected_tile_range", what + ": outside the mosaic's tile grid");
+  } else if (Result<std::vector<std::uint8_t>> read = store_->ReadTileBytes(key); read.ok()) {
+    *bytes = std::move(read).value();
+    tile.status = fleetloc_TILE_OK;
+    tile.data = transport::BorrowOctets(*bytes);
+  } else if (read.status().code() == StatusCode::kNotFound) {
+    tile.status = fleetloc_TILE_NOT_FOUND;  // a tile never written: blank floor, not an error
+    counters_->Add("tiles_not_found");
+  } else {
+    tile.status = fleetloc_TILE_ERROR;
+    counters_->Reject("tile_read_errors", what + ": " + read.status().message());
+  }
+  if (tile.status != fleetloc_TILE_OK && tile.status != fleetloc_TILE_NOT_FOUND) {
+    transport::SetBounded(tile.error, counters_->last_error());
+  }
+  return tile;
+}
+
+}  // namespace fleetloc::map_server

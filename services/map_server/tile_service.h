@@ -1,0 +1,54 @@
+// Answers TileRequests: each requested tile is read from the store and written, with its status,
+// to the requesting vehicle's partition. Bad requests are answered with an error status where an
+// answer is possible, counted, and logged; they never stop the service.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "map_server/server_counters.h"
+#include "map_server/vehicle_channels.h"
+#include "mosaic/tile_ownership.h"
+#include "mosaic/tile_store.h"
+
+namespace fleetloc::map_server {
+
+class TileService {
+ public:
+  // The counter names this service uses (for ServerCounters).
+  static std::vector<std::string> CounterNames();
+
+  TileService(mosaic::TileStore* store, mosaic::TileOwnership owned, VehicleChannels* channels,
+              ServerCounters* counters, int max_tiles_per_request);
+
+  // Queues a received request (copied: the sample is a DDS loan).
+  void Receive(const fleetloc_TileRequest& request);
+  // Answers the queued requests whose vehicle's reader is matched; drops (and counts) requests
+  // that waited longer than `match_timeout` for the vehicle to match.
+  void AnswerPending(std::chrono::steady_clock::duration match_timeout = std::chrono::seconds(5));
+  size_t pending() const { return pending_.size(); }
+
+ private:
+  struct Request {
+    std::string vehicle_id;
+    uint32_t request_id = 0;
+    std::string mosaic_id;
+    std::vector<mosaic::TileKey> tiles;
+    std::chrono::steady_clock::time_point received;
+  };
+  void Answer(const Request& request, VehicleChannel& channel);
+  // One Tile reply for `key` (status and bytes filled in); `bytes` keeps the payload alive.
+  fleetloc_Tile Reply(const Request& request, const mosaic::TileKey& key,
+                      std::vector<std::uint8_t>* bytes);
+
+  mosaic::TileStore* store_;
+  mosaic::TileOwnership owned_;
+  VehicleChannels* channels_;
+  ServerCounters* counters_;
+  int max_tiles_per_request_;
+  std::deque<Request> pending_;
+};
+
+}  // namespace fleetloc::map_server

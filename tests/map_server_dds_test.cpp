@@ -1,0 +1,208 @@
+// The map server as its own process, driven through DDS on loopback (own domain id): mosaic
+// announcement, tiles byte-identical to the store, replies confined to the requesting vehicle,
+// and bad requests answered with an error status and counted in the server's health.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <thread>
+
+#include "cli_runner.h"
+#include "daemon_process.h"
+#include "mosaic/importer.h"
+#include "mosaic/tile_store.h"
+#include "transport/tile_client.h"
+#include "transport/topic_names.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc {
+namespace {
+
+using transport::ReceivedTile;
+using transport::TileClient;
+
+constexpr uint32_t kDomain = 81;
+
+bool Eventually(const std::function<bool()>& done, double limit_s = 20.0) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+  while (std::chrono::steady_clock::now() < end) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return done();
+}
+
+class MapServerDds : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scratch_ = new testing::ScratchDir("map_server_dds");
+    mosaic_path_ = (scratch_->path() / "floor.db").string();
+    mosaic::ImportOptions options;
+    options.resolution_m = 0.0005;
+    options.tile_size_px = 128;
+    auto imported = mosaic::ImportImage(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", options,
+                                        mosaic_path_);
+    ASSERT_TRUE(imported.ok()) << imported.status().message();
+    layout_ = *imported;
+    server_ = new testing::DaemonProcess(
+        "map_server",
+        {"--mosaic", mosaic_path_, "--domain", std::to_string(kDomain), "--server-id", "map-t"},
+        (scratch_->path() / "map_server.log").string());
+    auto participant = transport::Participant::Create(kDomain);
+    ASSERT_TRUE(participant.ok()) << participant.status().message();
+    participant_ = new transport::Participant(std::move(participant).value());
+  }
+  static void TearDownTestSuite() {
+    delete participant_;
+    EXPECT_EQ(server_->Stop(SIGTERM), 0) << "map_server did not stop cleanly on SIGTERM";
+    delete server_;
+    delete scratch_;
+  }
+
+  std::unique_ptr<TileClient> Client(const std::string& vehicle_id) {
+    auto client = TileClient::Create(*participant_, vehicle_id);
+    EXPECT_TRUE(client.ok()) << client.status().message();
+    EXPECT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+    return std::move(client).value();
+  }
+
+  // Requests `keys` and collects replies until `expected` tiles of request `id` arrived.
+  std::vector<ReceivedTile> Fetch(TileClient& client, uint32_t id,
+                                  const std::vector<mosaic::TileKey>& keys, size_t expected,
+                                  const std::string& mosaic_id = "") {
+    EXPECT_TRUE(client.Request(id, mosaic_id, keys).ok());
+    std::vector<ReceivedTile> got;
+    Eventually([&] {
+      auto tiles = client.TakeTiles();
+      EXPECT_TRUE(tiles.ok());
+      for (auto& t : *tiles) {
+        if (t.request_id == id) got.push_back(std::move(t));
+      }
+      return got.size() >= expected;
+    });
+    return got;
+  }
+
+  // The newest ServiceHealth counter `name` of the server.
+  uint64_t HealthCounter(const std::string& name) {
+    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(
+        *participant_, transport::topics::kServiceHealth);
+    auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
+        participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
+    uint64_t value = 0;
+    bool seen = false;
+    Eventually([&] {
+      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+        for (uint32_t i = 0; i < h.counters._length; ++i) {
+          if (transport::GetBounded(h.counters._buffer[i].name) == name) {
+            value = h.counters._buffer[i].value, seen = true;
+          }
+        }
+      });
+      return seen;
+    }, 5.0);
+    EXPECT_TRUE(seen) << name;
+    return value;
+  }
+
+  static testing::ScratchDir* scratch_;
+  static std::string mosaic_path_;
+  static mosaic::MosaicLayout layout_;
+  static testing::DaemonProcess* server_;
+  static transport::Participant* participant_;
+};
+
+testing::ScratchDir* MapServerDds::scratch_ = nullptr;
+std::string MapServerDds::mosaic_path_;
+mosaic::MosaicLayout MapServerDds::layout_;
+testing::DaemonProcess* MapServerDds::server_ = nullptr;
+transport::Participant* MapServerDds::participant_ = nullptr;
+
+TEST_F(MapServerDds, AnnouncesTheMosaicToLateJoiners) {
+  auto client = Client("veh-info");
+  std::optional<fleetloc_MosaicInfo> info;
+  ASSERT_TRUE(Eventually([&] { return (info = client->LatestMosaicInfo()).has_value(); }));
+  EXPECT_EQ(transport::GetBounded(info->mosaic_id), layout_.mosaic_id);
+  EXPECT_EQ(transport::GetBounded(info->server_id), "map-t");
+  EXPECT_EQ(info->width_px, layout_.width_px);
+  EXPECT_EQ(info->levels, layout_.levels);
+  EXPECT_EQ(info->resolution, 0.0005);
+  EXPECT_EQ(info->version, layout_.version);
+}
+
+TEST_F(MapServerDds, ServesEveryTileByteIdenticalToTheStore) {
+  auto store = mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly);
+  ASSERT_TRUE(store.ok());
+  std::vector<mosaic::TileKey> keys;
+  for (int level = 0; level < layout_.levels; ++level) {
+    mosaic::TilesCovering(layout_, level, {0, 0, layout_.LevelWidth(level), layout_.LevelHeight(level)})
+        .ForEach([&](const mosaic::TileKey& k) { keys.push_back(k); });
+  }
+  auto client = Client("veh-all");
+  const auto got = Fetch(*client, 1, keys, keys.size());
+  ASSERT_EQ(got.size(), keys.size());
+  for (const ReceivedTile& tile : got) {
+    ASSERT_EQ(tile.status, fleetloc_TILE_OK) << mosaic::ToString(tile.key) << " " << tile.error;
+    auto expected = (*store)->ReadTileBytes(tile.key);
+    ASSERT_TRUE(expected.ok());
+    EXPECT_EQ(tile.data, *expected) << mosaic::ToString(tile.key);
+    EXPECT_EQ(tile.mosaic_id, layout_.mosaic_id);
+  }
+}
+
+TEST_F(MapServerDds, RepliesReachOnlyTheRequestingVehicle) {
+  std::vector<std::unique_ptr<TileClient>> fleet;
+  for (int i = 0; i < 5; ++i) fleet.push_back(Client("veh-" + std::to_string(i)));
+  const std::vector<mosaic::TileKey> keys = {{0, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const auto got = Fetch(*fleet[0], 7, keys, keys.size());
+  EXPECT_EQ(got.size(), keys.size());
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (int i = 1; i < 5; ++i) {
+    auto others = fleet[i]->TakeTiles();
+    ASSERT_TRUE(others.ok());
+    EXPECT_TRUE(others->empty()) << "vehicle " << i << " received another vehicle's tiles";
+  }
+}
+
+TEST_F(MapServerDds, BadRequestsGetAnErrorStatusAndAreCounted) {
+  auto client = Client("veh-bad");
+  const int cols = mosaic::TileColumns(layout_, 0);
+  auto out_of_range = Fetch(*client, 11, {{0, cols, 0}, {layout_.levels, 0, 0}, {0, -1, 0}}, 3);
+  ASSERT_EQ(out_of_range.size(), 3u);
+  for (const auto& t : out_of_range) {
+    EXPECT_EQ(t.status, fleetloc_TILE_OUT_OF_RANGE);
+    EXPECT_NE(t.error.find("outside"), std::string::npos) << t.error;
+    EXPECT_TRUE(t.data.empty());
+  }
+  auto unknown = Fetch(*client, 12, {{0, 0, 0}}, 1, "0123456789abcdef0123456789abcdef");
+  ASSERT_EQ(unknown.size(), 1u);
+  EXPECT_EQ(unknown[0].status, fleetloc_TILE_UNKNOWN_MOSAIC);
+  EXPECT_GE(HealthCounter("rejected_tile_range"), 3u);
+  EXPECT_GE(HealthCounter("rejected_unknown_mosaic"), 1u);
+  // The server is still serving after them.
+  auto good = Fetch(*client, 13, {{0, 0, 0}}, 1);
+  ASSERT_EQ(good.size(), 1u);
+  EXPECT_EQ(good[0].status, fleetloc_TILE_OK);
+}
+
+TEST_F(MapServerDds, ForgedRequestsAreRejectedAndCounted) {
+  auto topic = transport::Topic<fleetloc_TileRequest>::Create(*participant_,
+                                                              transport::topics::kTileRequest);
+  auto writer = transport::Writer<fleetloc_TileRequest>::Create(participant_->get(), *topic,
+                                                                transport::CommandQos());
+  ASSERT_TRUE(Eventually([&] { return writer->MatchedReaders() > 0; }));
+  const uint64_t before = HealthCounter("rejected_tile_request");
+  fleetloc_TileRequest bad_id{};
+  bad_id.wire_version = fleetloc_WIRE_VERSION;
+  transport::SetBounded(bad_id.vehicle_id, "veh*");  // a partition wildcard
+  fleetloc_TileRequest bad_version{};
+  bad_version.wire_version = 999;
+  transport::SetBounded(bad_version.vehicle_id, "veh-x");
+  ASSERT_TRUE(writer->Write(bad_id).ok());
+  ASSERT_TRUE(writer->Write(bad_version).ok());
+  EXPECT_TRUE(Eventually([&] { return HealthCounter("rejected_tile_request") >= before + 2; }));
+}
+
+}  // namespace
+}  // namespace fleetloc
