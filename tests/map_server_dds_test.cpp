@@ -45,10 +45,10 @@ class MapServerDds : public ::testing::Test {
                                         mosaic_path_);
     ASSERT_TRUE(imported.ok()) << imported.status().message();
     layout_ = *imported;
-    server_ = new testing::DaemonProcess(
+    server_ = new io::ChildProcess(testing::StartDaemon(
         "map_server",
         {"--mosaic", mosaic_path_, "--domain", std::to_string(kDomain), "--server-id", "map-t"},
-        (scratch_->path() / "map_server.log").string());
+        (scratch_->path() / "map_server.log").string()));
     auto participant = transport::Participant::Create(kDomain);
     ASSERT_TRUE(participant.ok()) << participant.status().message();
     participant_ = new transport::Participant(std::move(participant).value());
@@ -109,14 +109,14 @@ class MapServerDds : public ::testing::Test {
   static testing::ScratchDir* scratch_;
   static std::string mosaic_path_;
   static mosaic::MosaicLayout layout_;
-  static testing::DaemonProcess* server_;
+  static io::ChildProcess* server_;
   static transport::Participant* participant_;
 };
 
 testing::ScratchDir* MapServerDds::scratch_ = nullptr;
 std::string MapServerDds::mosaic_path_;
 mosaic::MosaicLayout MapServerDds::layout_;
-testing::DaemonProcess* MapServerDds::server_ = nullptr;
+io::ChildProcess* MapServerDds::server_ = nullptr;
 transport::Participant* MapServerDds::participant_ = nullptr;
 
 TEST_F(MapServerDds, AnnouncesTheMosaicToLateJoiners) {

@@ -1,0 +1,43 @@
+// Child processes: exit status, stop by signal, environment and log file, missing program.
+#include "io/child_process.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fleetloc::io {
+namespace {
+
+std::string LogPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("child_process_" + name + ".log")).string();
+}
+
+TEST(ChildProcess, ReportsTheExitStatusAndWritesTheLogWithTheExtraEnvironment) {
+  auto child = ChildProcess::Start("/bin/sh", {"-c", "echo \"$FLEETLOC_TEST_VALUE\"; exit 3"},
+                                   LogPath("exit"), {"FLEETLOC_TEST_VALUE=forty-two"});
+  ASSERT_TRUE(child.ok()) << child.status().message();
+  EXPECT_EQ(child->Wait(std::chrono::seconds(10)), 3);
+  std::stringstream log;
+  log << std::ifstream(LogPath("exit")).rdbuf();
+  EXPECT_EQ(log.str(), "forty-two\n");
+}
+
+TEST(ChildProcess, StopsARunningChildWithTheSignal) {
+  auto child = ChildProcess::Start("/bin/sleep", {"30"}, LogPath("sleep"));
+  ASSERT_TRUE(child.ok());
+  EXPECT_TRUE(child->Running());
+  EXPECT_EQ(child->Stop(SIGTERM), 128 + SIGTERM);
+  EXPECT_FALSE(child->Running());
+}
+
+TEST(ChildProcess, MissingProgramIsNotFound) {
+  auto child = ChildProcess::Start("/nonexistent/daemon", {}, LogPath("missing"));
+  ASSERT_FALSE(child.ok());
+  EXPECT_EQ(child.status().code(), StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace fleetloc::io
