@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "bench_paths.h"
 #include "bench_report.h"
+#include "bench_tiles.h"
 #include "bench_tracker.h"
 #include "commands.h"
 #include "io/file_util.h"
@@ -32,16 +34,6 @@ struct BenchArgs {
   std::string json;
   BenchSettings settings;
 };
-
-// deploy/demo/floors of the source tree: beside the executable's build directory
-// (<source>/<build>/bin/fleetctl) or else the source directory this binary was compiled from.
-fs::path DefaultFloorsDir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
-  if (!ec && fs::is_directory(beside, ec)) return beside;
-  return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
-}
 
 bool IsImageFile(const fs::path& path) {
   static const std::set<std::string> kExtensions{".png", ".jpg", ".jpeg", ".pgm",
@@ -208,6 +200,30 @@ void AddBenchTrackerOptions(CLI::App* tracker, BenchArgs* a) {
       ->check(CLI::Range(0, 1000000));
 }
 
+void RegisterBenchTiles(CLI::App* bench, Status* result) {
+  auto s = std::make_shared<TileBenchSettings>();
+  s->work_dir = (fs::temp_directory_path() / "fleetloc-bench-tiles").string();
+  CLI::App* tiles = bench->add_subcommand(
+      "tiles", "Tile streaming from a map_server process: throughput and latency vs ddsperf");
+  tiles->option_defaults()->always_capture_default();
+  tiles->add_option("--mosaic", s->mosaic, "Mosaic to serve (default: import the demo rock floor)");
+  tiles->add_option("--work-dir", s->work_dir, "Logs, configuration and the imported mosaic");
+  tiles->add_option("--domain", s->domain, "DDS domain (ddsperf uses the next one)")
+      ->check(CLI::Range(0, 231));
+  tiles->add_option("--seconds", s->seconds, "Duration of each phase")->check(CLI::Range(1.0, 600.0));
+  tiles->add_option("--vehicles", s->vehicles, "Vehicle counts of the latency phases")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 500));
+  tiles->add_option("--rate-hz", s->rate_hz, "Tile requests per vehicle per second")
+      ->check(CLI::Range(0.1, 1000.0));
+  tiles->add_option("--batch", s->batch_tiles, "Tiles per request (throughput)")
+      ->check(CLI::Range(1, 256));
+  tiles->add_option("--pipeline", s->pipeline, "Requests in flight (throughput)")
+      ->check(CLI::Range(1, 64));
+  tiles->add_option("--json", s->json, "Write every number to this JSON file");
+  tiles->callback([s, result] { *result = RunTileBench(*s); });
+}
+
 }  // namespace
 
 void RegisterBenchCommand(CLI::App& app, Status* result) {
@@ -219,6 +235,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   tracker->option_defaults()->always_capture_default();
   AddBenchTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = RunBench(*args); });
+  RegisterBenchTiles(bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -1,0 +1,27 @@
+// fleetctl bench tiles: tile streaming from a real map_server process over loopback DDS —
+// throughput next to ddsperf at the same sample size, and request→tile latency with 1, 10 and
+// 50 requesting vehicles (one participant, one partition per vehicle) next to ddsperf ping-pong.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "base/status.h"
+
+namespace fleetloc::fleetctl {
+
+struct TileBenchSettings {
+  std::string mosaic;                 // empty: import the demo floor into work_dir
+  std::string work_dir;
+  int domain = 90;                    // map server and clients; ddsperf uses domain + 1
+  double seconds = 5.0;               // per phase, after a warm-up
+  std::vector<int> vehicles{1, 10, 50};
+  double rate_hz = 10.0;              // tile requests per vehicle per second (latency phase)
+  int batch_tiles = 32;               // tiles per request in the throughput phase
+  int pipeline = 8;                   // requests in flight in the throughput phase
+  std::string json;
+};
+
+Status RunTileBench(const TileBenchSettings& settings);
+
+}  // namespace fleetloc::fleetctl
