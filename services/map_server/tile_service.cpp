@@ -47,34 +47,32 @@ void TileService::Receive(const fleetloc_TileRequest& sample) {
                           std::to_string(max_tiles_per_request_));
     return;
   }
-  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {},
-                  std::chrono::steady_clock::now()};
+  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {}};
   for (uint32_t i = 0; i < sample.tiles._length; ++i) {
     request.tiles.push_back(transport::FromIdl(sample.tiles._buffer[i]));
   }
-  pending_.push_back(std::move(request));
+  pending_.Push(vehicle_id, std::move(request));
 }
 
 void TileService::AnswerPending(std::chrono::steady_clock::duration match_timeout) {
-  const auto now = std::chrono::steady_clock::now();
-  std::deque<Request> waiting;
-  for (Request& request : pending_) {
-    Result<VehicleChannel*> channel = channels_->Get(request.vehicle_id);
-    if (!channel.ok()) {
-      counters_->Reject("tile_read_errors", channel.status().message());
-      continue;
-    }
-    if ((*channel)->tiles.MatchedReaders() > 0) {
-      Answer(request, **channel);
-    } else if (now - request.received < match_timeout) {
-      waiting.push_back(std::move(request));
-    } else {
-      counters_->Reject("tile_requests_unmatched",
-                        "TileRequest " + std::to_string(request.request_id) + " from '" +
-                            request.vehicle_id + "': no tile reader of that vehicle matched");
-    }
-  }
-  pending_ = std::move(waiting);
+  auto channel = [this](const std::string& vehicle_id) -> VehicleChannel* {
+    Result<VehicleChannel*> opened = channels_->Get(vehicle_id);
+    if (opened.ok()) return *opened;
+    counters_->Reject("tile_read_errors", opened.status().message());
+    return nullptr;
+  };
+  pending_.Flush(
+      [&](const std::string& vehicle) {
+        VehicleChannel* c = channel(vehicle);
+        return c != nullptr && c->tiles.MatchedReaders() > 0;
+      },
+      [&](const std::string& vehicle, const Request& request) { Answer(request, *channel(vehicle)); },
+      [&](const std::string& vehicle, const Request& request) {
+        counters_->Reject("tile_requests_unmatched",
+                          "TileRequest " + std::to_string(request.request_id) + " from '" +
+                              vehicle + "': no tile reader of that vehicle matched");
+      },
+      match_timeout);
 }
 
 void TileService::Answer(const Request& request, VehicleChannel& channel) {

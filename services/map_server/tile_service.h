@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "map_server/pending_replies.h"
 #include "map_server/server_counters.h"
 #include "map_server/vehicle_channels.h"
 #include "mosaic/tile_ownership.h"
@@ -36,7 +37,6 @@ class TileService {
     uint32_t request_id = 0;
     std::string mosaic_id;
     std::vector<mosaic::TileKey> tiles;
-    std::chrono::steady_clock::time_point received;
   };
   void Answer(const Request& request, VehicleChannel& channel);
   // One Tile reply for `key` (status and bytes filled in); `bytes` keeps the payload alive.
@@ -48,7 +48,7 @@ class TileService {
   VehicleChannels* channels_;
   ServerCounters* counters_;
   int max_tiles_per_request_;
-  std::deque<Request> pending_;
+  PendingReplies<Request> pending_;
 };
 
 }  // namespace fleetloc::map_server

@@ -13,5 +13,6 @@ void RegisterSimCommand(CLI::App& app, Status* result);
 void RegisterTrackCommand(CLI::App& app, Status* result);
 void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);
+void RegisterRemapCommand(CLI::App& app, Status* result);
 
 }  // namespace fleetloc::fleetctl
