@@ -22,6 +22,7 @@ Status Validate(const MapServerConfig& c) {
   if (c.max_patch_bytes < 1024) return bad("max_patch_bytes", "must be >= 1024");
   if (c.max_patch_side_px < 16) return bad("max_patch_side_px", "must be >= 16");
   if (c.max_vehicles < 1) return bad("max_vehicles", "must be >= 1");
+  if (c.tile_cache_mb < 0 || c.tile_cache_mb > 65536) return bad("tile_cache_mb", "must be in [0, 65536]");
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) {
     return bad("health_period_s", "must be in [0.05, 60]");
   }
@@ -53,7 +54,7 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
-      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "health_period_s"};
+      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -63,12 +64,13 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   if (fields.Has("dds_config")) {
     FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("dds_config", &c.dds_config_path));
   }
-  struct IntField { const char* key; int* target; bool allow_zero; };
-  for (const IntField& f : {IntField{"domain", &c.domain_id, true},
-                            IntField{"max_tiles_per_request", &c.max_tiles_per_request, false},
-                            IntField{"max_patch_bytes", &c.max_patch_bytes, false},
-                            IntField{"max_patch_side_px", &c.max_patch_side_px, false},
-                            IntField{"max_vehicles", &c.max_vehicles, false}}) {
+  struct IntField { const char* key; int* target; };  // ranges: Validate()
+  for (const IntField& f : {IntField{"domain", &c.domain_id},
+                            IntField{"max_tiles_per_request", &c.max_tiles_per_request},
+                            IntField{"max_patch_bytes", &c.max_patch_bytes},
+                            IntField{"max_patch_side_px", &c.max_patch_side_px},
+                            IntField{"max_vehicles", &c.max_vehicles},
+                            IntField{"tile_cache_mb", &c.tile_cache_mb}}) {
     if (!fields.Has(f.key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(f.key, &value));

@@ -20,6 +20,7 @@ struct MapServerConfig {
   int max_patch_bytes = 4 << 20;           // encoded patch image; larger ones are rejected
   int max_patch_side_px = 4096;
   int max_vehicles = 4096;                 // reply channels kept open (LRU)
+  int tile_cache_mb = 64;                  // encoded tiles kept in memory
   double health_period_s = 1.0;
 };
 

@@ -19,12 +19,13 @@ std::vector<std::string> TileService::CounterNames() {
 
 TileService::TileService(mosaic::TileStore* store, mosaic::TileOwnership owned,
                          VehicleChannels* channels, ServerCounters* counters,
-                         int max_tiles_per_request)
+                         int max_tiles_per_request, size_t cache_bytes)
     : store_(store),
       owned_(owned),
       channels_(channels),
       counters_(counters),
-      max_tiles_per_request_(max_tiles_per_request) {}
+      max_tiles_per_request_(max_tiles_per_request),
+      cache_(cache_bytes) {}
 
 void TileService::Receive(const fleetloc_TileRequest& sample) {
   counters_->Add("tile_requests");
@@ -81,7 +82,7 @@ void TileService::Answer(const Request& request, VehicleChannel& channel) {
       counters_->Add("tiles_not_owned");  // another map server answers for it
       continue;
     }
-    std::vector<std::uint8_t> bytes;
+    mosaic::TilePtr bytes;
     const fleetloc_Tile tile = Reply(request, key, &bytes);
     if (Status written = channel.tiles.Write(tile); !written.ok()) {
       counters_->Reject("tile_read_errors", written.message());
@@ -89,13 +90,23 @@ void TileService::Answer(const Request& request, VehicleChannel& channel) {
     }
     if (tile.status == fleetloc_TILE_OK) {
       counters_->Add("tiles_served");
-      counters_->Add("tile_bytes_served", bytes.size());
+      counters_->Add("tile_bytes_served", bytes->total());
     }
   }
 }
 
+Result<mosaic::TilePtr> TileService::EncodedTile(const mosaic::TileKey& key) {
+  if (mosaic::TilePtr cached = cache_.Get(key)) return cached;
+  Result<std::vector<std::uint8_t>> read = store_->ReadTileBytes(key);
+  if (!read.ok()) return read.status();
+  auto encoded = std::make_shared<const cv::Mat>(
+      cv::Mat(1, static_cast<int>(read->size()), CV_8U, read->data()).clone());
+  cache_.Put(key, encoded);
+  return mosaic::TilePtr(encoded);
+}
+
 fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& key,
-                                 std::vector<std::uint8_t>* bytes) {
+                                 mosaic::TilePtr* bytes) {
   const mosaic::MosaicLayout layout = store_->layout();
   fleetloc_Tile tile{};
   tile.wire_version = fleetloc_WIRE_VERSION;
@@ -111,10 +122,10 @@ fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& 
   } else if (!transport::InGrid(layout, key)) {
     tile.status = fleetloc_TILE_OUT_OF_RANGE;
     counters_->Reject("rejected_tile_range", what + ": outside the mosaic's tile grid");
-  } else if (Result<std::vector<std::uint8_t>> read = store_->ReadTileBytes(key); read.ok()) {
+  } else if (Result<mosaic::TilePtr> read = EncodedTile(key); read.ok()) {
     *bytes = std::move(read).value();
     tile.status = fleetloc_TILE_OK;
-    tile.data = transport::BorrowOctets(*bytes);
+    tile.data = transport::BorrowOctets({(*bytes)->data, (*bytes)->total()});
   } else if (read.status().code() == StatusCode::kNotFound) {
     tile.status = fleetloc_TILE_NOT_FOUND;  // a tile never written: blank floor, not an error
     counters_->Add("tiles_not_found");

@@ -11,6 +11,7 @@
 #include "map_server/pending_replies.h"
 #include "map_server/server_counters.h"
 #include "map_server/vehicle_channels.h"
+#include "mosaic/tile_cache.h"
 #include "mosaic/tile_ownership.h"
 #include "mosaic/tile_store.h"
 
@@ -21,8 +22,10 @@ class TileService {
   // The counter names this service uses (for ServerCounters).
   static std::vector<std::string> CounterNames();
 
+  // `cache_bytes` bounds the encoded tiles kept in memory (a fleet on one floor asks for the same
+  // tiles again and again; the cache spares SQLite reads and copies).
   TileService(mosaic::TileStore* store, mosaic::TileOwnership owned, VehicleChannels* channels,
-              ServerCounters* counters, int max_tiles_per_request);
+              ServerCounters* counters, int max_tiles_per_request, size_t cache_bytes);
 
   // Queues a received request (copied: the sample is a DDS loan).
   void Receive(const fleetloc_TileRequest& request);
@@ -30,6 +33,8 @@ class TileService {
   // that waited longer than `match_timeout` for the vehicle to match.
   void AnswerPending(std::chrono::steady_clock::duration match_timeout = std::chrono::seconds(5));
   size_t pending() const { return pending_.size(); }
+  // Forgets every cached tile (after the store moved to a new mosaic version).
+  void DropCache() { cache_.Clear(); }
 
  private:
   struct Request {
@@ -40,8 +45,9 @@ class TileService {
   };
   void Answer(const Request& request, VehicleChannel& channel);
   // One Tile reply for `key` (status and bytes filled in); `bytes` keeps the payload alive.
-  fleetloc_Tile Reply(const Request& request, const mosaic::TileKey& key,
-                      std::vector<std::uint8_t>* bytes);
+  fleetloc_Tile Reply(const Request& request, const mosaic::TileKey& key, mosaic::TilePtr* bytes);
+  // The encoded tile from the cache or the store (then cached).
+  Result<mosaic::TilePtr> EncodedTile(const mosaic::TileKey& key);
 
   mosaic::TileStore* store_;
   mosaic::TileOwnership owned_;
@@ -49,6 +55,7 @@ class TileService {
   ServerCounters* counters_;
   int max_tiles_per_request_;
   PendingReplies<Request> pending_;
+  mosaic::TileCache cache_;  // encoded tiles as 1×N CV_8U rows
 };
 
 }  // namespace fleetloc::map_server

@@ -18,7 +18,7 @@ struct TileBenchSettings {
   std::vector<int> vehicles{1, 10, 50};
   double rate_hz = 10.0;              // tile requests per vehicle per second (latency phase)
   int batch_tiles = 32;               // tiles per request in the throughput phase
-  int pipeline = 8;                   // requests in flight in the throughput phase
+  int pipeline = 2;                   // requests in flight (2 × 32 tiles ≈ 3 MB: below rmem_max)
   std::string json;
 };
 
