@@ -1,0 +1,69 @@
+// PatchObservation writer and partitioned PatchAck reader, vehicle side.
+#include "transport/patch_client.h"
+
+#include "transport/topic_names.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::transport {
+
+PatchClient::PatchClient(std::string vehicle_id, Entity subscriber,
+                         Topic<fleetloc_PatchObservation> patch_topic,
+                         Topic<fleetloc_PatchAck> ack_topic,
+                         Writer<fleetloc_PatchObservation> patches,
+                         Reader<fleetloc_PatchAck> ack_reader)
+    : vehicle_id_(std::move(vehicle_id)),
+      subscriber_(std::move(subscriber)),
+      patch_topic_(std::move(patch_topic)),
+      ack_topic_(std::move(ack_topic)),
+      patches_(std::move(patches)),
+      ack_reader_(std::move(ack_reader)) {}
+
+Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& participant,
+                                                         const std::string& vehicle_id) {
+  if (!IsValidEntityId(vehicle_id)) {
+    return InvalidInput("vehicle id '" + vehicle_id + "' is not 1-11 of [A-Za-z0-9_-]");
+  }
+  auto patch_topic = Topic<fleetloc_PatchObservation>::Create(participant, topics::kPatchObservation);
+  auto ack_topic = Topic<fleetloc_PatchAck>::Create(participant, topics::kPatchAck);
+  if (!patch_topic.ok()) return patch_topic.status();
+  if (!ack_topic.ok()) return ack_topic.status();
+  auto subscriber = participant.CreateSubscriber({topics::VehiclePartition(vehicle_id)});
+  if (!subscriber.ok()) return subscriber.status();
+  auto patches = Writer<fleetloc_PatchObservation>::Create(participant.get(), *patch_topic, BulkQos(64));
+  auto acks = Reader<fleetloc_PatchAck>::Create(subscriber->get(), *ack_topic, CommandQos());
+  if (!patches.ok()) return patches.status();
+  if (!acks.ok()) return acks.status();
+  return std::unique_ptr<PatchClient>(new PatchClient(
+      vehicle_id, std::move(subscriber).value(), std::move(patch_topic).value(),
+      std::move(ack_topic).value(), std::move(patches).value(), std::move(acks).value()));
+}
+
+Status PatchClient::Send(const PatchToSend& p) {
+  fleetloc_PatchObservation sample{};
+  sample.wire_version = fleetloc_WIRE_VERSION;
+  SetBounded(sample.vehicle_id, vehicle_id_);
+  sample.sequence_number = p.sequence;
+  sample.stamp = ToStamp(p.stamp_s);
+  SetBounded(sample.mosaic_id, p.mosaic_id);
+  sample.mosaic_version = p.mosaic_version;
+  sample.x = p.pose.x, sample.y = p.pose.y, sample.theta = p.pose.theta;
+  std::copy(p.covariance, p.covariance + 9, sample.covariance);
+  sample.quality = p.quality;
+  sample.resolution = p.resolution_m;
+  SetBounded(sample.encoding, "png");
+  sample.image = BorrowOctets(p.png);
+  return SendRaw(sample);
+}
+
+Status PatchClient::SendRaw(const fleetloc_PatchObservation& sample) { return patches_.Write(sample); }
+
+Result<std::vector<ReceivedAck>> PatchClient::TakeAcks() {
+  std::vector<ReceivedAck> acks;
+  Result<int> taken = ack_reader_.TakeAll([&](const fleetloc_PatchAck& a, const dds_sample_info_t&) {
+    acks.push_back({a.sequence_number, a.status, GetBounded(a.reason)});
+  });
+  if (!taken.ok()) return taken.status();
+  return acks;
+}
+
+}  // namespace fleetloc::transport
