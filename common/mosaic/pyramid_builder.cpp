@@ -51,19 +51,46 @@ Status PyramidBuilder::AddRowToLevel(int level, std::span<const std::uint8_t> ro
   return Status::Ok();
 }
 
-Status PyramidBuilder::PushDown(int level, int first_row, int count) {
-  Level& l = levels_[level];
-  const int width = layout_.LevelWidth(level);
-  const std::uint8_t* a = l.strip.ptr(first_row);
-  const std::uint8_t* b = l.strip.ptr(first_row + count - 1);
-  for (int i = 0; i < static_cast<int>(l.down_row.size()); ++i) {
+void AverageRowPair(const std::uint8_t* a, const std::uint8_t* b, int width, std::uint8_t* out) {
+  const int count = b != nullptr ? 2 : 1;
+  for (int i = 0; 2 * i < width; ++i) {
     const int x0 = 2 * i;
     const int x1 = std::min(x0 + 1, width - 1);
     const int n = (x1 - x0 + 1) * count;  // pixels that exist: 4, 2 or 1
     int sum = a[x0] + (x1 != x0 ? a[x1] : 0);
     if (count == 2) sum += b[x0] + (x1 != x0 ? b[x1] : 0);
-    l.down_row[i] = static_cast<std::uint8_t>((sum + n / 2) / n);
+    out[i] = static_cast<std::uint8_t>((sum + n / 2) / n);
   }
+}
+
+cv::Mat DownsampleTile(const MosaicLayout& layout, const TileKey& parent,
+                       const std::function<cv::Mat(const TileKey&)>& child) {
+  FLEETLOC_CHECK(parent.level >= 1 && parent.level < layout.levels);
+  const int t = layout.tile_size_px, below = parent.level - 1;
+  // The level-below pixels under the parent, clipped to that level's size.
+  const cv::Rect source = cv::Rect(2 * parent.col * t, 2 * parent.row * t, 2 * t, 2 * t) &
+                          cv::Rect(0, 0, layout.LevelWidth(below), layout.LevelHeight(below));
+  cv::Mat block = cv::Mat::zeros(2 * t, 2 * t, CV_8UC1);
+  for (int dy = 0; dy < 2; ++dy) {
+    for (int dx = 0; dx < 2; ++dx) {
+      const TileKey key{below, 2 * parent.col + dx, 2 * parent.row + dy};
+      if (key.col * t >= layout.LevelWidth(below) || key.row * t >= layout.LevelHeight(below)) continue;
+      child(key).copyTo(block(cv::Rect(dx * t, dy * t, t, t)));
+    }
+  }
+  cv::Mat tile = cv::Mat::zeros(t, t, CV_8UC1);
+  for (int y = 0; y < source.height; y += 2) {
+    const std::uint8_t* a = block.ptr(y);
+    const std::uint8_t* b = y + 1 < source.height ? block.ptr(y + 1) : nullptr;
+    AverageRowPair(a, b, source.width, tile.ptr(y / 2));
+  }
+  return tile;
+}
+
+Status PyramidBuilder::PushDown(int level, int first_row, int count) {
+  Level& l = levels_[level];
+  AverageRowPair(l.strip.ptr(first_row), count == 2 ? l.strip.ptr(first_row + 1) : nullptr,
+                 layout_.LevelWidth(level), l.down_row.data());
   return AddRowToLevel(level + 1, l.down_row);
 }
 

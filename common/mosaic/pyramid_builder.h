@@ -15,6 +15,17 @@
 
 namespace fleetloc::mosaic {
 
+// One row of level k+1 from one or two rows of level k (`b` null: a single last row): each output
+// pixel is the rounded mean of the 2×2 (or fewer, at the level's edge) input pixels that exist.
+// `width` is level k's width; writes (width + 1) / 2 pixels to `out`.
+void AverageRowPair(const std::uint8_t* a, const std::uint8_t* b, int width, std::uint8_t* out);
+
+// Recomputes tile `parent` (level >= 1) from the level below exactly as PyramidBuilder does:
+// `child(key)` returns each of the (up to four) child tiles (CV_8UC1, tile size; zeros where the
+// mosaic has none). Pixels past the level's edge are 0.
+cv::Mat DownsampleTile(const MosaicLayout& layout, const TileKey& parent,
+                       const std::function<cv::Mat(const TileKey&)>& child);
+
 class PyramidBuilder {
  public:
   // Receives each finished tile (CV_8UC1, tile_size square, zero padded past the level's edge).

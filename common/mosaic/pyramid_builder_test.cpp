@@ -103,6 +103,22 @@ TEST(PyramidBuilder, OddSizedCropHasPartialEdgeTilesAndEdgeAverages) {
   }
 }
 
+TEST(PyramidBuilder, DownsampleTileRebuildsEveryUpperTileExactly) {
+  const cv::Mat gray = LoadGray(SourcePath("tests/data/brick.png"))(cv::Rect(7, 11, 301, 203));
+  const MosaicLayout layout = LayoutFor(gray, 64);
+  const std::map<TileKey, cv::Mat> tiles = BuildTiles(gray, layout);
+  int checked = 0;
+  for (const auto& [key, tile] : tiles) {
+    if (key.level == 0) continue;
+    const cv::Mat rebuilt = DownsampleTile(layout, key, [&](const TileKey& child) {
+      return tiles.at(child);
+    });
+    EXPECT_EQ(MaxAbsDiff(rebuilt, tile), 0) << ToString(key);
+    ++checked;
+  }
+  EXPECT_GT(checked, 3);
+}
+
 TEST(PyramidBuilder, SinkErrorStopsTheBuild) {
   const cv::Mat gray = LoadGray(SourcePath("tests/data/grass.png"));
   const MosaicLayout layout = LayoutFor(gray, 256);

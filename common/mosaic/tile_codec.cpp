@@ -1,4 +1,4 @@
-// PNG tile encoding through OpenCV's imgcodecs; exceptions are converted to Status here.
+// PNG tile and patch encoding through OpenCV's imgcodecs; exceptions are converted to Status here.
 #include "mosaic/tile_codec.h"
 
 #include <algorithm>
@@ -6,28 +6,18 @@
 #include <string>
 
 namespace fleetloc::mosaic {
-namespace {
 
-// Rejects PNG bytes whose header announces a size other than the tile's, before decoding (so a
-// corrupt or hostile tile cannot make the decoder allocate a huge image). Non-PNG bytes pass here
-// and fail in the decoder.
-Status CheckPngHeaderSize(std::span<const std::uint8_t> bytes, int tile_size_px) {
+std::optional<cv::Size> PngHeaderSize(std::span<const std::uint8_t> bytes) {
   static constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (bytes.size() < 24 || !std::equal(kSignature, kSignature + 8, bytes.begin())) {
-    return Status::Ok();
-  }
+  if (bytes.size() < 24 || !std::equal(kSignature, kSignature + 8, bytes.begin())) return {};
   const auto be32 = [&](std::size_t at) {
     return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) |
            (std::uint32_t{bytes[at + 2]} << 8) | std::uint32_t{bytes[at + 3]};
   };
   const std::uint32_t width = be32(16), height = be32(20);
-  const auto t = static_cast<std::uint32_t>(tile_size_px);
-  if (width == t && height == t) return Status::Ok();
-  return InvalidInput("tile is " + std::to_string(width) + "x" + std::to_string(height) +
-                      ", expected " + std::to_string(t) + "x" + std::to_string(t));
+  if (width > (1u << 30) || height > (1u << 30)) return cv::Size(-1, -1);
+  return cv::Size(static_cast<int>(width), static_cast<int>(height));
 }
-
-}  // namespace
 
 Result<std::vector<std::uint8_t>> EncodeTile(const cv::Mat& tile) {
   FLEETLOC_CHECK(!tile.empty() && tile.type() == CV_8UC1);
@@ -41,27 +31,45 @@ Result<std::vector<std::uint8_t>> EncodeTile(const cv::Mat& tile) {
   return Internal("tile PNG encoding failed");
 }
 
-Result<cv::Mat> DecodeTile(std::span<const std::uint8_t> bytes, int tile_size_px) {
-  if (bytes.empty()) return InvalidInput("tile data is empty");
-  FLEETLOC_RETURN_IF_ERROR(CheckPngHeaderSize(bytes, tile_size_px));
-  cv::Mat tile;
+Result<cv::Mat> DecodeGrayPng(std::span<const std::uint8_t> bytes, int max_side_px) {
+  if (bytes.empty()) return InvalidInput("image data is empty");
+  // The header is checked before decoding, so corrupt or hostile bytes cannot make the decoder
+  // allocate a huge image.
+  const std::optional<cv::Size> size = PngHeaderSize(bytes);
+  if (!size) return InvalidInput("image data is not a PNG");
+  if (size->width < 1 || size->height < 1 || size->width > max_side_px ||
+      size->height > max_side_px) {
+    return InvalidInput("image is " + std::to_string(size->width) + "x" +
+                        std::to_string(size->height) + " px, sides must be in [1, " +
+                        std::to_string(max_side_px) + "]");
+  }
+  cv::Mat image;
   try {
     const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1,
                       const_cast<std::uint8_t*>(bytes.data()));
-    tile = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
+    image = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
-    return InvalidInput(std::string("tile data is not a valid PNG: ") + e.what());
+    return InvalidInput(std::string("image data is not a valid PNG: ") + e.what());
   }
-  if (tile.empty()) return InvalidInput("tile data is not a valid PNG");
-  if (tile.type() != CV_8UC1) {
-    return InvalidInput("tile is not 8-bit single-channel (OpenCV type " +
-                        std::to_string(tile.type()) + ")");
+  if (image.empty()) return InvalidInput("image data is not a valid PNG");
+  if (image.type() != CV_8UC1) {
+    return InvalidInput("image is not 8-bit single-channel (OpenCV type " +
+                        std::to_string(image.type()) + ")");
   }
-  if (tile.cols != tile_size_px || tile.rows != tile_size_px) {
-    return InvalidInput("tile is " + std::to_string(tile.cols) + "x" + std::to_string(tile.rows) +
-                        ", expected " + std::to_string(tile_size_px) + "x" +
-                        std::to_string(tile_size_px));
+  if (image.size() != *size) return InvalidInput("image size differs from its PNG header");
+  return image;
+}
+
+Result<cv::Mat> DecodeTile(std::span<const std::uint8_t> bytes, int tile_size_px) {
+  if (bytes.empty()) return InvalidInput("tile data is empty");
+  const std::optional<cv::Size> size = PngHeaderSize(bytes);
+  if (size && (size->width != tile_size_px || size->height != tile_size_px)) {
+    return InvalidInput("tile is " + std::to_string(size->width) + "x" +
+                        std::to_string(size->height) + ", expected " +
+                        std::to_string(tile_size_px) + "x" + std::to_string(tile_size_px));
   }
+  Result<cv::Mat> tile = DecodeGrayPng(bytes, tile_size_px);
+  if (!tile.ok()) return InvalidInput("tile: " + tile.status().message());
   return tile;
 }
 
