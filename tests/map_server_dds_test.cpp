@@ -8,9 +8,7 @@
 #include <map>
 #include <thread>
 
-#include "cli_runner.h"
-#include "daemon_process.h"
-#include "mosaic/importer.h"
+#include "map_server_fixture.h"
 #include "mosaic/tile_store.h"
 #include "transport/tile_client.h"
 #include "transport/topic_names.h"
@@ -19,46 +17,22 @@
 namespace fleetloc {
 namespace {
 
+using testing::Eventually;
 using transport::ReceivedTile;
 using transport::TileClient;
 
 constexpr uint32_t kDomain = 81;
 
-bool Eventually(const std::function<bool()>& done, double limit_s = 20.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return done();
-}
-
 class MapServerDds : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scratch_ = new testing::ScratchDir("map_server_dds");
-    mosaic_path_ = (scratch_->path() / "floor.db").string();
-    mosaic::ImportOptions options;
-    options.resolution_m = 0.0005;
-    options.tile_size_px = 128;
-    auto imported = mosaic::ImportImage(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", options,
-                                        mosaic_path_);
-    ASSERT_TRUE(imported.ok()) << imported.status().message();
-    layout_ = *imported;
-    server_ = new io::ChildProcess(testing::StartDaemon(
-        "map_server",
-        {"--mosaic", mosaic_path_, "--domain", std::to_string(kDomain), "--server-id", "map-t"},
-        (scratch_->path() / "map_server.log").string()));
-    auto participant = transport::Participant::Create(kDomain);
-    ASSERT_TRUE(participant.ok()) << participant.status().message();
-    participant_ = new transport::Participant(std::move(participant).value());
+    const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
+    fixture_ = new testing::MapServerFixture("map_server_dds", floor, kDomain, 0.0005, 128);
+    layout_ = fixture_->layout();
+    mosaic_path_ = fixture_->mosaic_path();
+    participant_ = &fixture_->participant();
   }
-  static void TearDownTestSuite() {
-    delete participant_;
-    EXPECT_EQ(server_->Stop(SIGTERM), 0) << "map_server did not stop cleanly on SIGTERM";
-    delete server_;
-    delete scratch_;
-  }
+  static void TearDownTestSuite() { delete fixture_; }
 
   std::unique_ptr<TileClient> Client(const std::string& vehicle_id) {
     auto client = TileClient::Create(*participant_, vehicle_id);
@@ -84,39 +58,17 @@ class MapServerDds : public ::testing::Test {
     return got;
   }
 
-  // The newest ServiceHealth counter `name` of the server.
-  uint64_t HealthCounter(const std::string& name) {
-    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(
-        *participant_, transport::topics::kServiceHealth);
-    auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
-        participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
-    uint64_t value = 0;
-    bool seen = false;
-    Eventually([&] {
-      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
-        for (uint32_t i = 0; i < h.counters._length; ++i) {
-          if (transport::GetBounded(h.counters._buffer[i].name) == name) {
-            value = h.counters._buffer[i].value, seen = true;
-          }
-        }
-      });
-      return seen;
-    }, 5.0);
-    EXPECT_TRUE(seen) << name;
-    return value;
-  }
+  uint64_t HealthCounter(const std::string& name) { return fixture_->HealthCounter(name); }
 
-  static testing::ScratchDir* scratch_;
+  static testing::MapServerFixture* fixture_;
   static std::string mosaic_path_;
   static mosaic::MosaicLayout layout_;
-  static io::ChildProcess* server_;
   static transport::Participant* participant_;
 };
 
-testing::ScratchDir* MapServerDds::scratch_ = nullptr;
+testing::MapServerFixture* MapServerDds::fixture_ = nullptr;
 std::string MapServerDds::mosaic_path_;
 mosaic::MosaicLayout MapServerDds::layout_;
-io::ChildProcess* MapServerDds::server_ = nullptr;
 transport::Participant* MapServerDds::participant_ = nullptr;
 
 TEST_F(MapServerDds, AnnouncesTheMosaicToLateJoiners) {

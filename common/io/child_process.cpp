@@ -2,6 +2,7 @@
 #include "io/child_process.h"
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -36,6 +37,8 @@ Result<ChildProcess> ChildProcess::Start(const std::string& program,
     return Internal("fork failed for " + program);
   }
   if (pid == 0) {
+    // A child never outlives its parent (a crashed test or benchmark leaves no daemon behind).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     ::dup2(log, 1), ::dup2(log, 2);
     ::execve(program.c_str(), argv.data(), envp.data());
     ::_exit(127);

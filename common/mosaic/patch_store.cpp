@@ -165,6 +165,18 @@ Status PatchStore::MarkFolded(const std::vector<PatchRecord>& patches, int64_t v
   return sqlite::Exec(db_.get(), "COMMIT");
 }
 
+Status PatchStore::ClearUncommittedMarks(int64_t committed_version) {
+  std::lock_guard lock(mutex_);
+  Result<sqlite::Stmt> stmt = sqlite::Prepare(
+      db_.get(), "UPDATE patches SET folded_in_version = 0 WHERE folded_in_version > ?1");
+  if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
+  sqlite3_bind_int64(stmt->get(), 1, committed_version);
+  if (sqlite3_step(stmt->get()) != SQLITE_DONE) {
+    return Internal(path_ + ": clearing patch marks: " + sqlite::ErrorMessage(db_.get()));
+  }
+  return Status::Ok();
+}
+
 Result<PatchCounts> PatchStore::Counts(int64_t committed_version) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(

@@ -67,6 +67,9 @@ class PatchStore {
   // Marks the patches folded into `version` (see the note at the top), in one transaction.
   Status MarkFolded(const std::vector<PatchRecord>& patches, int64_t version);
 
+  // Clears marks above `committed_version` left by a job that died before committing its tiles.
+  Status ClearUncommittedMarks(int64_t committed_version);
+
   Result<PatchCounts> Counts(int64_t committed_version);
 
   // Footprint of a patch in map coordinates (its image's corners placed by its pose).

@@ -17,6 +17,8 @@ using transport::Topic;
 namespace {
 
 constexpr dds_attach_t kTileRequests = 1;
+constexpr dds_attach_t kPatches = 2;
+constexpr dds_attach_t kRemapCommands = 3;
 
 // Moves a successful Result into *out; otherwise returns its Status.
 template <typename T>
@@ -28,7 +30,9 @@ Status Assign(Result<T> result, std::unique_ptr<T>* out) {
 
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
-  names.push_back("rejected_wire_version");
+  for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames()}) {
+    names.insert(names.end(), more.begin(), more.end());
+  }
   return names;
 }
 
@@ -50,35 +54,103 @@ Status MapServer::Open() {
   auto store = mosaic::TileStore::Open(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
   if (!store.ok()) return store.status();
   store_ = std::move(store).value();
+  auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
+  if (!patches.ok()) return patches.status();
+  patches_ = std::move(patches).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
   FLEETLOC_RETURN_IF_ERROR(Assign(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
       &participant_));
+  FLEETLOC_RETURN_IF_ERROR(OpenTopics());
+  FLEETLOC_RETURN_IF_ERROR(OpenServices());
+  return PublishMosaicInfo();
+}
+
+Status MapServer::OpenTopics() {
+  using transport::Reader;
+  using transport::Writer;
   const transport::Participant& p = *participant_;
   FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
   FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_TileRequest>::Create(p, topics::kTileRequest), &request_topic_));
   FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_Tile>::Create(p, topics::kTile), &tile_topic_));
   FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_PatchAck>::Create(p, topics::kPatchAck), &ack_topic_));
   FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_ServiceHealth>::Create(p, topics::kServiceHealth), &health_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Writer<fleetloc_MosaicInfo>::Create(
-                                      p.get(), *info_topic_, transport::DurableStateQos()),
-                                  &info_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(
-      transport::Writer<fleetloc_ServiceHealth>::Create(
-          p.get(), *health_topic_, transport::PeriodicStateQos(3 * config_.health_period_s, 
-                                                               5 * config_.health_period_s)),
-      &health_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Reader<fleetloc_TileRequest>::Create(
-                                      p.get(), *request_topic_, transport::CommandQos()),
-                                  &request_reader_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_PatchObservation>::Create(p, topics::kPatchObservation), &patch_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_RemapCommand>::Create(p, topics::kRemapCommand), &remap_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_RemapStatus>::Create(p, topics::kRemapStatus), &remap_status_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  const double period = config_.health_period_s;
+  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_MosaicInfo>::Create(p.get(), *info_topic_, transport::DurableStateQos()), &info_writer_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_ServiceHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_, transport::DurableStateQos()), &remap_status_writer_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_writer_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_TileRequest>::Create(p.get(), *request_topic_, transport::CommandQos()), &request_reader_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_PatchObservation>::Create(p.get(), *patch_topic_, transport::BulkQos()), &patch_reader_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()), &remap_reader_));
   FLEETLOC_RETURN_IF_ERROR(Assign(transport::WaitSet::Create(p), &waitset_));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(request_reader_->get(), kTileRequests));
-  channels_ = std::make_unique<VehicleChannels>(p, *tile_topic_, *ack_topic_,
+  FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(patch_reader_->get(), kPatches));
+  return waitset_->AttachReader(remap_reader_->get(), kRemapCommands);
+}
+
+Status MapServer::OpenServices() {
+  channels_ = std::make_unique<VehicleChannels>(*participant_, *tile_topic_, *ack_topic_,
                                                 static_cast<size_t>(config_.max_vehicles));
   tiles_ = std::make_unique<TileService>(store_.get(), owned_, channels_.get(), &counters_,
                                          config_.max_tiles_per_request,
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);
-  return PublishMosaicInfo();
+  patch_service_ = std::make_unique<PatchService>(
+      patches_.get(), store_.get(), PatchLimits{config_.max_patch_bytes, config_.max_patch_side_px},
+      channels_.get(), &counters_);
+  remaps_ = std::make_unique<RemapService>(
+      config_.server_id,
+      [this](const RemapJob& job, const RemapProgressFn& progress, const std::atomic<bool>& cancel) {
+        return RunRemapJob(job, progress, cancel);
+      },
+      remap_status_writer_.get(), &counters_);
+  return Status::Ok();
+}
+
+Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProgressFn& progress,
+                                            const std::atomic<bool>& cancel) {
+  // The job writes through its own connections, so the DDS loop keeps serving the committed
+  // version from store_ meanwhile.
+  auto store = mosaic::TileStore::Open(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
+  if (!store.ok()) return store.status();
+  auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
+  if (!patches.ok()) return patches.status();
+  const mosaic::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
+                                     job.replace ? mosaic::RemapMode::kReplace
+                                                 : mosaic::RemapMode::kBlend};
+  Result<mosaic::RemapResult> result = mosaic::RunRemap(
+      **store, **patches, request,
+      [&](const mosaic::RemapProgress& p) {
+        progress(p.phase, p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0);
+      },
+      &cancel);
+  if (!result.ok()) return result.status();
+  return RemapOutcome{result->new_version, result->changed_tiles, result->patches_folded,
+                      result->patches_rejected};
+}
+
+Status MapServer::AnnounceFinishedJobs() {
+  for (const RemapOutcome& outcome : remaps_->TakeFinished()) {
+    Result<long long> version = store_->Refresh();
+    if (!version.ok()) return version.status();
+    tiles_->DropCache();
+    std::vector<fleetloc_TileAddress> addresses;
+    for (const mosaic::TileKey& key : outcome.changed_tiles) addresses.push_back(transport::ToIdl(key));
+    fleetloc_TileUpdate update{};
+    update.wire_version = fleetloc_WIRE_VERSION;
+    transport::SetBounded(update.server_id, config_.server_id);
+    transport::SetBounded(update.mosaic_id, store_->layout().mosaic_id);
+    update.version = outcome.new_version;
+    update.tiles._buffer = addresses.data();
+    update.tiles._length = update.tiles._maximum = static_cast<uint32_t>(addresses.size());
+    FLEETLOC_RETURN_IF_ERROR(update_writer_->Write(update));
+    FLEETLOC_RETURN_IF_ERROR(PublishMosaicInfo());
+  }
+  return Status::Ok();
 }
 
 Status MapServer::PublishMosaicInfo() {
@@ -129,8 +201,20 @@ Status MapServer::ServeOnce() {
         tiles_->Receive(request);
       });
   if (!taken.ok()) return taken.status();
+  taken = patch_reader_->TakeAll(
+      [this](const fleetloc_PatchObservation& patch, const dds_sample_info_t&) {
+        patch_service_->Receive(patch);
+      });
+  if (!taken.ok()) return taken.status();
+  const mosaic::MosaicLayout layout = store_->layout();
+  taken = remap_reader_->TakeAll(
+      [&](const fleetloc_RemapCommand& command, const dds_sample_info_t&) {
+        remaps_->Receive(command, layout);
+      });
+  if (!taken.ok()) return taken.status();
   tiles_->AnswerPending();
-  return Status::Ok();
+  patch_service_->FlushAcks();
+  return AnnounceFinishedJobs();
 }
 
 Status MapServer::Run(const std::atomic<bool>& stop) {

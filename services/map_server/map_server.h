@@ -1,15 +1,21 @@
 // The map server: owns the one shared mosaic (SQLite), announces it (MosaicInfo, durable),
-// answers tile requests into each vehicle's partition, and reports its health (ServiceHealth).
-// One thread runs the DDS loop; Run() returns when the stop flag is set.
+// answers tile requests into each vehicle's partition, collects and acknowledges patches, runs
+// re-mapping jobs (announcing changed tiles with TileUpdate), and reports its health
+// (ServiceHealth). One thread runs the DDS loop, one the re-mapping jobs; Run() returns when the
+// stop flag is set.
 #pragma once
 
 #include <atomic>
 #include <memory>
 
 #include "map_server/map_server_config.h"
+#include "map_server/patch_service.h"
+#include "map_server/remap_service.h"
 #include "map_server/server_counters.h"
 #include "map_server/tile_service.h"
 #include "map_server/vehicle_channels.h"
+#include "mosaic/patch_store.h"
+#include "mosaic/remap_job.h"
 #include "mosaic/tile_store.h"
 #include "transport/typed_io.h"
 #include "transport/waitset.h"
@@ -34,10 +40,17 @@ class MapServer {
   Status PublishMosaicInfo();
   Status PublishHealth();
   Status ServeOnce();
+  Status OpenTopics();
+  Status OpenServices();
+  // Announces the versions re-mapping jobs committed: TileUpdate, then the new MosaicInfo.
+  Status AnnounceFinishedJobs();
+  Result<RemapOutcome> RunRemapJob(const RemapJob& job, const RemapProgressFn& progress,
+                                   const std::atomic<bool>& cancel);
 
   MapServerConfig config_;
   ServerCounters counters_;
   std::unique_ptr<mosaic::TileStore> store_;
+  std::unique_ptr<mosaic::PatchStore> patches_;
   mosaic::TileOwnership owned_;
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::Topic<fleetloc_MosaicInfo>> info_topic_;
@@ -45,12 +58,22 @@ class MapServer {
   std::unique_ptr<transport::Topic<fleetloc_Tile>> tile_topic_;
   std::unique_ptr<transport::Topic<fleetloc_PatchAck>> ack_topic_;
   std::unique_ptr<transport::Topic<fleetloc_ServiceHealth>> health_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_PatchObservation>> patch_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_RemapCommand>> remap_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_RemapStatus>> remap_status_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_TileUpdate>> update_topic_;
   std::unique_ptr<transport::Writer<fleetloc_MosaicInfo>> info_writer_;
   std::unique_ptr<transport::Writer<fleetloc_ServiceHealth>> health_writer_;
+  std::unique_ptr<transport::Writer<fleetloc_RemapStatus>> remap_status_writer_;
+  std::unique_ptr<transport::Writer<fleetloc_TileUpdate>> update_writer_;
   std::unique_ptr<transport::Reader<fleetloc_TileRequest>> request_reader_;
+  std::unique_ptr<transport::Reader<fleetloc_PatchObservation>> patch_reader_;
+  std::unique_ptr<transport::Reader<fleetloc_RemapCommand>> remap_reader_;
   std::unique_ptr<transport::WaitSet> waitset_;
   std::unique_ptr<VehicleChannels> channels_;
   std::unique_ptr<TileService> tiles_;
+  std::unique_ptr<PatchService> patch_service_;
+  std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
   uint64_t reported_rejected_ = 0;     // counts in the last health report
   uint64_t reported_read_errors_ = 0;
 };

@@ -1,0 +1,84 @@
+// PatchObservation validation and PNG decoding.
+#include "map_server/patch_decoder.h"
+
+#include <cmath>
+
+#include "mosaic/tile_codec.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::map_server {
+namespace {
+
+using transport::GetBounded;
+
+DecodedPatch Reject(const std::string& counter, const std::string& message) {
+  return {InvalidInput(message), counter};
+}
+
+bool AllFinite(const double* values, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(values[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::MosaicLayout& layout,
+                         const PatchLimits& limits) {
+  const std::string vehicle = GetBounded(s.vehicle_id);
+  const std::string what = "PatchObservation " + vehicle + "#" + std::to_string(s.sequence_number);
+  if (s.wire_version != fleetloc_WIRE_VERSION) {
+    return Reject("rejected_patch_malformed", what + ": unknown wire_version " + std::to_string(s.wire_version));
+  }
+  if (!transport::IsValidEntityId(vehicle)) {
+    return Reject("rejected_patch_malformed", what + ": vehicle_id is not 1-11 of [A-Za-z0-9_-]");
+  }
+  if (s.sequence_number > static_cast<uint64_t>(INT64_MAX)) {
+    return Reject("rejected_patch_malformed", what + ": sequence_number out of range");
+  }
+  const std::string mosaic_id = GetBounded(s.mosaic_id);
+  if (!mosaic_id.empty() && mosaic_id != layout.mosaic_id) {
+    return Reject("rejected_patch_mosaic", what + ": unknown mosaic '" + mosaic_id + "'");
+  }
+  if (!(std::abs(s.resolution / layout.geo.resolution - 1.0) < 1e-6)) {
+    return Reject("rejected_patch_malformed", what + ": resolution " + std::to_string(s.resolution) +
+                                                  " m/px is not the mosaic's");
+  }
+  const double pose[3] = {s.x, s.y, s.theta};
+  if (!AllFinite(pose, 3) || !AllFinite(s.covariance, 9)) {
+    return Reject("rejected_patch_malformed", what + ": pose or covariance not finite");
+  }
+  if (!(s.quality >= 0.0f && s.quality <= 1.0f)) {
+    return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
+  }
+  if (GetBounded(s.encoding) != "png") {
+    return Reject("rejected_patch_malformed", what + ": encoding '" + GetBounded(s.encoding) + "' is not png");
+  }
+  const auto bytes = transport::OctetSpan(s.image);
+  if (bytes.size() > static_cast<size_t>(limits.max_bytes)) {
+    return Reject("rejected_patch_oversized", what + ": image of " + std::to_string(bytes.size()) +
+                                                  " bytes, more than " + std::to_string(limits.max_bytes));
+  }
+  const std::optional<cv::Size> size = mosaic::PngHeaderSize(bytes);
+  if (!size) return Reject("rejected_patch_image", what + ": image is not a PNG");
+  if (size->width < 16 || size->height < 16 || size->width > limits.max_side_px ||
+      size->height > limits.max_side_px) {
+    return Reject("rejected_patch_oversized", what + ": image " + std::to_string(size->width) + "x" +
+                                                  std::to_string(size->height) + " px out of [16, " +
+                                                  std::to_string(limits.max_side_px) + "]");
+  }
+  Result<cv::Mat> image = mosaic::DecodeGrayPng(bytes, limits.max_side_px);
+  if (!image.ok()) return Reject("rejected_patch_image", what + ": " + image.status().message());
+  mosaic::PatchRecord record;
+  record.vehicle_id = vehicle;
+  record.sequence = static_cast<int64_t>(s.sequence_number);
+  record.stamp_s = transport::ToSeconds(s.stamp);
+  record.pose = {s.x, s.y, s.theta};
+  record.covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  record.quality = s.quality;
+  record.image = std::move(image).value();
+  return {std::move(record), ""};
+}
+
+}  // namespace fleetloc::map_server

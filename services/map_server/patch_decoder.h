@@ -1,0 +1,29 @@
+// Checks a received PatchObservation and turns it into a patch record for the store: wire
+// version, vehicle id, mosaic, resolution, finite pose and covariance, quality, encoded size, and
+// the PNG itself (header checked before decoding, so a forged size cannot exhaust memory).
+#pragma once
+
+#include <string>
+
+#include "base/status.h"
+#include "mosaic/patch_store.h"
+#include "mosaic/raster_source.h"
+#include "transport/fleetloc_types.h"
+
+namespace fleetloc::map_server {
+
+struct PatchLimits {
+  int max_bytes = 4 << 20;
+  int max_side_px = 4096;
+};
+
+struct DecodedPatch {
+  Result<mosaic::PatchRecord> record = InvalidInput("not decoded");
+  std::string reject_counter;  // when !record.ok(): the ServerCounters name of the reason
+};
+
+// `layout`: the mosaic served (its id and level-0 resolution must match the patch's).
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
+                         const PatchLimits& limits);
+
+}  // namespace fleetloc::map_server

@@ -1,0 +1,138 @@
+// RemapCommand validation, job queue and worker thread with RemapStatus reports.
+#include "map_server/remap_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "transport/wire_util.h"
+
+namespace fleetloc::map_server {
+
+using transport::GetBounded;
+
+std::vector<std::string> RemapService::CounterNames() {
+  return {"remap_commands", "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command"};
+}
+
+RemapService::RemapService(std::string server_id, RemapRunner runner,
+                           const transport::Writer<fleetloc_RemapStatus>* status_writer,
+                           ServerCounters* counters)
+    : server_id_(std::move(server_id)),
+      runner_(std::move(runner)),
+      status_writer_(status_writer),
+      counters_(counters),
+      worker_([this] { Work(); }) {}
+
+RemapService::~RemapService() {
+  stopping_ = true;
+  wake_.notify_all();
+  worker_.join();
+}
+
+namespace {
+
+// Why `c` cannot be run against `layout`, or "" if it can.
+std::string Problem(const fleetloc_RemapCommand& c, const mosaic::MosaicLayout& layout) {
+  if (c.wire_version != fleetloc_WIRE_VERSION) {
+    return "unknown wire_version " + std::to_string(c.wire_version);
+  }
+  const std::string mosaic_id = GetBounded(c.mosaic_id);
+  if (!mosaic_id.empty() && mosaic_id != layout.mosaic_id) return "unknown mosaic '" + mosaic_id + "'";
+  const fleetloc_MapRegion& r = c.region;
+  for (double v : {r.x_min, r.y_min, r.x_max, r.y_max}) {
+    if (!std::isfinite(v)) return "region has a non-finite coordinate";
+  }
+  if (!(r.x_min < r.x_max && r.y_min < r.y_max)) return "region is empty or inverted";
+  const double x0 = layout.geo.origin_x, y1 = layout.geo.origin_y;
+  const double x1 = x0 + layout.width_px * layout.geo.resolution;
+  const double y0 = y1 - layout.height_px * layout.geo.resolution;
+  if (r.x_max <= x0 || r.x_min >= x1 || r.y_max <= y0 || r.y_min >= y1) {
+    return "region lies outside the mosaic";
+  }
+  if (c.mode != fleetloc_REMAP_BLEND && c.mode != fleetloc_REMAP_REPLACE) return "unknown mode";
+  return "";
+}
+
+}  // namespace
+
+void RemapService::Receive(const fleetloc_RemapCommand& c, const mosaic::MosaicLayout& layout) {
+  counters_->Add("remap_commands");
+  if (const std::string problem = Problem(c, layout); !problem.empty()) {
+    counters_->Reject("rejected_remap_command",
+                      "RemapCommand " + std::to_string(c.command_id) + ": " + problem);
+    Publish(c.command_id, fleetloc_REMAP_REJECTED, "", 0, problem);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back({c.command_id, c.region.x_min, c.region.y_min, c.region.x_max,
+                      c.region.y_max, c.mode == fleetloc_REMAP_REPLACE});
+  }
+  spdlog::info("remap {} queued by '{}'", c.command_id, GetBounded(c.requester));
+  Publish(c.command_id, fleetloc_REMAP_QUEUED, "queued", 0, "");
+  wake_.notify_one();
+}
+
+std::vector<RemapOutcome> RemapService::TakeFinished() {
+  std::lock_guard lock(mutex_);
+  return std::exchange(finished_, {});
+}
+
+void RemapService::Work() {
+  for (;;) {
+    RemapJob job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      job = queue_.front();
+      queue_.pop_front();
+    }
+    auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    const RemapProgressFn progress = [&](const std::string& phase, double fraction) {
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_report < std::chrono::milliseconds(200) && fraction < 1.0) return;
+      last_report = now;
+      Publish(job.command_id, fleetloc_REMAP_RUNNING, phase, fraction, "");
+    };
+    Publish(job.command_id, fleetloc_REMAP_RUNNING, "start", 0, "");
+    Result<RemapOutcome> outcome = runner_(job, progress, stopping_);
+    if (!outcome.ok()) {
+      counters_->Reject("remap_jobs_failed",
+                        "remap " + std::to_string(job.command_id) + ": " + outcome.status().message());
+      Publish(job.command_id, fleetloc_REMAP_FAILED, "failed", 0, outcome.status().message());
+      continue;
+    }
+    counters_->Add("remap_jobs_done");
+    spdlog::info("remap {} done: version {}, {} tiles, {} patches folded", job.command_id,
+                 outcome->new_version, outcome->changed_tiles.size(), outcome->patches_folded);
+    Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, "", &*outcome);
+    std::lock_guard lock(mutex_);
+    finished_.push_back(std::move(outcome).value());
+  }
+}
+
+void RemapService::Publish(uint64_t id, fleetloc_RemapState state, const std::string& phase,
+                           double progress, const std::string& message,
+                           const RemapOutcome* outcome) {
+  fleetloc_RemapStatus status{};
+  status.wire_version = fleetloc_WIRE_VERSION;
+  status.command_id = id;
+  transport::SetBounded(status.server_id, server_id_);
+  status.state = state;
+  transport::SetBounded(status.phase, phase);
+  status.progress = static_cast<float>(progress);
+  transport::SetBounded(status.message, message);
+  status.stamp = transport::NowStamp();
+  if (outcome != nullptr) {
+    status.new_version = outcome->new_version;
+    status.tiles_changed = static_cast<uint32_t>(outcome->changed_tiles.size());
+    status.patches_folded = static_cast<uint32_t>(outcome->patches_folded);
+    status.patches_rejected = static_cast<uint32_t>(outcome->patches_rejected);
+  }
+  if (Status sent = status_writer_->Write(status); !sent.ok()) spdlog::warn("{}", sent.message());
+}
+
+}  // namespace fleetloc::map_server

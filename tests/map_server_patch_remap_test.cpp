@@ -1,0 +1,186 @@
+// Patches and re-mapping through DDS against a map_server process: patches are stored once and
+// acknowledged, bad ones are rejected with a reason and counted, and `fleetctl remap` folds them
+// into a new mosaic version that vehicles are told about (TileUpdate, MosaicInfo) and can fetch.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "map_server_fixture.h"
+#include "mapping/changed_floor_scene.h"
+#include "mosaic/patch_store.h"
+#include "mosaic/tile_codec.h"
+#include "transport/mosaic_messages.h"
+#include "transport/patch_client.h"
+#include "transport/tile_client.h"
+
+namespace fleetloc {
+namespace {
+
+using testing::Eventually;
+using Scene = mapping::testing::ChangedFloorScene;
+constexpr uint32_t kDomain = 82;
+
+class MapServerPatchRemap : public ::testing::Test {
+ protected:
+  MapServerPatchRemap() : server_("map_server_patch_remap", scene_.old_floor, kDomain) {
+    auto client = transport::PatchClient::Create(server_.participant(), "agv-1");
+    EXPECT_TRUE(client.ok()) << client.status().message();
+    patches_ = std::move(client).value();
+    EXPECT_TRUE(Eventually([&] { return patches_->ServerMatched(); }));
+  }
+
+  transport::PatchToSend PatchAt(uint64_t sequence, cv::Point centre, const geometry::Pose2& error) {
+    const mapping::Patch p = scene_.PatchAt(centre, error);
+    transport::PatchToSend out;
+    out.sequence = sequence;
+    out.stamp_s = 100.0 + sequence;
+    out.mosaic_id = server_.layout().mosaic_id;
+    out.mosaic_version = 1;
+    out.pose = p.pose;
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
+    out.quality = 0.9f;
+    out.resolution_m = Scene::kRes;
+    out.png = *mosaic::EncodeTile(p.image);
+    return out;
+  }
+
+  // Waits until acks for `count` sequence numbers arrived; returns them by sequence.
+  std::map<uint64_t, transport::ReceivedAck> Acks(size_t count) {
+    std::map<uint64_t, transport::ReceivedAck> acks;
+    Eventually([&] {
+      auto taken = patches_->TakeAcks();
+      EXPECT_TRUE(taken.ok());
+      for (auto& a : *taken) acks[a.sequence] = a;
+      return acks.size() >= count;
+    });
+    return acks;
+  }
+
+  void SendTheTwoPatches() {
+    ASSERT_TRUE(patches_->Send(PatchAt(1, {490, 425}, {2 * Scene::kRes, -1.5 * Scene::kRes, 0.005})).ok());
+    ASSERT_TRUE(patches_->Send(PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})).ok());
+    const auto acks = Acks(2);
+    ASSERT_EQ(acks.size(), 2u);
+    for (const auto& [seq, ack] : acks) EXPECT_EQ(ack.status, fleetloc_PATCH_STORED) << ack.reason;
+  }
+
+  // `fleetctl remap` on this domain over the region around the change.
+  testing::CommandResult Remap(const std::string& region, const std::string& extra = "") {
+    return testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " + region +
+                                " --mode replace --timeout 120 " + extra);
+  }
+  std::string RegionAroundChange() const {
+    const Eigen::Vector2d a = scene_.geo.PixelToMap({400, 500}), b = scene_.geo.PixelToMap({600, 350});
+    return std::to_string(a.x()) + "," + std::to_string(a.y()) + "," + std::to_string(b.x()) + "," +
+           std::to_string(b.y());
+  }
+
+  Scene scene_;
+  testing::MapServerFixture server_;
+  std::unique_ptr<transport::PatchClient> patches_;
+};
+
+TEST_F(MapServerPatchRemap, PatchesAreStoredOnceAndAcknowledged) {
+  SendTheTwoPatches();
+  ASSERT_TRUE(patches_->Send(PatchAt(1, {490, 425}, {})).ok());  // a retry of patch 1
+  const auto acks = Acks(1);
+  ASSERT_EQ(acks.count(1), 1u);
+  EXPECT_EQ(acks.at(1).status, fleetloc_PATCH_DUPLICATE);
+  auto store = mosaic::PatchStore::Open(server_.mosaic_path());
+  ASSERT_TRUE(store.ok());
+  EXPECT_EQ((*store)->Counts(1)->stored, 2);
+  EXPECT_EQ(server_.HealthCounter("patches_duplicate"), 1u);
+}
+
+TEST_F(MapServerPatchRemap, BadPatchesAreRejectedWithAReasonAndCounted) {
+  transport::PatchToSend oversized = PatchAt(10, {490, 425}, {});
+  oversized.png.resize(4300000, 7);  // more than max_patch_bytes (4 MiB): a large DDS sample too
+  transport::PatchToSend corrupt = PatchAt(11, {490, 425}, {});
+  corrupt.png.resize(40);  // a PNG header and nothing after it
+  transport::PatchToSend foreign = PatchAt(12, {490, 425}, {});
+  foreign.mosaic_id = "0123456789abcdef0123456789abcdef";
+  transport::PatchToSend nan_pose = PatchAt(13, {490, 425}, {});
+  nan_pose.pose.x = std::nan("");
+  transport::PatchToSend wrong_scale = PatchAt(14, {490, 425}, {});
+  wrong_scale.resolution_m = 0.001;
+  for (const auto* p : {&oversized, &corrupt, &foreign, &nan_pose, &wrong_scale}) {
+    ASSERT_TRUE(patches_->Send(*p).ok());
+  }
+  const auto acks = Acks(5);
+  ASSERT_EQ(acks.size(), 5u);
+  for (const auto& [seq, ack] : acks) {
+    EXPECT_EQ(ack.status, fleetloc_PATCH_REJECTED) << seq;
+    EXPECT_FALSE(ack.reason.empty()) << seq;
+  }
+  EXPECT_NE(acks.at(10).reason.find("bytes"), std::string::npos) << acks.at(10).reason;
+  EXPECT_NE(acks.at(12).reason.find("unknown mosaic"), std::string::npos) << acks.at(12).reason;
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_oversized"), 1u);
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_image"), 1u);
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_mosaic"), 1u);
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_malformed"), 2u);
+  // Nothing of them was stored, and the server still takes good patches.
+  SendTheTwoPatches();
+  EXPECT_EQ((*mosaic::PatchStore::Open(server_.mosaic_path()))->Counts(1)->stored, 2);
+}
+
+TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
+  SendTheTwoPatches();
+  auto client = transport::TileClient::Create(server_.participant(), "agv-2");
+  ASSERT_TRUE(client.ok());
+  auto update_topic = transport::Topic<fleetloc_TileUpdate>::Create(server_.participant(),
+                                                                    transport::topics::kTileUpdate);
+  auto updates = transport::Reader<fleetloc_TileUpdate>::Create(
+      server_.participant().get(), *update_topic, transport::DurableStateQos(32));
+  const testing::CommandResult remap = Remap(RegionAroundChange());
+  ASSERT_EQ(remap.exit_code, 0) << remap.err;
+  const auto outcome = nlohmann::json::parse(remap.out);
+  EXPECT_EQ(outcome["state"], "done");
+  EXPECT_EQ(outcome["new_version"], 2);
+  EXPECT_EQ(outcome["patches_folded"], 2);
+  std::vector<mosaic::TileKey> changed;
+  ASSERT_TRUE(Eventually([&] {
+    (void)updates->TakeAll([&](const fleetloc_TileUpdate& u, const dds_sample_info_t&) {
+      EXPECT_EQ(u.version, 2);
+      for (uint32_t i = 0; i < u.tiles._length; ++i) changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
+    });
+    return !changed.empty();
+  }));
+  EXPECT_NE(std::find(changed.begin(), changed.end(), mosaic::TileKey{0, 1, 1}), changed.end());
+  ASSERT_TRUE(Eventually([&] {
+    auto info = (*client)->LatestMosaicInfo();
+    return info && info->version == 2;
+  }));
+  // A vehicle fetching tile (0, 1, 1) now gets the changed floor.
+  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+  ASSERT_TRUE((*client)->Request(5, "", {{0, 1, 1}}).ok());
+  std::vector<transport::ReceivedTile> tiles;
+  ASSERT_TRUE(Eventually([&] {
+    auto taken = (*client)->TakeTiles();
+    EXPECT_TRUE(taken.ok());
+    for (auto& t : *taken) tiles.push_back(std::move(t));
+    return !tiles.empty();
+  }));
+  EXPECT_EQ(tiles[0].version, 2);
+  const cv::Mat tile = *mosaic::DecodeTile(tiles[0].data, 256);
+  const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
+  cv::Mat diff;
+  cv::absdiff(tile(part - cv::Point(256, 256)), scene_.new_floor(part), diff);
+  EXPECT_LT(cv::mean(diff)[0], 3.0);
+}
+
+TEST_F(MapServerPatchRemap, BadRemapCommandsAreRejected) {
+  const testing::CommandResult inverted = Remap("0.3,0.3,0.2,0.2");
+  EXPECT_EQ(inverted.exit_code, 2);
+  EXPECT_NE(inverted.err.find("empty or inverted"), std::string::npos) << inverted.err;
+  const testing::CommandResult outside = Remap("5,5,6,6");
+  EXPECT_EQ(outside.exit_code, 2);
+  EXPECT_NE(outside.err.find("outside"), std::string::npos) << outside.err;
+  const testing::CommandResult foreign =
+      Remap(RegionAroundChange(), "--mosaic-id 0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(foreign.exit_code, 2);
+  EXPECT_NE(foreign.err.find("unknown mosaic"), std::string::npos) << foreign.err;
+  EXPECT_EQ(server_.HealthCounter("rejected_remap_command"), 3u);
+}
+
+}  // namespace
+}  // namespace fleetloc
