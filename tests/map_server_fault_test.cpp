@@ -1,0 +1,100 @@
+// Faults of the map server: killed with SIGKILL in the middle of a re-mapping job, it leaves the
+// previous mosaic version whole (every tile byte-identical, patches unfolded); restarted, it serves
+// that version and the same job runs to completion.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <nlohmann/json.hpp>
+
+#include "map_server_fixture.h"
+#include "mapping/changed_floor_scene.h"
+#include "mosaic/patch_store.h"
+#include "mosaic/tile_codec.h"
+#include "mosaic/tile_store.h"
+#include "transport/patch_client.h"
+
+namespace fleetloc {
+namespace {
+
+using testing::Eventually;
+using Scene = mapping::testing::ChangedFloorScene;
+constexpr uint32_t kDomain = 83;
+
+// Every tile of every level, as stored bytes.
+std::map<mosaic::TileKey, std::vector<std::uint8_t>> AllTiles(const std::string& path) {
+  auto store = mosaic::TileStore::Open(path, mosaic::OpenMode::kReadOnly);
+  EXPECT_TRUE(store.ok());
+  std::map<mosaic::TileKey, std::vector<std::uint8_t>> tiles;
+  const mosaic::MosaicLayout layout = (*store)->layout();
+  for (int level = 0; level < layout.levels; ++level) {
+    mosaic::TilesCovering(layout, level, {0, 0, layout.LevelWidth(level), layout.LevelHeight(level)})
+        .ForEach([&](const mosaic::TileKey& k) { tiles[k] = *(*store)->ReadTileBytes(k); });
+  }
+  return tiles;
+}
+
+TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns) {
+  Scene scene;
+  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain);
+  auto patches = transport::PatchClient::Create(server.participant(), "agv-9");
+  ASSERT_TRUE(patches.ok());
+  ASSERT_TRUE(Eventually([&] { return (*patches)->ServerMatched(); }));
+  // Enough patches over the whole floor that the job runs for a while.
+  int sent = 0;
+  for (int y = 200; y <= 820; y += 90) {
+    for (int x = 200; x <= 820; x += 90) {
+      const mapping::Patch p = scene.PatchAt({x, y}, {Scene::kRes, -Scene::kRes, 0.002});
+      transport::PatchToSend out;
+      out.sequence = static_cast<uint64_t>(++sent);
+      out.pose = p.pose;
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
+      out.quality = 0.9f;
+      out.resolution_m = Scene::kRes;
+      out.png = *mosaic::EncodeTile(p.image);
+      ASSERT_TRUE((*patches)->Send(out).ok());
+    }
+  }
+  size_t acked = 0;
+  ASSERT_TRUE(Eventually([&] {
+    auto acks = (*patches)->TakeAcks();
+    acked += acks.ok() ? acks->size() : 0;
+    return acked == static_cast<size_t>(sent);
+  }, 60));
+  const auto before = AllTiles(server.mosaic_path());
+  // Start the job and kill the server once it reports progress.
+  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(server.participant(),
+                                                                     transport::topics::kRemapStatus);
+  auto statuses = transport::Reader<fleetloc_RemapStatus>::Create(
+      server.participant().get(), *status_topic, transport::DurableStateQos());
+  const std::string whole = "0,0,0.512,0.512";
+  const std::string fleetctl = std::string(FLEETLOC_BINARY_DIR) + "/bin/fleetctl";
+  auto remap = io::ChildProcess::Start(
+      fleetctl, {"remap", "--domain", std::to_string(kDomain), "--region", whole, "--timeout", "60"},
+      (server.dir() / "remap_1.log").string());
+  ASSERT_TRUE(remap.ok());
+  bool running = false;
+  ASSERT_TRUE(Eventually([&] {
+    (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+      running = running || (s.state == fleetloc_REMAP_RUNNING && s.progress > 0.1f);
+    });
+    return running;
+  }, 60));
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  remap->Stop(SIGTERM);
+  // The previous version is whole and no patch counts as folded.
+  EXPECT_EQ(AllTiles(server.mosaic_path()), before);
+  auto store = mosaic::TileStore::Open(server.mosaic_path(), mosaic::OpenMode::kReadOnly);
+  EXPECT_EQ((*store)->version(), 1);
+  EXPECT_EQ((*mosaic::PatchStore::Open(server.mosaic_path()))->Counts(1)->folded, 0);
+  // Restarted, the server runs the same job to completion.
+  server.StartServer();
+  const testing::CommandResult rerun = testing::RunFleetctl(
+      "remap --domain " + std::to_string(kDomain) + " --region " + whole + " --timeout 120");
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.err;
+  const auto outcome = nlohmann::json::parse(rerun.out);
+  EXPECT_EQ(outcome["new_version"], 2);
+  EXPECT_EQ(outcome["patches_folded"], sent);
+}
+
+}  // namespace
+}  // namespace fleetloc
