@@ -8,6 +8,8 @@
 #include <map>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "map_server_fixture.h"
 #include "mosaic/tile_store.h"
 #include "transport/tile_client.h"
@@ -81,6 +83,20 @@ TEST_F(MapServerDds, AnnouncesTheMosaicToLateJoiners) {
   EXPECT_EQ(info->levels, layout_.levels);
   EXPECT_EQ(info->resolution, 0.0005);
   EXPECT_EQ(info->version, layout_.version);
+}
+
+TEST_F(MapServerDds, FleetctlMosaicInfoListsTheServedMosaic) {
+  const testing::CommandResult r =
+      testing::RunFleetctl("mosaic info --wait 1 --domain " + std::to_string(kDomain));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto json = nlohmann::json::parse(r.out);
+  ASSERT_EQ(json["servers"].size(), 1u);
+  EXPECT_EQ(json["servers"][0]["mosaic_id"], layout_.mosaic_id);
+  EXPECT_EQ(json["servers"][0]["server_id"], "map-t");
+  EXPECT_EQ(json["servers"][0]["width"], layout_.width_px);
+  const testing::CommandResult none = testing::RunFleetctl("mosaic info --wait 0.3 --domain 99");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("no map server"), std::string::npos) << none.err;
 }
 
 TEST_F(MapServerDds, ServesEveryTileByteIdenticalToTheStore) {

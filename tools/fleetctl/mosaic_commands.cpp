@@ -15,6 +15,7 @@
 #include "mosaic/exporter.h"
 #include "mosaic/importer.h"
 #include "mosaic/mosaic_info.h"
+#include "served_mosaics.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 
@@ -133,11 +134,34 @@ void AddImport(CLI::App& mosaic, Status* result) {
   cmd->callback([args, result] { *result = RunImport(*args); });
 }
 
+struct InfoArgs {
+  std::string path;
+  int domain = -1;
+  double wait_s = 2.0;
+  std::string dds_config;
+};
+
 void AddInfo(CLI::App& mosaic, Status* result) {
-  auto path = std::make_shared<std::string>();
-  CLI::App* cmd = mosaic.add_subcommand("info", "Print a mosaic's metadata as JSON");
-  cmd->add_option("MOSAIC", *path, "Mosaic file")->required();
-  cmd->callback([path, result] { *result = RunInfo(*path); });
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* cmd = mosaic.add_subcommand(
+      "info", "Print a mosaic's metadata as JSON (of a file, or as the map servers announce it)");
+  CLI::Option* file = cmd->add_option("MOSAIC", args->path, "Mosaic file");
+  CLI::Option* domain =
+      cmd->add_option("--domain", args->domain, "Ask the running map servers on this DDS domain")
+          ->check(CLI::Range(0, 232));
+  file->excludes(domain);
+  cmd->add_option("--wait", args->wait_s, "Seconds to listen for servers (with --domain)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--dds-config", args->dds_config, "Cyclone DDS XML (default: built-in loopback)");
+  cmd->callback([args, result] {
+    if (args->domain >= 0) {
+      *result = PrintServedMosaics(args->domain, args->wait_s, args->dds_config);
+    } else if (args->path.empty()) {
+      *result = InvalidInput("mosaic info: give a MOSAIC file or --domain");
+    } else {
+      *result = RunInfo(args->path);
+    }
+  });
 }
 
 void AddExport(CLI::App& mosaic, Status* result) {

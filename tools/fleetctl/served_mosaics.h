@@ -1,0 +1,14 @@
+// `fleetctl mosaic info --domain N`: the mosaics the running map servers announce over DDS.
+#pragma once
+
+#include <string>
+
+#include "base/status.h"
+
+namespace fleetloc::fleetctl {
+
+// Prints {"domain": N, "servers": [...]} with each server's MosaicInfo as JSON, after listening
+// for `wait_s` seconds. NotFound when no map server answered.
+Status PrintServedMosaics(int domain, double wait_s, const std::string& dds_config);
+
+}  // namespace fleetloc::fleetctl
