@@ -45,6 +45,9 @@ Qos DurableStateQos(int depth = 1);
 // Bulk payloads (Tile, PatchObservation): reliable so lost fragments are resent, KEEP_ALL with a
 // bound so a slow reader throttles the writer instead of losing tiles.
 Qos BulkQos(int max_samples = 256);
+// Tiles: reliable, the newest sample of each tile (keyed by level, col, row) kept until
+// acknowledged — an older version of a tile still unsent is superseded, never queued behind.
+Qos TileQos();
 // Periodic state (VehiclePose, VehicleHealth, ServiceHealth): the newest sample per instance
 // matters; reliable keep-last 1 with a deadline and liveliness so silence is detected.
 Qos PeriodicStateQos(double deadline_s, double lease_s);

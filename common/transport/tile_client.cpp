@@ -36,7 +36,7 @@ Result<std::unique_ptr<TileClient>> TileClient::Create(const Participant& partic
   if (!subscriber.ok()) return subscriber.status();
   auto requests =
       Writer<fleetloc_TileRequest>::Create(participant.get(), *request_topic, CommandQos());
-  auto tiles = Reader<fleetloc_Tile>::Create(subscriber->get(), *tile_topic, BulkQos(1024));
+  auto tiles = Reader<fleetloc_Tile>::Create(subscriber->get(), *tile_topic, TileQos());
   auto info =
       Reader<fleetloc_MosaicInfo>::Create(participant.get(), *info_topic, DurableStateQos());
   if (!requests.ok()) return requests.status();
