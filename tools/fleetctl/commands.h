@@ -14,5 +14,6 @@ void RegisterTrackCommand(CLI::App& app, Status* result);
 void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);
 void RegisterRemapCommand(CLI::App& app, Status* result);
+void RegisterCalibrateCommand(CLI::App& app, Status* result);
 
 }  // namespace fleetloc::fleetctl

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   fleetloc::fleetctl::RegisterBenchCommand(app, &result);
   fleetloc::fleetctl::RegisterComposeCommand(app, &result);
   fleetloc::fleetctl::RegisterRemapCommand(app, &result);
+  fleetloc::fleetctl::RegisterCalibrateCommand(app, &result);
   spdlog::set_default_logger(spdlog::stderr_color_mt("fleetctl"));
   try {
     app.parse(argc, argv);
