@@ -12,6 +12,7 @@
 
 #include "map_server_fixture.h"
 #include "mosaic/tile_store.h"
+#include "transport/dds_tile_loader.h"
 #include "transport/tile_client.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -117,6 +118,43 @@ TEST_F(MapServerDds, ServesEveryTileByteIdenticalToTheStore) {
     EXPECT_EQ(tile.data, *expected) << mosaic::ToString(tile.key);
     EXPECT_EQ(tile.mosaic_id, layout_.mosaic_id);
   }
+}
+
+TEST_F(MapServerDds, AVehicleViewOverDdsTilesReadsWhatTheStoreHolds) {
+  auto client = Client("veh-view");
+  transport::DdsTileLoader loader(client.get(), layout_.mosaic_id, layout_.tile_size_px,
+                                  std::chrono::seconds(5));
+  mosaic::MosaicView over_dds(layout_, loader.AsTileLoader(),
+                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  auto store = std::shared_ptr<mosaic::TileStore>(
+      std::move(mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly)).value());
+  mosaic::MosaicView local(layout_, mosaic::MakeTileLoader(store),
+                           std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  ASSERT_TRUE(loader.Prefetch({{0, 0, 0}, {0, 1, 0}}).ok());
+  for (const cv::Rect& block : {cv::Rect(10, 20, 300, 200), cv::Rect(-50, 400, 200, 200),
+                                cv::Rect(200, 100, 250, 250)}) {
+    for (int level : {0, 1}) {
+      EXPECT_EQ(cv::norm(over_dds.ReadBlock(level, block), local.ReadBlock(level, block), cv::NORM_INF), 0)
+          << block << " level " << level;
+    }
+  }
+  EXPECT_GT(loader.stats().received, 4);
+  EXPECT_EQ(loader.stats().timeouts, 0);
+  EXPECT_EQ(loader.stats().errors, 0);
+}
+
+TEST(DdsTileLoader, UnreachableServerTimesOutWithAClearError) {
+  auto participant = transport::Participant::Create(kDomain + 10);  // nobody serves there
+  ASSERT_TRUE(participant.ok());
+  auto client = TileClient::Create(*participant, "veh-lonely");
+  ASSERT_TRUE(client.ok());
+  transport::DdsTileLoader loader(client->get(), "0123456789abcdef0123456789abcdef", 128,
+                                  std::chrono::milliseconds(200));
+  Result<cv::Mat> tile = loader.Load({0, 0, 0});
+  ASSERT_FALSE(tile.ok());
+  EXPECT_EQ(tile.status().code(), StatusCode::kInternal);
+  EXPECT_NE(tile.status().message().find("no answer"), std::string::npos);
+  EXPECT_EQ(loader.stats().timeouts, 1);
 }
 
 TEST_F(MapServerDds, RepliesReachOnlyTheRequestingVehicle) {

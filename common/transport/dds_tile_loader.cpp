@@ -1,0 +1,87 @@
+// On-demand and prefetched tiles over DDS.
+#include "transport/dds_tile_loader.h"
+
+#include <thread>
+
+#include "mosaic/tile_codec.h"
+
+namespace fleetloc::transport {
+
+DdsTileLoader::DdsTileLoader(TileClient* client, std::string mosaic_id, int tile_size_px,
+                             std::chrono::milliseconds timeout, size_t max_buffered)
+    : client_(client),
+      mosaic_id_(std::move(mosaic_id)),
+      tile_size_px_(tile_size_px),
+      timeout_(timeout),
+      max_buffered_(max_buffered) {}
+
+Status DdsTileLoader::Ask(const std::vector<mosaic::TileKey>& keys) {
+  for (size_t begin = 0; begin < keys.size(); begin += 256) {
+    const std::vector<mosaic::TileKey> batch(keys.begin() + begin,
+                                             keys.begin() + std::min(keys.size(), begin + 256));
+    FLEETLOC_RETURN_IF_ERROR(client_->Request(next_request_++, mosaic_id_, batch));
+    in_flight_.insert(batch.begin(), batch.end());
+    stats_.requested += static_cast<long long>(batch.size());
+  }
+  return Status::Ok();
+}
+
+void DdsTileLoader::Keep(ReceivedTile tile) {
+  ++stats_.received;
+  in_flight_.erase(tile.key);
+  Result<cv::Mat> decoded = NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
+  if (tile.status == fleetloc_TILE_OK) {
+    decoded = mosaic::DecodeTile(tile.data, tile_size_px_);
+  } else if (tile.status != fleetloc_TILE_NOT_FOUND) {
+    decoded = InvalidInput("tile " + mosaic::ToString(tile.key) + ": " + tile.error);
+  }
+  if (!decoded.ok() && decoded.status().code() != StatusCode::kNotFound) ++stats_.errors;
+  if (arrived_.insert_or_assign(tile.key, std::move(decoded)).second) arrival_order_.push_back(tile.key);
+  while (arrival_order_.size() > max_buffered_) {  // oldest first (consumed ones are gone)
+    arrived_.erase(arrival_order_.front());
+    arrival_order_.pop_front();
+  }
+}
+
+Status DdsTileLoader::Poll() {
+  Result<std::vector<ReceivedTile>> tiles = client_->TakeTiles();
+  if (!tiles.ok()) return tiles.status();
+  for (ReceivedTile& tile : *tiles) {
+    if (tile.mosaic_id == mosaic_id_) Keep(std::move(tile));
+  }
+  return Status::Ok();
+}
+
+Status DdsTileLoader::Prefetch(const std::vector<mosaic::TileKey>& keys) {
+  FLEETLOC_RETURN_IF_ERROR(Poll());
+  std::vector<mosaic::TileKey> wanted;
+  for (const mosaic::TileKey& key : keys) {
+    if (!in_flight_.count(key) && !arrived_.count(key)) wanted.push_back(key);
+  }
+  return Ask(wanted);
+}
+
+Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
+  FLEETLOC_RETURN_IF_ERROR(Poll());
+  if (!arrived_.count(key)) {
+    ++stats_.waited;
+    if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
+    const auto deadline = std::chrono::steady_clock::now() + timeout_;
+    while (!arrived_.count(key)) {
+      if (std::chrono::steady_clock::now() >= deadline) {
+        ++stats_.timeouts;
+        in_flight_.erase(key);  // ask again next time
+        return Internal("tile " + mosaic::ToString(key) + ": no answer from the map server in " +
+                        std::to_string(timeout_.count()) + " ms");
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      FLEETLOC_RETURN_IF_ERROR(Poll());
+    }
+  }
+  auto it = arrived_.find(key);
+  Result<cv::Mat> tile = std::move(it->second);
+  arrived_.erase(it);  // the view's cache keeps it from now on
+  return tile;
+}
+
+}  // namespace fleetloc::transport

@@ -1,0 +1,63 @@
+// Tiles for a vehicle's MosaicView from the map server over DDS: a tile the view misses is
+// requested and waited for (bounded); tiles asked for ahead of need (Prefetch) are kept when they
+// arrive until the view asks for them. Used as the MosaicView's TileLoader in the tracker agent.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "mosaic/mosaic_view.h"
+#include "transport/tile_client.h"
+
+namespace fleetloc::transport {
+
+struct DdsTileLoaderStats {
+  long long requested = 0;   // tiles asked for (on demand and prefetch)
+  long long received = 0;    // tiles that arrived
+  long long waited = 0;      // on-demand loads that had to wait for the network
+  long long timeouts = 0;    // on-demand loads that gave up (map server unreachable)
+  long long errors = 0;      // tiles answered with an error status or undecodable bytes
+};
+
+class DdsTileLoader {
+ public:
+  // `mosaic_id` and `tile_size_px` from the server's MosaicInfo; `timeout` bounds one wait.
+  DdsTileLoader(TileClient* client, std::string mosaic_id, int tile_size_px,
+                std::chrono::milliseconds timeout, size_t max_buffered = 256);
+
+  // The decoded tile. NotFound for a tile the mosaic does not have (blank floor); InvalidInput
+  // for an error answer or corrupt bytes; Internal when no answer came within the timeout.
+  Result<cv::Mat> Load(const mosaic::TileKey& key);
+  // Asks for tiles that are not already asked for or buffered, without waiting.
+  Status Prefetch(const std::vector<mosaic::TileKey>& keys);
+  // Takes the tiles that arrived so far into the buffer (call now and then; Load does it too).
+  Status Poll();
+
+  mosaic::TileLoader AsTileLoader() {
+    return [this](const mosaic::TileKey& key) { return Load(key); };
+  }
+  const DdsTileLoaderStats& stats() const { return stats_; }
+  size_t pending() const { return in_flight_.size(); }
+
+ private:
+  Status Ask(const std::vector<mosaic::TileKey>& keys);
+  void Keep(ReceivedTile tile);
+
+  TileClient* client_;
+  std::string mosaic_id_;
+  int tile_size_px_;
+  std::chrono::milliseconds timeout_;
+  size_t max_buffered_;
+  uint32_t next_request_ = 1;
+  std::set<mosaic::TileKey> in_flight_;
+  std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
+  std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
+  DdsTileLoaderStats stats_;
+};
+
+}  // namespace fleetloc::transport
