@@ -37,6 +37,11 @@ void TileCache::Put(const TileKey& key, TilePtr tile) {
   stats_.entries = lru_.size();
 }
 
+bool TileCache::Contains(const TileKey& key) const {
+  std::lock_guard lock(mutex_);
+  return index_.count(key) > 0;
+}
+
 void TileCache::Erase(const TileKey& key) {
   std::lock_guard lock(mutex_);
   if (const auto it = index_.find(key); it != index_.end()) EraseLocked(it);

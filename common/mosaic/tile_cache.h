@@ -34,6 +34,8 @@ class TileCache {
   // Inserts or replaces a tile as most recently used, then evicts least recently used tiles until
   // the byte bound holds. A tile larger than the whole bound is not cached. Requires tile != null.
   void Put(const TileKey& key, TilePtr tile);
+  // Whether the tile is cached (neither counted as a lookup nor moved in the LRU order).
+  bool Contains(const TileKey& key) const;
   // Drops one tile (e.g. when a newer version is announced); no effect if absent.
   void Erase(const TileKey& key);
   void Clear();

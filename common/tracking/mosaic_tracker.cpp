@@ -229,6 +229,14 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   return result;
 }
 
+void MosaicTracker::DropTiles(const std::vector<mosaic::TileKey>& changed) {
+  for (const mosaic::TileKey& key : changed) {
+    for (int dr = -1; dr <= 1; ++dr) {
+      for (int dc = -1; dc <= 1; ++dc) normalized_.cache().Erase({key.level, key.col + dc, key.row + dr});
+    }
+  }
+}
+
 // Step 8: output transforms — remove the mount offset, report base_link at the frame time.
 FrameResult MosaicTracker::Finish(double t, LockState state) {
   state_ = state;

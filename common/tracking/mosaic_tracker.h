@@ -36,6 +36,10 @@ class MosaicTracker : public FrameLocalizer {
   // Odometry-only step (a frame that could not be read or used): the pose coasts.
   FrameResult Coast(double t, const geometry::Pose2& odom) override;
 
+  // Forgets the normalized tiles computed from `changed` tiles of the mosaic (a new mosaic
+  // version changed them): those tiles and their neighbours, whose margins read them.
+  void DropTiles(const std::vector<mosaic::TileKey>& changed);
+
  private:
   // A site with its normalized template at the level it is matched at.
   struct PreparedSite {

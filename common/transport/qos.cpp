@@ -68,6 +68,10 @@ Qos BulkQos(int max_samples) {
   return Qos().Reliable(5.0).Volatile().KeepAll().Limits(max_samples, -1, -1);
 }
 
+Qos PoseStreamQos(double deadline_s, double lease_s) {
+  return Qos().Reliable().Volatile().KeepLast(16).Deadline(deadline_s).Liveliness(lease_s);
+}
+
 Qos TileQos() { return Qos().Reliable(5.0).Volatile().KeepLast(1); }
 
 Qos PeriodicStateQos(double deadline_s, double lease_s) {

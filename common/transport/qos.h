@@ -45,6 +45,9 @@ Qos DurableStateQos(int depth = 1);
 // Bulk payloads (Tile, PatchObservation): reliable so lost fragments are resent, KEEP_ALL with a
 // bound so a slow reader throttles the writer instead of losing tiles.
 Qos BulkQos(int max_samples = 256);
+// A vehicle's pose stream: like PeriodicStateQos but the writer keeps the last 16 samples, so a
+// burst (a frame's pose right after the odometry-rate ones) reaches a reader that keeps them all.
+Qos PoseStreamQos(double deadline_s = 1.0, double lease_s = 3.0);
 // Tiles: reliable, the newest sample of each tile (keyed by level, col, row) kept until
 // acknowledged — an older version of a tile still unsent is superseded, never queued behind.
 Qos TileQos();

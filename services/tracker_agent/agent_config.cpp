@@ -1,0 +1,62 @@
+// Tracker agent configuration from JSON.
+#include "tracker_agent/agent_config.h"
+
+#include <set>
+
+#include "io/json_fields.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::tracker_agent {
+
+Status Validate(const AgentConfig& c) {
+  auto bad = [](const std::string& field, const std::string& what) {
+    return InvalidInput("tracker agent config: field '" + field + "': " + what);
+  };
+  if (!transport::IsValidEntityId(c.vehicle_id)) return bad("vehicle_id", "must be 1-11 of [A-Za-z0-9_-]");
+  if (c.domain_id < 0 || c.domain_id > 232) return bad("domain", "must be in [0, 232]");
+  if (c.run_path.empty()) return bad("run", "is required (the replay source)");
+  if (c.tile_cache_mb < 1) return bad("tile_cache_mb", "must be >= 1");
+  if (c.tile_timeout_ms < 10) return bad("tile_timeout_ms", "must be >= 10");
+  if (c.prefetch_margin_px < 0) return bad("prefetch_margin_px", "must be >= 0");
+  if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) return bad("health_period_s", "must be in [0.05, 60]");
+  if (!(c.mosaic_wait_s > 0)) return bad("mosaic_wait_s", "must be > 0");
+  return Status::Ok();
+}
+
+Result<AgentConfig> LoadAgentConfig(const std::string& path) {
+  Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
+  if (!json.ok()) return json.status();
+  const io::JsonFields fields(*json, path);
+  static const std::set<std::string> known = {
+      "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
+      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "mosaic_wait_s"};
+  for (const auto& [key, value] : json->items()) {
+    if (!known.contains(key)) return fields.Error(key, "unknown option");
+  }
+  AgentConfig c;
+  for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
+                                    {"run", &c.run_path}, {"tracker", &c.tracker_options_path}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
+  }
+  for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
+                                    {"tile_timeout_ms", &c.tile_timeout_ms},
+                                    {"prefetch_margin_px", &c.prefetch_margin_px}}) {
+    if (!fields.Has(key)) continue;
+    double value = 0;
+    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
+    if (value != static_cast<int>(value)) return fields.Error(key, "must be an integer");
+    *target = static_cast<int>(value);
+  }
+  for (const auto& [key, target] : {std::pair{"health_period_s", &c.health_period_s},
+                                    {"mosaic_wait_s", &c.mosaic_wait_s}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
+  }
+  if (fields.Has("paced")) {
+    if (!(*json)["paced"].is_boolean()) return fields.Error("paced", "must be true or false");
+    c.paced = (*json)["paced"].get<bool>();
+  }
+  if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
+  return c;
+}
+
+}  // namespace fleetloc::tracker_agent

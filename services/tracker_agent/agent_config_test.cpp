@@ -1,0 +1,53 @@
+// Tracker agent configuration: fields over defaults, the shipped sample loads, bad fields named.
+#include "tracker_agent/agent_config.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace fleetloc::tracker_agent {
+namespace {
+
+std::string Write(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("agent_config_" + name + ".json");
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+TEST(AgentConfig, ReadsFieldsOverDefaults) {
+  auto c = LoadAgentConfig(Write("ok", R"({"vehicle_id": "agv-3", "run": "/runs/a", "paced": false,
+                                           "domain": 4, "tile_cache_mb": 32})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->vehicle_id, "agv-3");
+  EXPECT_EQ(c->run_path, "/runs/a");
+  EXPECT_FALSE(c->paced);
+  EXPECT_EQ(c->domain_id, 4);
+  EXPECT_EQ(c->tile_cache_mb, 32);
+  EXPECT_EQ(c->tile_timeout_ms, 2000);
+}
+
+TEST(AgentConfig, ShippedSampleLoads) {
+  auto c = LoadAgentConfig(FLEETLOC_SOURCE_DIR "/deploy/config/tracker_agent.json");
+  ASSERT_TRUE(c.ok()) << c.status().message();
+}
+
+TEST(AgentConfig, BadFieldsAreNamed) {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"run": "r", "wheels": 4})", "wheels"},
+      {R"({"run": "r", "vehicle_id": "agv 7"})", "vehicle_id"},
+      {R"({"vehicle_id": "a"})", "run"},
+      {R"({"run": "r", "paced": "yes"})", "paced"},
+      {R"({"run": "r", "tile_timeout_ms": 1})", "tile_timeout_ms"},
+      {R"({"run": "r", "domain": 300})", "domain"},
+  };
+  int i = 0;
+  for (const auto& [json, field] : cases) {
+    auto c = LoadAgentConfig(Write("bad" + std::to_string(i++), json));
+    ASSERT_FALSE(c.ok()) << json;
+    EXPECT_NE(c.status().message().find(field), std::string::npos) << c.status().message();
+  }
+}
+
+}  // namespace
+}  // namespace fleetloc::tracker_agent

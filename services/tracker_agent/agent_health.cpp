@@ -1,0 +1,68 @@
+// Health bookkeeping and VehicleHealth filling.
+#include "tracker_agent/agent_health.h"
+
+#include "replay/replay.h"
+#include "transport/pose_messages.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::tracker_agent {
+
+void AgentHealth::RecordFrame(const tracking::FrameResult& result, double cycle_ms) {
+  cycle_ms_.push_back(cycle_ms);
+  if (cycle_ms_.size() > 200) cycle_ms_.pop_front();
+  state_ = result.state;
+  inliers_ = result.inliers;
+  ++frames_;
+}
+
+void AgentHealth::RecordDroppedFrame(const std::string& error) {
+  ++dropped_;
+  last_error_ = error;
+}
+
+void AgentHealth::RecordError(const std::string& error) { last_error_ = error; }
+
+double AgentHealth::CyclePercentile(double percent) const {
+  return replay::Percentile({cycle_ms_.begin(), cycle_ms_.end()}, percent);
+}
+
+void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
+                       std::vector<fleetloc_HealthIssue>* issues) const {
+  *h = {};
+  h->wire_version = fleetloc_WIRE_VERSION;
+  transport::SetBounded(h->vehicle_id, in.vehicle_id);
+  h->stamp = transport::NowStamp();
+  h->lock_state = transport::ToIdl(state_);
+  h->cycle_ms_p50 = static_cast<float>(CyclePercentile(50));
+  h->cycle_ms_p95 = static_cast<float>(CyclePercentile(95));
+  h->cycle_ms_p99 = static_cast<float>(CyclePercentile(99));
+  h->inliers = static_cast<uint32_t>(inliers_);
+  const long long lookups = in.cache.hits + in.cache.misses;
+  h->cache_hit_rate = lookups > 0 ? static_cast<float>(in.cache.hits) / lookups : 1.0f;
+  h->tiles_pending = static_cast<uint32_t>(in.tiles_pending);
+  h->patch_outbox = static_cast<uint32_t>(in.patch_outbox);
+  h->map_server_reachable = in.map_server_reachable;
+  h->camera_frame_drops = static_cast<uint64_t>(dropped_);
+  transport::SetBounded(h->last_error, last_error_);
+  issues->clear();
+  auto add = [&](const char* name, fleetloc_HealthLevel level, const std::string& message) {
+    fleetloc_HealthIssue issue{};
+    transport::SetBounded(issue.name, name);
+    issue.level = level;
+    transport::SetBounded(issue.message, message);
+    issues->push_back(issue);
+  };
+  if (state_ == tracking::LockState::kLost) add("lock_lost", fleetloc_HEALTH_ERROR, "localization lost");
+  if (state_ == tracking::LockState::kCoasting) add("coasting", fleetloc_HEALTH_WARN, "odometry only");
+  if (!in.map_server_reachable) add("map_server_unreachable", fleetloc_HEALTH_WARN, "tracking from the tile cache");
+  if (in.loader.timeouts > 0) {
+    add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
+  }
+  if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
+  h->level = fleetloc_HEALTH_OK;
+  for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);
+  h->issues._buffer = issues->data();
+  h->issues._length = h->issues._maximum = static_cast<uint32_t>(issues->size());
+}
+
+}  // namespace fleetloc::tracker_agent

@@ -1,0 +1,47 @@
+// The tracker agent's health: cycle-time percentiles over recent frames, inliers, lock state,
+// tile cache and loader counters, reachability, dropped frames and the last error, turned into a
+// VehicleHealth with a level (OK / WARN / ERROR) and named issues.
+#pragma once
+
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "mosaic/tile_cache.h"
+#include "tracking/frame_localizer.h"
+#include "transport/dds_tile_loader.h"
+#include "transport/fleetloc_types.h"
+
+namespace fleetloc::tracker_agent {
+
+class AgentHealth {
+ public:
+  void RecordFrame(const tracking::FrameResult& result, double cycle_ms);
+  void RecordDroppedFrame(const std::string& error);
+  void RecordError(const std::string& error);
+
+  struct Inputs {
+    std::string vehicle_id;
+    mosaic::TileCacheStats cache;
+    transport::DdsTileLoaderStats loader;
+    size_t tiles_pending = 0;
+    size_t patch_outbox = 0;
+    bool map_server_reachable = false;
+  };
+  // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
+  void Fill(const Inputs& in, fleetloc_VehicleHealth* health,
+            std::vector<fleetloc_HealthIssue>* issue_storage) const;
+
+  double CyclePercentile(double percent) const;
+  long long frames() const { return frames_; }
+
+ private:
+  std::deque<double> cycle_ms_;  // the last 200 frames
+  tracking::LockState state_ = tracking::LockState::kLost;
+  int inliers_ = 0;
+  long long frames_ = 0;
+  long long dropped_ = 0;
+  std::string last_error_;
+};
+
+}  // namespace fleetloc::tracker_agent

@@ -1,0 +1,28 @@
+// A recorded run (CONTRACT §4) as vehicle input: odometry samples and frames merged in time order,
+// either as fast as possible or paced to their recorded times.
+#pragma once
+
+#include <chrono>
+
+#include "io/run.h"
+#include "tracker_agent/vehicle_input.h"
+
+namespace fleetloc::tracker_agent {
+
+class ReplayInput : public VehicleInput {
+ public:
+  // `paced`: each event is released at its recorded time after the first (else at once).
+  ReplayInput(io::Run run, bool paced);
+  Result<std::optional<InputEvent>> Next() override;
+  const io::Run& run() const { return run_; }
+
+ private:
+  void WaitUntil(double t);
+  io::Run run_;
+  bool paced_;
+  size_t next_odometry_ = 0, next_frame_ = 0;
+  std::optional<std::chrono::steady_clock::time_point> start_wall_;
+  double start_t_ = 0.0;
+};
+
+}  // namespace fleetloc::tracker_agent

@@ -1,0 +1,195 @@
+// Tracker agent: DDS wiring, the frame/odometry loop, pose and health publishing.
+#include "tracker_agent/tracker_agent.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <thread>
+
+#include "transport/mosaic_messages.h"
+#include "transport/topic_names.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::tracker_agent {
+
+namespace topics = transport::topics;
+
+namespace {
+
+template <typename T>
+Status Assign(Result<T> result, std::unique_ptr<T>* out) {
+  if (!result.ok()) return result.status();
+  *out = std::make_unique<T>(std::move(result).value());
+  return Status::Ok();
+}
+
+cv::Matx33d Matx(const std::array<double, 9>& v) { return cv::Matx33d(v.data()); }
+
+}  // namespace
+
+TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
+                           const geometry::PoseWithCovariance& initial)
+    : config_(config), camera_(camera), initial_(initial) {}
+
+Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
+    const AgentConfig& config, const io::CameraFile& camera,
+    const geometry::PoseWithCovariance& initial, const tracking::TrackerOptions& options) {
+  FLEETLOC_RETURN_IF_ERROR(Validate(config));
+  std::unique_ptr<TrackerAgent> agent(new TrackerAgent(config, camera, initial));
+  FLEETLOC_RETURN_IF_ERROR(agent->Open(options));
+  return agent;
+}
+
+Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
+  FLEETLOC_RETURN_IF_ERROR(Assign(
+      transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}), &participant_));
+  const transport::Participant& p = *participant_;
+  auto client = transport::TileClient::Create(p, config_.vehicle_id);
+  if (!client.ok()) return client.status();
+  tiles_ = std::move(client).value();
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Writer<fleetloc_VehiclePose>::Create(p.get(), *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
+  const double period = config_.health_period_s;
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_));
+  spdlog::info("waiting up to {} s for a map server on domain {}", config_.mosaic_wait_s, config_.domain_id);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.mosaic_wait_s);
+  std::optional<fleetloc_MosaicInfo> info;
+  while (!(info = tiles_->LatestMosaicInfo()) || !tiles_->RequestsMatched()) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      return Internal("no map server announced a mosaic on domain " + std::to_string(config_.domain_id));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  Result<mosaic::MosaicLayout> layout = transport::LayoutFromIdl(*info);
+  if (!layout.ok()) return layout.status();
+  layout_ = *layout;
+  spdlog::info("mosaic {} version {} from '{}'", layout_.mosaic_id, layout_.version,
+               transport::GetBounded(info->server_id));
+  loader_ = std::make_unique<transport::DdsTileLoader>(
+      tiles_.get(), layout_.mosaic_id, layout_.tile_size_px,
+      std::chrono::milliseconds(config_.tile_timeout_ms));
+  tile_cache_ = std::make_shared<mosaic::TileCache>(static_cast<size_t>(config_.tile_cache_mb) << 20);
+  view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
+  tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
+  propagator_.emplace(options.odometry);
+  if (camera_.raw) {
+    rectifier_.emplace(Matx(camera_.raw->K), camera_.raw->dist, Matx(camera_.raw->H_ground), camera_.model);
+  }
+  return Status::Ok();
+}
+
+void TrackerAgent::Publish(double t, const geometry::PoseWithCovariance& base,
+                           tracking::LockState state) {
+  const transport::PoseReport report{config_.vehicle_id, t, base, state, layout_.version};
+  if (Status sent = pose_writer_->Write(transport::ToIdl(report)); !sent.ok()) {
+    health_.RecordError(sent.message());
+  }
+}
+
+void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
+  if (Status added = odometry_.Add({t, odom}); !added.ok()) {
+    health_.RecordError("odometry at t=" + std::to_string(t) + ": " + added.message());
+    return;  // a NaN or out-of-order sample is dropped, counted in the last error
+  }
+  latest_odometry_t_ = t;
+  ProcessReadyFrames();
+  if (propagator_->anchored() && t > propagator_->anchor_time()) Publish(t, propagator_->At(t, odom), state_);
+}
+
+void TrackerAgent::ProcessReadyFrames() {
+  while (!waiting_frames_.empty() && waiting_frames_.front().first <= latest_odometry_t_) {
+    auto [t, frame] = std::move(waiting_frames_.front());
+    waiting_frames_.pop_front();
+    Track(t, frame);
+  }
+}
+
+void TrackerAgent::Track(double t, const cv::Mat& frame) {
+  Result<geometry::Pose2> odom = odometry_.At(t);
+  if (!odom.ok()) {
+    health_.RecordDroppedFrame("frame at t=" + std::to_string(t) + ": " + odom.status().message());
+    return;
+  }
+  if (!started_) tracker_->Reset(initial_, *odom), started_ = true;
+  const auto start = std::chrono::steady_clock::now();
+  const tracking::FrameResult result = tracker_->Track(frame, t, *odom);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  health_.RecordFrame(result, ms);
+  state_ = result.state;
+  propagator_->SetAnchor(t, *odom, result.base_in_map);
+  Publish(t, result.base_in_map, result.state);
+  Prefetch(result.base_in_map.pose);
+}
+
+void TrackerAgent::Prefetch(const geometry::Pose2& base) {
+  // The footprint's bounding box grown by the margin, at level 0 and at the coarse levels.
+  const geometry::Pose2 camera = base * camera_.model.mount;
+  const double reach_m = (std::hypot(camera_.model.width_px, camera_.model.height_px) / 2 +
+                          config_.prefetch_margin_px) * layout_.geo.resolution;
+  const double u = (camera.x - layout_.geo.origin_x) / layout_.geo.resolution;
+  const double v = (layout_.geo.origin_y - camera.y) / layout_.geo.resolution;
+  const int r = static_cast<int>(reach_m / layout_.geo.resolution);
+  std::vector<mosaic::TileKey> keys;
+  for (int level = 0; level < std::min(layout_.levels, 3); ++level) {
+    const cv::Rect box(static_cast<int>(u - r) >> level, static_cast<int>(v - r) >> level,
+                       (2 * r) >> level, (2 * r) >> level);
+    mosaic::TilesCovering(layout_, level, box).ForEach([&](const mosaic::TileKey& k) {
+      if (!tile_cache_->Contains(k)) keys.push_back(k);
+    });
+  }
+  if (Status asked = loader_->Prefetch(keys); !asked.ok()) health_.RecordError(asked.message());
+}
+
+void TrackerAgent::ApplyTileUpdates() {
+  (void)update_reader_->TakeAll([&](const fleetloc_TileUpdate& update, const dds_sample_info_t&) {
+    if (transport::GetBounded(update.mosaic_id) != layout_.mosaic_id || update.version <= layout_.version) return;
+    std::vector<mosaic::TileKey> changed;
+    for (uint32_t i = 0; i < update.tiles._length; ++i) changed.push_back(transport::FromIdl(update.tiles._buffer[i]));
+    for (const mosaic::TileKey& key : changed) tile_cache_->Erase(key);
+    tracker_->DropTiles(changed);
+    layout_.version = update.version;
+    spdlog::info("mosaic version {}: {} tiles dropped from the caches", update.version, changed.size());
+  });
+}
+
+void TrackerAgent::PublishHealth() {
+  AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(),
+                         loader_->pending(), 0, tiles_->ServerMatched()};
+  fleetloc_VehicleHealth health;
+  std::vector<fleetloc_HealthIssue> issues;
+  health_.Fill(in, &health, &issues);
+  if (Status sent = health_writer_->Write(health); !sent.ok()) health_.RecordError(sent.message());
+}
+
+Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(config_.health_period_s));
+  auto next_health = Clock::now();
+  while (!stop.load()) {
+    Result<std::optional<InputEvent>> event = input.Next();
+    if (!event.ok()) {
+      health_.RecordDroppedFrame(event.status().message());
+      spdlog::warn("{}", event.status().message());
+      continue;
+    }
+    if (!event->has_value()) break;
+    InputEvent& e = **event;
+    if (e.kind == InputEvent::Kind::kOdometry) {
+      OnOdometry(e.t, e.odom);
+    } else {
+      waiting_frames_.emplace_back(e.t, rectifier_ ? rectifier_->Rectify(e.frame) : e.frame);
+      ProcessReadyFrames();
+    }
+    ApplyTileUpdates();
+    if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
+  }
+  PublishHealth();
+  spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
+  return Status::Ok();
+}
+
+}  // namespace fleetloc::tracker_agent

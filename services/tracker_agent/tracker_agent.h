@@ -1,0 +1,80 @@
+// The tracker agent of one vehicle: tracks its camera over the shared mosaic streamed from the map
+// server (tiles on demand and prefetched along the motion, cached with a byte bound, dropped when
+// a TileUpdate announces a new version), publishes VehiclePose at the odometry rate (the last
+// tracked pose propagated with odometry, and the tracked pose itself at each frame's time) and
+// VehicleHealth periodically. Frames wait until odometry covers their time (delay compensation),
+// so the live results equal `fleetctl track` over the same run.
+#pragma once
+
+#include <atomic>
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include "calibration/rectifier.h"
+#include "io/run.h"
+#include "mosaic/mosaic_view.h"
+#include "tracker_agent/agent_config.h"
+#include "tracker_agent/agent_health.h"
+#include "tracker_agent/vehicle_input.h"
+#include "tracking/mosaic_tracker.h"
+#include "tracking/odometry_history.h"
+#include "tracking/pose_propagator.h"
+#include "transport/dds_tile_loader.h"
+#include "transport/pose_messages.h"
+#include "transport/tile_client.h"
+
+namespace fleetloc::tracker_agent {
+
+class TrackerAgent {
+ public:
+  // Joins the DDS domain, waits (up to mosaic_wait_s) for a map server's MosaicInfo and sets up
+  // the tracker for `camera`, starting from `initial` (base_link in map at the first frame).
+  static Result<std::unique_ptr<TrackerAgent>> Create(const AgentConfig& config,
+                                                      const io::CameraFile& camera,
+                                                      const geometry::PoseWithCovariance& initial,
+                                                      const tracking::TrackerOptions& options);
+
+  // Runs until the input ends or `stop` is set.
+  Status Run(VehicleInput& input, const std::atomic<bool>& stop);
+  const AgentHealth& health() const { return health_; }
+
+ private:
+  TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
+               const geometry::PoseWithCovariance& initial);
+  Status Open(const tracking::TrackerOptions& options);
+  void OnOdometry(double t, const geometry::Pose2& odom);
+  void ProcessReadyFrames();
+  void Track(double t, const cv::Mat& frame);
+  void Prefetch(const geometry::Pose2& base);
+  void ApplyTileUpdates();
+  void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
+  void PublishHealth();
+
+  AgentConfig config_;
+  io::CameraFile camera_;
+  geometry::PoseWithCovariance initial_;
+  std::unique_ptr<transport::Participant> participant_;
+  std::unique_ptr<transport::TileClient> tiles_;
+  std::unique_ptr<transport::DdsTileLoader> loader_;
+  std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_VehicleHealth>> health_topic_;
+  std::unique_ptr<transport::Topic<fleetloc_TileUpdate>> update_topic_;
+  std::unique_ptr<transport::Writer<fleetloc_VehiclePose>> pose_writer_;
+  std::unique_ptr<transport::Writer<fleetloc_VehicleHealth>> health_writer_;
+  std::unique_ptr<transport::Reader<fleetloc_TileUpdate>> update_reader_;
+  mosaic::MosaicLayout layout_;
+  std::shared_ptr<mosaic::TileCache> tile_cache_;
+  std::unique_ptr<mosaic::MosaicView> view_;
+  std::unique_ptr<tracking::MosaicTracker> tracker_;
+  std::optional<calibration::Rectifier> rectifier_;
+  tracking::OdometryHistory odometry_{10.0, 0.0};
+  std::optional<tracking::PosePropagator> propagator_;
+  tracking::LockState state_ = tracking::LockState::kLost;
+  std::deque<std::pair<double, cv::Mat>> waiting_frames_;  // until odometry covers their time
+  double latest_odometry_t_ = -1e300;
+  bool started_ = false;
+  AgentHealth health_;
+};
+
+}  // namespace fleetloc::tracker_agent

@@ -1,0 +1,66 @@
+// tracker_agent: one vehicle's localization over the shared mosaic, until its input ends or
+// SIGINT/SIGTERM.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "io/logging.h"
+#include "io/stop_signal.h"
+#include "io/tracker_config.h"
+#include "tracker_agent/replay_input.h"
+#include "tracker_agent/tracker_agent.h"
+
+namespace {
+
+using namespace fleetloc;
+
+Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop) {
+  FLEETLOC_RETURN_IF_ERROR(tracker_agent::Validate(config));
+  tracking::TrackerOptions options;
+  if (!config.tracker_options_path.empty()) {
+    Result<tracking::TrackerOptions> read = io::ReadTrackerOptions(config.tracker_options_path);
+    if (!read.ok()) return read.status();
+    options = *read;
+  }
+  Result<io::Run> run = io::ReadRun(config.run_path);
+  if (!run.ok()) return run.status();
+  const Eigen::Vector3d sigma = run->initial_sigma;
+  const geometry::PoseWithCovariance initial{run->initial_pose, sigma.cwiseProduct(sigma).asDiagonal()};
+  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, initial, options);
+  if (!agent.ok()) return agent.status();
+  tracker_agent::ReplayInput input(std::move(run).value(), config.paced);
+  return (*agent)->Run(input, stop);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fleetloc tracker agent: one vehicle's pose over the shared mosaic, live over DDS"};
+  std::string config_path, vehicle_id, run, dds_config;
+  int domain = -1;
+  bool fast = false;
+  app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
+  app.add_option("--vehicle-id", vehicle_id, "Vehicle id (overrides the configuration)");
+  app.add_option("--run", run, "Replay this run directory (overrides the configuration)");
+  app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
+  app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
+  app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
+  CLI11_PARSE(app, argc, argv);
+  tracker_agent::AgentConfig config;
+  if (!config_path.empty()) {
+    auto loaded = tracker_agent::LoadAgentConfig(config_path);
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "tracker_agent: %s\n", loaded.status().message().c_str());
+      return loaded.status().ExitCode();
+    }
+    config = *loaded;
+  }
+  if (!vehicle_id.empty()) config.vehicle_id = vehicle_id;
+  if (!run.empty()) config.run_path = run;
+  if (domain >= 0) config.domain_id = domain;
+  if (!dds_config.empty()) config.dds_config_path = dds_config;
+  if (fast) config.paced = false;
+  io::SetupLogging(config.vehicle_id);
+  const Status ran = RunAgent(config, io::InstallStopSignals());
+  if (!ran.ok()) spdlog::error("{}", ran.message());
+  return ran.ExitCode();
+}

@@ -1,0 +1,30 @@
+// What a vehicle feeds its tracker agent: odometry samples and camera frames, in time order,
+// from a source behind this small interface (a recorded run, a live simulated vehicle, later a
+// real camera and wheel odometry driver).
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "base/status.h"
+#include "geometry/pose2.h"
+
+namespace fleetloc::tracker_agent {
+
+struct InputEvent {
+  enum class Kind { kOdometry, kFrame };
+  Kind kind = Kind::kOdometry;
+  double t = 0.0;            // capture time, seconds (the source's clock)
+  geometry::Pose2 odom;      // kOdometry: base_link in odom
+  cv::Mat frame;             // kFrame: the camera image (raw or rectified, see camera.json)
+};
+
+class VehicleInput {
+ public:
+  virtual ~VehicleInput() = default;
+  // The next event; nullopt when the source has ended. A frame that cannot be read is an error
+  // naming its file (the agent counts it as a dropped frame and goes on).
+  virtual Result<std::optional<InputEvent>> Next() = 0;
+};
+
+}  // namespace fleetloc::tracker_agent
