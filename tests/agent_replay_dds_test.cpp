@@ -38,7 +38,8 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   auto health_reader = transport::Reader<fleetloc_VehicleHealth>::Create(
       p.get(), *health_topic, transport::Qos().Reliable().KeepAll());
   io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7"},
+      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
+                        "--outbox", (server.dir() / "outbox.db").string()},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   int health_reports = 0;

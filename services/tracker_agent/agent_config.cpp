@@ -20,6 +20,10 @@ Status Validate(const AgentConfig& c) {
   if (c.prefetch_margin_px < 0) return bad("prefetch_margin_px", "must be >= 0");
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) return bad("health_period_s", "must be in [0.05, 60]");
   if (!(c.mosaic_wait_s > 0)) return bad("mosaic_wait_s", "must be > 0");
+  if (!(c.patch_min_interval_s > 0)) return bad("patch_min_interval_s", "must be > 0");
+  if (!(c.patch_min_changed > 0 && c.patch_min_changed <= 1)) return bad("patch_min_changed", "must be in (0, 1]");
+  if (!(c.patch_retry_s > 0)) return bad("patch_retry_s", "must be > 0");
+  if (!(c.drain_s >= 0)) return bad("drain_s", "must be >= 0");
   return Status::Ok();
 }
 
@@ -29,13 +33,15 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
-      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "mosaic_wait_s"};
+      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "mosaic_wait_s", "outbox",
+      "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
   AgentConfig c;
   for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
-                                    {"run", &c.run_path}, {"tracker", &c.tracker_options_path}}) {
+                                    {"run", &c.run_path}, {"tracker", &c.tracker_options_path},
+                                    {"outbox", &c.outbox_path}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
   }
   for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
@@ -48,9 +54,13 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
     *target = static_cast<int>(value);
   }
   for (const auto& [key, target] : {std::pair{"health_period_s", &c.health_period_s},
-                                    {"mosaic_wait_s", &c.mosaic_wait_s}}) {
+                                    {"mosaic_wait_s", &c.mosaic_wait_s},
+                                    {"patch_min_interval_s", &c.patch_min_interval_s},
+                                    {"patch_min_changed", &c.patch_min_changed},
+                                    {"patch_retry_s", &c.patch_retry_s}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
   }
+  if (fields.Has("drain_s")) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("drain_s", &c.drain_s));
   if (fields.Has("paced")) {
     if (!(*json)["paced"].is_boolean()) return fields.Error("paced", "must be true or false");
     c.paced = (*json)["paced"].get<bool>();

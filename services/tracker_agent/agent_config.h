@@ -20,6 +20,12 @@ struct AgentConfig {
   int prefetch_margin_px = 256;       // tiles this far around the predicted footprint are asked ahead
   double health_period_s = 1.0;
   double mosaic_wait_s = 30.0;        // how long to wait for a map server at start
+  // Patches of floor that looks different from the mosaic, kept in an outbox until acknowledged.
+  std::string outbox_path;            // empty: fleetloc-outbox-<vehicle_id>.db in the working dir
+  double patch_min_interval_s = 2.0;  // at most one patch per this many seconds
+  double patch_min_changed = 0.15;    // share of the frame's blocks that must look different
+  double patch_retry_s = 2.0;         // resend an unacknowledged patch after this long
+  double drain_s = 10.0;              // at the end of the input, wait this long for acks
 };
 
 Status Validate(const AgentConfig& config);

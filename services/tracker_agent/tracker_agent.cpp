@@ -6,6 +6,9 @@
 #include <chrono>
 #include <thread>
 
+#include "mapping/change_detection.h"
+#include "mosaic/tile_codec.h"
+#include "tracking/predicted_view.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -75,6 +78,15 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
   propagator_.emplace(options.odometry);
+  auto patches = transport::PatchClient::Create(p, config_.vehicle_id);
+  if (!patches.ok()) return patches.status();
+  patches_ = std::move(patches).value();
+  const std::string outbox_path = config_.outbox_path.empty()
+                                      ? "fleetloc-outbox-" + config_.vehicle_id + ".db"
+                                      : config_.outbox_path;
+  auto outbox = PatchOutbox::Open(outbox_path);
+  if (!outbox.ok()) return outbox.status();
+  outbox_ = std::move(outbox).value();
   if (camera_.raw) {
     rectifier_.emplace(Matx(camera_.raw->K), camera_.raw->dist, Matx(camera_.raw->H_ground), camera_.model);
   }
@@ -122,6 +134,65 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   propagator_->SetAnchor(t, *odom, result.base_in_map);
   Publish(t, result.base_in_map, result.state);
   Prefetch(result.base_in_map.pose);
+  MaybeCollectPatch(t, frame, result);
+}
+
+void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
+                                     const tracking::FrameResult& result) {
+  if (result.state != tracking::LockState::kTracking || t - last_patch_t_ < config_.patch_min_interval_s) return;
+  const geometry::Pose2 camera = result.base_in_map.pose * camera_.model.mount;
+  const cv::Mat view = tracking::RenderPredictedView(
+      view_.get(), {0, 0, frame.cols, frame.rows},
+      tracking::FrameMosaicWarp::For(camera, camera_.model, layout_.geo), 0);
+  const mapping::ChangeReport change = mapping::CompareWithMosaic(frame, view);
+  if (change.changed_fraction() < config_.patch_min_changed) return;
+  last_patch_t_ = t;
+  Result<std::vector<std::uint8_t>> png = mosaic::EncodeTile(frame);
+  if (!png.ok()) return health_.RecordError(png.status().message());
+  transport::PatchToSend patch;
+  patch.stamp_s = t;
+  patch.mosaic_id = layout_.mosaic_id;
+  patch.mosaic_version = layout_.version;
+  patch.pose = camera;  // camera_ground of the image centre (principal point)
+  // The camera pose's covariance: the base's, carried through the rigid mount (first order).
+  const geometry::PoseWithCovariance cam = geometry::ComposeFixed(result.base_in_map, camera_.model.mount);
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(patch.covariance) = cam.covariance;
+  patch.quality = static_cast<float>(std::min(1.0, result.inliers / 20.0));
+  patch.resolution_m = camera_.model.resolution_m;
+  patch.png = std::move(png).value();
+  Result<uint64_t> added = outbox_->Add(&patch);
+  if (!added.ok()) return health_.RecordError(added.status().message());
+  spdlog::info("patch {} queued: {} of {} blocks differ from the mosaic", *added,
+               change.changed + change.unmapped, change.blocks);
+}
+
+void TrackerAgent::PumpPatches() {
+  Result<std::vector<transport::ReceivedAck>> acks = patches_->TakeAcks();
+  if (acks.ok()) {
+    for (const transport::ReceivedAck& ack : *acks) {
+      if (ack.status == fleetloc_PATCH_REJECTED) spdlog::warn("patch {} rejected: {}", ack.sequence, ack.reason);
+      if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
+    }
+  }
+  if (!patches_->ServerMatched()) return;  // keep them for when the server is back
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
+  if (!due.ok()) return health_.RecordError(due.status().message());
+  for (const transport::PatchToSend& patch : *due) {
+    if (Status sent = patches_->Send(patch); !sent.ok()) return health_.RecordError(sent.message());
+    (void)outbox_->MarkSent(patch.sequence, now);
+  }
+}
+
+void TrackerAgent::DrainPatches(const std::atomic<bool>& stop) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.drain_s);
+  Result<long long> left = outbox_->Size();
+  while (!stop.load() && left.ok() && *left > 0 && std::chrono::steady_clock::now() < end) {
+    PumpPatches();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    left = outbox_->Size();
+  }
+  if (left.ok() && *left > 0) spdlog::warn("{} patches stay in the outbox for the next start", *left);
 }
 
 void TrackerAgent::Prefetch(const geometry::Pose2& base) {
@@ -156,8 +227,9 @@ void TrackerAgent::ApplyTileUpdates() {
 }
 
 void TrackerAgent::PublishHealth() {
-  AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(),
-                         loader_->pending(), 0, tiles_->ServerMatched()};
+  const Result<long long> outbox = outbox_->Size();
+  AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
+                         outbox.ok() ? static_cast<size_t>(*outbox) : 0, tiles_->ServerMatched()};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
@@ -185,8 +257,10 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       ProcessReadyFrames();
     }
     ApplyTileUpdates();
+    PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
   }
+  DrainPatches(stop);
   PublishHealth();
   spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
   return Status::Ok();

@@ -16,11 +16,13 @@
 #include "mosaic/mosaic_view.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/agent_health.h"
+#include "tracker_agent/patch_outbox.h"
 #include "tracker_agent/vehicle_input.h"
 #include "tracking/mosaic_tracker.h"
 #include "tracking/odometry_history.h"
 #include "tracking/pose_propagator.h"
 #include "transport/dds_tile_loader.h"
+#include "transport/patch_client.h"
 #include "transport/pose_messages.h"
 #include "transport/tile_client.h"
 
@@ -50,6 +52,12 @@ class TrackerAgent {
   void ApplyTileUpdates();
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
   void PublishHealth();
+  // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
+  void MaybeCollectPatch(double t, const cv::Mat& frame, const tracking::FrameResult& result);
+  // Takes acknowledgements and (re)sends what is due.
+  void PumpPatches();
+  // At the end of the input: keeps pumping until the outbox is empty or drain_s passed.
+  void DrainPatches(const std::atomic<bool>& stop);
 
   AgentConfig config_;
   io::CameraFile camera_;
@@ -57,6 +65,9 @@ class TrackerAgent {
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::TileClient> tiles_;
   std::unique_ptr<transport::DdsTileLoader> loader_;
+  std::unique_ptr<transport::PatchClient> patches_;
+  std::unique_ptr<PatchOutbox> outbox_;
+  double last_patch_t_ = -1e300;
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
   std::unique_ptr<transport::Topic<fleetloc_VehicleHealth>> health_topic_;
   std::unique_ptr<transport::Topic<fleetloc_TileUpdate>> update_topic_;

@@ -1,0 +1,127 @@
+// SQLite-backed patch outbox.
+#include "tracker_agent/patch_outbox.h"
+
+#include <sqlite3.h>
+
+#include <cstring>
+
+namespace fleetloc::tracker_agent {
+namespace {
+
+constexpr const char* kSchema =
+    "PRAGMA journal_mode=WAL;"
+    "CREATE TABLE IF NOT EXISTS meta(name TEXT PRIMARY KEY, value INTEGER NOT NULL);"
+    "INSERT OR IGNORE INTO meta(name, value) VALUES('next_sequence', 1);"
+    "CREATE TABLE IF NOT EXISTS outbox(sequence INTEGER PRIMARY KEY, stamp REAL, mosaic_id TEXT,"
+    " mosaic_version INTEGER, x REAL, y REAL, theta REAL, covariance BLOB, quality REAL,"
+    " resolution REAL, png BLOB NOT NULL, last_sent REAL NOT NULL DEFAULT -1);";
+
+}  // namespace
+
+Result<std::unique_ptr<PatchOutbox>> PatchOutbox::Open(const std::string& path) {
+  Result<mosaic::sqlite::Db> db = mosaic::sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  if (!db.ok()) return db.status();
+  sqlite3_busy_timeout(db->get(), 5000);
+  std::unique_ptr<PatchOutbox> outbox(new PatchOutbox(path, std::move(db).value()));
+  FLEETLOC_RETURN_IF_ERROR(outbox->Exec("create the outbox", kSchema));
+  return outbox;
+}
+
+Status PatchOutbox::Exec(const std::string& what, const char* sql) {
+  if (Status s = mosaic::sqlite::Exec(db_.get(), sql); !s.ok()) {
+    return Internal(path_ + ": cannot " + what + ": " + s.message());
+  }
+  return Status::Ok();
+}
+
+Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
+  std::lock_guard lock(mutex_);
+  FLEETLOC_RETURN_IF_ERROR(Exec("begin", "BEGIN IMMEDIATE"));
+  auto fail = [&](const std::string& what) -> Status {
+    const std::string message = mosaic::sqlite::ErrorMessage(db_.get());
+    (void)mosaic::sqlite::Exec(db_.get(), "ROLLBACK");
+    return Internal(path_ + ": " + what + ": " + message);
+  };
+  auto next = mosaic::sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'next_sequence'");
+  if (!next.ok() || sqlite3_step(next->get()) != SQLITE_ROW) return fail("reading the sequence");
+  p->sequence = static_cast<uint64_t>(sqlite3_column_int64(next->get(), 0));
+  auto insert = mosaic::sqlite::Prepare(
+      db_.get(),
+      "INSERT INTO outbox(sequence, stamp, mosaic_id, mosaic_version, x, y, theta, covariance,"
+      " quality, resolution, png) VALUES(?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11)");
+  if (!insert.ok()) return fail("preparing");
+  sqlite3_stmt* s = insert->get();
+  sqlite3_bind_int64(s, 1, static_cast<sqlite3_int64>(p->sequence));
+  sqlite3_bind_double(s, 2, p->stamp_s);
+  sqlite3_bind_text(s, 3, p->mosaic_id.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_int64(s, 4, p->mosaic_version);
+  sqlite3_bind_double(s, 5, p->pose.x), sqlite3_bind_double(s, 6, p->pose.y);
+  sqlite3_bind_double(s, 7, p->pose.theta);
+  sqlite3_bind_blob(s, 8, p->covariance, sizeof p->covariance, SQLITE_TRANSIENT);
+  sqlite3_bind_double(s, 9, p->quality), sqlite3_bind_double(s, 10, p->resolution_m);
+  sqlite3_bind_blob(s, 11, p->png.data(), static_cast<int>(p->png.size()), SQLITE_STATIC);
+  if (sqlite3_step(s) != SQLITE_DONE) return fail("storing the patch");
+  if (!mosaic::sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'").ok()) {
+    return fail("advancing the sequence");
+  }
+  FLEETLOC_RETURN_IF_ERROR(Exec("commit", "COMMIT"));
+  return p->sequence;
+}
+
+Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(double now_s, double retry_after_s, int max) {
+  std::lock_guard lock(mutex_);
+  auto select = mosaic::sqlite::Prepare(
+      db_.get(),
+      "SELECT sequence, stamp, mosaic_id, mosaic_version, x, y, theta, covariance, quality,"
+      " resolution, png FROM outbox WHERE last_sent < 0 OR last_sent < ?1 ORDER BY sequence LIMIT ?2");
+  if (!select.ok()) return Internal(path_ + ": " + select.status().message());
+  sqlite3_stmt* s = select->get();
+  sqlite3_bind_double(s, 1, now_s - retry_after_s);
+  sqlite3_bind_int(s, 2, max);
+  std::vector<transport::PatchToSend> due;
+  while (sqlite3_step(s) == SQLITE_ROW) {
+    transport::PatchToSend p;
+    p.sequence = static_cast<uint64_t>(sqlite3_column_int64(s, 0));
+    p.stamp_s = sqlite3_column_double(s, 1);
+    p.mosaic_id = reinterpret_cast<const char*>(sqlite3_column_text(s, 2));
+    p.mosaic_version = sqlite3_column_int64(s, 3);
+    p.pose = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5), sqlite3_column_double(s, 6)};
+    if (sqlite3_column_bytes(s, 7) == sizeof p.covariance) {
+      std::memcpy(p.covariance, sqlite3_column_blob(s, 7), sizeof p.covariance);
+    }
+    p.quality = static_cast<float>(sqlite3_column_double(s, 8));
+    p.resolution_m = sqlite3_column_double(s, 9);
+    const auto* png = static_cast<const std::uint8_t*>(sqlite3_column_blob(s, 10));
+    p.png.assign(png, png + sqlite3_column_bytes(s, 10));
+    due.push_back(std::move(p));
+  }
+  return due;
+}
+
+Status PatchOutbox::MarkSent(uint64_t sequence, double now_s) {
+  std::lock_guard lock(mutex_);
+  auto update = mosaic::sqlite::Prepare(db_.get(), "UPDATE outbox SET last_sent = ?1 WHERE sequence = ?2");
+  if (!update.ok()) return Internal(path_ + ": " + update.status().message());
+  sqlite3_bind_double(update->get(), 1, now_s);
+  sqlite3_bind_int64(update->get(), 2, static_cast<sqlite3_int64>(sequence));
+  if (sqlite3_step(update->get()) != SQLITE_DONE) return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+  return Status::Ok();
+}
+
+Status PatchOutbox::Remove(uint64_t sequence) {
+  std::lock_guard lock(mutex_);
+  auto remove = mosaic::sqlite::Prepare(db_.get(), "DELETE FROM outbox WHERE sequence = ?1");
+  if (!remove.ok()) return Internal(path_ + ": " + remove.status().message());
+  sqlite3_bind_int64(remove->get(), 1, static_cast<sqlite3_int64>(sequence));
+  if (sqlite3_step(remove->get()) != SQLITE_DONE) return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+  return Status::Ok();
+}
+
+Result<long long> PatchOutbox::Size() {
+  std::lock_guard lock(mutex_);
+  auto count = mosaic::sqlite::Prepare(db_.get(), "SELECT COUNT(*) FROM outbox");
+  if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW) return Internal(path_ + ": counting the outbox");
+  return static_cast<long long>(sqlite3_column_int64(count->get(), 0));
+}
+
+}  // namespace fleetloc::tracker_agent

@@ -1,0 +1,87 @@
+// The agent's patches across a map server outage: a vehicle drives over floor that changed since
+// the mosaic was made; it queues patches of it; the map server is killed (SIGKILL) mid-run and
+// restarted; the agent keeps tracking from its tile cache meanwhile, and at the end every patch it
+// queued is stored by the server exactly once and its outbox is empty — nothing lost.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sqlite3.h>
+
+#include <nlohmann/json.hpp>
+
+#include "io/run.h"
+#include "map_server_fixture.h"
+#include "mosaic/patch_store.h"
+#include "transport/pose_messages.h"
+
+namespace fleetloc {
+namespace {
+
+using testing::Eventually;
+constexpr uint32_t kDomain = 86;
+
+long long OutboxValue(const std::string& path, const char* sql) {
+  sqlite3* db = nullptr;
+  long long value = -1;
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) == SQLITE_OK && sqlite3_step(stmt) == SQLITE_ROW) {
+      value = sqlite3_column_int64(stmt, 0);
+    }
+    sqlite3_finalize(stmt);
+  }
+  sqlite3_close(db);
+  return value;
+}
+
+TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
+  const cv::Mat rock = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                  cv::IMREAD_GRAYSCALE)(cv::Rect(0, 0, 1536, 1536)).clone();
+  testing::MapServerFixture server("agent_patch_fault", rock, kDomain);
+  // The floor the vehicle sees: a new 384² marking (another real texture) at the route's crossing.
+  cv::Mat changed = rock.clone();
+  const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+  brick(cv::Rect(0, 0, 384, 384)).copyTo(changed(cv::Rect(576, 576, 384, 384)));
+  const std::string floor = (server.dir() / "changed_floor.png").string();
+  ASSERT_TRUE(cv::imwrite(floor, changed));
+  const std::string run = (server.dir() / "run").string();
+  ASSERT_EQ(testing::RunFleetctl("sim --image " + floor + " --resolution 0.0005 --frames 50 --seed 5 --out " + run)
+                .exit_code, 0);
+  const std::string outbox = (server.dir() / "outbox.db").string();
+  io::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-5",
+                        "--outbox", outbox},
+      (server.dir() / "agent.log").string());
+  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(server.participant(),
+                                                                   transport::topics::kVehiclePose);
+  auto poses = transport::Reader<fleetloc_VehiclePose>::Create(server.participant().get(), *pose_topic,
+                                                               transport::Qos().Reliable().KeepAll());
+  int tracked_while_down = 0;
+  auto take_poses = [&](bool down) {
+    (void)poses->TakeAll([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) {
+      if (down && p.lock_state == fleetloc_LOCK_TRACKING) ++tracked_while_down;
+    });
+  };
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  take_poses(false);
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  const auto down_until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  while (std::chrono::steady_clock::now() < down_until) {
+    take_poses(true);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  server.StartServer();
+  ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 90));
+  EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
+  // The agent went on tracking from its cache while the server was down. (Its poses reach this
+  // participant directly, without the server.)
+  EXPECT_GT(tracked_while_down, 50);
+  const long long queued = OutboxValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  EXPECT_GE(queued, 2) << "the changed floor should have produced patches";
+  EXPECT_EQ(OutboxValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  auto store = mosaic::PatchStore::Open(server.mosaic_path());
+  ASSERT_TRUE(store.ok());
+  EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";
+}
+
+}  // namespace
+}  // namespace fleetloc
