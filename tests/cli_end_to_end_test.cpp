@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -63,6 +64,22 @@ TEST(CliEndToEnd, BenchTrackerReportsFleetlocAgainstAPeer) {
   EXPECT_GE(fleetloc["lock_rate"].get<double>(), 0.95);
   EXPECT_TRUE(json["floors"][0]["verdict"]["applicable"].get<bool>());
   EXPECT_GT(json["peak_rss_bytes"].get<long long>(), 0);
+}
+
+
+TEST(CliEndToEnd, BenchAgentComparesTheLiveAgentWithTheOfflineTracker) {
+  ScratchDir dir("cli_bench_agent");
+  const std::string json = dir / "agent.json";
+  const CommandResult r = RunFleetctl("bench agent --frames 20 --domain 93 --work-dir " +
+                                      Quote(dir / "work") + " --json " + Quote(json));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("live / offline median"), std::string::npos) << r.out;
+  std::ifstream in(json);
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["live"]["frames"], 20);
+  EXPECT_GT(report["offline"]["median_ms"].get<double>(), 0.0);
+  EXPECT_GT(report["ratio"].get<double>(), 0.0);
+  EXPECT_EQ(report["live"]["tiles"]["timeouts"], 0);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ struct AgentConfig {
   double patch_min_changed = 0.15;    // share of the frame's blocks that must look different
   double patch_retry_s = 2.0;         // resend an unacknowledged patch after this long
   double drain_s = 10.0;              // at the end of the input, wait this long for acks
+  std::string summary_path;           // if set: a JSON summary (frames, cycle times) at exit
 };
 
 Status Validate(const AgentConfig& config);

@@ -9,7 +9,7 @@ namespace fleetloc::tracker_agent {
 
 void AgentHealth::RecordFrame(const tracking::FrameResult& result, double cycle_ms) {
   cycle_ms_.push_back(cycle_ms);
-  if (cycle_ms_.size() > 200) cycle_ms_.pop_front();
+  if (cycle_ms_.size() > 10000) cycle_ms_.pop_front();
   state_ = result.state;
   inliers_ = result.inliers;
   ++frames_;
@@ -22,8 +22,9 @@ void AgentHealth::RecordDroppedFrame(const std::string& error) {
 
 void AgentHealth::RecordError(const std::string& error) { last_error_ = error; }
 
-double AgentHealth::CyclePercentile(double percent) const {
-  return replay::Percentile({cycle_ms_.begin(), cycle_ms_.end()}, percent);
+double AgentHealth::CyclePercentile(double percent, size_t window) const {
+  const size_t n = std::min(window, cycle_ms_.size());
+  return replay::Percentile({cycle_ms_.end() - static_cast<long>(n), cycle_ms_.end()}, percent);
 }
 
 void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,

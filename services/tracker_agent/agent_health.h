@@ -32,11 +32,12 @@ class AgentHealth {
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,
             std::vector<fleetloc_HealthIssue>* issue_storage) const;
 
-  double CyclePercentile(double percent) const;
+  // Over the last `window` frames (at most 10,000).
+  double CyclePercentile(double percent, size_t window = 200) const;
   long long frames() const { return frames_; }
 
  private:
-  std::deque<double> cycle_ms_;  // the last 200 frames
+  std::deque<double> cycle_ms_;  // the last 10,000 frames (health uses the last 200)
   tracking::LockState state_ = tracking::LockState::kLost;
   int inliers_ = 0;
   long long frames_ = 0;

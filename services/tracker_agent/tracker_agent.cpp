@@ -4,8 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <thread>
 
+#include "io/file_util.h"
 #include "mapping/change_detection.h"
 #include "mosaic/tile_codec.h"
 #include "tracking/predicted_view.h"
@@ -262,6 +264,17 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   }
   DrainPatches(stop);
   PublishHealth();
+  if (!config_.summary_path.empty()) {
+    const nlohmann::json summary{
+        {"vehicle_id", config_.vehicle_id},
+        {"frames", health_.frames()},
+        {"cycle_ms", {{"median", health_.CyclePercentile(50, 10000)},
+                      {"p95", health_.CyclePercentile(95, 10000)},
+                      {"p99", health_.CyclePercentile(99, 10000)}}},
+        {"tiles", {{"requested", loader_->stats().requested}, {"received", loader_->stats().received},
+                   {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts}}}};
+    FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n"));
+  }
   spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
   return Status::Ok();
 }

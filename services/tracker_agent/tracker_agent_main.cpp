@@ -35,7 +35,7 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetloc tracker agent: one vehicle's pose over the shared mosaic, live over DDS"};
-  std::string config_path, vehicle_id, run, dds_config, outbox;
+  std::string config_path, vehicle_id, run, dds_config, outbox, summary;
   int domain = -1;
   bool fast = false;
   app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
   app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
+  app.add_option("--summary", summary, "Write a JSON summary (frames, cycle times) at exit");
   app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
   CLI11_PARSE(app, argc, argv);
   tracker_agent::AgentConfig config;
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   if (!dds_config.empty()) config.dds_config_path = dds_config;
   if (fast) config.paced = false;
   if (!outbox.empty()) config.outbox_path = outbox;
+  if (!summary.empty()) config.summary_path = summary;
   io::SetupLogging(config.vehicle_id);
   const Status ran = RunAgent(config, io::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());

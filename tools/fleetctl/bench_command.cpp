@@ -15,6 +15,7 @@
 
 #include "bench_paths.h"
 #include "bench_report.h"
+#include "bench_agent.h"
 #include "bench_tiles.h"
 #include "bench_tracker.h"
 #include "commands.h"
@@ -224,6 +225,19 @@ void RegisterBenchTiles(CLI::App* bench, Status* result) {
   tiles->callback([s, result] { *result = RunTileBench(*s); });
 }
 
+void RegisterBenchAgent(CLI::App* bench, Status* result) {
+  auto s = std::make_shared<AgentBenchSettings>();
+  s->work_dir = (fs::temp_directory_path() / "fleetloc-bench-agent").string();
+  CLI::App* agent = bench->add_subcommand(
+      "agent", "Tracker cycle on the live path (agent over DDS) vs the offline tracker, same run");
+  agent->option_defaults()->always_capture_default();
+  agent->add_option("--work-dir", s->work_dir, "Mosaic, run, logs");
+  agent->add_option("--frames", s->frames, "Frames of the simulated run")->check(CLI::Range(10, 100000));
+  agent->add_option("--domain", s->domain, "DDS domain")->check(CLI::Range(0, 232));
+  agent->add_option("--json", s->json, "Write every number to this JSON file");
+  agent->callback([s, result] { *result = RunAgentBench(*s); });
+}
+
 }  // namespace
 
 void RegisterBenchCommand(CLI::App& app, Status* result) {
@@ -236,6 +250,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   AddBenchTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = RunBench(*args); });
   RegisterBenchTiles(bench, result);
+  RegisterBenchAgent(bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -1,6 +1,10 @@
 // Demo floor directory lookup for the benchmarks.
 #include "bench_paths.h"
 
+#include <spdlog/spdlog.h>
+
+#include "mosaic/importer.h"
+
 namespace fleetloc::fleetctl {
 
 std::filesystem::path DefaultFloorsDir() {
@@ -11,6 +15,19 @@ std::filesystem::path DefaultFloorsDir() {
   const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
   if (!ec && fs::is_directory(beside, ec)) return beside;
   return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
+}
+
+Result<std::string> EnsureDemoMosaic(const std::string& work_dir, const std::string& image_name,
+                                     const std::string& db_name) {
+  const std::filesystem::path db = std::filesystem::path(work_dir) / db_name;
+  if (std::filesystem::exists(db)) return db.string();
+  mosaic::ImportOptions options;
+  options.resolution_m = 0.0005;
+  const std::filesystem::path image = DefaultFloorsDir() / image_name;
+  spdlog::info("bench: importing {} into {}", image.string(), db.string());
+  auto imported = mosaic::ImportImage(image.string(), options, db.string());
+  if (!imported.ok()) return imported.status();
+  return db.string();
 }
 
 }  // namespace fleetloc::fleetctl

@@ -31,19 +31,6 @@ double SecondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-Result<std::string> EnsureMosaic(const TileBenchSettings& s) {
-  if (!s.mosaic.empty()) return s.mosaic;
-  const fs::path db = fs::path(s.work_dir) / "tiles_bench_mosaic.db";
-  if (fs::exists(db)) return db.string();
-  mosaic::ImportOptions options;
-  options.resolution_m = 0.0005;
-  const fs::path image = DefaultFloorsDir() / "rock_dirt_2048.png";
-  spdlog::info("bench tiles: importing {} into {}", image.string(), db.string());
-  auto imported = mosaic::ImportImage(image.string(), options, db.string());
-  if (!imported.ok()) return imported.status();
-  return db.string();
-}
-
 // Waits until `client` sees the server and the server has opened its reply channel.
 Result<fleetloc_MosaicInfo> Connect(TileClient& client) {
   const auto start = Clock::now();
@@ -219,7 +206,9 @@ Status RunTileBench(const TileBenchSettings& s) {
   std::error_code error;
   fs::create_directories(work, error);
   if (error) return InvalidInput(work + ": cannot create the work directory: " + error.message());
-  Result<std::string> mosaic = EnsureMosaic(s);
+  Result<std::string> mosaic = s.mosaic.empty()
+                                    ? EnsureDemoMosaic(work, "rock_dirt_2048.png", "tiles_bench_mosaic.db")
+                                    : Result<std::string>(s.mosaic);
   if (!mosaic.ok()) return mosaic.status();
   const std::string config = work + "/cyclonedds.xml";
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config, transport::DefaultLoopbackXml()));

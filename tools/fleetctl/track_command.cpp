@@ -24,26 +24,35 @@ struct TrackArgs {
   long long cache_mb = 256;
 };
 
-Status RunTrack(const TrackArgs& args) {
-  Result<io::Run> run = io::ReadRun(args.run);
-  if (!run.ok()) return run.status();
+}  // namespace
+
+Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const io::Run& run,
+                                          const tracking::TrackerOptions& options,
+                                          long long cache_mb) {
   Result<std::unique_ptr<mosaic::TileStore>> opened =
-      mosaic::TileStore::Open(args.mosaic, mosaic::OpenMode::kReadOnly);
+      mosaic::TileStore::Open(mosaic_path, mosaic::OpenMode::kReadOnly);
   if (!opened.ok()) return opened.status();
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
-                          std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
+                          std::make_shared<mosaic::TileCache>(cache_mb << 20));
+  tracking::MosaicTracker tracker(options, run.camera.model, &view);
+  return replay::ReplayRun(run, tracker, [](size_t done, size_t total) {
+    if (done % 200 == 0 || done == total) spdlog::info("tracked {}/{} frames", done, total);
+  });
+}
+
+namespace {
+
+Status RunTrack(const TrackArgs& args) {
+  Result<io::Run> run = io::ReadRun(args.run);
+  if (!run.ok()) return run.status();
   tracking::TrackerOptions options;
   if (!args.config.empty()) {
     Result<tracking::TrackerOptions> configured = io::ReadTrackerOptions(args.config);
     if (!configured.ok()) return configured.status();
     options = *configured;
   }
-  tracking::MosaicTracker tracker(options, run->camera.model, &view);
-  Result<replay::ReplayResult> replayed =
-      replay::ReplayRun(*run, tracker, [](size_t done, size_t total) {
-        if (done % 200 == 0 || done == total) spdlog::info("tracked {}/{} frames", done, total);
-      });
+  Result<replay::ReplayResult> replayed = TrackOffline(args.mosaic, *run, options, args.cache_mb);
   if (!replayed.ok()) return replayed.status();
   FLEETLOC_RETURN_IF_ERROR(io::WritePosesCsv(args.out, replayed->poses));
   std::cout << TrackSummary(*run, *replayed).dump(2) << "\n";
