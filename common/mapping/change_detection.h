@@ -1,7 +1,7 @@
 // Does a tracked frame show floor the mosaic does not (a new marking, a repaired slab, an area
 // never mapped)? The frame and the mosaic as predicted at the tracked pose are compared block by
 // block with normalized cross-correlation; textured blocks that correlate poorly, and blocks the
-// mosaic does not cover, count as changed.
+// mosaic does not cover where the camera sees textured floor, count as changed.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -10,8 +10,9 @@ namespace fleetloc::mapping {
 
 struct ChangeOptions {
   int block_px = 64;
-  double min_block_ncc = 0.5;     // below this a textured block counts as changed
-  double min_block_stddev = 4.0;  // flatter blocks (in both images) carry no evidence
+  double min_block_ncc = 0.3;     // below this a textured block counts as changed (dust: ~0.5)
+  double min_block_stddev = 10.0;  // flatter blocks carry no evidence (camera noise dominates)
+  int dark_dn = 8;                 // pixels at or below this are darkness, not floor
 };
 
 struct ChangeReport {

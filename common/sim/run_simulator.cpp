@@ -9,6 +9,18 @@
 #include "sim/random.h"
 
 namespace fleetloc::sim {
+
+geometry::CameraModel DefaultSimCameraModel(int width_px, int height_px, double resolution_m) {
+  geometry::CameraModel camera;
+  camera.width_px = width_px;
+  camera.height_px = height_px;
+  camera.cx_px = 0.5 * width_px;
+  camera.cy_px = 0.5 * height_px;
+  camera.resolution_m = resolution_m;
+  camera.mount = {0.40, 0.0, 0.0};
+  return camera;
+}
+
 namespace {
 
 constexpr std::uint64_t kTimeStream = 0x74696d65;     // "time"

@@ -35,6 +35,10 @@ struct SimSummary {
   double odometry_drift_rad = 0.0;   // and its heading error
 };
 
+// The simulated vehicles' downward camera: principal point at the image centre, mounted 0.40 m
+// ahead of base_link, at `resolution_m` metres per pixel.
+geometry::CameraModel DefaultSimCameraModel(int width_px, int height_px, double resolution_m);
+
 class RunSimulator {
  public:
   // Plans a run over `floor` (level 0; must outlive the simulator) seen by `camera`.

@@ -14,7 +14,13 @@ Status Validate(const AgentConfig& c) {
   };
   if (!transport::IsValidEntityId(c.vehicle_id)) return bad("vehicle_id", "must be 1-11 of [A-Za-z0-9_-]");
   if (c.domain_id < 0 || c.domain_id > 232) return bad("domain", "must be in [0, 232]");
-  if (c.run_path.empty()) return bad("run", "is required (the replay source)");
+  if (c.source != "replay" && c.source != "sim") return bad("source", "must be replay or sim");
+  if (c.source == "replay" && c.run_path.empty()) return bad("run", "is required (the replay source)");
+  if (c.source == "sim" && c.sim_floor.empty()) return bad("sim_floor", "is required (the sim source)");
+  if (!(c.sim_resolution_m > 0)) return bad("sim_resolution_m", "must be > 0");
+  if (!(c.sim_speed_px_s > 0)) return bad("sim_speed_px_s", "must be > 0");
+  if (!(c.sim_rate_hz > 0 && c.sim_rate_hz <= 100)) return bad("sim_rate_hz", "must be in (0, 100]");
+  if (!(c.sim_start_fraction >= 0 && c.sim_start_fraction < 1)) return bad("sim_start_fraction", "must be in [0, 1)");
   if (c.tile_cache_mb < 1) return bad("tile_cache_mb", "must be >= 1");
   if (c.tile_timeout_ms < 10) return bad("tile_timeout_ms", "must be >= 10");
   if (c.prefetch_margin_px < 0) return bad("prefetch_margin_px", "must be >= 0");
@@ -34,19 +40,22 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   static const std::set<std::string> known = {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
       "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "mosaic_wait_s", "outbox",
-      "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s"};
+      "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
+      "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
   AgentConfig c;
   for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
                                     {"run", &c.run_path}, {"tracker", &c.tracker_options_path},
-                                    {"outbox", &c.outbox_path}}) {
+                                    {"outbox", &c.outbox_path}, {"source", &c.source},
+                                    {"sim_floor", &c.sim_floor}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
   }
   for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
                                     {"tile_timeout_ms", &c.tile_timeout_ms},
-                                    {"prefetch_margin_px", &c.prefetch_margin_px}}) {
+                                    {"prefetch_margin_px", &c.prefetch_margin_px},
+                                    {"sim_seed", &c.sim_seed}}) {
     if (!fields.Has(key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
@@ -57,8 +66,13 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
                                     {"mosaic_wait_s", &c.mosaic_wait_s},
                                     {"patch_min_interval_s", &c.patch_min_interval_s},
                                     {"patch_min_changed", &c.patch_min_changed},
-                                    {"patch_retry_s", &c.patch_retry_s}}) {
+                                    {"patch_retry_s", &c.patch_retry_s},
+                                    {"sim_resolution_m", &c.sim_resolution_m},
+                                    {"sim_speed_px_s", &c.sim_speed_px_s}, {"sim_rate_hz", &c.sim_rate_hz}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
+  }
+  if (fields.Has("sim_start_fraction")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("sim_start_fraction", &c.sim_start_fraction));
   }
   if (fields.Has("drain_s")) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("drain_s", &c.drain_s));
   if (fields.Has("paced")) {

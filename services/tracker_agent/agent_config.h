@@ -12,8 +12,16 @@ struct AgentConfig {
   std::string vehicle_id = "agv-1";   // 1-11 of [A-Za-z0-9_-]
   int domain_id = 0;
   std::string dds_config_path;        // empty: CYCLONEDDS_URI or the compiled-in loopback
+  std::string source = "replay";      // "replay" (a recorded run) or "sim" (a live simulated vehicle)
   std::string run_path;               // replay source: a run directory (CONTRACT §4)
-  bool paced = true;                  // replay at recorded speed (else as fast as possible)
+  // sim source: a vehicle driving forever over a floor image (origin at (0, height · resolution)).
+  std::string sim_floor;              // the floor image (the map server's mosaic is imported from it)
+  double sim_resolution_m = 0.0005;
+  double sim_speed_px_s = 3000.0;
+  double sim_rate_hz = 5.0;
+  double sim_start_fraction = 0.0;    // where on the route this vehicle starts (0..1)
+  int sim_seed = 1;
+  bool paced = true;                  // at recorded / real-time speed (else as fast as possible)
   std::string tracker_options_path;   // tracker options JSON (empty: defaults)
   int tile_cache_mb = 64;             // raw mosaic tiles kept (LRU, byte-bounded)
   int tile_timeout_ms = 2000;         // one wait for a missing tile
@@ -23,7 +31,7 @@ struct AgentConfig {
   // Patches of floor that looks different from the mosaic, kept in an outbox until acknowledged.
   std::string outbox_path;            // empty: fleetloc-outbox-<vehicle_id>.db in the working dir
   double patch_min_interval_s = 2.0;  // at most one patch per this many seconds
-  double patch_min_changed = 0.15;    // share of the frame's blocks that must look different
+  double patch_min_changed = 0.3;     // share of the frame's blocks that must look different
   double patch_retry_s = 2.0;         // resend an unacknowledged patch after this long
   double drain_s = 10.0;              // at the end of the input, wait this long for acks
   std::string summary_path;           // if set: a JSON summary (frames, cycle times) at exit

@@ -5,15 +5,15 @@
 
 namespace fleetloc::tracker_agent {
 
-ReplayInput::ReplayInput(io::Run run, bool paced) : run_(std::move(run)), paced_(paced) {}
-
-void ReplayInput::WaitUntil(double t) {
+void Pacer::WaitUntil(double t) {
   if (!paced_) return;
   const auto now = std::chrono::steady_clock::now();
-  if (!start_wall_) start_wall_ = now, start_t_ = t;
-  std::this_thread::sleep_until(*start_wall_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                   std::chrono::duration<double>(t - start_t_)));
+  if (!wall_start_) wall_start_ = now, t_start_ = t;
+  std::this_thread::sleep_until(*wall_start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                   std::chrono::duration<double>(t - t_start_)));
 }
+
+ReplayInput::ReplayInput(io::Run run, bool paced) : run_(std::move(run)), pacer_(paced) {}
 
 Result<std::optional<InputEvent>> ReplayInput::Next() {
   const bool odometry_left = next_odometry_ < run_.odometry.size();
@@ -34,7 +34,7 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
     if (!frame.ok()) return frame.status();
     event.frame = std::move(frame).value();
   }
-  WaitUntil(event.t);
+  pacer_.WaitUntil(event.t);
   return std::optional<InputEvent>(std::move(event));
 }
 

@@ -17,12 +17,9 @@ class ReplayInput : public VehicleInput {
   const io::Run& run() const { return run_; }
 
  private:
-  void WaitUntil(double t);
   io::Run run_;
-  bool paced_;
+  Pacer pacer_;
   size_t next_odometry_ = 0, next_frame_ = 0;
-  std::optional<std::chrono::steady_clock::time_point> start_wall_;
-  double start_t_ = 0.0;
 };
 
 }  // namespace fleetloc::tracker_agent

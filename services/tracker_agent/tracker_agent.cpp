@@ -164,8 +164,8 @@ void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
   patch.png = std::move(png).value();
   Result<uint64_t> added = outbox_->Add(&patch);
   if (!added.ok()) return health_.RecordError(added.status().message());
-  spdlog::info("patch {} queued: {} of {} blocks differ from the mosaic", *added,
-               change.changed + change.unmapped, change.blocks);
+  spdlog::info("patch {} queued: of {} blocks, {} differ from the mosaic and {} are not mapped",
+               *added, change.blocks, change.changed, change.unmapped);
 }
 
 void TrackerAgent::PumpPatches() {

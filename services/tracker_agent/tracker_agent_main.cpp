@@ -7,11 +7,34 @@
 #include "io/stop_signal.h"
 #include "io/tracker_config.h"
 #include "tracker_agent/replay_input.h"
+#include "tracker_agent/sim_input.h"
 #include "tracker_agent/tracker_agent.h"
 
 namespace {
 
 using namespace fleetloc;
+
+// A live simulated vehicle driving forever over the configured floor image.
+Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
+                           const tracking::TrackerOptions& options, const std::atomic<bool>& stop) {
+  Result<cv::Mat> floor = io::ReadGrayImage(config.sim_floor);
+  if (!floor.ok()) return floor.status();
+  const double res = config.sim_resolution_m;
+  mosaic::ImageRasterSource source(*floor, {0.0, floor->rows * res, res});
+  sim::SimOptions sim;
+  sim.timing.frames = 600;  // one stretch; the next continues from its end
+  sim.timing.frame_rate_hz = config.sim_rate_hz;
+  sim.route.speed_px_s = config.sim_speed_px_s;
+  sim.route.start_fraction = config.sim_start_fraction;
+  sim.seed = static_cast<std::uint64_t>(config.sim_seed);
+  io::CameraFile camera;
+  camera.model = sim::DefaultSimCameraModel(640, 480, res);
+  auto input = tracker_agent::SimInput::Create(&source, camera.model, sim, config.paced);
+  if (!input.ok()) return input.status();
+  auto agent = tracker_agent::TrackerAgent::Create(config, camera, (*input)->initial_pose(), options);
+  if (!agent.ok()) return agent.status();
+  return (*agent)->Run(**input, stop);
+}
 
 Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop) {
   FLEETLOC_RETURN_IF_ERROR(tracker_agent::Validate(config));
@@ -21,6 +44,7 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
     if (!read.ok()) return read.status();
     options = *read;
   }
+  if (config.source == "sim") return RunSimulatedVehicle(config, options, stop);
   Result<io::Run> run = io::ReadRun(config.run_path);
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;
@@ -40,7 +64,9 @@ int main(int argc, char** argv) {
   bool fast = false;
   app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
   app.add_option("--vehicle-id", vehicle_id, "Vehicle id (overrides the configuration)");
+  std::string sim_floor;
   app.add_option("--run", run, "Replay this run directory (overrides the configuration)");
+  app.add_option("--sim-floor", sim_floor, "Drive a live simulated vehicle over this floor image forever");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
   app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
@@ -57,7 +83,8 @@ int main(int argc, char** argv) {
     config = *loaded;
   }
   if (!vehicle_id.empty()) config.vehicle_id = vehicle_id;
-  if (!run.empty()) config.run_path = run;
+  if (!run.empty()) config.run_path = run, config.source = "replay";
+  if (!sim_floor.empty()) config.sim_floor = sim_floor, config.source = "sim";
   if (domain >= 0) config.domain_id = domain;
   if (!dds_config.empty()) config.dds_config_path = dds_config;
   if (fast) config.paced = false;

@@ -3,6 +3,7 @@
 // real camera and wheel odometry driver).
 #pragma once
 
+#include <chrono>
 #include <opencv2/core.hpp>
 #include <optional>
 
@@ -25,6 +26,19 @@ class VehicleInput {
   // The next event; nullopt when the source has ended. A frame that cannot be read is an error
   // naming its file (the agent counts it as a dropped frame and goes on).
   virtual Result<std::optional<InputEvent>> Next() = 0;
+};
+
+// Releases events at their own times after the first one (live speed), or at once.
+class Pacer {
+ public:
+  explicit Pacer(bool paced) : paced_(paced) {}
+  // Sleeps until `t` seconds after the first time given, in wall-clock time (if paced).
+  void WaitUntil(double t);
+
+ private:
+  bool paced_;
+  std::optional<std::chrono::steady_clock::time_point> wall_start_;
+  double t_start_ = 0.0;
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -61,12 +61,7 @@ Result<std::vector<io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, cons
 
 io::CameraFile DefaultSimCamera(int width_px, int height_px, double resolution_m) {
   io::CameraFile camera;
-  camera.model.width_px = width_px;
-  camera.model.height_px = height_px;
-  camera.model.cx_px = 0.5 * width_px;
-  camera.model.cy_px = 0.5 * height_px;
-  camera.model.resolution_m = resolution_m;
-  camera.model.mount = {0.40, 0.0, 0.0};
+  camera.model = sim::DefaultSimCameraModel(width_px, height_px, resolution_m);
   return camera;
 }
 
