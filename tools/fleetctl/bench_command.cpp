@@ -16,14 +16,13 @@
 #include "bench_report.h"
 #include "bench_tracker.h"
 #include "commands.h"
+#include "floor_images.h"
 #include "io/file_util.h"
 
 namespace fleetloc::fleetctl {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kFloorsSubdir = "deploy/demo/floors";
 
 struct BenchArgs {
   std::vector<std::string> floors;
@@ -33,43 +32,10 @@ struct BenchArgs {
   BenchSettings settings;
 };
 
-// deploy/demo/floors of the source tree: beside the executable's build directory
-// (<source>/<build>/bin/fleetctl) or else the source directory this binary was compiled from.
-fs::path DefaultFloorsDir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
-  if (!ec && fs::is_directory(beside, ec)) return beside;
-  return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
-}
-
-bool IsImageFile(const fs::path& path) {
-  static const std::set<std::string> kExtensions{".png", ".jpg", ".jpeg", ".pgm",
-                                                 ".ppm", ".tif", ".tiff", ".bmp"};
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return kExtensions.count(ext) > 0;
-}
-
-// Every image file of `dir`, by name. NotFound / InvalidInput when there is none.
-Result<std::vector<fs::path>> ListFloorImages(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    return NotFound(dir.string() + ": no such directory (--floors-dir)");
-  std::vector<fs::path> images;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.is_regular_file() && IsImageFile(entry.path())) images.push_back(entry.path());
-  }
-  std::sort(images.begin(), images.end());
-  if (images.empty()) return InvalidInput(dir.string() + ": no floor images (--floors-dir)");
-  return images;
-}
-
 Result<std::vector<fs::path>> ResolveFloors(const BenchArgs& args) {
   if (args.floors.empty()) {
-    return ListFloorImages(args.floors_dir.empty() ? DefaultFloorsDir()
-                                                   : fs::path(args.floors_dir));
+    return ListFloorImages(args.floors_dir.empty() ? DefaultFloorsDir() : fs::path(args.floors_dir),
+                           "--floors-dir");
   }
   std::vector<fs::path> floors;
   for (const std::string& floor : args.floors) {
@@ -219,6 +185,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   tracker->option_defaults()->always_capture_default();
   AddBenchTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = RunBench(*args); });
+  AddBenchMosaicCommand(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

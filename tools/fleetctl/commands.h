@@ -14,4 +14,7 @@ void RegisterTrackCommand(CLI::App& app, Status* result);
 void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);
 
+// `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
+void AddBenchMosaicCommand(CLI::App& bench, Status* result);
+
 }  // namespace fleetloc::fleetctl
