@@ -1,9 +1,11 @@
-// One size of `fleetctl bench mosaic`: compose, import and look up, each in a child process.
+// One size of `fleetctl bench mosaic`: compose, import and lookup rounds, each in a child process.
 #include "bench_mosaic.h"
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "composed_floor.h"
@@ -44,7 +46,8 @@ Result<ChildRun> Import(const fs::path& pgm, double resolution_m, const fs::path
   return RunInChild([&]() -> Result<std::string> {
     mosaic::ImportOptions options;
     options.resolution_m = resolution_m;
-    PercentLog progress("import " + pgm.filename().string(), "rows", 5);
+    PercentLog progress("import " + (pgm.parent_path().filename() / pgm.filename()).string(),
+                        "rows", 5);
     Result<mosaic::MosaicLayout> layout =
         mosaic::ImportImage(pgm.string(), options, db.string(), std::ref(progress));
     if (!layout.ok()) return layout.status();
@@ -53,46 +56,58 @@ Result<ChildRun> Import(const fs::path& pgm, double resolution_m, const fs::path
 }
 
 Result<ChildRun> Lookups(const fs::path& db, const LookupSettings& settings) {
-  spdlog::info("bench mosaic: timing lookups in {}", db.string());
   return RunInChild([&]() -> Result<std::string> {
-    Result<LookupTimes> times = MeasureLookups(db.string(), settings);
-    if (!times.ok()) return times.status();
-    return LookupTimesJson(*times).dump();
+    Result<LookupRun> run = MeasureLookups(db.string(), settings);
+    if (!run.ok()) return run.status();
+    return LookupRunJson(*run).dump();
   });
 }
 
 }  // namespace
 
-Result<MosaicSizeBench> BenchMosaicSize(cv::Size size_px, const MosaicBenchSettings& settings) {
+Result<MosaicSizeBench> ComposeAndImport(cv::Size size_px, const MosaicBenchSettings& settings) {
   const fs::path dir = settings.work_dir / SizeName(size_px);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return Internal(dir.string() + ": cannot create: " + ec.message());
-  const fs::path pgm = dir / "floor.pgm", db = dir / "mosaic.db";
-  RemoveMosaicFiles(db);  // ImportImage refuses to overwrite
   MosaicSizeBench bench;
   bench.size_px = size_px;
-  Result<ChildRun> compose = Compose(size_px, settings, pgm);
+  bench.pgm = dir / "floor.pgm";
+  bench.mosaic = dir / "mosaic.db";
+  RemoveMosaicFiles(bench.mosaic);  // ImportImage refuses to overwrite
+  Result<ChildRun> compose = Compose(size_px, settings, bench.pgm);
   if (!compose.ok()) return compose.status();
   bench.compose = *compose;
   bench.caller_rss_bytes = ResidentBytes();
-  Result<ChildRun> import = Import(pgm, settings.resolution_m, db);
+  Result<ChildRun> import = Import(bench.pgm, settings.resolution_m, bench.mosaic);
   if (!import.ok()) return import.status();
   bench.import = *import;
-  Result<ChildRun> lookup = Lookups(db, settings.lookups);
-  if (!lookup.ok()) return lookup.status();
-  bench.lookup = *lookup;
-  Result<LookupTimes> times =
-      LookupTimesFromJson(nlohmann::json::parse(lookup->output, nullptr, false));
-  if (!times.ok()) return times.status();
-  bench.times = *times;
-  bench.pgm_bytes = fs::file_size(pgm, ec);
-  bench.mosaic_bytes = fs::file_size(db, ec);
-  if (!settings.keep_files) {
-    fs::remove(pgm, ec);
-    RemoveMosaicFiles(db);
-  }
+  bench.pgm_bytes = fs::file_size(bench.pgm, ec);
+  bench.mosaic_bytes = fs::file_size(bench.mosaic, ec);
   return bench;
+}
+
+Status AddLookupRound(const MosaicBenchSettings& settings, int round, MosaicSizeBench* bench) {
+  LookupSettings lookups = settings.lookups;
+  lookups.seed = settings.seed * 1000 + round;
+  spdlog::info("bench mosaic {}: lookup round {}", SizeName(bench->size_px), round + 1);
+  Result<ChildRun> child = Lookups(bench->mosaic, lookups);
+  if (!child.ok()) return child.status();
+  Result<LookupRun> run = LookupRunFromJson(nlohmann::json::parse(child->output, nullptr, false));
+  if (!run.ok()) return run.status();
+  AppendRun(*run, &bench->lookups);
+  bench->lookup.wall_s += child->wall_s;
+  bench->lookup.user_s += child->user_s;
+  bench->lookup.system_s += child->system_s;
+  bench->lookup.peak_rss_bytes = std::max(bench->lookup.peak_rss_bytes, child->peak_rss_bytes);
+  return Status::Ok();
+}
+
+void RemoveSizeFiles(const MosaicBenchSettings& settings, const MosaicSizeBench& bench) {
+  if (settings.keep_files) return;
+  std::error_code ec;
+  fs::remove(bench.pgm, ec);
+  RemoveMosaicFiles(bench.mosaic);
 }
 
 }  // namespace fleetloc::fleetctl

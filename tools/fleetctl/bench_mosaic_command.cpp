@@ -28,6 +28,9 @@ struct BenchMosaicArgs {
   std::string floors_dir;
   std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-mosaic").string();
   std::string json;
+  int tile_samples = 2000;  // in all rounds
+  int block_samples = 300;  // in all rounds
+  int rounds = 5;
   MosaicBenchSettings settings;
 };
 
@@ -51,16 +54,36 @@ Result<std::vector<std::string>> FloorPhotos(const std::string& floors_dir) {
   return photos;
 }
 
-nlohmann::json SettingsJson(const MosaicBenchSettings& s) {
+// Every size composed and imported, then the lookup rounds taking the sizes in turn, so a change
+// of host speed (other tenants) during the run hits every size alike.
+Result<std::vector<MosaicSizeBench>> BenchAllSizes(const std::vector<cv::Size>& sizes, int rounds,
+                                                   const MosaicBenchSettings& settings) {
+  std::vector<MosaicSizeBench> benches;
+  for (const cv::Size& size : sizes) {
+    Result<MosaicSizeBench> bench = ComposeAndImport(size, settings);
+    if (!bench.ok()) return bench.status();
+    benches.push_back(std::move(bench).value());
+  }
+  for (int round = 0; round < rounds; ++round) {
+    for (MosaicSizeBench& bench : benches) {
+      FLEETLOC_RETURN_IF_ERROR(AddLookupRound(settings, round, &bench));
+    }
+  }
+  for (const MosaicSizeBench& bench : benches) RemoveSizeFiles(settings, bench);
+  return benches;
+}
+
+nlohmann::json SettingsJson(const MosaicBenchSettings& s, int rounds) {
   return {{"photos", s.photos},
           {"work_dir", s.work_dir.string()},
           {"block_px", s.block_px},
           {"seed", s.seed},
           {"resolution_m", s.resolution_m},
-          {"tile_samples", s.lookups.tile_samples},
-          {"block_samples", s.lookups.block_samples},
+          {"tile_samples_per_round", s.lookups.tile_samples},
+          {"block_samples_per_round", s.lookups.block_samples},
           {"lookup_block_px", {s.lookups.block_px.width, s.lookups.block_px.height}},
           {"tile_cache_bytes", s.lookups.cache_bytes},
+          {"lookup_rounds", rounds},
           {"threads", 1}};
 }
 
@@ -71,17 +94,16 @@ Status RunBenchMosaic(BenchMosaicArgs& args) {
   if (!photos.ok()) return photos.status();
   args.settings.photos = *photos;
   args.settings.work_dir = io::AbsoluteDir(args.work_dir);
-  args.settings.lookups.seed = args.settings.seed;
+  const auto per_round = [&](int total) { return (total + args.rounds - 1) / args.rounds; };
+  args.settings.lookups.tile_samples = per_round(args.tile_samples);
+  args.settings.lookups.block_samples = per_round(args.block_samples);
   cv::setNumThreads(1);  // one core; and no worker threads may exist when the steps fork
-  std::vector<MosaicSizeBench> results;
-  nlohmann::json json{{"settings", SettingsJson(args.settings)},
+  Result<std::vector<MosaicSizeBench>> benched = BenchAllSizes(*sizes, args.rounds, args.settings);
+  if (!benched.ok()) return benched.status();
+  const std::vector<MosaicSizeBench>& results = *benched;
+  nlohmann::json json{{"settings", SettingsJson(args.settings, args.rounds)},
                       {"sizes", nlohmann::json::array()}};
-  for (const cv::Size& size : *sizes) {
-    Result<MosaicSizeBench> bench = BenchMosaicSize(size, args.settings);
-    if (!bench.ok()) return bench.status();
-    json["sizes"].push_back(MosaicSizeJson(*bench));
-    results.push_back(*bench);
-  }
+  for (const MosaicSizeBench& bench : results) json["sizes"].push_back(MosaicSizeJson(bench));
   std::cout << "\n== mosaic store at scale: real-texture floors from " << photos->size()
             << " photos, tile size 256, one core\n";
   PrintMosaicTable(std::cout, results);
@@ -109,10 +131,14 @@ void AddBenchMosaicCommand(CLI::App& bench, Status* result) {
   cmd->add_option("--json", args->json, "Write every number to this JSON file");
   cmd->add_option("--block", s.block_px, "Composition block side, px")->check(CLI::Range(16, 4096));
   cmd->add_option("--seed", s.seed, "Composition and sampling seed");
-  cmd->add_option("--tile-samples", s.lookups.tile_samples, "Random tiles read, each way")
+  cmd->add_option("--tile-samples", args->tile_samples, "Random tiles read, each way, per size")
       ->check(CLI::Range(1, 10000000));
-  cmd->add_option("--block-samples", s.lookups.block_samples, "Random blocks read cold and warm")
+  cmd->add_option("--block-samples", args->block_samples,
+                  "Random blocks read cold and warm, per size")
       ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--rounds", args->rounds,
+                  "Lookup rounds taking the sizes in turn (samples split between rounds)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_flag("--keep-files", s.keep_files, "Keep each size's PGM and mosaic");
   cmd->callback([args, result] { *result = RunBenchMosaic(*args); });
 }

@@ -25,6 +25,11 @@ nlohmann::json ChildJson(const ChildRun& run) {
           {"peak_rss_bytes", run.peak_rss_bytes}};
 }
 
+nlohmann::json LatencyJson(const Latency& l) {
+  return {
+      {"samples", l.samples}, {"p50_us", l.p50_us}, {"p99_us", l.p99_us}, {"mean_us", l.mean_us}};
+}
+
 }  // namespace
 
 ScalingVerdict JudgeScaling(const std::vector<MosaicSizeBench>& sizes) {
@@ -42,8 +47,8 @@ ScalingVerdict JudgeScaling(const std::vector<MosaicSizeBench>& sizes) {
   v.pixel_ratio = Ratio(large->megapixels(), small->megapixels());
   v.rss_ratio = Ratio(high->import.peak_rss_bytes, low->import.peak_rss_bytes);
   v.rss_bounded = v.rss_ratio <= kMaxImportRssRatio;
-  const LookupTimes& a = small->times;
-  const LookupTimes& b = large->times;
+  const LookupLatencies a = Summarize(small->lookups.samples);
+  const LookupLatencies b = Summarize(large->lookups.samples);
   v.tile_bytes_ratio = Ratio(b.tile_bytes.p50_us, a.tile_bytes.p50_us);
   v.tile_decoded_ratio = Ratio(b.tile_decoded.p50_us, a.tile_decoded.p50_us);
   v.block_cold_ratio = Ratio(b.block_cold.p50_us, a.block_cold.p50_us);
@@ -55,23 +60,26 @@ ScalingVerdict JudgeScaling(const std::vector<MosaicSizeBench>& sizes) {
 
 void PrintMosaicTable(std::ostream& out, const std::vector<MosaicSizeBench>& sizes) {
   constexpr const char* kRow =
-      "{:<12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>6} {:>9} {:>9} {:>11} {:>9}\n";
-  out << fmt::format(kRow, "size", "Mpx", "compose", "import", "import", "import", "mosaic",
-                     "tiles", "levels", "tile read", "decoded", "block cold", "block warm");
-  out << fmt::format(kRow, "", "", "s", "s", "Mpx/s", "RSS MiB", "MiB", "", "", "p50/p99",
+      "{:<12} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>6} {:>9} {:>9} {:>11} {:>9}\n";
+  out << fmt::format(kRow, "size", "Mpx", "compose", "import", "import", "import", "import",
+                     "mosaic", "tiles", "levels", "tile read", "decoded", "block cold",
+                     "block warm");
+  out << fmt::format(kRow, "", "", "s", "s", "CPU s", "Mpx/s", "RSS MiB", "MiB", "", "", "p50/p99",
                      "p50/p99", "p50/p99", "p50/p99");
-  out << fmt::format(kRow, "", "", "", "", "", "", "", "", "", "us", "us", "us", "us");
+  out << fmt::format(kRow, "", "", "", "", "", "", "", "", "", "", "us", "us", "us", "us");
   for (const MosaicSizeBench& s : sizes) {
+    const LookupLatencies l = Summarize(s.lookups.samples);
     out << fmt::format(
         kRow, fmt::format("{}x{}", s.size_px.width, s.size_px.height),
         fmt::format("{:.1f}", s.megapixels()), fmt::format("{:.1f}", s.compose.wall_s),
-        fmt::format("{:.1f}", s.import.wall_s), fmt::format("{:.1f}", ImportMpxPerSecond(s)),
+        fmt::format("{:.1f}", s.import.wall_s),
+        fmt::format("{:.1f}", s.import.user_s + s.import.system_s),
+        fmt::format("{:.1f}", ImportMpxPerSecond(s)),
         fmt::format("{:.1f}", s.import.peak_rss_bytes / kMiB),
-        fmt::format("{:.0f}", s.mosaic_bytes / kMiB), s.times.tiles, s.times.levels,
-        P50P99(s.times.tile_bytes), P50P99(s.times.tile_decoded), P50P99(s.times.block_cold),
-        P50P99(s.times.block_warm));
+        fmt::format("{:.0f}", s.mosaic_bytes / kMiB), s.lookups.tiles, s.lookups.levels,
+        P50P99(l.tile_bytes), P50P99(l.tile_decoded), P50P99(l.block_cold), P50P99(l.block_warm));
   }
-  if (!sizes.empty()) out << "tile lookup plan: " << sizes.back().times.query_plan << "\n";
+  if (!sizes.empty()) out << "tile lookup plan: " << sizes.back().lookups.query_plan << "\n";
 }
 
 void PrintScalingVerdict(std::ostream& out, const ScalingVerdict& v) {
@@ -88,8 +96,8 @@ void PrintScalingVerdict(std::ostream& out, const ScalingVerdict& v) {
 }
 
 nlohmann::json MosaicSizeJson(const MosaicSizeBench& s) {
-  nlohmann::json lookup = LookupTimesJson(s.times);  // with the mosaic's levels and tiles
-  lookup["process"] = ChildJson(s.lookup);
+  const LookupRun& run = s.lookups;
+  const LookupLatencies l = Summarize(run.samples);
   return {{"size_px", {s.size_px.width, s.size_px.height}},
           {"megapixels", s.megapixels()},
           {"compose", ChildJson(s.compose)},
@@ -98,7 +106,16 @@ nlohmann::json MosaicSizeJson(const MosaicSizeBench& s) {
           {"caller_rss_bytes_at_fork", s.caller_rss_bytes},
           {"pgm_bytes", s.pgm_bytes},
           {"mosaic_bytes", s.mosaic_bytes},
-          {"lookup", lookup}};
+          {"lookup",
+           {{"process", ChildJson(s.lookup)},
+            {"levels", run.levels},
+            {"tiles", run.tiles},
+            {"query_plan", run.query_plan},
+            {"missing_tiles", run.missing_tiles},
+            {"tile_bytes", LatencyJson(l.tile_bytes)},
+            {"tile_decoded", LatencyJson(l.tile_decoded)},
+            {"block_cold", LatencyJson(l.block_cold)},
+            {"block_warm", LatencyJson(l.block_warm)}}}};
 }
 
 nlohmann::json ScalingVerdictJson(const ScalingVerdict& v) {

@@ -1,6 +1,6 @@
 // fleetctl: one CLI with git-style subcommands (CONTRACT section 6).
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <malloc.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <exception>
