@@ -11,11 +11,11 @@
 int main(int argc, char** argv) {
   // Reuse freed heap instead of handing it back to the kernel and faulting it in again (a page
   // fault costs ~10 us on the project's VM): every tile an import encodes allocates and frees
-  // ~300 KB of zlib state, which cost a third of a gigapixel import, and every block a MosaicView
-  // assembles (700x560 px: 392 KB) was a fresh mmap, 1 ms instead of 20 us (docs/benchmarks.md,
-  // "Mosaic store at scale"). Peak RSS is unchanged (the import's is measured there).
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // the largest glibc allows; the default is 128 KiB
+  // ~300 KB of zlib state, which cost a third of a gigapixel import (docs/benchmarks.md, "Mosaic
+  // store at scale"). Setting the trim threshold turns off glibc's adaptive mmap threshold, so
+  // that is fixed too, else every 700x560 block a MosaicView assembles (392 KB) is a fresh mmap.
   mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // the largest glibc allows; the default is 128 KiB
   CLI::App app{"fleetloc maintenance and offline tools"};
   app.require_subcommand(1);
   fleetloc::Status result;
