@@ -221,5 +221,21 @@ TEST_F(CliBadInput, SimWithAMissingImage) {
   EXPECT_TRUE(IsBadInput(r, {"absent.png"}));
 }
 
+TEST_F(CliBadInput, BenchMosaicWithAMalformedSize) {
+  const CommandResult r = RunFleetctl("bench mosaic --sizes 600x400,800by600 --work-dir " +
+                                      Quote(dir_ / "bench_mosaic"));
+  EXPECT_TRUE(IsBadInput(r, {"--sizes", "800by600"}));
+}
+
+TEST_F(CliBadInput, ComposeFloorOfASizeToAPngOrFromAMissingPhoto) {
+  const CommandResult png = RunFleetctl("compose-floor " + Quote(kFloor) +
+                                        " --size 600x400 --out " + Quote(dir_ / "floor.png"));
+  EXPECT_TRUE(IsBadInput(png, {"floor.png", "PGM"}));
+  const CommandResult missing = RunFleetctl("compose-floor " + Quote(dir_ / "absent.jpg") +
+                                            " --size 600x400 --out " + Quote(dir_ / "floor.pgm"));
+  EXPECT_TRUE(IsBadInput(missing, {"absent.jpg"}));
+  EXPECT_FALSE(fs::exists(dir_ / "floor.pgm"));
+}
+
 }  // namespace
 }  // namespace fleetloc::testing

@@ -1,7 +1,9 @@
 // End to end through the fleetctl command line (CONTRACT §6): a real floor photo imported as a
-// mosaic, a simulated run over it, the tracker replayed over the run, and the tracker benchmark.
+// mosaic, a simulated run over it, the tracker replayed over the run, the tracker benchmark, a
+// floor composed from blocks of the photos and the mosaic store benchmark.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <fstream>
 #include <sstream>
@@ -12,6 +14,8 @@
 
 namespace fleetloc::testing {
 namespace {
+
+namespace fs = std::filesystem;
 
 const std::string kFloor = FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png";
 const std::string kPosesHeader = "t,x,y,theta,sxx,sxy,sxt,syy,syt,stt,status,inliers";
@@ -80,6 +84,61 @@ TEST(CliEndToEnd, BenchAgentComparesTheLiveAgentWithTheOfflineTracker) {
   EXPECT_GT(report["offline"]["median_ms"].get<double>(), 0.0);
   EXPECT_GT(report["ratio"].get<double>(), 0.0);
   EXPECT_EQ(report["live"]["tiles"]["timeouts"], 0);
+}
+
+TEST(CliEndToEnd, ComposeFloorOfASizeIsTheSamePgmEveryTimeForASeed) {
+  const ScratchDir dir("cli_compose");
+  const std::string photos =
+      Quote(kFloor) + " " + Quote(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/gravel_1024.png");
+  const auto compose = [&](const std::string& out, int seed) {
+    return RunFleetctl("compose-floor " + photos + " --size 1100x700 --block 256 --seed " +
+                       std::to_string(seed) + " --out " + Quote(out));
+  };
+  ASSERT_EQ(compose(dir / "a.pgm", 5).exit_code, 0);
+  ASSERT_EQ(compose(dir / "b.pgm", 5).exit_code, 0);
+  ASSERT_EQ(compose(dir / "c.pgm", 6).exit_code, 0);
+  const std::string a = ReadWhole(dir / "a.pgm");
+  const std::string header = "P5\n1100 700\n255\n";
+  ASSERT_EQ(a.size(), header.size() + 1100 * 700);
+  EXPECT_EQ(a.substr(0, header.size()), header);
+  EXPECT_EQ(a, ReadWhole(dir / "b.pgm"));
+  EXPECT_NE(a, ReadWhole(dir / "c.pgm"));
+}
+
+TEST(CliEndToEnd, BenchMosaicReportsImportAndLookupsForEachSize) {
+  const ScratchDir dir("cli_bench_mosaic");
+  const CommandResult bench = RunFleetctl(
+      "bench mosaic --sizes 600x400,1100x700 --tile-samples 50 --block-samples 10 --work-dir " +
+      Quote(dir / "work") + " --json " + Quote(dir / "bench.json"));
+  ASSERT_EQ(bench.exit_code, 0) << bench.err;
+  EXPECT_NE(bench.out.find("1100x700"), std::string::npos) << bench.out;
+  EXPECT_NE(bench.out.find("verdict: import peak RSS"), std::string::npos) << bench.out;
+
+  const nlohmann::json json = nlohmann::json::parse(ReadWhole(dir / "bench.json"));
+  ASSERT_EQ(json["sizes"].size(), 2u);
+  const nlohmann::json& large = json["sizes"][1];
+  EXPECT_EQ(large["size_px"], nlohmann::json({1100, 700}));
+  EXPECT_NEAR(large["megapixels"].get<double>(), 0.77, 1e-9);
+  EXPECT_GT(large["import"]["wall_s"].get<double>(), 0.0);
+  EXPECT_GT(large["import"]["peak_rss_bytes"].get<long long>(), 1 << 20);
+  EXPECT_EQ(large["pgm_bytes"].get<std::size_t>(),
+            std::string("P5\n1100 700\n255\n").size() + 1100 * 700);
+  EXPECT_GT(large["mosaic_bytes"].get<long long>(), 100000);
+  const nlohmann::json& lookup = large["lookup"];
+  EXPECT_EQ(lookup["levels"], 4);
+  EXPECT_EQ(lookup["tiles"], 15 + 6 + 2 + 1);  // 5x3, 3x2, 2x1 and 1x1 tiles
+  EXPECT_EQ(lookup["missing_tiles"], 0);
+  EXPECT_NE(lookup["query_plan"].get<std::string>().find("USING INDEX"), std::string::npos);
+  for (const char* op : {"tile_bytes", "tile_decoded", "block_cold", "block_warm"}) {
+    EXPECT_GT(lookup[op]["p50_us"].get<double>(), 0.0) << op;
+    EXPECT_GE(lookup[op]["p99_us"].get<double>(), lookup[op]["p50_us"].get<double>()) << op;
+  }
+  EXPECT_EQ(lookup["tile_bytes"]["samples"], 50);
+  EXPECT_EQ(lookup["block_cold"]["samples"], 10);
+  EXPECT_TRUE(json["verdict"]["applicable"].get<bool>());
+  EXPECT_GT(json["verdict"]["import_rss_ratio"].get<double>(), 0.0);
+  EXPECT_FALSE(
+      fs::exists(dir.path() / "work" / "1100x700" / "floor.pgm"));  // removed once measured
 }
 
 }  // namespace

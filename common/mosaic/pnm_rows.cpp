@@ -1,4 +1,5 @@
-// Row-streaming reader for binary PGM (P5) and PPM (P6), 8- or 16-bit samples.
+// Row-streaming reader for binary PGM (P5) and PPM (P6), 8- or 16-bit samples, and writer of 8-bit
+// binary PGM.
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -92,6 +93,44 @@ class PnmRowReader : public GrayRowReader {
   std::vector<std::uint8_t> samples_;  // one row scaled to 8 bits
 };
 
+// Writes "P5 <width> <height> 255" and then the rows as they come: memory is stdio's buffer only.
+class PgmRowWriter : public GrayRowWriter {
+ public:
+  PgmRowWriter(std::string path, File file, int width_px, int height_px)
+      : path_(std::move(path)),
+        file_(std::move(file)),
+        width_px_(width_px),
+        height_px_(height_px) {}
+
+  Status Start() {
+    const int written = std::fprintf(file_.get(), "P5\n%d %d\n255\n", width_px_, height_px_);
+    return written > 0 ? Status::Ok() : Internal(path_ + ": write failed (PGM header)");
+  }
+
+  Status WriteRow(std::span<const std::uint8_t> row) override {
+    FLEETLOC_CHECK(static_cast<int>(row.size()) == width_px_ && rows_written_ < height_px_);
+    if (std::fwrite(row.data(), 1, row.size(), file_.get()) != row.size()) {
+      return Internal(path_ + ": write failed at row " + std::to_string(rows_written_));
+    }
+    ++rows_written_;
+    return Status::Ok();
+  }
+
+  Status Finish() override {
+    FLEETLOC_CHECK(rows_written_ == height_px_);
+    if (std::fflush(file_.get()) != 0 || std::ferror(file_.get())) {
+      return Internal(path_ + ": write failed");
+    }
+    return Status::Ok();
+  }
+
+ private:
+  const std::string path_;
+  File file_;
+  const int width_px_, height_px_;
+  int rows_written_ = 0;
+};
+
 }  // namespace
 
 Result<std::unique_ptr<GrayRowReader>> OpenPnmRowReader(const std::string& path) {
@@ -100,6 +139,16 @@ Result<std::unique_ptr<GrayRowReader>> OpenPnmRowReader(const std::string& path)
   auto reader = std::make_unique<PnmRowReader>(path, std::move(file));
   FLEETLOC_RETURN_IF_ERROR(reader->Start());
   return std::unique_ptr<GrayRowReader>(std::move(reader));
+}
+
+Result<std::unique_ptr<GrayRowWriter>> CreatePgmRowWriter(const std::string& path, int width_px,
+                                                          int height_px) {
+  FLEETLOC_CHECK(width_px > 0 && height_px > 0);
+  File file(std::fopen(path.c_str(), "wb"));
+  if (file == nullptr) return Internal(path + ": cannot create");
+  auto writer = std::make_unique<PgmRowWriter>(path, std::move(file), width_px, height_px);
+  FLEETLOC_RETURN_IF_ERROR(writer->Start());
+  return std::unique_ptr<GrayRowWriter>(std::move(writer));
 }
 
 }  // namespace fleetloc::mosaic

@@ -1,5 +1,6 @@
 // Row-streaming image files for import and export: read any image as 8-bit gray rows, top to
-// bottom, and write gray PNGs row by row, so big images never need to be held whole in memory.
+// bottom, and write gray PNGs or PGMs row by row, so big images never need to be held whole in
+// memory.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +41,7 @@ Result<std::unique_ptr<GrayRowReader>> OpenGrayRowReader(const std::string& path
 Result<std::unique_ptr<GrayRowReader>> OpenPngRowReader(const std::string& path);
 Result<std::unique_ptr<GrayRowReader>> OpenPnmRowReader(const std::string& path);
 
-// Writes an 8-bit gray PNG of known size row by row. The file is complete only after Finish().
+// Writes an 8-bit gray image of known size row by row. The file is complete only after Finish().
 class GrayRowWriter {
  public:
   virtual ~GrayRowWriter() = default;
@@ -52,6 +53,10 @@ class GrayRowWriter {
 
 // Creates (overwrites) a gray PNG of width × height pixels. Internal error if it cannot be created.
 Result<std::unique_ptr<GrayRowWriter>> CreatePngRowWriter(const std::string& path, int width_px,
+                                                          int height_px);
+// Creates (overwrites) a binary 8-bit PGM (P5) of width × height pixels, uncompressed, so images of
+// any size are written at disk speed. Internal error if it cannot be created.
+Result<std::unique_ptr<GrayRowWriter>> CreatePgmRowWriter(const std::string& path, int width_px,
                                                           int height_px);
 
 }  // namespace fleetloc::mosaic

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <filesystem>
 #include <fstream>
 #include <vector>
 
@@ -166,6 +167,32 @@ TEST(GrayRowWriter, PngWrittenRowByRowReadsBackExactly) {
   writer->reset();
   EXPECT_EQ(MaxAbsDiff(cv::imread(dir.File("out.png"), cv::IMREAD_UNCHANGED), gray), 0);
   EXPECT_FALSE(CreatePngRowWriter(dir.File("no/such/dir/out.png"), 10, 10).ok());
+}
+
+TEST(GrayRowWriter, PgmRowsReachTheFileAsTheyAreWrittenAndReadBackExactly) {
+  ScratchDir dir;
+  cv::Mat gray;  // 2 MB: far more than stdio's buffer
+  cv::repeat(LoadGray(SourcePath("tests/data/gravel.png"))(cv::Rect(0, 0, 250, 250)), 4, 8, gray);
+  const std::string path = dir.File("out.pgm");
+  Result<std::unique_ptr<GrayRowWriter>> writer = CreatePgmRowWriter(path, gray.cols, gray.rows);
+  ASSERT_TRUE(writer.ok()) << writer.status().message();
+  for (int y = 0; y < gray.rows; ++y) {
+    ASSERT_TRUE((*writer)->WriteRow({gray.ptr(y), static_cast<std::size_t>(gray.cols)}).ok());
+    if (y == gray.rows / 2) {  // streamed: all but stdio's buffer is already in the file
+      EXPECT_GE(std::filesystem::file_size(path) + 65536,
+                static_cast<std::uintmax_t>(y) * gray.cols);
+    }
+  }
+  ASSERT_TRUE((*writer)->Finish().ok());
+  writer->reset();
+  EXPECT_EQ(std::filesystem::file_size(path),
+            std::string("P5\n2000 1000\n255\n").size() + 2000 * 1000);
+  EXPECT_EQ(MaxAbsDiff(cv::imread(path, cv::IMREAD_UNCHANGED), gray), 0);
+  Result<std::unique_ptr<GrayRowReader>> reader = OpenGrayRowReader(path);
+  ASSERT_TRUE(reader.ok()) << reader.status().message();
+  EXPECT_TRUE((*reader)->streaming());
+  EXPECT_EQ(MaxAbsDiff(ReadAllRows(**reader), gray), 0);
+  EXPECT_FALSE(CreatePgmRowWriter(dir.File("no/such/dir/out.pgm"), 10, 10).ok());
 }
 
 }  // namespace

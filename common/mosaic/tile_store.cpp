@@ -20,6 +20,11 @@ constexpr char kSchema[] =
     "CREATE TABLE tiles(level INTEGER, col INTEGER, row INTEGER, version INTEGER, data BLOB,"
     " PRIMARY KEY(level, col, row, version));";
 
+// The newest version <= ?4 of one tile: a search of the primary key's index (TileLookupPlan).
+constexpr char kSelectTileSql[] =
+    "SELECT data FROM tiles WHERE level = ?1 AND col = ?2 AND row = ?3 AND version <= ?4"
+    " ORDER BY version DESC LIMIT 1";
+
 Status StepDone(sqlite3_stmt* stmt, const std::string& what) {
   const int rc = sqlite3_step(stmt);
   if (rc == SQLITE_DONE) return Status::Ok();
@@ -132,9 +137,7 @@ Status TileStore::Init(const std::string& problem_prefix) {
   if (!layout.ok()) return InvalidInput(problem_prefix + layout.status().message());
   layout_ = std::move(layout).value();
   const std::pair<sqlite::Stmt*, const char*> statements[] = {
-      {&select_tile_,
-       "SELECT data FROM tiles WHERE level = ?1 AND col = ?2 AND row = ?3 AND version <= ?4"
-       " ORDER BY version DESC LIMIT 1"},
+      {&select_tile_, kSelectTileSql},
       {&insert_tile_,
        "INSERT OR REPLACE INTO tiles(level, col, row, version, data) VALUES(?1, ?2, ?3, ?4, ?5)"},
       {&select_version_, "SELECT value FROM metadata WHERE name = 'version'"},
@@ -321,6 +324,20 @@ Result<std::vector<long long>> TileStore::TileCountsPerLevel() {
   }
   if (rc != SQLITE_DONE) return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
   return counts;
+}
+
+Result<std::string> TileStore::TileLookupPlan() {
+  std::lock_guard lock(mutex_);
+  Result<sqlite::Stmt> explain =
+      sqlite::Prepare(db_.get(), std::string("EXPLAIN QUERY PLAN ") + kSelectTileSql);
+  if (!explain.ok()) return Internal(path_ + ": " + explain.status().message());
+  std::string plan;
+  int rc;
+  while ((rc = sqlite3_step(explain->get())) == SQLITE_ROW) {
+    plan += (plan.empty() ? "" : "; ") + ColumnText(explain->get(), 3);  // id, parent, 0, detail
+  }
+  if (rc != SQLITE_DONE) return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
+  return plan;
 }
 
 TileLoader MakeTileLoader(std::shared_ptr<TileStore> store) {

@@ -68,6 +68,11 @@ class TileStore {
   // The whole metadata table.
   Result<Metadata> ReadMetadata();
 
+  // SQLite's query plan (EXPLAIN QUERY PLAN details, "; "-joined) for the tile lookup ReadTileBytes
+  // runs, e.g. "SEARCH tiles USING INDEX sqlite_autoindex_tiles_1 (level=? AND col=? AND row=? AND
+  // version<?)": shows the lookup is an index search, O(log tiles), not a scan.
+  Result<std::string> TileLookupPlan();
+
  private:
   TileStore(std::string path, sqlite::Db db, OpenMode mode);
   Status Init(const std::string& problem_prefix);

@@ -99,6 +99,21 @@ TEST(TileStore, ReadsNewestVersionNotAboveTheCurrentOne) {
   EXPECT_EQ(*reader->TileCountsPerLevel(), (std::vector<long long>{4, 1}));
 }
 
+TEST(TileStore, TileLookupSearchesThePrimaryKeyIndexInsteadOfScanning) {
+  ScratchDir dir;
+  ImportPhoto(dir.File("m.db"));
+  std::unique_ptr<TileStore> reader = OpenOrDie(dir.File("m.db"), OpenMode::kReadOnly);
+  Result<std::string> plan = reader->TileLookupPlan();
+  ASSERT_TRUE(plan.ok()) << plan.status().message();
+  // All three key columns and the version bound are used by the index search: O(log tiles).
+  EXPECT_NE(plan->find("SEARCH tiles USING INDEX sqlite_autoindex_tiles_1 (level=? AND col=? AND "
+                       "row=? AND version<?)"),
+            std::string::npos)
+      << *plan;
+  EXPECT_EQ(plan->find("SCAN"), std::string::npos) << *plan;
+  EXPECT_EQ(plan->find("TEMP B-TREE"), std::string::npos) << *plan;  // no sort for ORDER BY
+}
+
 TEST(TileStore, ReopenAfterCrashKeepsLastCommittedVersion) {
   ScratchDir dir;
   const std::string path = dir.File("m.db");

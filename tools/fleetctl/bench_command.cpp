@@ -19,14 +19,13 @@
 #include "bench_tiles.h"
 #include "bench_tracker.h"
 #include "commands.h"
+#include "floor_images.h"
 #include "io/file_util.h"
 
 namespace fleetloc::fleetctl {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kFloorsSubdir = "deploy/demo/floors";
 
 struct BenchArgs {
   std::vector<std::string> floors;
@@ -36,33 +35,10 @@ struct BenchArgs {
   BenchSettings settings;
 };
 
-bool IsImageFile(const fs::path& path) {
-  static const std::set<std::string> kExtensions{".png", ".jpg", ".jpeg", ".pgm",
-                                                 ".ppm", ".tif", ".tiff", ".bmp"};
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return kExtensions.count(ext) > 0;
-}
-
-// Every image file of `dir`, by name. NotFound / InvalidInput when there is none.
-Result<std::vector<fs::path>> ListFloorImages(const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    return NotFound(dir.string() + ": no such directory (--floors-dir)");
-  std::vector<fs::path> images;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.is_regular_file() && IsImageFile(entry.path())) images.push_back(entry.path());
-  }
-  std::sort(images.begin(), images.end());
-  if (images.empty()) return InvalidInput(dir.string() + ": no floor images (--floors-dir)");
-  return images;
-}
-
 Result<std::vector<fs::path>> ResolveFloors(const BenchArgs& args) {
   if (args.floors.empty()) {
-    return ListFloorImages(args.floors_dir.empty() ? DefaultFloorsDir()
-                                                   : fs::path(args.floors_dir));
+    return ListFloorImages(args.floors_dir.empty() ? DefaultFloorsDir() : fs::path(args.floors_dir),
+                           "--floors-dir");
   }
   std::vector<fs::path> floors;
   for (const std::string& floor : args.floors) {
@@ -251,6 +227,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   tracker->callback([args, result] { *result = RunBench(*args); });
   RegisterBenchTiles(bench, result);
   RegisterBenchAgent(bench, result);
+  AddBenchMosaicCommand(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

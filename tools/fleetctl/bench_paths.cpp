@@ -3,19 +3,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "floor_images.h"
 #include "mosaic/importer.h"
 
 namespace fleetloc::fleetctl {
-
-std::filesystem::path DefaultFloorsDir() {
-  namespace fs = std::filesystem;
-  constexpr const char* kFloorsSubdir = "deploy/demo/floors";
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
-  if (!ec && fs::is_directory(beside, ec)) return beside;
-  return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
-}
 
 Result<std::string> EnsureDemoMosaic(const std::string& work_dir, const std::string& image_name,
                                      const std::string& db_name) {

@@ -1,4 +1,4 @@
-// Where fleetctl's benchmarks find the demo floors of the source tree.
+// The demo mosaic fleetctl's DDS benchmarks serve (the floors are found by floor_images.h).
 #pragma once
 
 #include <filesystem>
@@ -7,10 +7,6 @@
 #include "base/status.h"
 
 namespace fleetloc::fleetctl {
-
-// deploy/demo/floors of the source tree: beside the executable's build directory
-// (<source>/<build>/bin/fleetctl) or else the source directory this binary was compiled from.
-std::filesystem::path DefaultFloorsDir();
 
 // The demo floor `image_name` (in DefaultFloorsDir()) imported at 0.5 mm/px as
 // `work_dir`/`db_name`, reused if it exists. Returns the mosaic's path.

@@ -16,4 +16,7 @@ void RegisterComposeCommand(CLI::App& app, Status* result);
 void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
 
+// `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
+void AddBenchMosaicCommand(CLI::App& bench, Status* result);
+
 }  // namespace fleetloc::fleetctl

@@ -1,13 +1,18 @@
 // fleetctl compose-floor: places several different floor photographs side by side (each used
 // once, never tiled: a tiled texture would make the floor ambiguous) into one larger gray floor
-// image, cropped to a common height. The default demo floor is made this way.
+// image, cropped to a common height. The default demo floor is made this way. With --size it
+// instead composes a floor of any size (gigapixels) from varied blocks of the photos, streamed to
+// a binary PGM (composed_floor.h); its blocks reuse photo content (varied by crop, orientation and
+// gain), so it serves storage benchmarks at scale, not judging how the tracker copes with
+// ambiguity.
 #include <spdlog/spdlog.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
-#include "io/run.h"
+#include "composed_floor.h"
+#include "floor_images.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -16,20 +21,12 @@ struct ComposeArgs {
   std::vector<std::string> images;
   std::string out;
   int height_px = 0;  // 0: the smallest input height
+  std::string size;   // "WxH": compose blocks of the photos to this size instead
+  sim::FloorComposerOptions blocks;
 };
 
-Result<std::vector<cv::Mat>> LoadAll(const std::vector<std::string>& paths) {
-  std::vector<cv::Mat> images;
-  for (const auto& path : paths) {
-    Result<cv::Mat> image = io::ReadGrayImage(path);
-    if (!image.ok()) return image.status();
-    images.push_back(*image);
-  }
-  return images;
-}
-
-Status Compose(const ComposeArgs& args) {
-  Result<std::vector<cv::Mat>> images = LoadAll(args.images);
+Status ComposeSideBySide(const ComposeArgs& args) {
+  Result<std::vector<cv::Mat>> images = LoadGrayImages(args.images);
   if (!images.ok()) return images.status();
   int height = args.height_px;
   for (const auto& image : *images) {
@@ -56,6 +53,17 @@ Status Compose(const ComposeArgs& args) {
   return Status::Ok();
 }
 
+Status ComposeBlocks(ComposeArgs args) {
+  Result<cv::Size> size = ParsePixelSize(args.size, "--size");
+  if (!size.ok()) return size.status();
+  args.blocks.width_px = size->width;
+  args.blocks.height_px = size->height;
+  FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(args.images, args.blocks, args.out));
+  spdlog::info("composed {} photos into {} ({}x{} px, {} px blocks, seed {})", args.images.size(),
+               args.out, size->width, size->height, args.blocks.block_px, args.blocks.seed);
+  return Status::Ok();
+}
+
 }  // namespace
 
 void RegisterComposeCommand(CLI::App& app, Status* result) {
@@ -65,10 +73,21 @@ void RegisterComposeCommand(CLI::App& app, Status* result) {
   cmd->add_option("images", args->images, "Floor photographs, left to right")
       ->required()
       ->expected(1, -1);
-  cmd->add_option("--out", args->out, "Output image (PNG)")->required();
-  cmd->add_option("--height", args->height_px, "Common height in px (default: smallest input)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->callback([args, result] { *result = Compose(*args); });
+  cmd->add_option("--out", args->out, "Output image (PNG; PGM with --size)")->required();
+  CLI::Option* height =
+      cmd->add_option("--height", args->height_px, "Common height in px (default: smallest input)")
+          ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--size", args->size,
+                  "Compose a WxH floor of varied blocks of the photos instead (binary PGM, "
+                  "streamed; e.g. 32768x32768)")
+      ->excludes(height);
+  cmd->add_option("--block", args->blocks.block_px, "Block side in px for --size")
+      ->capture_default_str();
+  cmd->add_option("--seed", args->blocks.seed, "Block placement seed for --size")
+      ->capture_default_str();
+  cmd->callback([args, result] {
+    *result = args->size.empty() ? ComposeSideBySide(*args) : ComposeBlocks(*args);
+  });
 }
 
 }  // namespace fleetloc::fleetctl

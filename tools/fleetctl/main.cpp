@@ -1,4 +1,5 @@
 // fleetctl: one CLI with git-style subcommands (CONTRACT section 6).
+#include <malloc.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -8,6 +9,13 @@
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // Reuse freed heap instead of handing it back to the kernel and faulting it in again (a page
+  // fault costs ~10 us on the project's VM): every tile an import encodes allocates and frees
+  // ~300 KB of zlib state, which cost a third of a gigapixel import (docs/benchmarks.md, "Mosaic
+  // store at scale"). Setting the trim threshold turns off glibc's adaptive mmap threshold, so
+  // that is fixed too, else every 700x560 block a MosaicView assembles (392 KB) is a fresh mmap.
+  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // the largest glibc allows; the default is 128 KiB
   CLI::App app{"fleetloc maintenance and offline tools"};
   app.require_subcommand(1);
   fleetloc::Status result;

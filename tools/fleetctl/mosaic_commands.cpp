@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "served_mosaics.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "progress_log.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -64,15 +66,9 @@ Status RunImport(const ImportArgs& args) {
     options.origin_x_m = (*origin)[0];
     options.origin_y_m = (*origin)[1];
   }
-  int last_percent = -1;
-  const auto progress = [&](int rows_done, int rows_total) {
-    const int percent = static_cast<int>(100LL * rows_done / rows_total);
-    if (percent / 10 == last_percent / 10 && rows_done != rows_total) return;
-    last_percent = percent;
-    spdlog::info("import {}: {} of {} rows ({}%)", args.image, rows_done, rows_total, percent);
-  };
+  PercentLog progress("import " + args.image, "rows", 10);
   Result<mosaic::MosaicLayout> layout =
-      mosaic::ImportImage(args.image, options, args.out, progress);
+      mosaic::ImportImage(args.image, options, args.out, std::ref(progress));
   if (!layout.ok()) return layout.status();
   spdlog::info("wrote {}: {}x{} px, {} levels, {} m/px, origin ({}, {}), mosaic_id {}", args.out,
                layout->width_px, layout->height_px, layout->levels, layout->geo.resolution,
