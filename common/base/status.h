@@ -83,6 +83,15 @@ class Result {
   Status status_;
 };
 
+// Moves a successful Result into a new *out (for members built in steps that may fail);
+// otherwise returns its Status and leaves *out alone.
+template <typename T, typename Ptr>
+Status AssignTo(Result<T> result, Ptr* out) {
+  if (!result.ok()) return result.status();
+  *out = Ptr(new T(std::move(result).value()));
+  return Status::Ok();
+}
+
 // Aborts with a message when a programmer's invariant is broken.
 #define FLEETLOC_CHECK(cond)                                                          \
   do {                                                                                \

@@ -20,14 +20,6 @@ constexpr dds_attach_t kTileRequests = 1;
 constexpr dds_attach_t kPatches = 2;
 constexpr dds_attach_t kRemapCommands = 3;
 
-// Moves a successful Result into *out; otherwise returns its Status.
-template <typename T>
-Status Assign(Result<T> result, std::unique_ptr<T>* out) {
-  if (!result.ok()) return result.status();
-  *out = std::make_unique<T>(std::move(result).value());
-  return Status::Ok();
-}
-
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames()}) {
@@ -58,7 +50,7 @@ Status MapServer::Open() {
   if (!patches.ok()) return patches.status();
   patches_ = std::move(patches).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
-  FLEETLOC_RETURN_IF_ERROR(Assign(
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
       &participant_));
   FLEETLOC_RETURN_IF_ERROR(OpenTopics());
@@ -70,24 +62,24 @@ Status MapServer::OpenTopics() {
   using transport::Reader;
   using transport::Writer;
   const transport::Participant& p = *participant_;
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_TileRequest>::Create(p, topics::kTileRequest), &request_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_Tile>::Create(p, topics::kTile), &tile_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_PatchAck>::Create(p, topics::kPatchAck), &ack_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_ServiceHealth>::Create(p, topics::kServiceHealth), &health_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_PatchObservation>::Create(p, topics::kPatchObservation), &patch_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_RemapCommand>::Create(p, topics::kRemapCommand), &remap_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_RemapStatus>::Create(p, topics::kRemapStatus), &remap_status_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_TileRequest>::Create(p, topics::kTileRequest), &request_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_Tile>::Create(p, topics::kTile), &tile_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_PatchAck>::Create(p, topics::kPatchAck), &ack_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_ServiceHealth>::Create(p, topics::kServiceHealth), &health_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_PatchObservation>::Create(p, topics::kPatchObservation), &patch_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_RemapCommand>::Create(p, topics::kRemapCommand), &remap_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_RemapStatus>::Create(p, topics::kRemapStatus), &remap_status_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_MosaicInfo>::Create(p.get(), *info_topic_, transport::DurableStateQos()), &info_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_ServiceHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_, transport::DurableStateQos()), &remap_status_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_TileRequest>::Create(p.get(), *request_topic_, transport::CommandQos()), &request_reader_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_PatchObservation>::Create(p.get(), *patch_topic_, transport::BulkQos()), &patch_reader_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()), &remap_reader_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::WaitSet::Create(p), &waitset_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_MosaicInfo>::Create(p.get(), *info_topic_, transport::DurableStateQos()), &info_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_ServiceHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_, transport::DurableStateQos()), &remap_status_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_TileRequest>::Create(p.get(), *request_topic_, transport::CommandQos()), &request_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_PatchObservation>::Create(p.get(), *patch_topic_, transport::BulkQos()), &patch_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()), &remap_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::WaitSet::Create(p), &waitset_));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(request_reader_->get(), kTileRequests));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(patch_reader_->get(), kPatches));
   return waitset_->AttachReader(remap_reader_->get(), kRemapCommands);

@@ -21,13 +21,6 @@ namespace topics = transport::topics;
 
 namespace {
 
-template <typename T>
-Status Assign(Result<T> result, std::unique_ptr<T>* out) {
-  if (!result.ok()) return result.status();
-  *out = std::make_unique<T>(std::move(result).value());
-  return Status::Ok();
-}
-
 cv::Matx33d Matx(const std::array<double, 9>& v) { return cv::Matx33d(v.data()); }
 
 }  // namespace
@@ -46,19 +39,19 @@ Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
 }
 
 Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
-  FLEETLOC_RETURN_IF_ERROR(Assign(
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}), &participant_));
   const transport::Participant& p = *participant_;
   auto client = transport::TileClient::Create(p, config_.vehicle_id);
   if (!client.ok()) return client.status();
   tiles_ = std::move(client).value();
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Writer<fleetloc_VehiclePose>::Create(p.get(), *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_VehiclePose>::Create(p.get(), *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
-  FLEETLOC_RETURN_IF_ERROR(Assign(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_));
   spdlog::info("waiting up to {} s for a map server on domain {}", config_.mosaic_wait_s, config_.domain_id);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.mosaic_wait_s);
   std::optional<fleetloc_MosaicInfo> info;
