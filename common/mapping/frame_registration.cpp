@@ -47,6 +47,9 @@ Status Validate(const RegistrationOptions& o) {
   if (!(o.min_prior_sigma_px > 0) || !(o.min_prior_sigma_rad > 0)) {
     return InvalidInput("registration.min_prior_sigma_px and _rad must be > 0");
   }
+  if (!(o.min_template_sigma_px > 0)) {
+    return InvalidInput("registration.min_template_sigma_px must be > 0");
+  }
   return Status::Ok();
 }
 
@@ -102,6 +105,10 @@ Result<FrameRegistration> FrameRegistrar::Register(const cv::Mat& reference, con
       tracking::Predict(prior, Pose2{}, 0.0, options_.tracker.odometry);
   Result<PoseWithCovariance> measured = RemovePrior(tracker_prior, result.base_in_map);
   if (!measured.ok()) return measured.status();
+  const double n = result.inliers;
+  const double sigma_px =
+      std::max(options_.min_template_sigma_px, result.rms_residual_px * std::sqrt(n / (2 * n - 3)));
+  measured->covariance *= std::pow(sigma_px / options_.tracker.measurement_sigma_px, 2);
   FrameRegistration registration;
   registration.relative =
       geometry::Compose({kReferenceInLocal.Inverse(), Eigen::Matrix3d::Zero()}, *measured);

@@ -24,6 +24,9 @@ struct RegistrationOptions {
   int min_inliers = 8;                 // fewer agreeing template matches: registration fails
   double min_prior_sigma_px = 2.0;     // the prediction's 1-sigma is raised to at least this …
   double min_prior_sigma_rad = 0.004;  // … and this, so the search window is never too tight
+  // The covariance is rescaled to the template residuals' own scatter (see Register), with the
+  // per-template 1-sigma taken as at least this.
+  double min_template_sigma_px = 0.02;
 };
 
 // Flat range checks; InvalidInput naming the field.
@@ -44,8 +47,11 @@ class FrameRegistrar {
 
   // Registers `target` against `reference` (both CV_8UC1 of the camera's size). `predicted` is the
   // expected relative pose (target in reference) with a positive definite covariance; it places
-  // the search windows (3 sigma, raised to the option minimums). NotFound with the reason when
-  // the frames do not overlap enough or too few template matches agree.
+  // the search windows (3 sigma, raised to the option minimums). The tracker weighs each template
+  // match with its model sigma (measurement_sigma_px, made for a frame against a mosaic); between
+  // two frames of one run the matches are often much better, so the measured covariance is scaled
+  // by the residuals' own variance (rms² · n / (2n − 3) per axis over n inliers) over the model's.
+  // NotFound with the reason when the frames do not overlap enough or too few matches agree.
   Result<FrameRegistration> Register(const cv::Mat& reference, const cv::Mat& target,
                                      const geometry::PoseWithCovariance& predicted) const;
 
