@@ -94,7 +94,7 @@ TEST(MosaicBlender, BlendingFramesAtTheirPosesRebuildsThePhoto) {
     plain.Add(frames.images[k], frames.cameras[k]);
     gains.push_back(normalized.Add(frames.images[k], frames.cameras[k]));
   }
-  EXPECT_DOUBLE_EQ(gains[0], 1.0);                      // nothing accumulated yet
+  EXPECT_DOUBLE_EQ(gains[0], 1.0);                        // nothing accumulated yet
   EXPECT_NEAR(gains[11], 1.0 / (0.8 + 0.04 * 11), 0.03);  // undoes the frame's gain
   // Noise is σ 2 per frame; after gain normalization the mosaic is the photo to ~1.5 grey levels
   // (measured 1.45; without normalization 12.6).
