@@ -176,9 +176,10 @@ class Mapper {
     }
     if (result_.successive_registered < options_.min_registered_fraction * pairs) {
       return InvalidInput("only " + std::to_string(result_.successive_registered) + " of " +
-                          std::to_string(pairs) +
-                          " successive frame pairs could be registered: the frames do not "
-                          "overlap or have too little texture for a mapping run");
+                          std::to_string(pairs) + " successive frame pairs registered (" +
+                          std::to_string(successive_overlapping_) +
+                          " overlap by the odometry): a mapping run needs overlapping frames "
+                          "with texture");
     }
     return Status::Ok();
   }
@@ -188,6 +189,7 @@ class Mapper {
   Result<bool> RegisterSuccessivePair(int i, int k, bool place) {
     if (!Overlaps(i, k, options_.min_sequential_overlap)) return false;
     ++result_.pairs_tried;
+    if (i == k - 1) ++successive_overlapping_;
     const PoseWithCovariance predicted{geometry::Between(graph_.poses()[i], graph_.poses()[k]),
                                        OdometryStep(i, k).covariance};
     Result<FrameRegistration> r = RegisterPair(i, k, predicted);
@@ -250,6 +252,7 @@ class Mapper {
   FrameRegistrar registrar_;
   PoseGraph graph_;
   std::vector<PoseWithCovariance> steps_;  // best step k → k+1: registration, else odometry
+  int successive_overlapping_ = 0;         // pairs (k-1, k) tried: they overlap by odometry
   MappedRun result_;
 };
 

@@ -14,16 +14,26 @@
 #include <vector>
 
 #include "bench_report.h"
+#include "bench_mosaic_build.h"
 #include "bench_tracker.h"
 #include "commands.h"
 #include "io/file_util.h"
 
 namespace fleetloc::fleetctl {
-namespace {
 
 namespace fs = std::filesystem;
 
 constexpr const char* kFloorsSubdir = "deploy/demo/floors";
+
+fs::path DefaultFloorsDir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
+  if (!ec && fs::is_directory(beside, ec)) return beside;
+  return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
+}
+
+namespace {
 
 struct BenchArgs {
   std::vector<std::string> floors;
@@ -32,16 +42,6 @@ struct BenchArgs {
   std::string json;
   BenchSettings settings;
 };
-
-// deploy/demo/floors of the source tree: beside the executable's build directory
-// (<source>/<build>/bin/fleetctl) or else the source directory this binary was compiled from.
-fs::path DefaultFloorsDir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
-  if (!ec && fs::is_directory(beside, ec)) return beside;
-  return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
-}
 
 bool IsImageFile(const fs::path& path) {
   static const std::set<std::string> kExtensions{".png", ".jpg", ".jpeg", ".pgm",
@@ -219,6 +219,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   tracker->option_defaults()->always_capture_default();
   AddBenchTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = RunBench(*args); });
+  RegisterBenchMosaicBuild(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

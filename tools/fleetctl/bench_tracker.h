@@ -15,6 +15,10 @@
 
 namespace fleetloc::fleetctl {
 
+// deploy/demo/floors of the source tree: beside the executable's build directory
+// (<source>/<build>/bin/fleetctl) or else the source directory this binary was compiled from.
+std::filesystem::path DefaultFloorsDir();
+
 // "fleetloc" followed by the peers' names (peers::PeerNames()).
 std::vector<std::string> BenchMethodNames();
 
