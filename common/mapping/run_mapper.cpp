@@ -136,6 +136,7 @@ class Mapper {
     ++result_.odometry_bridges;
   }
 
+  // True when frames i and k, placed at the current node poses, share at least `fraction`.
   bool Overlaps(int i, int k, double fraction) const {
     const geometry::ConvexPolygon ground = geometry::FootprintInGround(in_.camera);
     return geometry::OverlapFraction(geometry::PlaceFootprint(ground, graph_.poses()[k]),
@@ -143,7 +144,8 @@ class Mapper {
            fraction;
   }
 
-  // Registers frame k against frame i (< k) around `predicted`; adds the edge on success.
+  // Registers frame k against frame i (< k) around `predicted`: NotFound when they do not
+  // register, the loader's error when a frame cannot be read.
   Result<FrameRegistration> RegisterPair(int i, int k, const PoseWithCovariance& predicted) {
     Result<cv::Mat> reference = frames_.Get(i);
     if (!reference.ok()) return reference.status();

@@ -1,4 +1,5 @@
-// fleetctl bench tracker: fleetloc's tracker against the OpenCV peers on simulated runs over real
+// fleetctl bench tracker (mosaic-build and mosaic-distortion are registered from their own files):
+// fleetloc's tracker against the OpenCV peers on simulated runs over real
 // floor mosaics, all on one core. Progress on stderr; one table per floor, an overall table and the
 // verdicts on stdout; every number as JSON with --json.
 #include <spdlog/spdlog.h>
@@ -13,8 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "bench_report.h"
 #include "bench_mosaic_build.h"
+#include "bench_mosaic_distortion.h"
+#include "bench_report.h"
 #include "bench_tracker.h"
 #include "commands.h"
 #include "io/file_util.h"
@@ -220,6 +222,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   AddBenchTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = RunBench(*args); });
   RegisterBenchMosaicBuild(*bench, result);
+  RegisterBenchMosaicDistortion(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_mosaic_distortion.h"
 #include "bench_tracker.h"
 #include "child_process.h"
 #include "io/file_util.h"
@@ -96,18 +97,6 @@ void RemoveMosaic(const fs::path& db) {
   for (const char* suffix : {"", "-wal", "-shm", ".partial"}) fs::remove(db.string() + suffix, ec);
 }
 
-nlohmann::json DistortionJson(const mapping::DistortionReport& d) {
-  return {{"patches", d.patches.size()},
-          {"patches_tried", d.patches_tried},
-          {"rms_px", d.rms_px},
-          {"max_px", d.max_px},
-          {"scale_error_ppm", d.scale_error * 1e6},
-          {"rotation_mrad", d.rotation_rad * 1e3},
-          {"translation_px", {d.translation_px.x(), d.translation_px.y()}},
-          {"residual_rms_px", d.residual_rms_px},
-          {"residual_max_px", d.residual_max_px}};
-}
-
 // A JSON number with `digits` decimals, for the report.
 std::string Fixed(const nlohmann::json& value, int digits) {
   std::ostringstream out;
@@ -123,8 +112,8 @@ void PrintReport(const Settings& s, const nlohmann::json& j) {
             << " at " << s.resolution_m << " m/px; " << s.mapping_frames << " frames at "
             << s.mapping_speed_px_s << " px/s, " << s.rate_hz << " Hz, figure8, seed " << s.seed
             << "\n";
-  std::cout << "build: " << Fixed(b["wall_s"], 1) << " s wall (mapping "
-            << Fixed(m["seconds"]["mapping"], 1) << ", blending "
+  std::cout << "build: " << Fixed(b["wall_s"], 1) << " s wall, " << Fixed(b["cpu_s"], 1)
+            << " s CPU (wall: mapping " << Fixed(m["seconds"]["mapping"], 1) << ", blending "
             << Fixed(m["seconds"]["blending"], 1) << ", tiles " << Fixed(m["seconds"]["writing"], 1)
             << "), peak RSS " << b["peak_rss_bytes"].get<long long>() / (1 << 20) << " MiB (canvas "
             << m["canvas_bytes"].get<long long>() / (1 << 20) << " MiB); " << m["pairs_registered"]
@@ -150,14 +139,20 @@ void PrintReport(const Settings& s, const nlohmann::json& j) {
   }
 }
 
-Status RunBenchMosaicBuild(Settings s) {
-  if (s.floor.empty()) s.floor = (DefaultFloorsDir() / "rock_dirt_2048.png").string();
-  const fs::path work = io::AbsoluteDir(s.work_dir);
-  std::error_code ec;
-  fs::create_directories(work, ec);
-  if (ec) return Internal(work.string() + ": cannot create: " + ec.message());
-  const fs::path mapping_run = work / "mapping_run", fast_run = work / "fast_run";
-  const fs::path built = work / "built.db", imported = work / "imported.db";
+nlohmann::json SettingsJson(const Settings& s, const fs::path& work) {
+  return {{"floor", s.floor},
+          {"resolution_m", s.resolution_m},
+          {"mapping_frames", s.mapping_frames},
+          {"mapping_speed_px_s", s.mapping_speed_px_s},
+          {"fast_frames", s.fast_frames},
+          {"rate_hz", s.rate_hz},
+          {"seed", s.seed},
+          {"work_dir", work.string()}};
+}
+
+// The slow mapping run, `mosaic build` on it and the built mosaic's distortion, into *json.
+Status MapAndBuild(const Settings& s, const fs::path& work, nlohmann::json* json) {
+  const fs::path mapping_run = work / "mapping_run", built = work / "built.db";
   std::vector<std::string> mapping_sim = SimArgs(s, mapping_run, s.mapping_frames, s.seed);
   mapping_sim.insert(mapping_sim.end(), {"--speed-px-s", std::to_string(s.mapping_speed_px_s),
                                          "--route", "figure8", "--no-initial-perturb"});
@@ -171,6 +166,18 @@ Status RunBenchMosaicBuild(Settings s) {
   Result<mapping::DistortionReport> distortion =
       MeasureBuiltMosaicDistortion(built, s.floor, s.resolution_m);
   if (!distortion.ok()) return distortion.status();
+  (*json)["mapping_sim"] = sim->out;
+  (*json)["build"] = {{"wall_s", build->run.wall_s},
+                      {"cpu_s", build->run.cpu_s},
+                      {"peak_rss_bytes", build->run.peak_rss_bytes},
+                      {"summary", build->out}};
+  (*json)["distortion"] = DistortionJson(*distortion);
+  return Status::Ok();
+}
+
+// The fast run, tracked on the built mosaic and on the floor imported directly, into *json.
+Status TrackFastRun(const Settings& s, const fs::path& work, nlohmann::json* json) {
+  const fs::path fast_run = work / "fast_run", imported = work / "imported.db";
   Result<Step> fast = RunStep("sim_fast", SimArgs(s, fast_run, s.fast_frames, s.seed + 1), work);
   if (!fast.ok()) return fast.status();
   RemoveMosaic(imported);
@@ -179,30 +186,27 @@ Status RunBenchMosaicBuild(Settings s) {
                                  std::to_string(s.resolution_m), "--out", imported.string()},
                                 work);
   if (!import.ok()) return import.status();
-  nlohmann::json json{{"settings",
-                       {{"floor", s.floor},
-                        {"resolution_m", s.resolution_m},
-                        {"mapping_frames", s.mapping_frames},
-                        {"mapping_speed_px_s", s.mapping_speed_px_s},
-                        {"fast_frames", s.fast_frames},
-                        {"rate_hz", s.rate_hz},
-                        {"seed", s.seed},
-                        {"work_dir", work.string()}}},
-                      {"mapping_sim", sim->out},
-                      {"build",
-                       {{"wall_s", build->run.wall_s},
-                        {"peak_rss_bytes", build->run.peak_rss_bytes},
-                        {"summary", build->out}}},
-                      {"distortion", DistortionJson(*distortion)}};
-  for (const auto& [name, db] : {std::pair{"built", built}, std::pair{"imported", imported}}) {
+  for (const char* name : {"built", "imported"}) {
+    const std::string mosaic = (work / (std::string(name) + ".db")).string();
+    const std::string poses = (work / (std::string("poses_") + name + ".csv")).string();
     Result<Step> track =
         RunStep(std::string("track_") + name,
-                {"track", "--mosaic", db.string(), "--run", fast_run.string(), "--out",
-                 (work / (std::string("poses_") + name + ".csv")).string()},
-                work);
+                {"track", "--mosaic", mosaic, "--run", fast_run.string(), "--out", poses}, work);
     if (!track.ok()) return track.status();
-    json["track"][name] = track->out;
+    (*json)["track"][name] = track->out;
   }
+  return Status::Ok();
+}
+
+Status RunBenchMosaicBuild(Settings s) {
+  if (s.floor.empty()) s.floor = (DefaultFloorsDir() / "rock_dirt_2048.png").string();
+  const fs::path work = io::AbsoluteDir(s.work_dir);
+  std::error_code ec;
+  fs::create_directories(work, ec);
+  if (ec) return Internal(work.string() + ": cannot create: " + ec.message());
+  nlohmann::json json{{"settings", SettingsJson(s, work)}};
+  FLEETLOC_RETURN_IF_ERROR(MapAndBuild(s, work, &json));
+  FLEETLOC_RETURN_IF_ERROR(TrackFastRun(s, work, &json));
   PrintReport(s, json);
   if (s.json.empty()) return Status::Ok();
   return io::WriteFileAtomically(s.json, json.dump(2) + "\n");
@@ -210,68 +214,7 @@ Status RunBenchMosaicBuild(Settings s) {
 
 }  // namespace
 
-Result<mapping::DistortionReport> MeasureBuiltMosaicDistortion(const fs::path& built_db,
-                                                               const fs::path& truth_image,
-                                                               double resolution_m) {
-  Result<cv::Mat> truth = io::ReadGrayImage(truth_image);
-  if (!truth.ok()) return truth.status();
-  Result<std::unique_ptr<mosaic::TileStore>> opened =
-      mosaic::TileStore::Open(built_db.string(), mosaic::OpenMode::kReadOnly);
-  if (!opened.ok()) return opened.status();
-  std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
-  const mosaic::MosaicLayout layout = store->layout();
-  // The truth's top-left corner (map (0, rows · res)) in the built mosaic's level-0 pixels.
-  const Eigen::Vector2d corner = layout.geo.MapToPixel({0.0, truth->rows * resolution_m});
-  const Eigen::Vector2d rounded = corner.array().round();
-  if ((corner - rounded).norm() > 1e-3 || std::abs(layout.geo.resolution - resolution_m) > 1e-12) {
-    return InvalidInput(built_db.string() + ": its pixel grid does not coincide with " +
-                        truth_image.string() + "'s at " + std::to_string(resolution_m) + " m/px");
-  }
-  mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
-                          std::make_shared<mosaic::TileCache>(64 << 20));
-  const cv::Mat built =
-      view.ReadBlock(0, cv::Rect(static_cast<int>(rounded.x()), static_cast<int>(rounded.y()),
-                                 truth->cols, truth->rows));
-  Result<mapping::DistortionReport> report = mapping::MeasureDistortion(built, *truth);
-  if (!report.ok()) {
-    return Status(report.status().code(), built_db.string() + ": " + report.status().message());
-  }
-  return report;
-}
-
-namespace {
-
-struct DistortionArgs {
-  std::string mosaic;
-  std::string truth;
-  double resolution_m = 0.0005;
-};
-
-Status RunBenchDistortion(const DistortionArgs& args) {
-  Result<mapping::DistortionReport> report =
-      MeasureBuiltMosaicDistortion(args.mosaic, args.truth, args.resolution_m);
-  if (!report.ok()) return report.status();
-  std::cout << DistortionJson(*report).dump(2) << "\n";
-  return Status::Ok();
-}
-
-void AddBenchDistortion(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<DistortionArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "mosaic-distortion", "Local distortion of a mosaic against the true floor image (JSON)");
-  cmd->add_option("--mosaic", args->mosaic, "Built mosaic")->required();
-  cmd->add_option("--truth", args->truth,
-                  "True floor image, top-left corner at map (0, height * resolution)")
-      ->required();
-  cmd->add_option("--resolution", args->resolution_m, "Metres per pixel of the image")
-      ->capture_default_str();
-  cmd->callback([args, result] { *result = RunBenchDistortion(*args); });
-}
-
-}  // namespace
-
 void RegisterBenchMosaicBuild(CLI::App& bench, Status* result) {
-  AddBenchDistortion(bench, result);
   auto s = std::make_shared<Settings>();
   CLI::App* cmd = bench.add_subcommand(
       "mosaic-build",

@@ -44,6 +44,8 @@ Result<ChildRun> RunFleetctlChild(const std::vector<std::string>& args,
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   run.peak_rss_bytes = static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+  const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+  run.cpu_s = seconds(usage.ru_utime) + seconds(usage.ru_stime);
   return run;
 }
 

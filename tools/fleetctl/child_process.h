@@ -13,6 +13,7 @@ namespace fleetloc::fleetctl {
 struct ChildRun {
   int exit_code = -1;  // -1 when killed by a signal
   double wall_s = 0.0;
+  double cpu_s = 0.0;            // user + system time of the child (less sensitive to load)
   long long peak_rss_bytes = 0;  // the child's own high-water mark (wait4's ru_maxrss)
 };
 
