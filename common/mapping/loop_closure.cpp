@@ -21,6 +21,7 @@ Status Validate(const LoopClosureOptions& o) {
   }
   if (!(o.sigma_inflation >= 1)) return InvalidInput("loops.sigma_inflation must be ≥ 1");
   if (!(o.gate_chi2 > 0)) return InvalidInput("loops.gate_chi2 must be > 0");
+  if (o.min_corroborating < 1) return InvalidInput("loops.min_corroborating must be ≥ 1");
   return Status::Ok();
 }
 
@@ -104,6 +105,15 @@ Result<int> PruneInconsistentLoopClosures(PoseGraph* graph, double gate_chi2,
     const Result<PoseGraphSolveSummary> solved = graph->Solve(solve);
     if (!solved.ok()) return solved.status();
   }
+}
+
+int DropUncorroborated(PoseGraph* graph, const std::vector<int>& surprising,
+                       int min_corroborating) {
+  int active = 0;
+  for (int edge : surprising) active += graph->edges()[edge].active ? 1 : 0;
+  if (active == 0 || active >= min_corroborating) return 0;
+  for (int edge : surprising) graph->SetActive(edge, false);
+  return active;
 }
 
 }  // namespace fleetloc::mapping

@@ -20,6 +20,9 @@ struct LoopClosureOptions {
   int max_total = 400;
   double sigma_inflation = 2.0;  // the chain's 1-sigma × this: search window and gate
   double gate_chi2 = 16.27;      // 3 degrees of freedom, 99.9 %
+  // Closures outside the gate of the chain's prediction are kept only when at least this many of
+  // them remain consistent after solving (the chain, e.g. across an odometry bridge, was off).
+  int min_corroborating = 3;
 };
 
 // Flat range checks; InvalidInput naming the field.
@@ -54,5 +57,11 @@ double GateDistance(const geometry::PoseWithCovariance& measured,
 // a failed solve is returned as is.
 Result<int> PruneInconsistentLoopClosures(PoseGraph* graph, double gate_chi2,
                                           const PoseGraphSolveOptions& solve);
+
+// Closures far from the chain's prediction (`surprising` edge indices) are trusted only together:
+// when fewer than min_corroborating of them are still active, all are deactivated — a lone one
+// may be a wrong match that pruning cannot see, because a weak odometry bridge gives way to it.
+// Returns the number deactivated.
+int DropUncorroborated(PoseGraph* graph, const std::vector<int>& surprising, int min_corroborating);
 
 }  // namespace fleetloc::mapping

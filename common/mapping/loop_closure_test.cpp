@@ -99,5 +99,49 @@ TEST(LoopClosure, WrongClosureIsPrunedAndTheGoodOnesKept) {
   EXPECT_NEAR(graph.poses()[3].y, 1.0, 1e-9);
 }
 
+// Two registered chains (0 … 4 and 5 … 9, steps 1 m east) joined only by a weak odometry bridge
+// 4 → 5, plus `loops` closures 9 → 0 .. 9 → loops-1 that all say chain B lies 0.3 m north.
+PoseGraph BridgedChainsWithLoops(int loops, std::vector<int>* loop_edges) {
+  const Eigen::Matrix3d strong = Eigen::Vector3d(1e8, 1e8, 1e8).asDiagonal();
+  const Eigen::Matrix3d weak = Eigen::Vector3d(1e2, 1e2, 1e2).asDiagonal();
+  const Pose2 step{1.0, 0.0, 0.0};
+  PoseGraph graph;
+  graph.AddNode({});
+  for (int k = 1; k < 10; ++k) {
+    graph.AddNode(graph.poses()[k - 1] * step);
+    graph.AddEdge({k - 1, k, step, k == 5 ? weak : strong,
+                   k == 5 ? EdgeKind::kOdometry : EdgeKind::kRegistration});
+  }
+  for (int i = 0; i < loops; ++i) {
+    loop_edges->push_back(
+        graph.AddEdge({9, i, Pose2{i - 9.0, -0.3, 0.0}, strong, EdgeKind::kLoopClosure}));
+  }
+  return graph;
+}
+
+TEST(LoopClosure, LoneSurprisingClosureAcrossABridgeIsDropped) {
+  std::vector<int> loops;
+  PoseGraph graph = BridgedChainsWithLoops(1, &loops);
+  ASSERT_TRUE(graph.Solve().ok());
+  // The bridge gives way: pruning alone cannot tell the closure is wrong.
+  ASSERT_TRUE(PruneInconsistentLoopClosures(&graph, 16.27, {}).ok());
+  EXPECT_TRUE(graph.edges()[loops[0]].active);
+  EXPECT_EQ(DropUncorroborated(&graph, loops, 3), 1);
+  EXPECT_FALSE(graph.edges()[loops[0]].active);
+  graph.ResetToSpanningTree();
+  const Result<PoseGraphSolveSummary> solved = graph.Solve();
+  ASSERT_TRUE(solved.ok());
+  EXPECT_TRUE(solved->converged);
+  EXPECT_NEAR(graph.poses()[9].y, 0.0, 1e-9);
+}
+
+TEST(LoopClosure, SurprisingClosuresThatAgreeAreKept) {
+  std::vector<int> loops;
+  PoseGraph graph = BridgedChainsWithLoops(3, &loops);
+  ASSERT_TRUE(graph.Solve().ok());
+  EXPECT_EQ(DropUncorroborated(&graph, loops, 3), 0);
+  EXPECT_NEAR(graph.poses()[9].y, 0.3, 1e-6);
+}
+
 }  // namespace
 }  // namespace fleetloc::mapping

@@ -9,11 +9,14 @@
 #include "mapping/pose_graph.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <numeric>
+#include <queue>
 #include <string>
+#include <utility>
 
 namespace fleetloc::mapping {
 
@@ -100,6 +103,35 @@ int PoseGraph::FirstUnanchoredNode() const {
     if (root(i) != root(0)) return i;
   }
   return -1;
+}
+
+void PoseGraph::ResetToSpanningTree() {
+  std::vector<std::vector<int>> incident(poses_.size());
+  for (int e = 0; e < static_cast<int>(edges_.size()); ++e) {
+    if (!edges_[e].active) continue;
+    incident[edges_[e].from].push_back(e);
+    incident[edges_[e].to].push_back(e);
+  }
+  // Prim's algorithm on det Ω: a max-heap of edges leaving the tree.
+  std::vector<bool> in_tree(poses_.size(), false);
+  std::priority_queue<std::pair<double, int>> frontier;
+  const auto enter = [&](int node) {
+    in_tree[node] = true;
+    for (int e : incident[node]) frontier.push({edges_[e].information.determinant(), e});
+  };
+  enter(0);
+  while (!frontier.empty()) {
+    const PoseGraphEdge& e = edges_[frontier.top().second];
+    frontier.pop();
+    if (in_tree[e.from] == in_tree[e.to]) continue;
+    if (in_tree[e.from]) {
+      poses_[e.to] = poses_[e.from] * e.measured;
+      enter(e.to);
+    } else {
+      poses_[e.from] = poses_[e.to] * e.measured.Inverse();
+      enter(e.from);
+    }
+  }
 }
 
 namespace {

@@ -59,6 +59,13 @@ class PoseGraph {
   // message names the first such node.
   Result<PoseGraphSolveSummary> Solve(const PoseGraphSolveOptions& options = {});
 
+  // Re-initializes every node reachable from the anchor by composing measurements along the
+  // spanning tree of the most informative active edges (largest det Ω first, Prim's order), so
+  // all residual sits on the edges outside the tree. Gauss–Newton in absolute coordinates turns
+  // long stiff chains poorly (a linearized rotation stretches every strong edge to second order),
+  // so a solve after removing edges should start from here rather than from the previous optimum.
+  void ResetToSpanningTree();
+
   // ½ eᵀ Ω e of one edge at the current poses: its χ²/2 when Ω is the true inverse covariance.
   double EdgeCost(int edge) const;
 

@@ -95,6 +95,21 @@ TEST(PoseGraph, AnchorStaysAtItsInitialPose) {
   EXPECT_NEAR(graph.poses()[1].theta, expected.theta, 1e-12);
 }
 
+TEST(PoseGraph, SpanningTreeFollowsTheMostInformativeEdges) {
+  PoseGraph graph;
+  for (int k = 0; k < 3; ++k) graph.AddNode({5.0, 5.0, 1.0});  // far from anything
+  const Pose2 a{1.0, 0.0, M_PI / 2}, b{1.0, 0.0, 0.0};
+  graph.AddEdge({0, 1, a, Information(1e-4, 1e-4), EdgeKind::kRegistration});
+  graph.AddEdge({2, 1, b, Information(1e-4, 1e-4), EdgeKind::kRegistration});          // reversed
+  graph.AddEdge({0, 2, {9.0, 9.0, 0.0}, Information(1.0, 1.0), EdgeKind::kOdometry});  // weak
+  graph.ResetToSpanningTree();
+  const Pose2 two = a * b.Inverse();            // 0 → 1 → 2 through the strong edges
+  EXPECT_NEAR(graph.poses()[0].x, 5.0, 1e-12);  // the anchor stays
+  EXPECT_NEAR(graph.poses()[2].x, (graph.poses()[0] * two).x, 1e-12);
+  EXPECT_NEAR(graph.poses()[2].y, (graph.poses()[0] * two).y, 1e-12);
+  EXPECT_NEAR(graph.poses()[2].theta, (graph.poses()[0] * two).theta, 1e-12);
+}
+
 TEST(PoseGraph, NodeWithoutActiveEdgesIsReportedNotSolved) {
   PoseGraph graph;
   graph.AddNode({});

@@ -87,17 +87,7 @@ class Mapper {
     FLEETLOC_RETURN_IF_ERROR(RegisterSuccessive());
     FLEETLOC_RETURN_IF_ERROR(Solve("chain"));
     FLEETLOC_RETURN_IF_ERROR(CloseLoops());
-    if (result_.loop_registered > 0) {
-      FLEETLOC_RETURN_IF_ERROR(Solve("with loop closures"));
-      Result<int> pruned =
-          PruneInconsistentLoopClosures(&graph_, options_.loops.gate_chi2, options_.solve);
-      if (!pruned.ok()) return pruned.status();
-      result_.loop_pruned = *pruned;
-      if (*pruned > 0) {
-        Log(std::to_string(*pruned) + " loop closures inconsistent with the rest: removed");
-        FLEETLOC_RETURN_IF_ERROR(Solve("after pruning"));
-      }
-    }
+    if (result_.loop_registered > 0) FLEETLOC_RETURN_IF_ERROR(SolveWithLoops());
     result_.camera_in_map = graph_.poses();
     return std::move(result_);
   }
@@ -221,19 +211,43 @@ class Mapper {
           inflation_sq * ComposeChain(steps_, loop.from, loop.to).covariance};
       Result<FrameRegistration> r = RegisterPair(loop.from, loop.to, predicted);
       if (!r.ok() && r.status().code() != StatusCode::kNotFound) return r.status();
-      if (r.ok() && GateDistance(r->relative, predicted) <= options_.loops.gate_chi2) {
+      if (r.ok()) {
         ++result_.loop_registered;
-        AddRegistrationEdge(loop.from, loop.to, *r, EdgeKind::kLoopClosure);
+        const int edge =
+            graph_.AddEdge({loop.from, loop.to, r->relative.pose,
+                            Information(r->relative.covariance), EdgeKind::kLoopClosure});
+        if (GateDistance(r->relative, predicted) > options_.loops.gate_chi2) {
+          outside_gate_edges_.push_back(edge);
+        }
       }
       const int done = static_cast<int>(c) + 1;
       if (ProgressMark(done, result_.loop_candidates)) {
         Log("loop closures: tried " + std::to_string(done) + "/" +
-            std::to_string(result_.loop_candidates) + ", accepted " +
-            std::to_string(result_.loop_registered));
+            std::to_string(result_.loop_candidates) + ", registered " +
+            std::to_string(result_.loop_registered) + " (" +
+            std::to_string(outside_gate_edges_.size()) + " far from the chain's prediction)");
       }
     }
+    result_.loop_outside_gate = static_cast<int>(outside_gate_edges_.size());
     if (candidates.empty()) Log("loop closures: the route never revisits itself");
     return Status::Ok();
+  }
+
+  // Solves with every registered loop closure, prunes those inconsistent with the rest, and
+  // drops the closures far from the chain's prediction unless enough of them survive together
+  // (several agreeing ones mean the chain was off; see DropUncorroborated).
+  Status SolveWithLoops() {
+    FLEETLOC_RETURN_IF_ERROR(Solve("with loop closures"));
+    Result<int> pruned =
+        PruneInconsistentLoopClosures(&graph_, options_.loops.gate_chi2, options_.solve);
+    if (!pruned.ok()) return pruned.status();
+    result_.loop_pruned = *pruned + DropUncorroborated(&graph_, outside_gate_edges_,
+                                                       options_.loops.min_corroborating);
+    if (result_.loop_pruned == 0) return Status::Ok();
+    Log(std::to_string(result_.loop_pruned) +
+        " loop closures inconsistent with the rest or uncorroborated: removed");
+    graph_.ResetToSpanningTree();  // the optimum with them is a poor start without them
+    return Solve("after pruning");
   }
 
   Status Solve(const std::string& stage) {
@@ -255,6 +269,7 @@ class Mapper {
   PoseGraph graph_;
   std::vector<PoseWithCovariance> steps_;  // best step k → k+1: registration, else odometry
   int successive_overlapping_ = 0;         // pairs (k-1, k) tried: they overlap by odometry
+  std::vector<int> outside_gate_edges_;    // loop closures far from the chain's prediction
   MappedRun result_;
 };
 

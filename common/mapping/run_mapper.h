@@ -1,10 +1,10 @@
 // The camera poses of a mapping run (DESIGN §5, "register overlapping frames ..., make the
 // result locally smooth"): successive frames registered with predictions from the odometry
 // increments, an SE(2) pose graph of registration edges (and odometry edges bridging the pairs
-// that did not register) solved, loop closures found
-// where the route revisits itself, gated, added and solved again. Anchored at the first frame's
-// pose, so the result lives in the map frame of the run's initial pose. Pure: frames come through
-// a loader, messages go to a callback.
+// that did not register) solved; loop closures found where the route revisits itself, registered,
+// added and solved again with robust pruning. Anchored at the first frame's pose, so the result
+// lives in the map frame of the run's initial pose. Pure: frames come through a loader, messages
+// go to a callback.
 #pragma once
 
 #include <functional>
@@ -53,8 +53,9 @@ struct MappedRun {
   int successive_registered = 0;  // of the N-1 pairs (k-1, k)
   int odometry_bridges = 0;       // successive pairs linked by odometry only
   int loop_candidates = 0;
-  int loop_registered = 0;                    // registered and inside the gate of the prediction
-  int loop_pruned = 0;                        // removed again as inconsistent after solving
+  int loop_registered = 0;    // loop-closure pairs registered (added to the graph)
+  int loop_outside_gate = 0;  // of those, far from the chain's prediction (see min_corroborating)
+  int loop_pruned = 0;        // removed again: inconsistent after solving, or uncorroborated
   std::vector<PoseGraphSolveSummary> solves;  // chain-only, with loops, after pruning
 };
 

@@ -114,6 +114,27 @@ TEST(RunMapper, RegistrationAndLoopClosureUndoDriftingOdometry) {
   EXPECT_LT(MaxCornerErrorPx(mapped->camera_in_map, run.true_cameras, scene.camera), 0.05);
 }
 
+TEST(RunMapper, OdometryBridgesFramesThatCannotRegisterAndTheLoopHoldsTheRest) {
+  tracking::TestScene scene = Scene();
+  SyntheticRun run = MakeRun(scene);
+  for (int k = 10; k <= 11; ++k) run.frames[k].setTo(128);  // e.g. a bright reflection
+  const Result<MappedRun> mapped = MapRun(run.input, LoaderOf(run.frames), SmallFrameOptions());
+  ASSERT_TRUE(mapped.ok()) << mapped.status().message();
+  EXPECT_EQ(mapped->odometry_bridges, 3);  // 9 → 10, 10 → 11, 11 → 12
+  EXPECT_EQ(mapped->successive_registered, kFrames - 1 - 3);
+  EXPECT_GE(mapped->loop_outside_gate, 3);
+  // Frames 12 on are tied back to frames 0 … 9 only by odometry across the gap (whose heading bias
+  // here is far beyond its noise model, so the chain's prediction is off) and by the loop
+  // closures, which agree among themselves: they must still sit within a tenth of a pixel.
+  std::vector<Pose2> outside_estimate, outside_truth;
+  for (int k = 0; k < kFrames; ++k) {
+    if (k == 10 || k == 11) continue;
+    outside_estimate.push_back(mapped->camera_in_map[k]);
+    outside_truth.push_back(run.true_cameras[k]);
+  }
+  EXPECT_LT(MaxCornerErrorPx(outside_estimate, outside_truth, scene.camera), 0.1);
+}
+
 TEST(RunMapper, FramesWithoutTextureAreRefusedAsBadInput) {
   tracking::TestScene scene = Scene();
   SyntheticRun run = MakeRun(scene);
