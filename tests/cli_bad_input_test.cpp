@@ -234,9 +234,10 @@ CommandResult BuildMosaic(const std::string& run, const std::string& out) {
 TEST_F(CliBadInput, MosaicBuildOfARunWhoseFramesDoNotOverlap) {
   // The base run drives 3000 px/s at 5 Hz: 600 px between 320 px frames, nothing to register.
   const std::string out = dir_ / "built.db";
-  EXPECT_TRUE(IsBadInput(BuildMosaic(run_, out),
-                         {"fleetctl: ", "run: only 0 of 5 successive frame pairs registered (0 "
-                                        "overlap by the odometry)"}));
+  EXPECT_TRUE(
+      IsBadInput(BuildMosaic(run_, out), {"fleetctl: ",
+                                          "run: only 0 of 5 successive frame pairs registered (0 "
+                                          "overlap by the odometry)"}));
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
 }

@@ -1,6 +1,6 @@
-// fleetctl mosaic import | build | info | export (CONTRACT section 6): thin wrappers over the mosaic
-// store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and `build`
-// print JSON on stdout.
+// fleetctl mosaic import | build | info | export (CONTRACT section 6): thin wrappers over the
+// mosaic store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and
+// `build` print JSON on stdout.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -14,11 +14,11 @@
 
 #include "commands.h"
 #include "mosaic/exporter.h"
-#include "mosaic_build.h"
 #include "mosaic/importer.h"
 #include "mosaic/mosaic_info.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "mosaic_build.h"
 
 namespace fleetloc::fleetctl {
 namespace {
