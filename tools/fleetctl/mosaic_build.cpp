@@ -161,6 +161,7 @@ nlohmann::ordered_json BuildSummaryJson(const MosaicBuildSummary& s) {
       {"loop_candidates", m.loop_candidates},
       {"loop_closures", m.loop_registered - m.loop_pruned},
       {"loop_closures_pruned", m.loop_pruned},
+      {"loop_closures_far_from_prediction", m.loop_outside_gate},
       {"solver_iterations", nlohmann::json::array()},
       {"mosaic_px", {s.layout.width_px, s.layout.height_px}},
       {"origin", {s.layout.geo.origin_x, s.layout.geo.origin_y}},
