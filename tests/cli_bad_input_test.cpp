@@ -237,5 +237,44 @@ TEST_F(CliBadInput, ComposeFloorOfASizeToAPngOrFromAMissingPhoto) {
   EXPECT_FALSE(fs::exists(dir_ / "floor.pgm"));
 }
 
+// `fleetctl mosaic build` of `run`. Its progress lines (stderr) may precede an error found after
+// registering: only the last stderr line is kept, so IsBadInput checks the error line itself.
+CommandResult BuildMosaic(const std::string& run, const std::string& out) {
+  CommandResult r = RunFleetctl("mosaic build --run " + Quote(run) + " --out " + Quote(out));
+  const std::size_t end = r.err.find_last_not_of('\n');
+  const std::size_t start = end == std::string::npos ? 0 : r.err.rfind('\n', end);
+  if (start != std::string::npos && end != std::string::npos) r.err.erase(0, start + 1);
+  return r;
+}
+
+TEST_F(CliBadInput, MosaicBuildOfARunWhoseFramesDoNotOverlap) {
+  // The base run drives 3000 px/s at 5 Hz: 600 px between 320 px frames, nothing to register.
+  const std::string out = dir_ / "built.db";
+  EXPECT_TRUE(
+      IsBadInput(BuildMosaic(run_, out), {"fleetctl: ",
+                                          "run: only 0 of 5 successive frame pairs registered (0 "
+                                          "overlap by the odometry)"}));
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+}
+
+TEST_F(CliBadInput, MosaicBuildOdometryNanNamesLineAndField) {
+  SetCsvField(fs::path(run_) / "odometry.csv", 5, 2, "nan");
+  EXPECT_TRUE(IsBadInput(BuildMosaic(run_, dir_ / "built.db"), {"odometry.csv:5", "field 'y'"}));
+}
+
+TEST_F(CliBadInput, MosaicBuildMissingRunDirectory) {
+  EXPECT_TRUE(IsBadInput(BuildMosaic(dir_ / "no_such_run", dir_ / "built.db"), {"no_such_run"}));
+}
+
+TEST_F(CliBadInput, MosaicBuildMissingFramesCsv) {
+  fs::remove(fs::path(run_) / "frames.csv");
+  EXPECT_TRUE(IsBadInput(BuildMosaic(run_, dir_ / "built.db"), {"frames.csv"}));
+}
+
+TEST_F(CliBadInput, MosaicBuildNeverOverwritesAMosaic) {
+  EXPECT_TRUE(IsBadInput(BuildMosaic(run_, mosaic_), {"floor.db", "already exists"}));
+}
+
 }  // namespace
 }  // namespace fleetloc::testing

@@ -79,9 +79,7 @@ Result<MosaicLayout> BuildMosaic(GrayRowReader& reader, const ImportOptions& opt
 
 }  // namespace
 
-Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOptions& options,
-                                 const std::string& out_db, const ImportProgress& progress) {
-  FLEETLOC_RETURN_IF_ERROR(ValidateOptions(options));
+Status CheckNewMosaicPath(const std::string& out_db) {
   std::error_code ec;
   if (fs::exists(out_db, ec)) {
     return InvalidInput(out_db + ": already exists (remove it or choose another --out)");
@@ -89,11 +87,26 @@ Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOpti
   if (!fs::is_directory(fs::absolute(out_db, ec).parent_path(), ec)) {
     return InvalidInput(out_db + ": the directory does not exist");
   }
+  return Status::Ok();
+}
+
+Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOptions& options,
+                                 const std::string& out_db, const ImportProgress& progress) {
+  FLEETLOC_RETURN_IF_ERROR(ValidateOptions(options));
+  FLEETLOC_RETURN_IF_ERROR(CheckNewMosaicPath(out_db));
   Result<std::unique_ptr<GrayRowReader>> reader = OpenGrayRowReader(image_path);
   if (!reader.ok()) return reader.status();
+  return ImportRows(**reader, options, out_db, progress);
+}
+
+Result<MosaicLayout> ImportRows(GrayRowReader& reader, const ImportOptions& options,
+                                const std::string& out_db, const ImportProgress& progress) {
+  FLEETLOC_RETURN_IF_ERROR(ValidateOptions(options));
+  FLEETLOC_RETURN_IF_ERROR(CheckNewMosaicPath(out_db));
   const std::string partial = out_db + ".partial";
   sqlite::RemoveDatabaseFiles(partial);  // left over from an interrupted import
-  Result<MosaicLayout> layout = BuildMosaic(**reader, options, partial, progress);
+  Result<MosaicLayout> layout = BuildMosaic(reader, options, partial, progress);
+  std::error_code ec;
   if (layout.ok() && HasUnfoldedWal(partial)) {
     layout = Internal(partial + ": the write-ahead log was not folded into the mosaic");
   }

@@ -7,6 +7,7 @@
 
 #include "base/status.h"
 #include "mosaic/raster_source.h"
+#include "mosaic/row_image_io.h"
 
 namespace fleetloc::mosaic {
 
@@ -30,5 +31,16 @@ using ImportProgress = std::function<void(int rows_done, int rows_total)>;
 // for a missing or undecodable image, bad options or an existing `out_db`; Internal on I/O errors.
 Result<MosaicLayout> ImportImage(const std::string& image_path, const ImportOptions& options,
                                  const std::string& out_db, const ImportProgress& progress = {});
+
+// The same import from rows produced by the caller (e.g. a mosaic blended from a mapping run):
+// every row of `reader`, top to bottom, becomes version 1 of a new mosaic at `out_db`, written
+// through `out_db`.partial. Peak memory beyond the reader's is about 2 × width × tile_size bytes.
+// InvalidInput for bad options or an existing `out_db`; the reader's error; Internal on I/O errors.
+Result<MosaicLayout> ImportRows(GrayRowReader& reader, const ImportOptions& options,
+                                const std::string& out_db, const ImportProgress& progress = {});
+
+// InvalidInput when a new mosaic cannot be created at `out_db` (it exists, or its directory does
+// not): lets a long job fail before it starts.
+Status CheckNewMosaicPath(const std::string& out_db);
 
 }  // namespace fleetloc::mosaic

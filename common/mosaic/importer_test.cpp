@@ -131,5 +131,45 @@ TEST(Importer, BadInputIsRejectedAndLeavesNoFiles) {
   }
 }
 
+// Rows of an in-memory image, as a caller-made mosaic (e.g. a blended mapping run) delivers them.
+class MatRowReader : public GrayRowReader {
+ public:
+  explicit MatRowReader(cv::Mat image) : image_(std::move(image)) {
+    width_px_ = image_.cols;
+    height_px_ = image_.rows;
+  }
+  bool streaming() const override { return true; }
+  Status ReadRow(std::span<std::uint8_t> row) override {
+    std::copy_n(image_.ptr<std::uint8_t>(next_++), width_px_, row.begin());
+    return Status::Ok();
+  }
+
+ private:
+  cv::Mat image_;
+  int next_ = 0;
+};
+
+TEST(Importer, CallersRowsBecomeAMosaicAtTheGivenOrigin) {
+  ScratchDir dir;
+  const cv::Mat photo = LoadGray(SourcePath("tests/data/brick.png"));  // 512²
+  const cv::Mat part = photo(cv::Rect(10, 20, 300, 280)).clone();
+  MatRowReader reader(part);
+  ImportOptions options;
+  options.resolution_m = 0.001;
+  options.origin_x_m = -1.5;
+  options.origin_y_m = 2.25;
+  Result<MosaicLayout> layout = ImportRows(reader, options, dir.File("rows.db"));
+  ASSERT_TRUE(layout.ok()) << layout.status().message();
+  EXPECT_EQ(layout->width_px, 300);
+  EXPECT_EQ(layout->height_px, 280);
+  EXPECT_DOUBLE_EQ(layout->geo.origin_x, -1.5);
+  EXPECT_DOUBLE_EQ(layout->geo.origin_y, 2.25);
+  EXPECT_FALSE(std::filesystem::exists(dir.File("rows.db.partial")));
+  ExpectRandomBlocksMatch(*ViewOf(dir.File("rows.db")), 0, part, 0);
+  MatRowReader again(part);
+  EXPECT_EQ(ImportRows(again, options, dir.File("rows.db")).status().code(),
+            StatusCode::kInvalidInput);  // never overwrites
+}
+
 }  // namespace
 }  // namespace fleetloc::mosaic

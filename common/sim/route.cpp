@@ -43,19 +43,6 @@ Box BoundingBox(const geometry::ConvexPolygon& polygon) {
 
 }  // namespace
 
-geometry::ConvexPolygon FootprintInGround(const geometry::CameraModel& camera) {
-  const double w = camera.width_px, h = camera.height_px;
-  return {camera.PixelToGround({0, 0}), camera.PixelToGround({0, h}), camera.PixelToGround({w, h}),
-          camera.PixelToGround({w, 0})};
-}
-
-geometry::ConvexPolygon PlaceFootprint(const geometry::ConvexPolygon& footprint_ground,
-                                       const geometry::Pose2& camera_in_map) {
-  geometry::ConvexPolygon placed;
-  for (const auto& corner : footprint_ground) placed.push_back(camera_in_map * corner);
-  return geometry::CounterClockwise(placed);
-}
-
 Route::Route(const geometry::ConvexPolygon& floor_m, double margin_m, const RouteOptions& options,
              double floor_resolution_m)
     : options_(options), speed_m_s_(options.speed_px_s * floor_resolution_m), margin_m_(margin_m) {

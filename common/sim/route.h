@@ -7,6 +7,7 @@
 #include "base/status.h"
 #include "geometry/camera_model.h"
 #include "geometry/convex_polygon.h"
+#include "geometry/footprint.h"
 #include "geometry/pose2.h"
 #include "sim/sim_options.h"
 
@@ -57,11 +58,8 @@ class Route {
   std::vector<double> cumulative_m_;  // ... and the arc length reached there (closed: last = 2π)
 };
 
-// The camera frame's outline (its four image corners) in camera_ground metres.
-geometry::ConvexPolygon FootprintInGround(const geometry::CameraModel& camera);
-
-// The footprint outline placed in map by the camera_ground pose.
-geometry::ConvexPolygon PlaceFootprint(const geometry::ConvexPolygon& footprint_ground,
-                                       const geometry::Pose2& camera_in_map);
+// Footprints live in geometry (shared with mapping); the simulator's code names them here.
+using geometry::FootprintInGround;
+using geometry::PlaceFootprint;
 
 }  // namespace fleetloc::sim

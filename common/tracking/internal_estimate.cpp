@@ -17,11 +17,9 @@ void InternalEstimate::Reset(const geometry::PoseWithCovariance& base_in_map,
 const geometry::PoseWithCovariance& InternalEstimate::Predict(double t,
                                                               const geometry::Pose2& odom) {
   FLEETLOC_CHECK(initialized_);
-  const geometry::Pose2 base_increment = geometry::Between(odom_last_, odom);
-  // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
-  const geometry::Pose2 camera_increment = mount_.Inverse() * base_increment * mount_;
   const double dt_s = has_time_ ? t - t_last_ : 0.0;
-  camera_ = tracking::Predict(camera_, camera_increment, dt_s, noise_);
+  // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
+  camera_ = geometry::Compose(camera_, CameraIncrement(odom_last_, odom, dt_s, mount_, noise_));
   odom_last_ = odom;
   t_last_ = t;
   has_time_ = true;

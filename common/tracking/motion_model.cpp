@@ -32,4 +32,12 @@ geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& interna
   return geometry::Compose(internal, {increment, IncrementCovariance(increment, dt_s, noise)});
 }
 
+geometry::PoseWithCovariance CameraIncrement(const geometry::Pose2& odom_from,
+                                             const geometry::Pose2& odom_to, double dt_s,
+                                             const geometry::Pose2& mount,
+                                             const OdometryNoiseOptions& noise) {
+  const geometry::Pose2 increment = mount.Inverse() * geometry::Between(odom_from, odom_to) * mount;
+  return {increment, IncrementCovariance(increment, dt_s, noise)};
+}
+
 }  // namespace fleetloc::tracking

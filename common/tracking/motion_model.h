@@ -17,4 +17,12 @@ geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& interna
                                      const geometry::Pose2& increment, double dt_s,
                                      const OdometryNoiseOptions& noise);
 
+// The camera's own increment between two odometry poses of base_link, mount⁻¹ ⊕ (odom_from⁻¹ ⊕
+// odom_to) ⊕ mount (the mount is camera_ground in base_link), with the covariance of that
+// increment driven over dt_s.
+geometry::PoseWithCovariance CameraIncrement(const geometry::Pose2& odom_from,
+                                             const geometry::Pose2& odom_to, double dt_s,
+                                             const geometry::Pose2& mount,
+                                             const OdometryNoiseOptions& noise);
+
 }  // namespace fleetloc::tracking

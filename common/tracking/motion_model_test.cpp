@@ -30,5 +30,18 @@ TEST(MotionModel, PredictionAddsIncrementAndGrowsUncertainty) {
   EXPECT_GT(p.covariance(2, 2), start.covariance(2, 2));
 }
 
+TEST(MotionModel, CameraIncrementOfATurnOnTheSpotMovesAMountedCamera) {
+  OdometryNoiseOptions n;
+  // base_link turns 90° on the spot; a camera 0.4 m ahead swings to 0.4 m left of where base_link
+  // is, which in the camera's start frame is (-0.4, 0.4), turned by 90°.
+  const geometry::PoseWithCovariance c = CameraIncrement(
+      {1.0, 2.0, 0.3}, geometry::Pose2{1.0, 2.0, 0.3} * geometry::Pose2{0, 0, M_PI / 2}, 0.5,
+      {0.4, 0.0, 0.0}, n);
+  EXPECT_NEAR(c.pose.x, -0.4, 1e-12);
+  EXPECT_NEAR(c.pose.y, 0.4, 1e-12);
+  EXPECT_NEAR(c.pose.theta, M_PI / 2, 1e-12);
+  EXPECT_TRUE(c.covariance.isApprox(IncrementCovariance(c.pose, 0.5, n)));
+}
+
 }  // namespace
 }  // namespace fleetloc::tracking

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_mosaic_build.h"
+#include "bench_mosaic_distortion.h"
 #include "bench_paths.h"
 #include "bench_report.h"
 #include "bench_agent.h"
@@ -228,6 +230,8 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchTiles(bench, result);
   RegisterBenchAgent(bench, result);
   AddBenchMosaicCommand(*bench, result);
+  RegisterBenchMosaicBuild(*bench, result);
+  RegisterBenchMosaicDistortion(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -1,5 +1,6 @@
-// fleetctl mosaic import | info | export (CONTRACT section 6): thin wrappers over the mosaic store
-// library. Progress and diagnostics go to stderr (spdlog); `info` prints JSON on stdout.
+// fleetctl mosaic import | build | info | export (CONTRACT section 6): thin wrappers over the
+// mosaic store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and
+// `build` print JSON on stdout.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "served_mosaics.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "mosaic_build.h"
 #include "progress_log.h"
 
 namespace fleetloc::fleetctl {
@@ -76,6 +78,22 @@ Status RunImport(const ImportArgs& args) {
   return Status::Ok();
 }
 
+struct BuildArgs {
+  std::string run;
+  std::string out;
+};
+
+Status RunBuild(const BuildArgs& args) {
+  Result<MosaicBuildSummary> built = BuildMosaicFromRun(args.run, args.out, MosaicBuildOptions{});
+  if (!built.ok()) return built.status();
+  spdlog::info("wrote {}: {}x{} px, {} levels, {} m/px, origin ({}, {})", args.out,
+               built->layout.width_px, built->layout.height_px, built->layout.levels,
+               built->layout.geo.resolution, built->layout.geo.origin_x,
+               built->layout.geo.origin_y);
+  std::cout << BuildSummaryJson(*built).dump(2) << "\n";
+  return Status::Ok();
+}
+
 Status RunInfo(const std::string& path) {
   Result<std::unique_ptr<mosaic::TileStore>> store =
       mosaic::TileStore::Open(path, mosaic::OpenMode::kReadOnly);
@@ -130,6 +148,15 @@ void AddImport(CLI::App& mosaic, Status* result) {
   cmd->callback([args, result] { *result = RunImport(*args); });
 }
 
+void AddBuild(CLI::App& mosaic, Status* result) {
+  auto args = std::make_shared<BuildArgs>();
+  CLI::App* cmd = mosaic.add_subcommand(
+      "build", "Build a mosaic from a mapping run (overlapping frames + odometry)");
+  cmd->add_option("--run", args->run, "Mapping run directory (CONTRACT §4)")->required();
+  cmd->add_option("--out", args->out, "Mosaic file to create (must not exist)")->required();
+  cmd->callback([args, result] { *result = RunBuild(*args); });
+}
+
 struct InfoArgs {
   std::string path;
   int domain = -1;
@@ -177,6 +204,7 @@ void RegisterMosaicCommands(CLI::App& app, Status* result) {
   CLI::App* mosaic = app.add_subcommand("mosaic", "Create, inspect and export mosaics");
   mosaic->require_subcommand(1);
   AddImport(*mosaic, result);
+  AddBuild(*mosaic, result);
   AddInfo(*mosaic, result);
   AddExport(*mosaic, result);
 }
