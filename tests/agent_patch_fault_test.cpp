@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <sqlite3.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "io/run.h"
@@ -44,7 +45,7 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   const std::string floor = (server.dir() / "changed_floor.png").string();
   ASSERT_TRUE(cv::imwrite(floor, changed));
   const std::string run = (server.dir() / "run").string();
-  ASSERT_EQ(testing::RunFleetctl("sim --image " + floor + " --resolution 0.0005 --frames 50 --seed 5 --out " + run)
+  ASSERT_EQ(testing::RunFleetctl("sim --image " + floor + " --resolution 0.0005 --frames 80 --seed 5 --out " + run)
                 .exit_code, 0);
   const std::string outbox = (server.dir() / "outbox.db").string();
   io::ChildProcess agent = testing::StartDaemon(
@@ -55,21 +56,44 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
                                                                    transport::topics::kVehiclePose);
   auto poses = transport::Reader<fleetloc_VehiclePose>::Create(server.participant().get(), *pose_topic,
                                                                transport::Qos().Reliable().KeepAll());
+  auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(
+      server.participant(), transport::topics::kVehicleHealth);
+  auto health = transport::Reader<fleetloc_VehicleHealth>::Create(
+      server.participant().get(), *health_topic, transport::Qos().Reliable().KeepAll());
   int tracked_while_down = 0;
+  std::optional<bool> reachable;  // as the newest health report says
+  bool named_unreachable = false;
   auto take_poses = [&](bool down) {
     (void)poses->TakeAll([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) {
       if (down && p.lock_state == fleetloc_LOCK_TRACKING) ++tracked_while_down;
     });
+    (void)health->TakeAll([&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
+      reachable = h.map_server_reachable;
+      for (uint32_t i = 0; i < h.issues._length; ++i) {
+        named_unreachable |= transport::GetBounded(h.issues._buffer[i].name) == "map_server_unreachable";
+      }
+    });
   };
   std::this_thread::sleep_for(std::chrono::seconds(4));
   take_poses(false);
+  EXPECT_EQ(reachable, std::optional<bool>(true));
+  EXPECT_FALSE(named_unreachable);
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
-  const auto down_until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  // Down for longer than the agent's map_server_timeout_s (3 s) plus a health period.
+  const auto down_until = std::chrono::steady_clock::now() + std::chrono::seconds(6);
   while (std::chrono::steady_clock::now() < down_until) {
     take_poses(true);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+  EXPECT_EQ(reachable, std::optional<bool>(false)) << "health while the server is down";
+  if (::testing::Test::HasFailure()) {
+    std::ifstream log(server.dir() / "agent.log");
+    std::cerr << log.rdbuf();
+  }
+  EXPECT_TRUE(named_unreachable);
   server.StartServer();
+  EXPECT_TRUE(Eventually([&] { take_poses(false); return reachable == true; }, 8))
+      << "health once the server is back";
   ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   // The agent went on tracking from its cache while the server was down. (Its poses reach this

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "map_server_fixture.h"
-#include "mapping/changed_floor_scene.h"
+#include "changed_floor_patches.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "mosaic/tile_store.h"
@@ -17,7 +17,7 @@ namespace fleetloc {
 namespace {
 
 using testing::Eventually;
-using Scene = mapping::testing::ChangedFloorScene;
+using testing::Scene;
 constexpr uint32_t kDomain = 83;
 
 // Every tile of every level, as stored bytes.
@@ -43,15 +43,9 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   int sent = 0;
   for (int y = 200; y <= 820; y += 90) {
     for (int x = 200; x <= 820; x += 90) {
-      const mapping::Patch p = scene.PatchAt({x, y}, {Scene::kRes, -Scene::kRes, 0.002});
-      transport::PatchToSend out;
-      out.sequence = static_cast<uint64_t>(++sent);
-      out.pose = p.pose;
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
-      out.quality = 0.9f;
-      out.resolution_m = Scene::kRes;
-      out.png = *mosaic::EncodeTile(p.image);
-      ASSERT_TRUE((*patches)->Send(out).ok());
+      const uint64_t sequence = static_cast<uint64_t>(++sent);
+      ASSERT_TRUE((*patches)->Send(testing::ScenePatch(scene, sequence, {x, y},
+                                                       {Scene::kRes, -Scene::kRes, 0.002})).ok());
     }
   }
   size_t acked = 0;

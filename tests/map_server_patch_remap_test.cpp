@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "changed_floor_patches.h"
 #include "map_server_fixture.h"
-#include "mapping/changed_floor_scene.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "transport/mosaic_messages.h"
@@ -17,7 +17,7 @@ namespace fleetloc {
 namespace {
 
 using testing::Eventually;
-using Scene = mapping::testing::ChangedFloorScene;
+using testing::Scene;
 constexpr uint32_t kDomain = 82;
 
 class MapServerPatchRemap : public ::testing::Test {
@@ -30,18 +30,7 @@ class MapServerPatchRemap : public ::testing::Test {
   }
 
   transport::PatchToSend PatchAt(uint64_t sequence, cv::Point centre, const geometry::Pose2& error) {
-    const mapping::Patch p = scene_.PatchAt(centre, error);
-    transport::PatchToSend out;
-    out.sequence = sequence;
-    out.stamp_s = 100.0 + sequence;
-    out.mosaic_id = server_.layout().mosaic_id;
-    out.mosaic_version = 1;
-    out.pose = p.pose;
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
-    out.quality = 0.9f;
-    out.resolution_m = Scene::kRes;
-    out.png = *mosaic::EncodeTile(p.image);
-    return out;
+    return testing::ScenePatch(scene_, sequence, centre, error, server_.layout().mosaic_id);
   }
 
   // Waits until acks for `count` sequence numbers arrived; returns them by sequence.
@@ -69,11 +58,8 @@ class MapServerPatchRemap : public ::testing::Test {
     return testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " + region +
                                 " --mode replace --timeout 120 " + extra);
   }
-  std::string RegionAroundChange() const {
-    const Eigen::Vector2d a = scene_.geo.PixelToMap({400, 500}), b = scene_.geo.PixelToMap({600, 350});
-    return std::to_string(a.x()) + "," + std::to_string(a.y()) + "," + std::to_string(b.x()) + "," +
-           std::to_string(b.y());
-  }
+  std::string RegionAroundChange() const { return testing::RegionAroundChange(scene_); }
+
 
   Scene scene_;
   testing::MapServerFixture server_;

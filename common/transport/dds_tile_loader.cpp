@@ -26,9 +26,32 @@ Status DdsTileLoader::Ask(const std::vector<mosaic::TileKey>& keys) {
   return Status::Ok();
 }
 
+void DdsTileLoader::Invalidate(const std::vector<mosaic::TileKey>& keys, long long version) {
+  for (const mosaic::TileKey& key : keys) {
+    arrived_.erase(key);  // arrival_order_ may still name it; the bound loop tolerates that
+    long long& needed = min_version_[key];
+    needed = std::max(needed, version);
+    ++stats_.invalidated;
+  }
+}
+
+// False (and the tile forgotten, to be asked again) when a TileUpdate said a newer version exists.
+bool DdsTileLoader::IsCurrent(const ReceivedTile& tile) {
+  auto it = min_version_.find(tile.key);
+  if (it == min_version_.end()) return true;
+  if (tile.status == fleetloc_TILE_OK && tile.version < it->second) {
+    ++stats_.stale;
+    return false;
+  }
+  ++stats_.refreshed;
+  min_version_.erase(it);
+  return true;
+}
+
 void DdsTileLoader::Keep(ReceivedTile tile) {
   ++stats_.received;
   in_flight_.erase(tile.key);
+  if (!IsCurrent(tile)) return;
   Result<cv::Mat> decoded = NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
   if (tile.status == fleetloc_TILE_OK) {
     decoded = mosaic::DecodeTile(tile.data, tile_size_px_);
@@ -66,8 +89,14 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   if (!arrived_.count(key)) {
     ++stats_.waited;
     if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
+    if (!server_reachable_) {
+      ++stats_.unserved;
+      in_flight_.erase(key);  // ask again next time
+      return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");
+    }
     const auto deadline = std::chrono::steady_clock::now() + timeout_;
     while (!arrived_.count(key)) {
+      if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));  // a stale answer came
       if (std::chrono::steady_clock::now() >= deadline) {
         ++stats_.timeouts;
         in_flight_.erase(key);  // ask again next time

@@ -21,7 +21,11 @@ struct DdsTileLoaderStats {
   long long received = 0;    // tiles that arrived
   long long waited = 0;      // on-demand loads that had to wait for the network
   long long timeouts = 0;    // on-demand loads that gave up (map server unreachable)
+  long long unserved = 0;    // on-demand loads not waited for (server known to be unreachable)
   long long errors = 0;      // tiles answered with an error status or undecodable bytes
+  long long invalidated = 0; // tiles named by TileUpdates (Invalidate)
+  long long refreshed = 0;   // invalidated tiles received again at the announced version or newer
+  long long stale = 0;       // answers older than an announced version, refused and asked again
 };
 
 class DdsTileLoader {
@@ -35,6 +39,12 @@ class DdsTileLoader {
   Result<cv::Mat> Load(const mosaic::TileKey& key);
   // Asks for tiles that are not already asked for or buffered, without waiting.
   Status Prefetch(const std::vector<mosaic::TileKey>& keys);
+  // While the map server is known to be unreachable, a missing tile is still asked for but not
+  // waited for: the tracker goes on from what it has instead of stalling a timeout per tile.
+  void SetServerReachable(bool reachable) { server_reachable_ = reachable; }
+  // A TileUpdate announced `version` of `keys`: buffered copies are dropped, and answers older
+  // than `version` for them are refused (they were in flight before the update) and asked again.
+  void Invalidate(const std::vector<mosaic::TileKey>& keys, long long version);
   // Takes the tiles that arrived so far into the buffer (call now and then; Load does it too).
   Status Poll();
 
@@ -47,6 +57,7 @@ class DdsTileLoader {
  private:
   Status Ask(const std::vector<mosaic::TileKey>& keys);
   void Keep(ReceivedTile tile);
+  bool IsCurrent(const ReceivedTile& tile);
 
   TileClient* client_;
   std::string mosaic_id_;
@@ -57,6 +68,8 @@ class DdsTileLoader {
   std::set<mosaic::TileKey> in_flight_;
   std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
   std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
+  std::map<mosaic::TileKey, long long> min_version_;
+  bool server_reachable_ = true;  // announced by TileUpdates, not yet received
   DdsTileLoaderStats stats_;
 };
 

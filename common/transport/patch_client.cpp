@@ -29,7 +29,10 @@ Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& part
   if (!ack_topic.ok()) return ack_topic.status();
   auto subscriber = participant.CreateSubscriber({topics::VehiclePartition(vehicle_id)});
   if (!subscriber.ok()) return subscriber.status();
-  auto patches = Writer<fleetloc_PatchObservation>::Create(participant.get(), *patch_topic, BulkQos(64));
+  // A vehicle never stalls on a patch: a write with no room within 0.1 s fails, and the patch
+  // stays in the caller's outbox for a later retry.
+  auto patches = Writer<fleetloc_PatchObservation>::Create(participant.get(), *patch_topic,
+                                                           BulkQos(64, 0.1));
   auto acks = Reader<fleetloc_PatchAck>::Create(subscriber->get(), *ack_topic, CommandQos());
   if (!patches.ok()) return patches.status();
   if (!acks.ok()) return acks.status();

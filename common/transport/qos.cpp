@@ -64,8 +64,8 @@ Qos CommandQos() { return Qos().Reliable().KeepAll().Volatile(); }
 
 Qos DurableStateQos(int depth) { return Qos().Reliable().TransientLocal().KeepLast(depth); }
 
-Qos BulkQos(int max_samples) {
-  return Qos().Reliable(5.0).Volatile().KeepAll().Limits(max_samples, -1, -1);
+Qos BulkQos(int max_samples, double max_blocking_s) {
+  return Qos().Reliable(max_blocking_s).Volatile().KeepAll().Limits(max_samples, -1, -1);
 }
 
 Qos PoseStreamQos(double deadline_s, double lease_s) {

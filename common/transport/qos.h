@@ -43,8 +43,9 @@ Qos CommandQos();
 // transient-local, the last `depth` samples of each instance.
 Qos DurableStateQos(int depth = 1);
 // Bulk payloads (Tile, PatchObservation): reliable so lost fragments are resent, KEEP_ALL with a
-// bound so a slow reader throttles the writer instead of losing tiles.
-Qos BulkQos(int max_samples = 256);
+// bound so a slow reader throttles the writer instead of losing tiles. A write waits at most
+// `max_blocking_s` for room before it fails with a time-out.
+Qos BulkQos(int max_samples = 256, double max_blocking_s = 5.0);
 // A vehicle's pose stream: like PeriodicStateQos but the writer keeps the last 16 samples, so a
 // burst (a frame's pose right after the odometry-rate ones) reaches a reader that keeps them all.
 Qos PoseStreamQos(double deadline_s = 1.0, double lease_s = 3.0);

@@ -25,6 +25,7 @@ Status Validate(const AgentConfig& c) {
   if (c.tile_timeout_ms < 10) return bad("tile_timeout_ms", "must be >= 10");
   if (c.prefetch_margin_px < 0) return bad("prefetch_margin_px", "must be >= 0");
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) return bad("health_period_s", "must be in [0.05, 60]");
+  if (!(c.map_server_timeout_s >= 0.1)) return bad("map_server_timeout_s", "must be >= 0.1");
   if (!(c.mosaic_wait_s > 0)) return bad("mosaic_wait_s", "must be > 0");
   if (!(c.patch_min_interval_s > 0)) return bad("patch_min_interval_s", "must be > 0");
   if (!(c.patch_min_changed > 0 && c.patch_min_changed <= 1)) return bad("patch_min_changed", "must be in (0, 1]");
@@ -39,7 +40,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
-      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "mosaic_wait_s", "outbox",
+      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed"};
   for (const auto& [key, value] : json->items()) {
@@ -63,6 +64,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
     *target = static_cast<int>(value);
   }
   for (const auto& [key, target] : {std::pair{"health_period_s", &c.health_period_s},
+                                    {"map_server_timeout_s", &c.map_server_timeout_s},
                                     {"mosaic_wait_s", &c.mosaic_wait_s},
                                     {"patch_min_interval_s", &c.patch_min_interval_s},
                                     {"patch_min_changed", &c.patch_min_changed},

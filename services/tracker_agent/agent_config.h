@@ -27,6 +27,9 @@ struct AgentConfig {
   int tile_timeout_ms = 2000;         // one wait for a missing tile
   int prefetch_margin_px = 256;       // tiles this far around the predicted footprint are asked ahead
   double health_period_s = 1.0;
+  // The map server counts as unreachable when none of its health reports (1 Hz by default) came
+  // for this long; the agent then tracks from its cache and says so in its health.
+  double map_server_timeout_s = 3.0;
   double mosaic_wait_s = 30.0;        // how long to wait for a map server at start
   // Patches of floor that looks different from the mosaic, kept in an outbox until acknowledged.
   std::string outbox_path;            // empty: fleetloc-outbox-<vehicle_id>.db in the working dir

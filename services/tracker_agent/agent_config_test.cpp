@@ -17,7 +17,8 @@ std::string Write(const std::string& name, const std::string& text) {
 
 TEST(AgentConfig, ReadsFieldsOverDefaults) {
   auto c = LoadAgentConfig(Write("ok", R"({"vehicle_id": "agv-3", "run": "/runs/a", "paced": false,
-                                           "domain": 4, "tile_cache_mb": 32})"));
+                                           "domain": 4, "tile_cache_mb": 32,
+                                           "map_server_timeout_s": 5})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_EQ(c->vehicle_id, "agv-3");
   EXPECT_EQ(c->run_path, "/runs/a");
@@ -25,6 +26,7 @@ TEST(AgentConfig, ReadsFieldsOverDefaults) {
   EXPECT_EQ(c->domain_id, 4);
   EXPECT_EQ(c->tile_cache_mb, 32);
   EXPECT_EQ(c->tile_timeout_ms, 2000);
+  EXPECT_EQ(c->map_server_timeout_s, 5.0);
 }
 
 TEST(AgentConfig, ShippedSampleLoads) {
@@ -40,6 +42,7 @@ TEST(AgentConfig, BadFieldsAreNamed) {
       {R"({"run": "r", "paced": "yes"})", "paced"},
       {R"({"run": "r", "tile_timeout_ms": 1})", "tile_timeout_ms"},
       {R"({"run": "r", "domain": 300})", "domain"},
+      {R"({"run": "r", "map_server_timeout_s": 0.01})", "map_server_timeout_s"},
   };
   int i = 0;
   for (const auto& [json, field] : cases) {

@@ -45,6 +45,9 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   auto client = transport::TileClient::Create(p, config_.vehicle_id);
   if (!client.ok()) return client.status();
   tiles_ = std::move(client).value();
+  auto watch = transport::ServiceWatch::Create(p, "map_server");
+  if (!watch.ok()) return watch.status();
+  map_server_watch_ = std::move(watch).value();
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
@@ -169,7 +172,8 @@ void TrackerAgent::PumpPatches() {
       if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
     }
   }
-  if (!patches_->ServerMatched()) return;  // keep them for when the server is back
+  // Keep them for when the server is back (a dead server stays matched until its lease ends).
+  if (!patches_->ServerMatched() || !map_server_reachable_) return;
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
   if (!due.ok()) return health_.RecordError(due.status().message());
@@ -216,15 +220,29 @@ void TrackerAgent::ApplyTileUpdates() {
     for (uint32_t i = 0; i < update.tiles._length; ++i) changed.push_back(transport::FromIdl(update.tiles._buffer[i]));
     for (const mosaic::TileKey& key : changed) tile_cache_->Erase(key);
     tracker_->DropTiles(changed);
+    loader_->Invalidate(changed, update.version);
     layout_.version = update.version;
     spdlog::info("mosaic version {}: {} tiles dropped from the caches", update.version, changed.size());
   });
 }
 
+void TrackerAgent::UpdateMapServerReachability() {
+  map_server_watch_->Poll();
+  const auto timeout = std::chrono::duration_cast<transport::ServiceWatch::Clock::duration>(
+      std::chrono::duration<double>(config_.map_server_timeout_s));
+  const bool reachable = tiles_->RequestsMatched() && map_server_watch_->SeenWithin(timeout);
+  loader_->SetServerReachable(reachable);
+  if (reachable != map_server_reachable_) {
+    if (reachable) spdlog::info("map server reachable");
+    else spdlog::warn("map server unreachable: tracking from the tile cache");
+    map_server_reachable_ = reachable;
+  }
+}
+
 void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
-                         outbox.ok() ? static_cast<size_t>(*outbox) : 0, tiles_->ServerMatched()};
+                         outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
@@ -251,6 +269,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       waiting_frames_.emplace_back(e.t, rectifier_ ? rectifier_->Rectify(e.frame) : e.frame);
       ProcessReadyFrames();
     }
+    UpdateMapServerReachability();
     ApplyTileUpdates();
     PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
@@ -265,7 +284,10 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
                       {"p95", health_.CyclePercentile(95, 10000)},
                       {"p99", health_.CyclePercentile(99, 10000)}}},
         {"tiles", {{"requested", loader_->stats().requested}, {"received", loader_->stats().received},
-                   {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts}}}};
+                   {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts},
+                   {"unserved", loader_->stats().unserved},
+                   {"invalidated", loader_->stats().invalidated},
+                   {"refreshed", loader_->stats().refreshed}, {"stale", loader_->stats().stale}}}};
     FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n"));
   }
   spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));

@@ -24,6 +24,7 @@
 #include "transport/dds_tile_loader.h"
 #include "transport/patch_client.h"
 #include "transport/pose_messages.h"
+#include "transport/service_watch.h"
 #include "transport/tile_client.h"
 
 namespace fleetloc::tracker_agent {
@@ -51,6 +52,9 @@ class TrackerAgent {
   void Prefetch(const geometry::Pose2& base);
   void ApplyTileUpdates();
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
+  // Reachable: reads our tile requests (DDS match) and was heard from (ServiceHealth) within
+  // map_server_timeout_s. Logs changes; the tile loader stops waiting while it is unreachable.
+  void UpdateMapServerReachability();
   void PublishHealth();
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
   void MaybeCollectPatch(double t, const cv::Mat& frame, const tracking::FrameResult& result);
@@ -66,6 +70,7 @@ class TrackerAgent {
   std::unique_ptr<transport::TileClient> tiles_;
   std::unique_ptr<transport::DdsTileLoader> loader_;
   std::unique_ptr<transport::PatchClient> patches_;
+  std::unique_ptr<transport::ServiceWatch> map_server_watch_;
   std::unique_ptr<PatchOutbox> outbox_;
   double last_patch_t_ = -1e300;
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
@@ -85,6 +90,7 @@ class TrackerAgent {
   std::deque<std::pair<double, cv::Mat>> waiting_frames_;  // until odometry covers their time
   double latest_odometry_t_ = -1e300;
   bool started_ = false;
+  bool map_server_reachable_ = true;
   AgentHealth health_;
 };
 

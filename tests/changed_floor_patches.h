@@ -1,0 +1,42 @@
+// The changed-floor scene's patches as a vehicle sends them over DDS, and the map region around
+// the change: shared by the re-mapping, map-server fault and agent tile-update tests.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "mapping/changed_floor_scene.h"
+#include "mosaic/tile_codec.h"
+#include "transport/patch_client.h"
+
+namespace fleetloc::testing {
+
+using Scene = mapping::testing::ChangedFloorScene;
+
+// The scene's patch at pixel `centre`, reported off by `error`, numbered `sequence`, with quality
+// 0.9 and a stamp of 100 + sequence s. `mosaic_id` empty: whatever mosaic the server serves.
+inline transport::PatchToSend ScenePatch(const Scene& scene, uint64_t sequence, cv::Point centre,
+                                         const geometry::Pose2& error,
+                                         const std::string& mosaic_id = "") {
+  const mapping::Patch p = scene.PatchAt(centre, error);
+  transport::PatchToSend out;
+  out.sequence = sequence;
+  out.stamp_s = 100.0 + static_cast<double>(sequence);
+  out.mosaic_id = mosaic_id;
+  out.mosaic_version = 1;
+  out.pose = p.pose;
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
+  out.quality = 0.9f;
+  out.resolution_m = Scene::kRes;
+  out.png = *mosaic::EncodeTile(p.image);
+  return out;
+}
+
+// "x0,y0,x1,y1" in map metres around the change, as `fleetctl remap --region` takes it.
+inline std::string RegionAroundChange(const Scene& scene) {
+  const Eigen::Vector2d a = scene.geo.PixelToMap({400, 500}), b = scene.geo.PixelToMap({600, 350});
+  return std::to_string(a.x()) + "," + std::to_string(a.y()) + "," + std::to_string(b.x()) + "," +
+         std::to_string(b.y());
+}
+
+}  // namespace fleetloc::testing
