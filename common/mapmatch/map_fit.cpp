@@ -17,36 +17,12 @@
 namespace fleetloc::mapmatch {
 namespace {
 
-constexpr double kDuplicateLandmarkM = 1e-6;
-
 std::string Num(double value) { return std::to_string(value); }
 
 Status CheckFinite(std::span<const Eigen::Vector2d> xy, const std::string& what) {
   for (std::size_t i = 0; i < xy.size(); ++i) {
     if (!xy[i].allFinite())
       return InvalidInput("map fit: " + what + " " + std::to_string(i) + " is not finite");
-  }
-  return Status::Ok();
-}
-
-// InvalidInput naming two landmarks closer than kDuplicateLandmarkM (sorted by x, so each is
-// compared only with its neighbours along x).
-Status CheckDistinct(std::span<const Eigen::Vector2d> landmarks) {
-  std::vector<std::size_t> order(landmarks.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return landmarks[a].x() < landmarks[b].x(); });
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    for (std::size_t n = k + 1; n < order.size(); ++n) {
-      const Eigen::Vector2d& a = landmarks[order[k]];
-      const Eigen::Vector2d& b = landmarks[order[n]];
-      if (b.x() - a.x() >= kDuplicateLandmarkM) break;
-      if ((b - a).norm() < kDuplicateLandmarkM) {
-        const auto [first, second] = std::minmax(order[k], order[n]);
-        return InvalidInput("map fit: landmarks " + std::to_string(first) + " and " +
-                            std::to_string(second) + " are at the same position");
-      }
-    }
   }
   return Status::Ok();
 }
@@ -75,7 +51,11 @@ Status CheckInputs(std::span<const Eigen::Vector2d> landmarks,
   FLEETLOC_RETURN_IF_ERROR(CheckFinite(landmarks, "landmark"));
   FLEETLOC_RETURN_IF_ERROR(CheckFinite(points, "point"));
   FLEETLOC_RETURN_IF_ERROR(CheckWeights(weights, points.size()));
-  return CheckDistinct(landmarks);
+  if (const auto duplicate = FindDuplicateLandmarks(landmarks)) {
+    return InvalidInput("map fit: landmarks " + std::to_string(duplicate->first) + " and " +
+                        std::to_string(duplicate->second) + " are at the same position");
+  }
+  return Status::Ok();
 }
 
 // The weighted normal equations of one Gauss–Newton step over the pairs within h of a landmark.
@@ -151,6 +131,22 @@ void Summarize(const NormalEquations& eq, MapFitResult* result) {
 }
 
 }  // namespace
+
+std::optional<std::pair<std::size_t, std::size_t>> FindDuplicateLandmarks(
+    std::span<const Eigen::Vector2d> landmarks) {
+  std::vector<std::size_t> order(landmarks.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return landmarks[a].x() < landmarks[b].x(); });
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    for (std::size_t n = k + 1; n < order.size(); ++n) {  // only neighbours along x
+      if (landmarks[order[n]].x() - landmarks[order[k]].x() >= kSameLandmarkM) break;
+      if ((landmarks[order[n]] - landmarks[order[k]]).norm() < kSameLandmarkM)
+        return std::minmax(order[k], order[n]);
+    }
+  }
+  return std::nullopt;
+}
 
 Status Validate(const MapFitOptions& o) {
   if (!(std::isfinite(o.radius_m) && o.radius_m > 0.0))

@@ -7,8 +7,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "base/status.h"
 #include "geometry/pose2.h"
@@ -48,6 +51,14 @@ struct MapFitResult {
   bool converged = false;
   std::string reason;
 };
+
+// Two landmarks closer than this are one landmark listed twice: a broken map.
+inline constexpr double kSameLandmarkM = 1e-6;
+
+// The indices (ascending) of two landmarks closer than kSameLandmarkM, if any. O(n log n) for
+// landmarks spread along x.
+std::optional<std::pair<std::size_t, std::size_t>> FindDuplicateLandmarks(
+    std::span<const Eigen::Vector2d> landmarks);
 
 // Fits T starting from `initial`. `weights` (one per point, finite, >= 0) may be empty (all 1).
 // InvalidInput naming the problem for bad options, no landmarks or points, a non-finite landmark,
