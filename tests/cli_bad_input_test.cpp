@@ -22,23 +22,6 @@ namespace fs = std::filesystem;
 const std::string kFloor = FLEETLOC_SOURCE_DIR "/deploy/demo/floors/gravel_1024.png";
 const std::string kOtherSizeImage = FLEETLOC_SOURCE_DIR "/tests/data/gravel.png";  // 512 x 512
 
-// Exit status 2 and exactly one non-empty line on stderr that contains every one of `parts`.
-::testing::AssertionResult IsBadInput(const CommandResult& r,
-                                      std::initializer_list<std::string> parts) {
-  if (r.exit_code != 2) {
-    return ::testing::AssertionFailure() << "exit status " << r.exit_code << ", stderr: " << r.err;
-  }
-  if (r.err.empty() || r.err.back() != '\n' || r.err.find('\n') != r.err.size() - 1) {
-    return ::testing::AssertionFailure() << "stderr is not one line: [" << r.err << "]";
-  }
-  for (const std::string& part : parts) {
-    if (r.err.find(part) == std::string::npos) {
-      return ::testing::AssertionFailure() << "stderr lacks '" << part << "': " << r.err;
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
-
 void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
 }

@@ -2,6 +2,7 @@
 // stdout and stderr.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 
@@ -50,6 +52,23 @@ inline CommandResult RunFleetctl(const std::string& args) {
   r.err = ReadWhole(dir / "err");
   std::filesystem::remove_all(dir);
   return r;
+}
+
+// Exit status 2 and exactly one non-empty line on stderr that contains every one of `parts`.
+inline ::testing::AssertionResult IsBadInput(const CommandResult& r,
+                                             std::initializer_list<std::string> parts) {
+  if (r.exit_code != 2) {
+    return ::testing::AssertionFailure() << "exit status " << r.exit_code << ", stderr: " << r.err;
+  }
+  if (r.err.empty() || r.err.back() != '\n' || r.err.find('\n') != r.err.size() - 1) {
+    return ::testing::AssertionFailure() << "stderr is not one line: [" << r.err << "]";
+  }
+  for (const std::string& part : parts) {
+    if (r.err.find(part) == std::string::npos) {
+      return ::testing::AssertionFailure() << "stderr lacks '" << part << "': " << r.err;
+    }
+  }
+  return ::testing::AssertionSuccess();
 }
 
 // A scratch directory removed at the end of the test.

@@ -18,6 +18,7 @@
 #include "bench_paths.h"
 #include "bench_report.h"
 #include "bench_agent.h"
+#include "bench_mapfit.h"
 #include "bench_tiles.h"
 #include "bench_tracker.h"
 #include "commands.h"
@@ -232,6 +233,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   AddBenchMosaicCommand(*bench, result);
   RegisterBenchMosaicBuild(*bench, result);
   RegisterBenchMosaicDistortion(*bench, result);
+  RegisterBenchMapFit(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

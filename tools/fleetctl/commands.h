@@ -15,6 +15,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);
 void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
+void RegisterMapmatchCommand(CLI::App& app, Status* result);
 
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);

@@ -21,6 +21,7 @@
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_build.h"
+#include "parse_numbers.h"
 #include "progress_log.h"
 
 namespace fleetloc::fleetctl {
@@ -40,30 +41,11 @@ struct ExportArgs {
   std::string region;  // "x0,y0,x1,y1" or empty
 };
 
-// Parses `count` comma-separated finite numbers, e.g. "1.5,-2". InvalidInput naming the option.
-Result<std::vector<double>> ParseNumbers(const std::string& text, std::size_t count,
-                                         const std::string& option, const std::string& form) {
-  std::vector<double> numbers;
-  const char* at = text.data();
-  const char* end = text.data() + text.size();
-  while (at <= end && numbers.size() <= count) {
-    double value = 0;
-    const auto [next, ec] = std::from_chars(at, end, value);
-    if (ec != std::errc() || !std::isfinite(value) || (next != end && *next != ',')) break;
-    numbers.push_back(value);
-    at = next + 1;
-  }
-  if (numbers.size() != count || at != end + 1) {
-    return InvalidInput(option + ": expected " + form + " (metres), got '" + text + "'");
-  }
-  return numbers;
-}
-
 Status RunImport(const ImportArgs& args) {
   mosaic::ImportOptions options;
   options.resolution_m = args.resolution_m;
   if (!args.origin.empty()) {
-    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin", "X,Y");
+    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin", "X,Y (metres)");
     if (!origin.ok()) return origin.status();
     options.origin_x_m = (*origin)[0];
     options.origin_y_m = (*origin)[1];
@@ -107,7 +89,7 @@ Status RunInfo(const std::string& path) {
 Status RunExport(const ExportArgs& args) {
   std::optional<mosaic::MapRegion> region;
   if (!args.region.empty()) {
-    Result<std::vector<double>> r = ParseNumbers(args.region, 4, "--region", "x0,y0,x1,y1");
+    Result<std::vector<double>> r = ParseNumbers(args.region, 4, "--region", "x0,y0,x1,y1 (metres)");
     if (!r.ok()) return r.status();
     region = mosaic::MapRegion{(*r)[0], (*r)[1], (*r)[2], (*r)[3]};
   }

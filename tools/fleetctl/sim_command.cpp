@@ -17,6 +17,7 @@
 #include "io/run.h"
 #include "mosaic/tile_store.h"
 #include "sim/run_simulator.h"
+#include "parse_numbers.h"
 #include "sim_run_writer.h"
 
 namespace fleetloc::fleetctl {
@@ -53,28 +54,6 @@ struct SimArgs {
   sim::SimOptions options;
 };
 
-// Parses "a,b[,c...]" into exactly `count` finite numbers. InvalidInput naming the option.
-Result<std::vector<double>> ParseNumbers(const std::string& text, size_t count,
-                                         const std::string& option) {
-  std::vector<double> values;
-  const char* p = text.data();
-  const char* end = text.data() + text.size();
-  while (p <= end) {
-    double value = 0.0;
-    const auto [next, ec] = std::from_chars(p, end, value);
-    if (ec != std::errc() || !std::isfinite(value)) break;
-    values.push_back(value);
-    if (next == end) {
-      if (values.size() == count) return values;
-      break;
-    }
-    if (*next != ',') break;
-    p = next + 1;
-  }
-  return InvalidInput(option + " '" + text + "': expected " + std::to_string(count) +
-                      " comma-separated numbers");
-}
-
 // The floor: an in-memory image or a mosaic file (its level 0), kept alive together.
 struct Floor {
   std::shared_ptr<mosaic::TileStore> store;
@@ -89,7 +68,7 @@ Result<Floor> OpenImageFloor(const SimArgs& args) {
   if (!image.ok()) return image.status();
   geometry::Geotransform geo{0.0, image->rows * args.resolution_m, args.resolution_m};
   if (!args.origin.empty()) {
-    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin");
+    Result<std::vector<double>> origin = ParseNumbers(args.origin, 2, "--origin", "X,Y");
     if (!origin.ok()) return origin.status();
     geo.origin_x = (*origin)[0];
     geo.origin_y = (*origin)[1];
@@ -142,9 +121,10 @@ Status ResolveOptions(SimArgs* args, double floor_resolution_m) {
   o.odometry.heading_drift_rad_s = args->heading_drift_deg_s * M_PI / 180.0;
   if (args->odom_at_origin) o.odometry.start_pose = geometry::Pose2{};
   o.render.exposure_s = args->exposure_ms * 1e-3;
-  Result<std::vector<double>> sigma = ParseNumbers(args->initial_sigma, 3, "--initial-sigma");
-  Result<std::vector<double>> gain = ParseNumbers(args->gain, 2, "--gain");
-  Result<std::vector<double>> bias = ParseNumbers(args->bias, 2, "--bias");
+  Result<std::vector<double>> sigma =
+      ParseNumbers(args->initial_sigma, 3, "--initial-sigma", "SX_M,SY_M,STHETA_DEG");
+  Result<std::vector<double>> gain = ParseNumbers(args->gain, 2, "--gain", "MIN,MAX");
+  Result<std::vector<double>> bias = ParseNumbers(args->bias, 2, "--bias", "MIN,MAX");
   for (const Status& s : {sigma.status(), gain.status(), bias.status()}) {
     FLEETLOC_RETURN_IF_ERROR(s);
   }
