@@ -2,7 +2,6 @@
 #include "mapmatch/landmark_detector.h"
 
 #include <cmath>
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -15,6 +14,8 @@ Status Bad(const std::string& field, const std::string& what) {
 
 // Refined edges whose lines are this close are the same edge.
 constexpr double kSameEdgePx = 1.0;
+// Edges closer than this to the sensor's border are not trusted (smoothing reaches past it).
+constexpr int kBorderMarginPx = 3;
 
 bool Positive(double value) { return std::isfinite(value) && value > 0; }
 
@@ -22,6 +23,9 @@ Status ValidateRefinement(const EdgeRefinement& r) {
   if (!(r.search_px >= 1 && r.search_px <= 10))
     return Bad("refinement.search_px", "must be in [1, 10]");
   if (!Positive(r.foot_search_px)) return Bad("refinement.foot_search_px", "must be > 0");
+  if (!(r.fade_fraction > 0 && r.fade_fraction < 1)) {
+    return Bad("refinement.fade_fraction", "must be in (0, 1)");
+  }
   if (!(r.end_strength_fraction > 0 && r.end_strength_fraction < 1)) {
     return Bad("refinement.end_strength_fraction", "must be in (0, 1)");
   }
@@ -44,9 +48,16 @@ Status Validate(const LandmarkDetectorOptions& o) {
   }
   if (o.hough_votes < 1) return Bad("hough_votes", "must be >= 1");
   if (!Positive(o.min_line_length_px)) return Bad("min_line_length_px", "must be > 0");
+  if (!(Positive(o.min_boundary_length_px) && o.min_boundary_length_px <= o.min_line_length_px)) {
+    return Bad("min_boundary_length_px", "must be in (0, min_line_length_px]");
+  }
   if (!(o.max_line_gap_px >= 0)) return Bad("max_line_gap_px", "must be >= 0");
   if (!(Positive(o.max_vertical_deviation_rad) && o.max_vertical_deviation_rad < 0.5)) {
     return Bad("max_vertical_deviation_rad", "must be in (0, 0.5)");
+  }
+  if (!(o.min_boundary_angle_rad > o.max_vertical_deviation_rad &&
+        o.min_boundary_angle_rad <= M_PI / 2)) {
+    return Bad("min_boundary_angle_rad", "must be in (max_vertical_deviation_rad, pi/2]");
   }
   if (!(o.merge_distance_px >= 0) || !(o.merge_gap_px >= 0)) {
     return Bad("merge_distance_px/merge_gap_px", "must be >= 0");
@@ -69,11 +80,7 @@ Result<LandmarkDetector> LandmarkDetector::Create(const ForwardCamera& camera,
 
 LandmarkDetector::LandmarkDetector(const ForwardCamera& camera,
                                    const LandmarkDetectorOptions& options)
-    : camera_(camera), options_(options) {
-  // The ideal image keeps the camera matrix: ideal pixels are K · normalized coordinates.
-  cv::initUndistortRectifyMap(camera.CameraMatrix(), camera.DistCoeffs(), cv::noArray(),
-                              camera.CameraMatrix(), camera.image_size(), CV_32FC1, map_x_, map_y_);
-}
+    : camera_(camera), options_(options), view_(camera, kBorderMarginPx) {}
 
 Status LandmarkDetector::CheckImage(const cv::Mat& image) const {
   if (image.empty()) return InvalidInput("landmark detector: the image is empty");
@@ -90,19 +97,18 @@ Status LandmarkDetector::CheckImage(const cv::Mat& image) const {
 }
 
 cv::Mat LandmarkDetector::IdealImage(const cv::Mat& image) const {
-  cv::Mat gray = image, ideal;
+  cv::Mat gray = image;
   if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
   // In floating point from here: 8-bit rounding would cost the foot its sub-pixel precision.
   gray.convertTo(gray, CV_32F);
-  // Replicated borders: no artificial edges where the ideal image leaves the sensor.
-  cv::remap(gray, ideal, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::Mat ideal = view_.Undistort(gray);
   if (options_.smoothing_sigma_px > 0) {
     cv::GaussianBlur(ideal, ideal, cv::Size(), options_.smoothing_sigma_px);
   }
   return ideal;
 }
 
-Result<std::vector<VerticalEdge>> LandmarkDetector::DetectEdges(const cv::Mat& image) const {
+Result<std::vector<EdgeSegment>> LandmarkDetector::DetectEdges(const cv::Mat& image) const {
   FLEETLOC_RETURN_IF_ERROR(CheckImage(image));
   const cv::Mat ideal = IdealImage(image);
   Gradients gradients;
@@ -112,30 +118,45 @@ Result<std::vector<VerticalEdge>> LandmarkDetector::DetectEdges(const cv::Mat& i
   gradients.dx.convertTo(dx16, CV_16S);
   gradients.dy.convertTo(dy16, CV_16S);
   cv::Canny(dx16, dy16, edges, options_.canny_low, options_.canny_high, /*L2gradient=*/true);
+  edges.setTo(0, view_.valid_mask() == 0);  // the canvas beyond the sensor is made up
   std::vector<cv::Vec4i> segments;
   cv::HoughLinesP(edges, segments, options_.hough_rho_px, options_.hough_theta_rad,
-                  options_.hough_votes, options_.min_line_length_px, options_.max_line_gap_px);
-  const std::vector<VerticalEdge> vertical =
-      MergeCollinear(VerticalSegments(segments, camera_.NadirVanishingPoint(),
-                                      options_.max_vertical_deviation_rad),
-                     options_.merge_distance_px, options_.merge_gap_px);
-  std::vector<VerticalEdge> refined;
-  for (const VerticalEdge& edge : vertical) {
-    if (auto r = RefineEdge(gradients, edge, options_.refinement)) refined.push_back(*r);
+                  options_.hough_votes, options_.min_boundary_length_px, options_.max_line_gap_px);
+  const SortedSegments sorted =
+      SortSegments(segments, CanvasNadirVanishingPoint(), options_.max_vertical_deviation_rad,
+                   options_.min_boundary_angle_rad);
+  std::vector<EdgeSegment> boundaries;
+  for (const EdgeSegment& segment : sorted.boundaries) {
+    if (auto line = FitEdgeLine(gradients, segment, options_.refinement.search_px)) {
+      boundaries.push_back(*line);
+    }
+  }
+  std::vector<EdgeSegment> refined;
+  for (const EdgeSegment& edge :
+       MergeCollinear(sorted.vertical, options_.merge_distance_px, options_.merge_gap_px)) {
+    if (auto r = RefineEdge(gradients, edge, boundaries, options_.refinement))
+      refined.push_back(*r);
   }
   // Pieces of one edge that Hough split refine to the same line and foot: keep one.
-  return MergeCollinear(std::move(refined), kSameEdgePx, 0.0);
+  std::vector<EdgeSegment> merged = MergeCollinear(std::move(refined), kSameEdgePx, 0.0);
+  for (EdgeSegment& edge : merged) edge.point -= view_.offset();  // canvas → ideal pixels
+  return merged;
 }
 
-std::optional<FloorPointDetection> LandmarkDetector::ToFloor(const VerticalEdge& edge) const {
-  const Eigen::Vector2d foot = edge.FootPixel();
+Eigen::Vector3d LandmarkDetector::CanvasNadirVanishingPoint() const {
+  const Eigen::Vector3d vp = camera_.NadirVanishingPoint();
+  return {vp.x() + view_.offset().x() * vp.z(), vp.y() + view_.offset().y() * vp.z(), vp.z()};
+}
+
+std::optional<FloorPointDetection> LandmarkDetector::ToFloor(const EdgeSegment& edge) const {
+  const Eigen::Vector2d foot = edge.EndPixel();
   Result<Eigen::Vector2d> point = camera_.IdealPixelToFloor(foot);
   if (!point.ok()) return std::nullopt;
   const double range = (*point - camera_.center().head<2>()).norm();
   if (range < options_.min_range_m || range > options_.max_range_m) return std::nullopt;
   // Sensitivity of the floor point to the foot's position along the edge.
   Result<Eigen::Vector2d> shifted =
-      camera_.IdealPixelToFloor(foot - options_.foot_sigma_px * edge.down);
+      camera_.IdealPixelToFloor(foot - options_.foot_sigma_px * edge.direction);
   if (!shifted.ok()) return std::nullopt;
   FloorPointDetection d;
   d.point = *point;
@@ -149,10 +170,10 @@ std::optional<FloorPointDetection> LandmarkDetector::ToFloor(const VerticalEdge&
 }
 
 Result<std::vector<FloorPointDetection>> LandmarkDetector::Detect(const cv::Mat& image) const {
-  Result<std::vector<VerticalEdge>> edges = DetectEdges(image);
+  Result<std::vector<EdgeSegment>> edges = DetectEdges(image);
   if (!edges.ok()) return edges.status();
   std::vector<FloorPointDetection> detections;
-  for (const VerticalEdge& edge : *edges) {
+  for (const EdgeSegment& edge : *edges) {
     if (auto d = ToFloor(edge)) detections.push_back(*d);
   }
   return detections;

@@ -11,6 +11,7 @@
 
 #include "base/status.h"
 #include "mapmatch/forward_camera.h"
+#include "mapmatch/undistorted_view.h"
 #include "mapmatch/vertical_edge.h"
 
 namespace fleetloc::mapmatch {
@@ -21,10 +22,12 @@ struct LandmarkDetectorOptions {
   double canny_high = 50.0;         // smoothed image (3×3 Sobel units)
   double hough_rho_px = 1.0;
   double hough_theta_rad = M_PI / 360;
-  int hough_votes = 25;
-  double min_line_length_px = 30.0;
+  int hough_votes = 15;
+  double min_line_length_px = 30.0;      // vertical edges, after joining their Hough pieces
+  double min_boundary_length_px = 12.0;  // floor boundaries, which may be short (<= the above)
   double max_line_gap_px = 4.0;
   double max_vertical_deviation_rad = 0.035;  // segment vs the downward direction at its middle
+  double min_boundary_angle_rad = 0.25;       // floor boundaries cross vertical edges this steeply
   double merge_distance_px = 3.0;             // segments this close to an edge's line join it
   double merge_gap_px = 12.0;                 // ... when they overlap or continue it within this
   EdgeRefinement refinement;
@@ -61,20 +64,22 @@ class LandmarkDetector {
   Result<std::vector<FloorPointDetection>> Detect(const cv::Mat& image) const;
 
   // The refined vertical edges of an image (ideal pixels), before back-projection.
-  Result<std::vector<VerticalEdge>> DetectEdges(const cv::Mat& image) const;
+  Result<std::vector<EdgeSegment>> DetectEdges(const cv::Mat& image) const;
 
   const ForwardCamera& camera() const { return camera_; }
 
  private:
   LandmarkDetector(const ForwardCamera& camera, const LandmarkDetectorOptions& options);
   Status CheckImage(const cv::Mat& image) const;
-  // The undistorted, smoothed gray image (CV_32FC1).
+  // The undistorted, smoothed gray canvas (CV_32FC1, see UndistortedView).
   cv::Mat IdealImage(const cv::Mat& image) const;
-  std::optional<FloorPointDetection> ToFloor(const VerticalEdge& edge) const;
+  // NadirVanishingPoint in canvas pixels.
+  Eigen::Vector3d CanvasNadirVanishingPoint() const;
+  std::optional<FloorPointDetection> ToFloor(const EdgeSegment& edge) const;
 
   ForwardCamera camera_;
   LandmarkDetectorOptions options_;
-  cv::Mat map_x_, map_y_;  // ideal pixel → distorted pixel (cv::remap)
+  UndistortedView view_;
 };
 
 }  // namespace fleetloc::mapmatch

@@ -97,7 +97,8 @@ TEST(VisibleLandmarks, HiddenAndOutOfViewCornersAreLeftOut) {
   // Looking down the corridor from its start: the cupboard (x 3.4..4.6, right wall) hides its
   // own back corners' far side and the door behind it is out of view or hidden.
   const geometry::Pose2 pose{1.0, 0.0, 0.0};
-  const std::vector<VisibleLandmark> visible = VisibleLandmarks(scene, camera, pose);
+  const ForwardRenderer renderer(camera, {.supersample = 1});
+  const std::vector<VisibleLandmark> visible = renderer.VisibleLandmarks(scene, pose);
   const auto seen = [&](const Eigen::Vector2d& corner) {
     return std::any_of(visible.begin(), visible.end(),
                        [&](const VisibleLandmark& v) { return (v.map - corner).norm() < 1e-9; });
@@ -109,6 +110,7 @@ TEST(VisibleLandmarks, HiddenAndOutOfViewCornersAreLeftOut) {
   for (const VisibleLandmark& v : visible) {
     EXPECT_NEAR((camera.Project({v.base.x(), v.base.y(), 0.0}).value() - v.pixel).norm(), 0, 1e-9);
     EXPECT_NEAR((pose * v.base - v.map).norm(), 0, 1e-12);
+    EXPECT_GT(v.contrast_dn, 0.0);
   }
 }
 
@@ -127,7 +129,7 @@ TEST(ForwardRenderer, VisibleCornersShowAsEdgesAndRenderingIsDeterministic) {
   cv::Mat smooth;
   cv::GaussianBlur(image, smooth, cv::Size(), 1.5);
   int with_edge = 0, near = 0;
-  for (const VisibleLandmark& v : VisibleLandmarks(scene, camera, pose)) {
+  for (const VisibleLandmark& v : renderer.VisibleLandmarks(scene, pose)) {
     if (v.range_m > 6.0) continue;
     ++near;
     // 0.15 m up the edge, 4 px either side of it.

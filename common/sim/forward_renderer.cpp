@@ -68,6 +68,12 @@ ForwardRenderer::ForwardRenderer(const mapmatch::ForwardCamera& camera,
   for (const Eigen::Vector2d& n : normalized) rays_.push_back(camera.RayDirection(n).normalized());
 }
 
+double ForwardRenderer::RayRadiance(const CorridorScene& scene, const Eigen::Vector3d& origin,
+                                    const Eigen::Vector3d& direction) const {
+  const std::optional<RayHit> hit = CastRay(scene, origin, direction);
+  return hit ? options_.exposure_dn * hit->albedo * Shading(hit->normal) : 0.0;
+}
+
 cv::Mat ForwardRenderer::Radiance(const CorridorScene& scene,
                                   const geometry::Pose2& vehicle) const {
   const int samples = options_.supersample * options_.supersample;
@@ -78,10 +84,9 @@ cv::Mat ForwardRenderer::Radiance(const CorridorScene& scene,
     for (int u = 0; u < radiance.cols; ++u) {
       double sum = 0.0;
       for (int i = 0; i < samples; ++i, ++ray) {
-        const std::optional<RayHit> hit = CastRay(scene, origin, RotateToMap(vehicle, *ray));
-        if (hit) sum += hit->albedo * Shading(hit->normal);
+        sum += RayRadiance(scene, origin, RotateToMap(vehicle, *ray));
       }
-      radiance.at<float>(v, u) = static_cast<float>(options_.exposure_dn * sum / samples);
+      radiance.at<float>(v, u) = static_cast<float>(sum / samples);
     }
   }
   return radiance;
@@ -97,14 +102,32 @@ cv::Mat ForwardRenderer::Render(const CorridorScene& scene, const geometry::Pose
   return ApplySensor(radiance, light, DrawSensor(photometric, rng), photometric, rng);
 }
 
-std::vector<VisibleLandmark> VisibleLandmarks(const CorridorScene& scene,
-                                              const mapmatch::ForwardCamera& camera,
-                                              const geometry::Pose2& vehicle,
-                                              const VisibilityOptions& options) {
-  const Eigen::Vector3d origin = ToMap(vehicle, camera.center());
-  const cv::Size size = camera.image_size();
+double ForwardRenderer::EdgeContrast(const CorridorScene& scene, const geometry::Pose2& vehicle,
+                                     const Eigen::Vector2d& base, double height_m) const {
+  constexpr double kOffsetPx = 3.0;
+  const Eigen::Vector3d origin = ToMap(vehicle, camera_.center());
+  const auto radiance_at = [&](const Eigen::Vector2d& pixel) {
+    const Eigen::Vector2d normalized = camera_.Undistort(std::span(&pixel, 1))[0];
+    const Eigen::Vector3d ray = camera_.RayDirection(normalized).normalized();
+    return RayRadiance(scene, origin, RotateToMap(vehicle, ray));
+  };
+  double weakest = INFINITY;
+  for (double z = 0.02; z <= height_m + 1e-9; z += 0.04) {
+    const Eigen::Vector2d p = camera_.Project({base.x(), base.y(), z}).value();
+    const Eigen::Vector2d up = camera_.Project({base.x(), base.y(), z + 0.05}).value() - p;
+    const Eigen::Vector2d across = Eigen::Vector2d(-up.y(), up.x()).normalized() * kOffsetPx;
+    weakest = std::min(weakest, std::abs(radiance_at(p + across) - radiance_at(p - across)));
+  }
+  return weakest;
+}
+
+std::vector<VisibleLandmark> ForwardRenderer::VisibleLandmarks(
+    const CorridorScene& scene, const geometry::Pose2& vehicle,
+    const VisibilityOptions& options) const {
+  const Eigen::Vector3d origin = ToMap(vehicle, camera_.center());
+  const cv::Size size = camera_.image_size();
   const auto seen = [&](const Eigen::Vector2d& base, double z) {
-    Result<Eigen::Vector2d> pixel = camera.Project({base.x(), base.y(), z});
+    Result<Eigen::Vector2d> pixel = camera_.Project({base.x(), base.y(), z});
     if (!pixel.ok() || pixel->x() < options.margin_px || pixel->y() < options.margin_px ||
         pixel->x() > size.width - 1 - options.margin_px ||
         pixel->y() > size.height - 1 - options.margin_px) {
@@ -122,9 +145,11 @@ std::vector<VisibleLandmark> VisibleLandmarks(const CorridorScene& scene,
       edge_seen = seen(base, z);
     }
     if (!edge_seen) continue;
-    const Eigen::Vector2d pixel = camera.Project({base.x(), base.y(), 0.0}).value();
-    const double range = (base - camera.center().head<2>()).norm();
-    visible.push_back({static_cast<int>(i), scene.landmarks[i], base, pixel, range});
+    VisibleLandmark landmark{static_cast<int>(i), scene.landmarks[i], base,
+                             camera_.Project({base.x(), base.y(), 0.0}).value(),
+                             (base - camera_.center().head<2>()).norm()};
+    landmark.contrast_dn = EdgeContrast(scene, vehicle, base, options.edge_height_m);
+    visible.push_back(landmark);
   }
   return visible;
 }
