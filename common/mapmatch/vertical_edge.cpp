@@ -27,6 +27,9 @@ double Across(const Gradients& g, const Eigen::Vector2d& p, const Eigen::Vector2
 constexpr double kPersistPx = 2.0;      // a fade lasts this long (noise dips do not)
 constexpr double kLastStretchPx = 8.0;  // the stretch above the fade that sets the local contrast
 constexpr double kBlurMarginPx = 2.5;   // ... leaving out the blurred end itself
+constexpr double kKinkPx = 0.75;        // a boundary this far off the line has left it
+constexpr double kKinkRunPx = 6.0;      // ... and keeps leaving over this run
+constexpr int kKinkSearchPx = 4;
 
 struct Peak {
   Eigen::Vector2d point;
@@ -92,6 +95,34 @@ double MedianStrength(const Gradients& g, const EdgeSegment& edge, double polari
   return values[values.size() / 2];
 }
 
+// Where the edge bends away from its line before fading: below a corner seen at a grazing angle
+// the floor boundary continues almost along the edge. Scanning down from `start`, the gradient
+// peak's lateral offset from the line leaves ±kKinkPx for good and keeps growing; the bend is
+// extrapolated back to zero offset. nullopt when the edge stays on its line up to `until`.
+std::optional<double> BendAlong(const Gradients& g, const EdgeSegment& edge, double polarity,
+                                double start, double until) {
+  const Eigen::Vector2d n = Normal(edge);
+  const auto offset = [&](double t) -> std::optional<double> {
+    const std::optional<Peak> peak = PeakAcross(g, edge.At(t), n, kKinkSearchPx);
+    if (!peak || peak->strength * polarity <= 0) return std::nullopt;
+    return (peak->point - edge.At(t)).dot(n);
+  };
+  for (double t = start; t <= until; t += 0.5) {
+    const std::optional<double> o0 = offset(t), o1 = offset(t + kKinkRunPx / 2),
+                                o2 = offset(t + kKinkRunPx);
+    if (!o0 || !o1 || !o2 || std::abs(*o0) < kKinkPx) continue;
+    const double sign = *o0 > 0 ? 1.0 : -1.0;
+    // Growing steadily in the same direction: a boundary leaving the line.
+    const double first = sign * (*o1 - *o0), second = sign * (*o2 - *o1);
+    if (first <= 0 || second <= 0 || std::max(first, second) > 2 * std::min(first, second)) {
+      continue;  // a straight boundary leaves the line at a steady rate
+    }
+    const double slope = (*o2 - *o0) / kKinkRunPx;
+    return std::max(start, t - *o0 / slope);
+  }
+  return std::nullopt;
+}
+
 // Where the edge ends: first where it fades below fade_fraction × its median strength (its
 // contrast may change along the way, e.g. a silhouette against a changing background), then the
 // half-maximum of its last stretch's strength (the blurred end of a step is crossed at half height
@@ -107,7 +138,10 @@ double EdgeEnd(const Gradients& g, const EdgeSegment& edge, double polarity, dou
   const double local = MedianStrength(g, edge, polarity, from, fade - kBlurMarginPx, step);
   const double end =
       FirstDrop(g, edge, polarity, options.end_strength_fraction * local, from, step, step);
-  return std::clamp(end, from, fade);
+  const double faded = std::clamp(end, from, fade);
+  const std::optional<double> bend =
+      BendAlong(g, edge, polarity, std::max(start, faded - 2 * kLastStretchPx), faded);
+  return bend ? std::min(*bend, faded) : faded;
 }
 
 struct EdgeFit {
