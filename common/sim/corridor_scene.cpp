@@ -40,8 +40,8 @@ Solid Frustum(const Eigen::Vector2d& center, double bottom_half, double top_half
   solid.albedo = albedo;
   solid.faces = {{Eigen::Vector3d::UnitZ(), height}, {-Eigen::Vector3d::UnitZ(), 0.0}};
   const double slope = (top_half - bottom_half) / height;  // outward per metre of height
-  for (const Eigen::Vector2d side : {Eigen::Vector2d(1, 0), Eigen::Vector2d(-1, 0),
-                                     Eigen::Vector2d(0, 1), Eigen::Vector2d(0, -1)}) {
+  for (const Eigen::Vector2d& side : {Eigen::Vector2d(1, 0), Eigen::Vector2d(-1, 0),
+                                      Eigen::Vector2d(0, 1), Eigen::Vector2d(0, -1)}) {
     // side · (p - center) - slope · z <= bottom_half, normalized.
     const Eigen::Vector3d n(side.x(), side.y(), -slope);
     const double offset = bottom_half + side.dot(center);
@@ -99,8 +99,8 @@ class LayoutBuilder {
   void Door(int side, double x0) {
     const double x1 = x0 + kDoorWidth, leaf = side * (w_ + kDoorRecess);
     const double leaf_back = side * (w_ + kDoorRecess + 0.05);
-    scene_->solids.push_back(
-        Box(x0, x1, std::min(leaf, leaf_back), std::max(leaf, leaf_back), 0, kDoorHeight, kDoorLeafAlbedo));
+    scene_->solids.push_back(Box(x0, x1, std::min(leaf, leaf_back), std::max(leaf, leaf_back), 0,
+                                 kDoorHeight, kDoorLeafAlbedo));
     const double face = side * w_, back = side * (w_ + kWallThickness);
     scene_->solids.push_back(Box(x0, x1, std::min(face, back), std::max(face, back), kDoorHeight,
                                  kWallHeight, kWallAlbedo));
