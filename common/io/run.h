@@ -60,7 +60,8 @@ struct PoseRecord {
 // content their reader would reject (NaN, an unknown status, ...). Angles are wrapped to
 // (-pi, pi] on read and on write. The per-table readers are in io/run_tables.h.
 
-// camera.json (also forward_camera.json): unknown members are ignored, known ones are checked.
+// camera.json: unknown members are ignored, known ones are checked (forward_camera.json has its
+// own reader, io/forward_camera_json.h).
 Result<CameraFile> ReadCameraJson(const std::filesystem::path& path);
 Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& camera);
 

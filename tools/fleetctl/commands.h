@@ -10,6 +10,7 @@ namespace fleetloc::fleetctl {
 
 void RegisterMosaicCommands(CLI::App& app, Status* result);
 void RegisterSimCommand(CLI::App& app, Status* result);
+void RegisterSimForwardCommand(CLI::App& app, Status* result);
 void RegisterTrackCommand(CLI::App& app, Status* result);
 void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);

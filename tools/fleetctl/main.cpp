@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   fleetloc::Status result;
   fleetloc::fleetctl::RegisterMosaicCommands(app, &result);
   fleetloc::fleetctl::RegisterSimCommand(app, &result);
+  fleetloc::fleetctl::RegisterSimForwardCommand(app, &result);
   fleetloc::fleetctl::RegisterTrackCommand(app, &result);
   fleetloc::fleetctl::RegisterBenchCommand(app, &result);
   fleetloc::fleetctl::RegisterComposeCommand(app, &result);

@@ -1,0 +1,134 @@
+// fleetctl sim-forward: a simulated forward-camera drive down a corridor (docs/forward_camera.md) —
+// the `forward/` directory of a run (forward_camera.json, forward.csv, images) with the drive's
+// truth and drifting odometry, and the corridor's landmarks.csv (CONTRACT §7), for end-to-end
+// tests of the global position update.
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "commands.h"
+#include "io/file_util.h"
+#include "io/forward_camera_json.h"
+#include "io/messages.h"
+#include "io/run_tables.h"
+#include "sim/forward_renderer.h"
+#include "sim/forward_run.h"
+#include "sim/random.h"
+
+namespace fleetloc::fleetctl {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SimForwardArgs {
+  std::string out;
+  std::string
+      camera;  // forward_camera.json to use; default: a 640×480 camera 1 m up, 0.25 rad down
+  bool overwrite = false;
+  sim::ForwardRunOptions run;
+};
+
+mapmatch::ForwardCameraParams DefaultForwardCamera() {
+  mapmatch::ForwardCameraParams p;
+  p.K = {520, 0, 320, 0, 520, 240, 0, 0, 1};
+  p.dist = {-0.08, 0.01, 0, 0, 0};
+  p.mount = {.x_m = 0.45, .y_m = 0.0, .height_m = 1.0, .yaw_rad = 0.0, .pitch_rad = 0.25};
+  return p;
+}
+
+Status PrepareForwardDir(const fs::path& dir, bool overwrite) {
+  std::error_code ec;
+  if (fs::exists(dir / "forward", ec) || fs::exists(dir / "landmarks.csv", ec)) {
+    if (!overwrite) {
+      return InvalidInput(dir.string() + ": has forward/ or landmarks.csv (use --overwrite)");
+    }
+    fs::remove_all(dir / "forward", ec);
+    fs::remove(dir / "landmarks.csv", ec);
+  }
+  fs::create_directories(dir / "forward" / "img", ec);
+  if (ec) return Internal(dir.string() + ": cannot create forward/: " + ec.message());
+  return Status::Ok();
+}
+
+Status WriteImage(const fs::path& path, const cv::Mat& image) {
+  try {
+    if (cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1})) return Status::Ok();
+  } catch (const cv::Exception& e) {
+    return Internal(path.string() + ": cannot write image: " + e.err);
+  }
+  return Internal(path.string() + ": cannot write image");
+}
+
+// CONTRACT §7: header `id,x,y`, one floor-level corner per row, in map.
+Status WriteLandmarksCsv(const fs::path& path, const std::vector<Eigen::Vector2d>& landmarks) {
+  std::ostringstream text;
+  text << "id,x,y\n";
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    text << i << ',' << io::FormatDouble(landmarks[i].x()) << ','
+         << io::FormatDouble(landmarks[i].y()) << '\n';
+  }
+  return io::WriteFileAtomically(path, text.str());
+}
+
+Result<mapmatch::ForwardCameraParams> CameraParams(const SimForwardArgs& a) {
+  if (a.camera.empty()) return DefaultForwardCamera();
+  return io::ReadForwardCameraJson(a.camera);
+}
+
+Status RunSimForward(const SimForwardArgs& a) {
+  FLEETLOC_RETURN_IF_ERROR(sim::Validate(a.run));
+  Result<mapmatch::ForwardCameraParams> params = CameraParams(a);
+  if (!params.ok()) return params.status();
+  Result<mapmatch::ForwardCamera> camera = mapmatch::ForwardCamera::Create(*params);
+  if (!camera.ok()) return camera.status();
+  const fs::path dir(a.out), forward = fs::path(a.out) / "forward";
+  FLEETLOC_RETURN_IF_ERROR(PrepareForwardDir(dir, a.overwrite));
+  const sim::CorridorScene scene = sim::BuildCorridorScene(a.run.scene);
+  const sim::ForwardRunPlan plan = sim::PlanForwardRun(a.run);
+  const sim::ForwardRenderer renderer(*camera, {});
+  std::vector<io::FrameRef> frames;
+  for (std::size_t i = 0; i < plan.frame_truth.size(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "img/f%05zu.png", i);
+    const geometry::StampedPose& truth = plan.frame_truth[i];
+    FLEETLOC_RETURN_IF_ERROR(WriteImage(
+        forward / name, renderer.Render(scene, truth.pose, sim::MixSeed(a.run.seed, i))));
+    frames.push_back({truth.t, forward / name});
+    if ((i + 1) % 10 == 0)
+      spdlog::info("sim-forward: {} of {} frames", i + 1, plan.frame_truth.size());
+  }
+  FLEETLOC_RETURN_IF_ERROR(io::WriteForwardCameraJson(forward / "forward_camera.json", *params));
+  FLEETLOC_RETURN_IF_ERROR(io::WriteFramesCsv(forward / "forward.csv", frames, forward));
+  FLEETLOC_RETURN_IF_ERROR(io::WriteStampedPosesCsv(forward / "truth.csv", plan.frame_truth));
+  FLEETLOC_RETURN_IF_ERROR(io::WriteStampedPosesCsv(forward / "odometry.csv", plan.odometry));
+  FLEETLOC_RETURN_IF_ERROR(WriteLandmarksCsv(dir / "landmarks.csv", scene.landmarks));
+  std::cout << "{\"frames\": " << frames.size() << ", \"landmarks\": " << scene.landmarks.size()
+            << ", \"forward\": \"" << forward.string() << "\"}\n";
+  return Status::Ok();
+}
+
+}  // namespace
+
+void RegisterSimForwardCommand(CLI::App& app, Status* result) {
+  auto a = std::make_shared<SimForwardArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "sim-forward", "Simulate a forward-camera drive down a corridor: forward/ and landmarks.csv");
+  cmd->option_defaults()->always_capture_default();
+  cmd->add_option("--out", a->out, "Run directory to add forward/ and landmarks.csv to")
+      ->required();
+  cmd->add_option("--camera", a->camera, "forward_camera.json to simulate (default: built in)");
+  cmd->add_flag("--overwrite", a->overwrite, "Replace an existing forward/ and landmarks.csv");
+  cmd->add_option("--frames", a->run.frames, "Forward frames");
+  cmd->add_option("--frame-rate-hz", a->run.frame_rate_hz, "Forward frames per second");
+  cmd->add_option("--speed-m-s", a->run.speed_m_s, "Driving speed");
+  cmd->add_option("--start-x-m", a->run.start_x_m, "Start along the corridor");
+  cmd->add_option("--weave-m", a->run.weave_amplitude_m, "Sideways weave amplitude");
+  cmd->add_option("--seed", a->run.seed, "Odometry and image noise");
+  cmd->add_option("--scene-seed", a->run.scene.seed, "Corridor layout");
+  cmd->callback([a, result] { *result = RunSimForward(*a); });
+}
+
+}  // namespace fleetloc::fleetctl
