@@ -232,6 +232,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   AddBenchMosaicCommand(*bench, result);
   RegisterBenchMosaicBuild(*bench, result);
   RegisterBenchMosaicDistortion(*bench, result);
+  RegisterBenchReloc(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

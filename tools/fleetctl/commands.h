@@ -15,8 +15,11 @@ void RegisterBenchCommand(CLI::App& app, Status* result);
 void RegisterComposeCommand(CLI::App& app, Status* result);
 void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
+void RegisterRelocCommand(CLI::App& app, Status* result);
 
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
+// `bench reloc` (bench_reloc_command.cpp).
+void RegisterBenchReloc(CLI::App& bench, Status* result);
 
 }  // namespace fleetloc::fleetctl
