@@ -1,6 +1,7 @@
 // Global relocalization: match, vote, cluster, verify (see relocalizer.h).
 #include "mapmatch/relocalizer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -37,6 +38,10 @@ Status Validate(const RelocalizerOptions& options) {
     return InvalidInput("relocalizer: verify_sigma_rad must be in (0, 0.5)");
   if (options.min_verified_inliers < options.tracker.min_inliers)
     return InvalidInput("relocalizer: min_verified_inliers must be >= tracker.min_inliers");
+  if (options.confident_inliers < options.min_verified_inliers)
+    return InvalidInput("relocalizer: confident_inliers must be >= min_verified_inliers");
+  if (options.ambiguity_margin_inliers < 0)
+    return InvalidInput("relocalizer: ambiguity_margin_inliers must be >= 0");
   return tracking::Validate(options.tracker);
 }
 
@@ -91,22 +96,58 @@ std::vector<FeatureMatch> Relocalizer::MatchFrame(const cv::Mat& frame, Relocali
   return matches;
 }
 
-bool Relocalizer::Verify(const cv::Mat& frame, const PoseCandidate& candidate,
-                         Relocalization* out) {
+std::optional<Relocalizer::Verified> Relocalizer::Verify(const cv::Mat& frame,
+                                                         const PoseCandidate& candidate) {
   geometry::PoseWithCovariance camera_in_map{candidate.camera_in_map, Eigen::Matrix3d::Zero()};
   camera_in_map.covariance.diagonal() << std::pow(options_.verify_sigma_m, 2),
       std::pow(options_.verify_sigma_m, 2), std::pow(options_.verify_sigma_rad, 2);
   tracker_.Reset(geometry::ComposeFixed(camera_in_map, camera_.mount.Inverse()), geometry::Pose2{});
   const tracking::FrameResult result = tracker_.Track(frame, 0.0, geometry::Pose2{});
-  ++out->verified;
-  if (result.state != tracking::LockState::kTracking ||
-      result.inliers < options_.min_verified_inliers)
-    return false;
+  if (result.state != tracking::LockState::kTracking) return std::nullopt;
+  return Verified{result.base_in_map, result.inliers, result.templates, candidate.inliers};
+}
+
+std::vector<Relocalizer::Verified> Relocalizer::VerifyCandidates(
+    const cv::Mat& frame, const std::vector<PoseCandidate>& candidates, Relocalization* out) {
+  std::vector<Verified> verified;
+  for (const PoseCandidate& candidate : candidates) {
+    if (out->verified >= options_.max_verified_candidates) break;
+    ++out->verified;
+    std::optional<Verified> v = Verify(frame, candidate);
+    if (!v) continue;
+    verified.push_back(*v);
+    if (v->inliers >= options_.confident_inliers) break;
+  }
+  return verified;
+}
+
+void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) const {
+  std::sort(verified.begin(), verified.end(),
+            [](const Verified& a, const Verified& b) { return a.inliers > b.inliers; });
+  if (verified.empty() || verified[0].inliers < options_.min_verified_inliers) {
+    out->reason = "no candidate confirmed by the tracker (best " +
+                  std::to_string(verified.empty() ? 0 : verified[0].inliers) + " inliers, " +
+                  std::to_string(options_.min_verified_inliers) + " needed; " + Describe(*out) +
+                  ", " + std::to_string(out->verified) + " verified)";
+    return;
+  }
+  const Verified& best = verified[0];
+  for (std::size_t i = 1; i < verified.size(); ++i) {
+    const geometry::Pose2 d =
+        geometry::Between(best.base_in_map.pose, verified[i].base_in_map.pose);
+    const bool distinct = std::hypot(d.x, d.y) > options_.clustering.radius_m ||
+                          std::abs(d.theta) > options_.clustering.heading_tolerance_rad;
+    if (distinct && verified[i].inliers >= best.inliers - options_.ambiguity_margin_inliers) {
+      out->reason = "ambiguous: two distinct poses confirmed with " + std::to_string(best.inliers) +
+                    " and " + std::to_string(verified[i].inliers) + " inliers";
+      return;
+    }
+  }
   out->found = true;
-  out->base_in_map = result.base_in_map;
-  out->inliers = result.inliers;
-  out->candidate_inliers = candidate.inliers;
-  return true;
+  out->base_in_map = best.base_in_map;
+  out->inliers = best.inliers;
+  out->templates = best.templates;
+  out->candidate_inliers = best.candidate_inliers;
 }
 
 Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
@@ -125,15 +166,12 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   out.candidates = static_cast<int>(candidates.size());
   out.cluster_ms = MsSince(cluster_start);
   const auto verify_start = std::chrono::steady_clock::now();
-  for (const PoseCandidate& candidate : candidates) {
-    if (out.verified >= options_.max_verified_candidates || Verify(frame, candidate, &out)) break;
+  if (candidates.empty()) {
+    out.reason = "no consistent pose votes (" + Describe(out) + ")";
+  } else {
+    Choose(VerifyCandidates(frame, candidates, &out), &out);
   }
   out.verify_ms = MsSince(verify_start);
-  if (!out.found) {
-    out.reason = candidates.empty() ? "no consistent pose votes (" + Describe(out) + ")"
-                                    : "no candidate confirmed by the tracker (" + Describe(out) +
-                                          ", " + std::to_string(out.verified) + " verified)";
-  }
   return out;
 }
 

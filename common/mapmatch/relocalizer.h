@@ -3,11 +3,12 @@
 // votes for a camera pose, votes are clustered (heading, then mean shift over position) and
 // fitted into a few candidates, and each candidate is verified by one cycle of the mosaic tracker
 // (the same coarse-to-fine correlation and Kalman update as tracking) started from it with a
-// small covariance. The first candidate the tracker confirms with enough inliers is returned.
+// small covariance; the pose the tracker confirms with most inliers, unambiguously, is returned.
 #pragma once
 
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "base/status.h"
@@ -27,10 +28,17 @@ struct RelocalizerOptions {
   int neighbours = 2;                // index features matched per frame feature
   int max_descriptor_distance = 70;  // Hamming distance (of 256 bits) a match may have
   VoteClusterOptions clustering;
-  int max_verified_candidates = 4;  // tracker cycles tried, best-supported candidate first
-  double verify_sigma_m = 0.002;    // candidate covariance the tracker searches (1-sigma)
+  // Verification: candidates are tried best-supported first; one whose tracker cycle keeps
+  // confident_inliers correspondences is accepted at once, otherwise up to max_verified are tried
+  // and the one with most inliers wins — if it has min_verified_inliers and no other verified,
+  // distinct pose comes within ambiguity_margin_inliers of it (a floor that partly repeats itself
+  // confirms a wrong pose with the templates on the repeated part only).
+  int max_verified_candidates = 6;
+  int confident_inliers = 26;
+  int min_verified_inliers = 16;
+  int ambiguity_margin_inliers = 8;
+  double verify_sigma_m = 0.002;  // candidate covariance the tracker searches (1-sigma)
   double verify_sigma_rad = 0.01;
-  int min_verified_inliers = 14;     // tracker correspondences kept to accept a candidate
   tracking::TrackerOptions tracker;  // the verifying tracker cycle
 };
 
@@ -45,7 +53,8 @@ struct Relocalization {
   int matches = 0;
   int candidates = 0;
   int verified = 0;           // tracker cycles run
-  int inliers = 0;            // of the accepted tracker cycle
+  int templates = 0;          // correspondences the accepted tracker cycle measured
+  int inliers = 0;            // of those, kept by its pose update
   int candidate_inliers = 0;  // feature inliers of the accepted candidate
   double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0;
 };
@@ -67,8 +76,18 @@ class Relocalizer {
   Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
               const geometry::CameraModel& camera, const RelocalizerOptions& options);
   std::vector<FeatureMatch> MatchFrame(const cv::Mat& frame, Relocalization* out) const;
-  // One tracker cycle from the candidate; true (and the pose in *out) when it confirms it.
-  bool Verify(const cv::Mat& frame, const PoseCandidate& candidate, Relocalization* out);
+  struct Verified {
+    geometry::PoseWithCovariance base_in_map;
+    int inliers = 0, templates = 0, candidate_inliers = 0;
+  };
+  // One tracker cycle from the candidate; nullopt when the tracker does not lock.
+  std::optional<Verified> Verify(const cv::Mat& frame, const PoseCandidate& candidate);
+  // The verified poses of the candidates, as the options' verification rule says.
+  std::vector<Verified> VerifyCandidates(const cv::Mat& frame,
+                                         const std::vector<PoseCandidate>& candidates,
+                                         Relocalization* out);
+  // Accepts the best of `verified` into *out, or sets the reason why none is accepted.
+  void Choose(std::vector<Verified> verified, Relocalization* out) const;
 
   const PlaceIndex* index_;
   geometry::CameraModel camera_;

@@ -85,6 +85,35 @@ Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceI
   });
 }
 
+// Every trial that ended without a correct pose, with what the relocalizer saw.
+nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
+  nlohmann::json failures = nlohmann::json::array();
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    const RelocTrial& t = trials[i];
+    if (t.correct) continue;
+    nlohmann::json runs = nlohmann::json::array();
+    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(RelocalizationJson(r));
+    failures.push_back({{"trial", i},
+                        {"found", t.found},
+                        {"error_m", t.error_m},
+                        {"error_rad", t.error_rad},
+                        {"attempts", runs}});
+  }
+  return failures;
+}
+
+// [correct, tracker inliers, templates, candidate feature inliers] of every accepted pose: the
+// margins of the acceptance gates.
+nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
+  nlohmann::json accepted = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    if (!t.found) continue;
+    const mapmatch::Relocalization& r = t.runs.back();
+    accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers});
+  }
+  return accepted;
+}
+
 nlohmann::json TrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
   int correct = 0, within = 0, wrong = 0, not_found = 0;
   std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
@@ -115,6 +144,8 @@ nlohmann::json TrialStats(const std::vector<RelocTrial>& trials, const RelocTria
           {"time_to_correct_pose_ms", pct(to_pose_ms)},
           {"attempt_ms", pct(attempt_ms)},
           {"attempts", attempt_ms.size()},
+          {"failures", Failures(trials)},
+          {"accepted", Accepted(trials)},
           {"stage_ms_p50",
            {{"detect", replay::Percentile(detect, 50)},
             {"match", replay::Percentile(match, 50)},

@@ -92,6 +92,7 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
   const Eigen::Matrix3d& c = r.base_in_map.covariance;
   json["pose"] = {{"x", p.x}, {"y", p.y}, {"theta", p.theta}};
   json["covariance"] = {c(0, 0), c(0, 1), c(0, 2), c(1, 1), c(1, 2), c(2, 2)};
+  json["templates"] = r.templates;
   json["inliers"] = r.inliers;
   json["candidate_inliers"] = r.candidate_inliers;
   return json;
