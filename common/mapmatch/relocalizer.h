@@ -35,7 +35,7 @@ struct RelocalizerOptions {
   // confirms a wrong pose with the templates on the repeated part only).
   int max_verified_candidates = 6;
   int confident_inliers = 26;
-  int min_verified_inliers = 16;
+  int min_verified_inliers = 18;
   int ambiguity_margin_inliers = 8;
   double verify_sigma_m = 0.002;  // candidate covariance the tracker searches (1-sigma)
   double verify_sigma_rad = 0.01;
