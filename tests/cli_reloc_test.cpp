@@ -16,14 +16,14 @@ const std::string kFloor = FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x16
 TEST(CliReloc, FramesOfASimulatedRunAreFoundWithinTwoMillimetresAndTheIndexIsCached) {
   const ScratchDir dir("cli_reloc");
   const std::string mosaic = dir / "floor.db", run = dir / "run";
-  ASSERT_EQ(RunFleetctl("mosaic import " + Quote(kFloor) + " --resolution 0.0005 --out " +
-                        Quote(mosaic))
-                .exit_code,
-            0);
-  ASSERT_EQ(RunFleetctl("sim --mosaic " + Quote(mosaic) + " --out " + Quote(run) +
-                        " --frames 8 --seed 4")
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      RunFleetctl("mosaic import " + Quote(kFloor) + " --resolution 0.0005 --out " + Quote(mosaic))
+          .exit_code,
+      0);
+  ASSERT_EQ(
+      RunFleetctl("sim --mosaic " + Quote(mosaic) + " --out " + Quote(run) + " --frames 8 --seed 4")
+          .exit_code,
+      0);
   for (int frame : {0, 7}) {
     const CommandResult r = RunFleetctl("reloc --mosaic " + Quote(mosaic) + " --run " + Quote(run) +
                                         " --frame " + std::to_string(frame));

@@ -26,7 +26,7 @@ namespace fleetloc::mapmatch {
 
 struct PlaceIndexOptions {
   FloorFeatureOptions features;
-  int strip_rows_px = 512;       // level rows detected per strip while building (bounds memory)
+  int strip_rows_px = 512;  // level rows detected per strip while building (bounds memory)
   // LSH: measured on the 108 Mpx bench mosaic (156k features), 12 tables of 20-bit keys without
   // multi-probing match a frame in ~8 ms with every trial still correct; multi-probe level 2
   // (8 × 20 bits) took ~330 ms for no gain.
