@@ -2,6 +2,8 @@
 #include "sim/floor_composer.h"
 
 #include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <utility>
 
@@ -35,8 +37,23 @@ Status Validate(const FloorComposerOptions& options) {
   if (!(options.max_gain_change >= 0.0 && options.max_gain_change <= 0.5)) {
     return InvalidInput("max_gain_change must be in [0, 0.5]");
   }
+  if (!(options.min_scale > 0.0 && options.max_scale >= options.min_scale &&
+        options.max_scale <= 4.0)) {
+    return InvalidInput("scales must satisfy 0 < min_scale <= max_scale <= 4");
+  }
   return Status::Ok();
 }
+
+namespace {
+
+// Half the side of the photo square a freely rotated and scaled block reads, with a margin for
+// bilinear interpolation.
+int FreeBlockReachPx(const FloorComposerOptions& options) {
+  return static_cast<int>(std::ceil(0.5 * options.block_px * options.max_scale * std::sqrt(2.0))) +
+         2;
+}
+
+}  // namespace
 
 FloorComposer::FloorComposer(std::vector<cv::Mat> photos, FloorComposerOptions options)
     : photos_(std::move(photos)), options_(options) {}
@@ -47,9 +64,12 @@ Result<FloorComposer> FloorComposer::Create(std::vector<cv::Mat> photos,
   if (photos.empty()) return InvalidInput("floor composer: no photos");
   for (std::size_t i = 0; i < photos.size(); ++i) {
     const cv::Mat& photo = photos[i];
-    if (photo.type() != CV_8UC1 || photo.cols < options.block_px || photo.rows < options.block_px) {
+    const int needed_px =
+        options.free_rotation_and_scale ? 2 * FreeBlockReachPx(options) : options.block_px;
+    if (photo.type() != CV_8UC1 || photo.cols < needed_px || photo.rows < needed_px) {
       return InvalidInput("photo " + std::to_string(i) + " must be 8-bit gray and at least " +
-                          std::to_string(options.block_px) + " px on both sides (block_px)");
+                          std::to_string(needed_px) + " px on both sides (block_px" +
+                          (options.free_rotation_and_scale ? " · max_scale · √2)" : ")"));
     }
   }
   return FloorComposer(std::move(photos), options);
@@ -73,11 +93,38 @@ BlockPlacement FloorComposer::PlacementOf(int col, int row) const {
   p.flip_x = (orientation & 2) != 0;
   p.flip_y = (orientation & 1) != 0;
   p.gain = 1.0 + options_.max_gain_change * (2.0 * Uniform01(next()) - 1.0);
+  if (options_.free_rotation_and_scale) {
+    const int reach = FreeBlockReachPx(options_);
+    p.center = {reach + Uniform01(next()) * (photo.cols - 2 * reach),
+                reach + Uniform01(next()) * (photo.rows - 2 * reach)};
+    p.angle_rad = 2.0 * M_PI * Uniform01(next());
+    p.scale = options_.min_scale + (options_.max_scale - options_.min_scale) * Uniform01(next());
+    p.transpose = p.flip_y = false;
+  }
   return p;
+}
+
+cv::Mat FloorComposer::RenderFreeBlock(const BlockPlacement& p) const {
+  const double b = options_.block_px, c = std::cos(p.angle_rad), s = std::sin(p.angle_rad);
+  // Block pixel (x, y) → photo: center + scale · R · ((x, y) − b/2) (pixel centres alike).
+  const cv::Matx23d to_photo(p.scale * c, -p.scale * s, 0, p.scale * s, p.scale * c, 0);
+  cv::Matx23d m = to_photo;
+  m(0, 2) = p.center.x - 0.5 - (to_photo(0, 0) + to_photo(0, 1)) * (0.5 * b - 0.5);
+  m(1, 2) = p.center.y - 0.5 - (to_photo(1, 0) + to_photo(1, 1)) * (0.5 * b - 0.5);
+  cv::Mat block;
+  cv::warpAffine(photos_[p.photo], block, m, cv::Size(options_.block_px, options_.block_px),
+                 cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT);
+  if (p.flip_x) cv::flip(block, block, 1);
+  return block;
 }
 
 cv::Mat FloorComposer::RenderBlock(int col, int row) const {
   const BlockPlacement p = PlacementOf(col, row);
+  if (options_.free_rotation_and_scale) {
+    cv::Mat block;
+    cv::LUT(RenderFreeBlock(p), GainTable(p.gain), block);
+    return block;
+  }
   const int b = options_.block_px;
   const cv::Mat crop = photos_[p.photo](cv::Rect(p.crop_origin, cv::Size(b, b)));
   cv::Mat oriented;

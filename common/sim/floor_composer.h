@@ -18,6 +18,14 @@ struct FloorComposerOptions {
   int block_px = 512;  // side of a block; every photo must be at least this large both ways
   std::uint64_t seed = 1;
   double max_gain_change = 0.15;  // block gains are drawn from [1 - this, 1 + this], in [0, 0.5]
+  // Non-repeating floor (for place recognition): each block is also rotated by an arbitrary angle
+  // and scaled by a factor drawn from [min_scale, max_scale] (photo pixels per floor pixel), so
+  // the photos' content, reused across the floor, never appears twice at the same orientation
+  // and scale. Off: blocks are axis-aligned crops in one of the 8 right-angle orientations, and
+  // the same photo region recurs in the same orientation (an ambiguous floor).
+  bool free_rotation_and_scale = false;
+  double min_scale = 0.8;   // > 0
+  double max_scale = 1.25;  // >= min_scale; photos must be >= block_px · max_scale · √2 + 4
 };
 
 // Range checks of the options; InvalidInput naming the field.
@@ -25,10 +33,15 @@ Status Validate(const FloorComposerOptions& options);
 
 // Where a block's pixels come from. The block is the block_px square of `photo` at `crop_origin`,
 // transposed if `transpose`, then mirrored left-right if `flip_x` and top-bottom if `flip_y`, and
-// every pixel multiplied by `gain` (rounded, saturated).
+// every pixel multiplied by `gain` (rounded, saturated). With free_rotation_and_scale the block is
+// instead photo pixel `center` + scale · R(angle) · (block pixel − block centre), bilinear,
+// mirrored left-right if `flip_x`, then the gain.
 struct BlockPlacement {
   int photo = 0;
   cv::Point crop_origin;
+  cv::Point2d center;
+  double angle_rad = 0.0;
+  double scale = 1.0;
   bool transpose = false;
   bool flip_x = false;
   bool flip_y = false;
@@ -61,6 +74,7 @@ class FloorComposer {
 
  private:
   FloorComposer(std::vector<cv::Mat> photos, FloorComposerOptions options);
+  cv::Mat RenderFreeBlock(const BlockPlacement& placement) const;  // before the gain
 
   std::vector<cv::Mat> photos_;
   FloorComposerOptions options_;

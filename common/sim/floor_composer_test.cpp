@@ -6,6 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -139,6 +140,50 @@ TEST(FloorComposer, RejectsPhotosSmallerThanABlockAndBadSizes) {
   EXPECT_EQ(FloorComposer::Create(RealPhotos(), options).status().code(),
             StatusCode::kInvalidInput);
   EXPECT_EQ(FloorComposer::Create({}, SmallFloor(1)).status().code(), StatusCode::kInvalidInput);
+}
+
+}  // namespace
+}  // namespace fleetloc::sim
+
+namespace fleetloc::sim {
+namespace {
+
+TEST(FloorComposer, FreeBlocksAreTheirPhotoRotatedAndScaledAboutTheDrawnCentre) {
+  FloorComposerOptions options = SmallFloor(3);
+  options.free_rotation_and_scale = true;
+  options.max_gain_change = 0.0;
+  const std::vector<cv::Mat> photos = RealPhotos();
+  const FloorComposer composer = MakeComposer(options);
+  std::set<long> angles;
+  for (int col = 0; col < composer.block_cols(); ++col) {
+    const BlockPlacement p = composer.PlacementOf(col, 1);
+    angles.insert(std::lround(p.angle_rad * 1000));
+    EXPECT_GE(p.scale, options.min_scale);
+    EXPECT_LE(p.scale, options.max_scale);
+    const cv::Mat block = composer.RenderBlock(col, 1);
+    // Block pixel centre (x + 0.5, y + 0.5) comes from photo point center + s·R·(pixel − b/2).
+    for (const cv::Point pixel : {cv::Point(128, 128), cv::Point(10, 200), cv::Point(250, 5)}) {
+      const double dx = pixel.x + 0.5 - 128, dy = pixel.y + 0.5 - 128;
+      const double c = std::cos(p.angle_rad), s = std::sin(p.angle_rad);
+      const cv::Point2d at = p.center + p.scale * cv::Point2d(c * dx - s * dy, s * dx + c * dy);
+      cv::Mat sample;
+      cv::getRectSubPix(photos[p.photo], cv::Size(1, 1), at - cv::Point2d(0.5, 0.5), sample);
+      const int x = p.flip_x ? 255 - pixel.x : pixel.x;
+      EXPECT_NEAR(block.at<std::uint8_t>(pixel.y, x), sample.at<std::uint8_t>(0, 0), 2.0);
+    }
+  }
+  EXPECT_EQ(angles.size(), static_cast<std::size_t>(composer.block_cols()));  // all different
+}
+
+TEST(FloorComposer, FreeBlocksNeedPhotosLargeEnoughForAnyRotation) {
+  FloorComposerOptions options = SmallFloor(1);
+  options.block_px = 512;  // needs 2 · (ceil(512 · 1.25 · √2 / 2) + 2) = 910 px
+  options.free_rotation_and_scale = true;
+  const Result<FloorComposer> composer =
+      FloorComposer::Create({cv::Mat(800, 800, CV_8UC1, cv::Scalar(9))}, options);
+  ASSERT_FALSE(composer.ok());
+  EXPECT_NE(composer.status().message().find("910 px"), std::string::npos)
+      << composer.status().message();
 }
 
 }  // namespace

@@ -234,6 +234,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchMosaicBuild(*bench, result);
   RegisterBenchMosaicDistortion(*bench, result);
   RegisterBenchMapFit(*bench, result);
+  RegisterBenchReloc(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

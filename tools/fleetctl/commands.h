@@ -17,8 +17,11 @@ void RegisterComposeCommand(CLI::App& app, Status* result);
 void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
 void RegisterMapmatchCommand(CLI::App& app, Status* result);
+void RegisterRelocCommand(CLI::App& app, Status* result);
 
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
+// `bench reloc` (bench_reloc_command.cpp).
+void RegisterBenchReloc(CLI::App& bench, Status* result);
 
 }  // namespace fleetloc::fleetctl

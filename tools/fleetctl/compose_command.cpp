@@ -4,7 +4,7 @@
 // instead composes a floor of any size (gigapixels) from varied blocks of the photos, streamed to
 // a binary PGM (composed_floor.h); its blocks reuse photo content (varied by crop, orientation and
 // gain), so it serves storage benchmarks at scale, not judging how the tracker copes with
-// ambiguity.
+// ambiguity — unless --non-repeating also rotates and scales every block by a random amount.
 #include <spdlog/spdlog.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -85,6 +85,10 @@ void RegisterComposeCommand(CLI::App& app, Status* result) {
       ->capture_default_str();
   cmd->add_option("--seed", args->blocks.seed, "Block placement seed for --size")
       ->capture_default_str();
+  cmd->add_flag("--non-repeating", args->blocks.free_rotation_and_scale,
+                "With --size: rotate each block by a random angle and scale it by a random factor "
+                "in [0.8, 1.25], so reused photo content never recurs at the same orientation and "
+                "scale (for place recognition)");
   cmd->callback([args, result] {
     *result = args->size.empty() ? ComposeSideBySide(*args) : ComposeBlocks(*args);
   });

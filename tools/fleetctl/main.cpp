@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   fleetloc::fleetctl::RegisterRemapCommand(app, &result);
   fleetloc::fleetctl::RegisterCalibrateCommand(app, &result);
   fleetloc::fleetctl::RegisterMapmatchCommand(app, &result);
+  fleetloc::fleetctl::RegisterRelocCommand(app, &result);
   spdlog::set_default_logger(spdlog::stderr_color_mt("fleetctl"));
   try {
     app.parse(argc, argv);

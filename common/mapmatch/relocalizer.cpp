@@ -1,0 +1,178 @@
+// Global relocalization: match, vote, cluster, verify (see relocalizer.h).
+#include "mapmatch/relocalizer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace fleetloc::mapmatch {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+std::string Describe(const Relocalization& r) {
+  return std::to_string(r.frame_features) + " frame features, " + std::to_string(r.matches) +
+         " matches, " + std::to_string(r.candidates) + " candidates";
+}
+
+}  // namespace
+
+Status Validate(const RelocalizerOptions& options) {
+  if (options.query_cell_px < 8) return InvalidInput("relocalizer: query_cell_px must be >= 8");
+  if (options.query_features_per_cell < 1)
+    return InvalidInput("relocalizer: query_features_per_cell must be >= 1");
+  if (options.neighbours < 1 || options.neighbours > 16)
+    return InvalidInput("relocalizer: neighbours must be 1..16");
+  if (options.max_descriptor_distance < 0 || options.max_descriptor_distance > 256)
+    return InvalidInput("relocalizer: max_descriptor_distance must be 0..256");
+  FLEETLOC_RETURN_IF_ERROR(Validate(options.clustering));
+  if (options.max_verified_candidates < 1)
+    return InvalidInput("relocalizer: max_verified_candidates must be >= 1");
+  if (!(options.verify_sigma_m > 0.0 && options.verify_sigma_m < 1.0))
+    return InvalidInput("relocalizer: verify_sigma_m must be in (0, 1)");
+  if (!(options.verify_sigma_rad > 0.0 && options.verify_sigma_rad < 0.5))
+    return InvalidInput("relocalizer: verify_sigma_rad must be in (0, 0.5)");
+  if (options.min_verified_inliers < options.tracker.min_inliers)
+    return InvalidInput("relocalizer: min_verified_inliers must be >= tracker.min_inliers");
+  if (options.confident_inliers < options.min_verified_inliers)
+    return InvalidInput("relocalizer: confident_inliers must be >= min_verified_inliers");
+  if (options.ambiguity_margin_inliers < 0)
+    return InvalidInput("relocalizer: ambiguity_margin_inliers must be >= 0");
+  return tracking::Validate(options.tracker);
+}
+
+Relocalizer::Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
+                         const geometry::CameraModel& camera, const RelocalizerOptions& options)
+    : index_(index),
+      camera_(camera),
+      options_(options),
+      tracker_(options.tracker, camera, mosaic) {}
+
+Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index,
+                                                         mosaic::RasterSource* mosaic,
+                                                         const geometry::CameraModel& camera,
+                                                         const RelocalizerOptions& options) {
+  FLEETLOC_CHECK(index != nullptr && mosaic != nullptr);
+  FLEETLOC_RETURN_IF_ERROR(Validate(options));
+  if (std::abs(camera.resolution_m / index->resolution_m() - 1.0) > 1e-6) {
+    return InvalidInput("relocalizer: camera resolution " + std::to_string(camera.resolution_m) +
+                        " m/px differs from the mosaic's " + std::to_string(index->resolution_m()));
+  }
+  return std::unique_ptr<Relocalizer>(new Relocalizer(index, mosaic, camera, options));
+}
+
+std::vector<FeatureMatch> Relocalizer::MatchFrame(const cv::Mat& frame, Relocalization* out) const {
+  const auto start = std::chrono::steady_clock::now();
+  FloorFeatureOptions detect = index_->options().features;
+  detect.cell_px = options_.query_cell_px;
+  detect.features_per_cell = options_.query_features_per_cell;
+  const int scale = 1 << detect.level;
+  cv::Mat at_level = frame;
+  if (scale > 1) cv::resize(frame, at_level, frame.size() / scale, 0, 0, cv::INTER_AREA);
+  const FloorFeatures features =
+      DetectFloorFeatures(at_level, {}, cv::Rect(cv::Point(), at_level.size()), detect);
+  out->frame_features = static_cast<int>(features.size());
+  out->detect_ms = MsSince(start);
+
+  const auto match_start = std::chrono::steady_clock::now();
+  std::vector<FeatureMatch> matches;
+  for (const DescriptorMatch& m :
+       index_->Match(features.descriptors, options_.neighbours, options_.max_descriptor_distance)) {
+    FeatureMatch match;
+    match.query = m.query;
+    match.ground_m = camera_.PixelToGround(features.points_px[m.query] * scale);
+    // An image direction (cos a, sin a) with v down is (-sin a, -cos a) in camera_ground.
+    match.ground_heading_rad = -M_PI / 2 - features.angles_rad[m.query];
+    match.map_m = index_->position_m(m.feature);
+    match.map_heading_rad = index_->heading_rad(m.feature);
+    matches.push_back(match);
+  }
+  out->matches = static_cast<int>(matches.size());
+  out->match_ms = MsSince(match_start);
+  return matches;
+}
+
+std::optional<Relocalizer::Verified> Relocalizer::Verify(const cv::Mat& frame,
+                                                         const PoseCandidate& candidate) {
+  geometry::PoseWithCovariance camera_in_map{candidate.camera_in_map, Eigen::Matrix3d::Zero()};
+  camera_in_map.covariance.diagonal() << std::pow(options_.verify_sigma_m, 2),
+      std::pow(options_.verify_sigma_m, 2), std::pow(options_.verify_sigma_rad, 2);
+  tracker_.Reset(geometry::ComposeFixed(camera_in_map, camera_.mount.Inverse()), geometry::Pose2{});
+  const tracking::FrameResult result = tracker_.Track(frame, 0.0, geometry::Pose2{});
+  if (result.state != tracking::LockState::kTracking) return std::nullopt;
+  return Verified{result.base_in_map, result.inliers, result.templates, candidate.inliers};
+}
+
+std::vector<Relocalizer::Verified> Relocalizer::VerifyCandidates(
+    const cv::Mat& frame, const std::vector<PoseCandidate>& candidates, Relocalization* out) {
+  std::vector<Verified> verified;
+  for (const PoseCandidate& candidate : candidates) {
+    if (out->verified >= options_.max_verified_candidates) break;
+    ++out->verified;
+    std::optional<Verified> v = Verify(frame, candidate);
+    if (!v) continue;
+    verified.push_back(*v);
+    if (v->inliers >= options_.confident_inliers) break;
+  }
+  return verified;
+}
+
+void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) const {
+  std::sort(verified.begin(), verified.end(),
+            [](const Verified& a, const Verified& b) { return a.inliers > b.inliers; });
+  if (verified.empty() || verified[0].inliers < options_.min_verified_inliers) {
+    out->reason = "no candidate confirmed by the tracker (best " +
+                  std::to_string(verified.empty() ? 0 : verified[0].inliers) + " inliers, " +
+                  std::to_string(options_.min_verified_inliers) + " needed; " + Describe(*out) +
+                  ", " + std::to_string(out->verified) + " verified)";
+    return;
+  }
+  const Verified& best = verified[0];
+  for (std::size_t i = 1; i < verified.size(); ++i) {
+    const geometry::Pose2 d =
+        geometry::Between(best.base_in_map.pose, verified[i].base_in_map.pose);
+    const bool distinct = std::hypot(d.x, d.y) > options_.clustering.radius_m ||
+                          std::abs(d.theta) > options_.clustering.heading_tolerance_rad;
+    if (distinct && verified[i].inliers >= best.inliers - options_.ambiguity_margin_inliers) {
+      out->reason = "ambiguous: two distinct poses confirmed with " + std::to_string(best.inliers) +
+                    " and " + std::to_string(verified[i].inliers) + " inliers";
+      return;
+    }
+  }
+  out->found = true;
+  out->base_in_map = best.base_in_map;
+  out->inliers = best.inliers;
+  out->templates = best.templates;
+  out->candidate_inliers = best.candidate_inliers;
+}
+
+Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
+  if (frame.empty()) return InvalidInput("relocalize: the frame is empty");
+  if (frame.type() != CV_8UC1 || frame.cols != camera_.width_px ||
+      frame.rows != camera_.height_px) {
+    return InvalidInput("relocalize: the frame must be 8-bit gray " +
+                        std::to_string(camera_.width_px) + "x" + std::to_string(camera_.height_px) +
+                        ", got " + std::to_string(frame.cols) + "x" + std::to_string(frame.rows) +
+                        " with " + std::to_string(frame.channels()) + " channel(s)");
+  }
+  Relocalization out;
+  const std::vector<FeatureMatch> matches = MatchFrame(frame, &out);
+  const auto cluster_start = std::chrono::steady_clock::now();
+  const std::vector<PoseCandidate> candidates = ClusterVotes(matches, options_.clustering);
+  out.candidates = static_cast<int>(candidates.size());
+  out.cluster_ms = MsSince(cluster_start);
+  const auto verify_start = std::chrono::steady_clock::now();
+  if (candidates.empty()) {
+    out.reason = "no consistent pose votes (" + Describe(out) + ")";
+  } else {
+    Choose(VerifyCandidates(frame, candidates, &out), &out);
+  }
+  out.verify_ms = MsSince(verify_start);
+  return out;
+}
+
+}  // namespace fleetloc::mapmatch

@@ -1,0 +1,98 @@
+// Global relocalization (issue 5): the camera pose from one rectified frame with no prior,
+// anywhere on the mosaic. The frame's features are matched against the place index, each match
+// votes for a camera pose, votes are clustered (heading, then mean shift over position) and
+// fitted into a few candidates, and each candidate is verified by one cycle of the mosaic tracker
+// (the same coarse-to-fine correlation and Kalman update as tracking) started from it with a
+// small covariance; the pose the tracker confirms with most inliers, unambiguously, is returned.
+#pragma once
+
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+
+#include "base/status.h"
+#include "geometry/camera_model.h"
+#include "geometry/pose2.h"
+#include "mapmatch/place_index.h"
+#include "mapmatch/pose_votes.h"
+#include "mosaic/raster_source.h"
+#include "tracking/mosaic_tracker.h"
+#include "tracking/tracker_options.h"
+
+namespace fleetloc::mapmatch {
+
+struct RelocalizerOptions {
+  int query_cell_px = 16;            // frame feature buckets (index level pixels)
+  int query_features_per_cell = 3;   // strongest frame features per bucket
+  int neighbours = 2;                // index features matched per frame feature
+  int max_descriptor_distance = 70;  // Hamming distance (of 256 bits) a match may have
+  VoteClusterOptions clustering;
+  // Verification: candidates are tried best-supported first; one whose tracker cycle keeps
+  // confident_inliers correspondences is accepted at once, otherwise up to max_verified are tried
+  // and the one with most inliers wins — if it has min_verified_inliers and no other verified,
+  // distinct pose comes within ambiguity_margin_inliers of it (a floor that partly repeats itself
+  // confirms a wrong pose with the templates on the repeated part only).
+  int max_verified_candidates = 6;
+  int confident_inliers = 26;
+  int min_verified_inliers = 18;
+  int ambiguity_margin_inliers = 8;
+  double verify_sigma_m = 0.002;  // candidate covariance the tracker searches (1-sigma)
+  double verify_sigma_rad = 0.01;
+  tracking::TrackerOptions tracker;  // the verifying tracker cycle
+};
+
+// Flat range checks (and the tracker's); InvalidInput naming the field.
+Status Validate(const RelocalizerOptions& options);
+
+struct Relocalization {
+  bool found = false;
+  geometry::PoseWithCovariance base_in_map;  // when found
+  std::string reason;                        // when not found: why
+  int frame_features = 0;
+  int matches = 0;
+  int candidates = 0;
+  int verified = 0;           // tracker cycles run
+  int templates = 0;          // correspondences the accepted tracker cycle measured
+  int inliers = 0;            // of those, kept by its pose update
+  int candidate_inliers = 0;  // feature inliers of the accepted candidate
+  double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0;
+};
+
+class Relocalizer {
+ public:
+  // `index` and `mosaic` must outlive the relocalizer and describe the same mosaic. InvalidInput
+  // for bad options or a camera whose resolution differs from the index's mosaic.
+  static Result<std::unique_ptr<Relocalizer>> Create(const PlaceIndex* index,
+                                                     mosaic::RasterSource* mosaic,
+                                                     const geometry::CameraModel& camera,
+                                                     const RelocalizerOptions& options);
+
+  // base_link's pose in map at the frame's time. InvalidInput for an empty frame, or one that is
+  // not CV_8UC1 of the camera's size. found == false with a reason when no candidate verifies.
+  Result<Relocalization> Relocalize(const cv::Mat& frame);
+
+ private:
+  Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
+              const geometry::CameraModel& camera, const RelocalizerOptions& options);
+  std::vector<FeatureMatch> MatchFrame(const cv::Mat& frame, Relocalization* out) const;
+  struct Verified {
+    geometry::PoseWithCovariance base_in_map;
+    int inliers = 0, templates = 0, candidate_inliers = 0;
+  };
+  // One tracker cycle from the candidate; nullopt when the tracker does not lock.
+  std::optional<Verified> Verify(const cv::Mat& frame, const PoseCandidate& candidate);
+  // The verified poses of the candidates, as the options' verification rule says.
+  std::vector<Verified> VerifyCandidates(const cv::Mat& frame,
+                                         const std::vector<PoseCandidate>& candidates,
+                                         Relocalization* out);
+  // Accepts the best of `verified` into *out, or sets the reason why none is accepted.
+  void Choose(std::vector<Verified> verified, Relocalization* out) const;
+
+  const PlaceIndex* index_;
+  geometry::CameraModel camera_;
+  RelocalizerOptions options_;
+  tracking::MosaicTracker tracker_;
+};
+
+}  // namespace fleetloc::mapmatch

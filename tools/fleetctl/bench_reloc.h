@@ -1,0 +1,47 @@
+// `fleetctl bench reloc` trials: a vehicle put down at a random pose (uniform over the mosaic area
+// where a full frame fits, uniform heading) sees sim-rendered frames (5 Hz, driving straight at
+// 0.3 m per frame); each frame is relocalized with no prior, from a cold tile cache, until a pose
+// is returned. Time to the first correct pose counts the relocalizer's time of every attempt plus
+// the frame period for each frame it waited for.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "base/status.h"
+#include "mapmatch/place_index.h"
+#include "mapmatch/relocalizer.h"
+#include "mosaic/tile_store.h"
+
+namespace fleetloc::fleetctl {
+
+struct RelocTrialSettings {
+  int trials = 200;
+  int attempts = 3;             // frames tried per trial
+  double frame_period_s = 0.2;  // 5 Hz
+  double step_m = 0.3;          // distance driven between frames
+  double max_error_m = 0.002;   // a returned pose is correct within both
+  double max_error_rad = 0.5 * M_PI / 180;
+  double target_s = 1.0;  // "within 1 s"
+  std::uint64_t seed = 1;
+  long long tile_cache_bytes = 64LL << 20;  // per trial (cold)
+  mapmatch::RelocalizerOptions relocalizer;
+};
+
+struct RelocTrial {
+  bool found = false;    // some attempt returned a pose
+  bool correct = false;  // that pose within the error bounds
+  int attempts = 0;      // frames used
+  double error_m = 0, error_rad = 0;
+  double time_to_pose_s = 0;  // relocalizer time of all attempts + waiting for later frames
+  std::vector<mapmatch::Relocalization> runs;  // one per attempt
+};
+
+// Runs the trials on the mosaic of `store` with `index`; logs progress. Internal if the
+// relocalizer rejects a rendered frame (a bug).
+Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
+                                               const mapmatch::PlaceIndex& index,
+                                               const RelocTrialSettings& settings);
+
+}  // namespace fleetloc::fleetctl

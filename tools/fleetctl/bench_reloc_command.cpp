@@ -1,0 +1,243 @@
+// fleetctl bench reloc: global relocalization at scale (issue 5). On a non-repeating real-texture
+// floor mosaic of >= 100 megapixels (composed from the demo photos with every block randomly
+// rotated and scaled, imported at 0.5 mm/px — or --mosaic), build the place index in a child
+// process (time, size, peak RSS), load it as the agent would (from the mosaic's cache table), and
+// relocalize sim-rendered frames from random poses: success rate, time to the first correct pose,
+// wrong poses. Progress on stderr; the summary on stdout; every number as JSON with --json.
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+
+#include "bench_reloc.h"
+#include "commands.h"
+#include "composed_floor.h"
+#include "floor_images.h"
+#include "forked_step.h"
+#include "io/file_util.h"
+#include "mosaic/importer.h"
+#include "reloc_index.h"
+#include "replay/replay.h"
+
+namespace fleetloc::fleetctl {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BenchRelocArgs {
+  std::string mosaic;  // use this mosaic instead of composing one
+  std::string size = "12000x9000";
+  std::string floors_dir;
+  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-reloc").string();
+  std::string json;
+  mapmatch::PlaceIndexOptions index;
+  RelocTrialSettings trials;
+};
+
+// The composed, imported mosaic of args.size (kept in the work dir and reused when present).
+Result<std::string> PrepareMosaic(const BenchRelocArgs& args) {
+  if (!args.mosaic.empty()) return args.mosaic;
+  Result<cv::Size> size = ParsePixelSize(args.size, "--size");
+  if (!size.ok()) return size.status();
+  const fs::path dir = io::AbsoluteDir(args.work_dir);
+  const std::string stem = "floor_" + args.size + "_seed" + std::to_string(args.trials.seed);
+  const std::string db = (dir / (stem + ".db")).string();
+  if (fs::exists(db)) return db;
+  Result<std::vector<fs::path>> photos = ListFloorImages(
+      args.floors_dir.empty() ? DefaultFloorsDir() : fs::path(args.floors_dir), "--floors-dir");
+  if (!photos.ok()) return photos.status();
+  sim::FloorComposerOptions compose{.width_px = size->width, .height_px = size->height};
+  compose.seed = args.trials.seed;
+  compose.free_rotation_and_scale = true;
+  const std::string pgm = (dir / (stem + ".pgm")).string();
+  std::vector<std::string> names;
+  for (const fs::path& p : *photos) names.push_back(p.string());
+  FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(names, compose, pgm));
+  Result<mosaic::MosaicLayout> imported =
+      mosaic::ImportImage(pgm, mosaic::ImportOptions{.resolution_m = 0.0005}, db);
+  fs::remove(pgm);
+  if (!imported.ok()) return imported.status();
+  return db;
+}
+
+Result<std::shared_ptr<mosaic::TileStore>> OpenStore(const std::string& path) {
+  Result<std::unique_ptr<mosaic::TileStore>> opened =
+      mosaic::TileStore::Open(path, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) return opened.status();
+  return std::shared_ptr<mosaic::TileStore>(std::move(opened).value());
+}
+
+// Builds the index in a child process (so its peak RSS is its own) and stores it in the mosaic.
+Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceIndexOptions& o) {
+  return RunInChild([&]() -> Result<std::string> {
+    Result<std::shared_ptr<mosaic::TileStore>> store = OpenStore(db);
+    if (!store.ok()) return store.status();
+    mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
+                            std::make_shared<mosaic::TileCache>(64LL << 20));
+    Result<LoadedPlaceIndex> built = LoadOrBuildPlaceIndex(db, view, o, IndexCache::kRebuild);
+    if (!built.ok()) return built.status();
+    return nlohmann::json{{"features", built->index.size()},
+                          {"blob_bytes", built->blob_bytes},
+                          {"seconds", built->seconds}}
+        .dump();
+  });
+}
+
+// Every trial that ended without a correct pose, with what the relocalizer saw.
+nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
+  nlohmann::json failures = nlohmann::json::array();
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    const RelocTrial& t = trials[i];
+    if (t.correct) continue;
+    nlohmann::json runs = nlohmann::json::array();
+    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(RelocalizationJson(r));
+    failures.push_back({{"trial", i},
+                        {"found", t.found},
+                        {"error_m", t.error_m},
+                        {"error_rad", t.error_rad},
+                        {"attempts", runs}});
+  }
+  return failures;
+}
+
+// [correct, tracker inliers, templates, candidate feature inliers] of every accepted pose: the
+// margins of the acceptance gates.
+nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
+  nlohmann::json accepted = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    if (!t.found) continue;
+    const mapmatch::Relocalization& r = t.runs.back();
+    accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers});
+  }
+  return accepted;
+}
+
+nlohmann::json TrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
+  int correct = 0, within = 0, wrong = 0, not_found = 0;
+  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
+  for (const RelocTrial& t : trials) {
+    correct += t.correct;
+    within += t.correct && t.time_to_pose_s <= s.target_s;
+    wrong += t.found && !t.correct;
+    not_found += !t.found;
+    if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
+    for (const mapmatch::Relocalization& r : t.runs) {
+      attempt_ms.push_back(r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms);
+      detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
+    }
+  }
+  const double n = static_cast<double>(trials.size());
+  const auto pct = [](const std::vector<double>& v) {
+    return nlohmann::json{{"p50", replay::Percentile(v, 50)},
+                          {"p95", replay::Percentile(v, 95)},
+                          {"max", replay::Percentile(v, 100)}};
+  };
+  return {{"trials", trials.size()},
+          {"correct", correct},
+          {"success_rate", correct / n},
+          {"correct_within_target", within},
+          {"success_rate_within_target", within / n},
+          {"wrong_pose", wrong},
+          {"not_found", not_found},
+          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+          {"attempt_ms", pct(attempt_ms)},
+          {"attempts", attempt_ms.size()},
+          {"failures", Failures(trials)},
+          {"accepted", Accepted(trials)},
+          {"stage_ms_p50",
+           {{"detect", replay::Percentile(detect, 50)},
+            {"match", replay::Percentile(match, 50)},
+            {"verify", replay::Percentile(verify, 50)}}}};
+}
+
+void PrintSummary(const nlohmann::json& j) {
+  const auto& st = j["trials"];
+  std::cout << "\n== global relocalization: " << j["mosaic"]["megapixels"].get<double>()
+            << " Mpx mosaic " << j["mosaic"]["path"].get<std::string>() << "\n"
+            << "index: " << j["index"]["features"] << " features, " << j["index"]["blob_bytes"]
+            << " bytes, built in " << j["index"]["build_s"] << " s (peak RSS "
+            << j["index"]["build_peak_rss_bytes"] << " B), loaded in " << j["index"]["load_s"]
+            << " s\n"
+            << "trials " << st["trials"] << ": correct " << st["correct"] << " ("
+            << st["success_rate"] << "), within 1 s " << st["correct_within_target"] << " ("
+            << st["success_rate_within_target"] << "), wrong " << st["wrong_pose"] << ", not found "
+            << st["not_found"] << "\n"
+            << "time to correct pose ms " << st["time_to_correct_pose_ms"].dump()
+            << "; per attempt ms " << st["attempt_ms"].dump() << "; stages p50 "
+            << st["stage_ms_p50"].dump() << "\n"
+            << "RSS after trials " << j["rss_after_trials_bytes"] << " B\n";
+}
+
+Status RunBenchReloc(const BenchRelocArgs& args) {
+  cv::setNumThreads(1);  // one core; and no worker threads may exist when the build forks
+  FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.index));
+  FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.trials.relocalizer));
+  Result<std::string> db = PrepareMosaic(args);
+  if (!db.ok()) return db.status();
+  Result<ChildRun> build = BuildIndexInChild(*db, args.index);
+  if (!build.ok()) return build.status();
+  const nlohmann::json built = nlohmann::json::parse(build->output);
+  Result<std::shared_ptr<mosaic::TileStore>> store = OpenStore(*db);
+  if (!store.ok()) return store.status();
+  mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
+                          std::make_shared<mosaic::TileCache>(64LL << 20));
+  Result<LoadedPlaceIndex> index = LoadOrBuildPlaceIndex(*db, view, args.index, IndexCache::kUse);
+  if (!index.ok()) return index.status();
+  Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, index->index, args.trials);
+  if (!trials.ok()) return trials.status();
+  const mosaic::MosaicLayout layout = (*store)->layout();
+  nlohmann::json json{
+      {"mosaic",
+       {{"path", *db},
+        {"width_px", layout.width_px},
+        {"height_px", layout.height_px},
+        {"megapixels", layout.width_px * static_cast<double>(layout.height_px) / 1e6}}},
+      {"index",
+       {{"key", PlaceIndexKey(args.index)},
+        {"features", built["features"]},
+        {"blob_bytes", built["blob_bytes"]},
+        {"build_s", built["seconds"]},
+        {"build_peak_rss_bytes", build->peak_rss_bytes},
+        {"load_s", index->seconds},
+        {"from_cache", index->from_cache}}},
+      {"settings",
+       {{"seed", args.trials.seed},
+        {"attempts", args.trials.attempts},
+        {"frame_period_s", args.trials.frame_period_s},
+        {"max_error_m", args.trials.max_error_m},
+        {"max_error_rad", args.trials.max_error_rad},
+        {"tile_cache_bytes_per_trial", args.trials.tile_cache_bytes}}},
+      {"trials", TrialStats(*trials, args.trials)},
+      {"rss_after_trials_bytes", ResidentBytes()}};
+  PrintSummary(json);
+  if (args.json.empty()) return Status::Ok();
+  return io::WriteFileAtomically(args.json, json.dump(2) + "\n");
+}
+
+}  // namespace
+
+void RegisterBenchReloc(CLI::App& bench, Status* result) {
+  auto args = std::make_shared<BenchRelocArgs>();
+  CLI::App* cmd = bench.add_subcommand(
+      "reloc", "Global relocalization from random poses on a >= 100 Mpx non-repeating mosaic");
+  cmd->option_defaults()->always_capture_default();
+  cmd->add_option("--mosaic", args->mosaic, "Use this mosaic instead of composing one");
+  cmd->add_option("--size", args->size, "Composed floor size WIDTHxHEIGHT (without --mosaic)");
+  cmd->add_option("--floors-dir", args->floors_dir, "Floor photos to compose from");
+  cmd->add_option("--work-dir", args->work_dir, "Where the composed mosaic is kept");
+  cmd->add_option("--json", args->json, "Write every number to this JSON file");
+  cmd->add_option("--trials", args->trials.trials, "Random poses")->check(CLI::Range(1, 100000));
+  cmd->add_option("--attempts", args->trials.attempts, "Frames tried per trial")
+      ->check(CLI::Range(1, 50));
+  cmd->add_option("--seed", args->trials.seed, "Floor composition, poses and rendering seed");
+  cmd->add_option("--lsh-tables", args->index.lsh_tables, "LSH hash tables");
+  cmd->add_option("--lsh-key-bits", args->index.lsh_key_bits, "LSH key bits");
+  cmd->add_option("--lsh-multiprobe", args->index.lsh_multiprobe_level, "LSH multi-probe level");
+  cmd->add_option("--max-verified", args->trials.relocalizer.max_verified_candidates,
+                  "Candidates verified by a tracker cycle per frame");
+  cmd->callback([args, result] { *result = RunBenchReloc(*args); });
+}
+
+}  // namespace fleetloc::fleetctl

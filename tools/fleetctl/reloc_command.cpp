@@ -1,0 +1,93 @@
+// fleetctl reloc: global relocalization of one frame of a run against a mosaic, with no prior
+// pose (issue 5). The mosaic's place index is loaded from its cache table or built and cached.
+// Prints JSON on stdout (the pose, or found: false and why; with truth.csv, the error); exit 1
+// when the frame could not be relocalized.
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+#include <opencv2/core/utility.hpp>
+
+#include "commands.h"
+#include "io/run.h"
+#include "mosaic/tile_store.h"
+#include "reloc_index.h"
+
+namespace fleetloc::fleetctl {
+namespace {
+
+struct RelocArgs {
+  std::string mosaic;
+  std::string run;
+  int frame = 0;
+  bool no_cache = false;
+  long long cache_mb = 256;
+};
+
+Result<cv::Mat> ReadRunFrame(const io::Run& run, int k) {
+  if (k >= static_cast<int>(run.frames.size())) {
+    return InvalidInput("--frame " + std::to_string(k) + ": the run has " +
+                        std::to_string(run.frames.size()) + " frames");
+  }
+  return io::ReadFrame(run.frames[k], run.camera.model);
+}
+
+// Position and heading error against truth.csv's row of frame k.
+nlohmann::json TruthError(const io::Run& run, int k, const geometry::Pose2& pose) {
+  const geometry::Pose2& truth = run.truth[k].pose;
+  return {{"position_m", std::hypot(pose.x - truth.x, pose.y - truth.y)},
+          {"heading_rad", std::abs(geometry::WrapAngle(pose.theta - truth.theta))}};
+}
+
+Status RunReloc(const RelocArgs& args) {
+  cv::setNumThreads(1);
+  Result<io::Run> run = io::ReadRun(args.run);
+  if (!run.ok()) return run.status();
+  Result<cv::Mat> frame = ReadRunFrame(*run, args.frame);
+  if (!frame.ok()) return frame.status();
+  Result<std::unique_ptr<mosaic::TileStore>> opened =
+      mosaic::TileStore::Open(args.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) return opened.status();
+  std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
+  mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
+                          std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
+  Result<LoadedPlaceIndex> index =
+      LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
+                            args.no_cache ? IndexCache::kIgnore : IndexCache::kUse);
+  if (!index.ok()) return index.status();
+  auto relocalizer = mapmatch::Relocalizer::Create(&index->index, &view, run->camera.model,
+                                                   mapmatch::RelocalizerOptions{});
+  if (!relocalizer.ok()) return relocalizer.status();
+  Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
+  if (!result.ok()) return result.status();
+  nlohmann::json json = RelocalizationJson(*result);
+  json["frame"] = args.frame;
+  json["index"] = {{"features", index->index.size()},
+                   {"from_cache", index->from_cache},
+                   {"seconds", index->seconds}};
+  if (result->found && args.frame < static_cast<int>(run->truth.size()))
+    json["error"] = TruthError(*run, args.frame, result->base_in_map.pose);
+  std::cout << json.dump(2) << "\n";
+  if (!result->found)
+    return Internal("frame " + std::to_string(args.frame) + ": " + result->reason);
+  return Status::Ok();
+}
+
+}  // namespace
+
+void RegisterRelocCommand(CLI::App& app, Status* result) {
+  auto args = std::make_shared<RelocArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "reloc", "Find a run frame's pose on a mosaic with no prior (global relocalization)");
+  cmd->add_option("--mosaic", args->mosaic, "Mosaic file (SQLite)")->required();
+  cmd->add_option("--run", args->run, "Run directory (CONTRACT §4)")->required();
+  cmd->add_option("--frame", args->frame, "Index of the frame in frames.csv")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--no-cache", args->no_cache,
+                "Build the place index without reading or writing the mosaic's cache table");
+  cmd->add_option("--cache-mb", args->cache_mb, "Tile cache bound in MiB")
+      ->check(CLI::Range(1, 1 << 20));
+  cmd->callback([args, result] { *result = RunReloc(*args); });
+}
+
+}  // namespace fleetloc::fleetctl
