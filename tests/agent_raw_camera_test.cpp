@@ -1,7 +1,8 @@
 // A vehicle with a raw (uncalibrated) camera: the same simulated run, its frames turned into what a
 // tilted, differently scaled camera of another size sees (a known homography), and camera.json's
-// `raw` block describing it. The agent rectifies each frame and its published poses agree with
-// the offline tracker's on the original top-view frames.
+// `raw` block describing it. The agent rectifies each frame: its published poses equal `fleetctl
+// track`'s on the same raw run (to 1e-9, the same rectification) and agree with the offline
+// tracker's on the original top-view frames.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -61,6 +62,13 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
                                  top_view.string() + " --out " + poses).exit_code, 0);
   auto expected = io::ReadPosesCsv(poses);
   ASSERT_TRUE(expected.ok());
+  const std::string raw_poses = (server.dir() / "raw_poses.csv").string();
+  const testing::CommandResult raw_track = testing::RunFleetctl(
+      "track --mosaic " + server.mosaic_path() + " --run " + raw.string() + " --out " + raw_poses);
+  ASSERT_EQ(raw_track.exit_code, 0) << raw_track.err;
+  auto offline_raw = io::ReadPosesCsv(raw_poses);
+  ASSERT_TRUE(offline_raw.ok());
+  ASSERT_EQ(offline_raw->size(), expected->size());
 
   transport::Participant& p = server.participant();
   auto topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
@@ -82,11 +90,16 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   // Two resamplings (warp, rectification) blur the frames a little: the same poses to 0.1 px.
   const double px = 0.0005;
   size_t matched = 0;
-  for (const io::PoseRecord& row : *expected) {
+  for (size_t i = 0; i < expected->size(); ++i) {
+    const io::PoseRecord& row = (*expected)[i];
+    const io::PoseRecord& same_raw = (*offline_raw)[i];
     const auto it = std::find_if(published.begin(), published.end(), [&](const transport::PoseReport& r) {
       return std::abs(r.t - row.t) < 2e-9;
     });
     ASSERT_NE(it, published.end()) << "no published pose at frame time " << row.t;
+    EXPECT_NEAR(it->base_in_map.pose.x, same_raw.pose.x, 1e-9);
+    EXPECT_NEAR(it->base_in_map.pose.y, same_raw.pose.y, 1e-9);
+    EXPECT_NEAR(it->base_in_map.pose.theta, same_raw.pose.theta, 1e-9);
     EXPECT_NEAR(it->base_in_map.pose.x, row.pose.x, 0.1 * px) << "t=" << row.t;
     EXPECT_NEAR(it->base_in_map.pose.y, row.pose.y, 0.1 * px) << "t=" << row.t;
     EXPECT_NEAR(it->base_in_map.pose.theta, row.pose.theta, 0.02 * M_PI / 180) << "t=" << row.t;

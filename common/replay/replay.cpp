@@ -11,17 +11,36 @@ namespace fleetloc::replay {
 
 using geometry::Pose2;
 
+std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera) {
+  if (!camera.raw) return std::nullopt;
+  return calibration::Rectifier(cv::Matx33d(camera.raw->K.data()), camera.raw->dist,
+                                cv::Matx33d(camera.raw->H_ground.data()), camera.model);
+}
+
+namespace {
+
+Result<cv::Mat> ReadRunFrame(const io::FrameRef& ref, const io::Run& run,
+                             const std::optional<calibration::Rectifier>& rectifier) {
+  if (!rectifier) return io::ReadFrame(ref, run.camera.model);
+  Result<cv::Mat> raw = io::ReadGrayImage(ref.file);
+  if (!raw.ok()) return raw.status();
+  return rectifier->Rectify(*raw);
+}
+
+}  // namespace
+
 Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
                                const Progress& progress) {
   tracking::OdometryHistory odometry(1e12, 0.0);
   for (const auto& sample : run.odometry) FLEETLOC_RETURN_IF_ERROR(odometry.Add(sample));
   ReplayResult result;
+  const std::optional<calibration::Rectifier> rectifier = RectifierFor(run.camera);
   const Eigen::Vector3d sigma = run.initial_sigma;
   for (size_t i = 0; i < run.frames.size(); ++i) {
     const io::FrameRef& ref = run.frames[i];
     Result<Pose2> odom = odometry.At(ref.t);
     if (!odom.ok()) return InvalidInput(run.dir.string() + "/odometry.csv: " + odom.status().message());
-    Result<cv::Mat> frame = io::ReadFrame(ref, run.camera.model);
+    Result<cv::Mat> frame = ReadRunFrame(ref, run, rectifier);
     if (!frame.ok()) return frame.status();
     if (i == 0) {
       localizer.Reset({run.initial_pose, sigma.cwiseProduct(sigma).asDiagonal()}, *odom);

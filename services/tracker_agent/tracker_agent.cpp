@@ -10,6 +10,7 @@
 #include "io/file_util.h"
 #include "mapping/change_detection.h"
 #include "mosaic/tile_codec.h"
+#include "replay/replay.h"
 #include "tracking/predicted_view.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
@@ -18,12 +19,6 @@
 namespace fleetloc::tracker_agent {
 
 namespace topics = transport::topics;
-
-namespace {
-
-cv::Matx33d Matx(const std::array<double, 9>& v) { return cv::Matx33d(v.data()); }
-
-}  // namespace
 
 TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
                            const geometry::PoseWithCovariance& initial)
@@ -85,9 +80,7 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   auto outbox = PatchOutbox::Open(outbox_path);
   if (!outbox.ok()) return outbox.status();
   outbox_ = std::move(outbox).value();
-  if (camera_.raw) {
-    rectifier_.emplace(Matx(camera_.raw->K), camera_.raw->dist, Matx(camera_.raw->H_ground), camera_.model);
-  }
+  rectifier_ = replay::RectifierFor(camera_);
   return Status::Ok();
 }
 

@@ -26,6 +26,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+mosaic::ImportOptions ImportAtHalfMillimetre() {
+  mosaic::ImportOptions options;
+  options.resolution_m = 0.0005;
+  return options;
+}
+
 struct BenchRelocArgs {
   std::string mosaic;  // use this mosaic instead of composing one
   std::string size = "12000x9000";
@@ -56,7 +62,7 @@ Result<std::string> PrepareMosaic(const BenchRelocArgs& args) {
   for (const fs::path& p : *photos) names.push_back(p.string());
   FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(names, compose, pgm));
   Result<mosaic::MosaicLayout> imported =
-      mosaic::ImportImage(pgm, mosaic::ImportOptions{.resolution_m = 0.0005}, db);
+      mosaic::ImportImage(pgm, ImportAtHalfMillimetre(), db);
   fs::remove(pgm);
   if (!imported.ok()) return imported.status();
   return db;
