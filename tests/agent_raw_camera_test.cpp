@@ -11,6 +11,7 @@
 
 #include "io/run.h"
 #include "map_server_fixture.h"
+#include "published_poses.h"
 #include "transport/pose_messages.h"
 
 namespace fleetloc {
@@ -79,11 +80,7 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
                         "agv-6", "--outbox", (server.dir() / "outbox.db").string()},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
-  auto take = [&] {
-    (void)reader->TakeAll([&](const fleetloc_VehiclePose& pose, const dds_sample_info_t&) {
-      published.push_back(transport::FromIdl(pose));
-    });
-  };
+  auto take = [&] { testing::TakePoses(*reader, &published); };
   ASSERT_TRUE(Eventually([&] { take(); return !agent.Running(); }, 60));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   take();
@@ -93,10 +90,8 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   for (size_t i = 0; i < expected->size(); ++i) {
     const io::PoseRecord& row = (*expected)[i];
     const io::PoseRecord& same_raw = (*offline_raw)[i];
-    const auto it = std::find_if(published.begin(), published.end(), [&](const transport::PoseReport& r) {
-      return std::abs(r.t - row.t) < 2e-9;
-    });
-    ASSERT_NE(it, published.end()) << "no published pose at frame time " << row.t;
+    const transport::PoseReport* it = testing::PoseAt(published, row.t);
+    ASSERT_NE(it, nullptr) << "no published pose at frame time " << row.t;
     EXPECT_NEAR(it->base_in_map.pose.x, same_raw.pose.x, 1e-9);
     EXPECT_NEAR(it->base_in_map.pose.y, same_raw.pose.y, 1e-9);
     EXPECT_NEAR(it->base_in_map.pose.theta, same_raw.pose.theta, 1e-9);

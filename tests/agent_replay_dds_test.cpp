@@ -8,6 +8,7 @@
 
 #include "io/run.h"
 #include "map_server_fixture.h"
+#include "published_poses.h"
 #include "transport/pose_messages.h"
 
 namespace fleetloc {
@@ -45,9 +46,7 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   int health_reports = 0;
   bool reachable = false;
   ASSERT_TRUE(Eventually([&] {
-    (void)pose_reader->TakeAll([&](const fleetloc_VehiclePose& pose, const dds_sample_info_t&) {
-      published.push_back(transport::FromIdl(pose));
-    });
+    testing::TakePoses(*pose_reader, &published);
     (void)health_reader->TakeAll([&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
       ++health_reports;
       reachable = reachable || h.map_server_reachable;
@@ -55,16 +54,12 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
     return !agent.Running();
   }, 60));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
-  (void)pose_reader->TakeAll([&](const fleetloc_VehiclePose& pose, const dds_sample_info_t&) {
-    published.push_back(transport::FromIdl(pose));
-  });
+  testing::TakePoses(*pose_reader, &published);
   // Every frame's pose, at the frame's time, equal to the offline tracker's.
   size_t matched = 0;
   for (const io::PoseRecord& row : *expected) {
-    const auto it = std::find_if(published.begin(), published.end(), [&](const transport::PoseReport& r) {
-      return std::abs(r.t - row.t) < 2e-9;
-    });
-    ASSERT_NE(it, published.end()) << "no published pose at frame time " << row.t;
+    const transport::PoseReport* it = testing::PoseAt(published, row.t);
+    ASSERT_NE(it, nullptr) << "no published pose at frame time " << row.t;
     EXPECT_NEAR(it->base_in_map.pose.x, row.pose.x, 1e-9);
     EXPECT_NEAR(it->base_in_map.pose.y, row.pose.y, 1e-9);
     EXPECT_NEAR(it->base_in_map.pose.theta, row.pose.theta, 1e-9);
