@@ -109,8 +109,23 @@ RunSimulator::RunSimulator(mosaic::RasterSource* floor, const geometry::CameraMo
       layout_(floor->layout()),
       floor_m_(FloorOutline(floor->layout())) {}
 
+geometry::Pose2 RunSimulator::CameraAt(double elapsed_s) const {
+  const KidnapOptions& kidnap = options_.kidnap;
+  const double jump_m =
+      kidnap.enabled() && elapsed_s >= kidnap.at_s ? kidnap.jump_fraction * route_.length_m() : 0.0;
+  return route_.CameraPoseAtArcLength(route_.ArcLengthAt(elapsed_s) + jump_m);
+}
+
 geometry::Pose2 RunSimulator::BaseAt(double elapsed_s) const {
-  return route_.CameraPoseAt(elapsed_s) * camera_.mount.Inverse();
+  return CameraAt(elapsed_s) * camera_.mount.Inverse();
+}
+
+geometry::Pose2 RunSimulator::WheelBaseAt(double elapsed_s) const {
+  const KidnapOptions& kidnap = options_.kidnap;
+  if (!kidnap.enabled() || elapsed_s < kidnap.at_s) return BaseAt(elapsed_s);
+  const geometry::Pose2 picked_up =
+      route_.CameraPoseAt(kidnap.at_s) * camera_.mount.Inverse();
+  return picked_up * geometry::Between(BaseAt(kidnap.at_s), BaseAt(elapsed_s));
 }
 
 void RunSimulator::PlanTimes() {
@@ -130,7 +145,7 @@ void RunSimulator::PlanTimes() {
     const double jitter =
         k == 0 ? 0.0 : rng.uniform(-timing.odometry_jitter_s, timing.odometry_jitter_s);
     const double elapsed = k * period + jitter;
-    odometry_truth.push_back({timing.start_time_s + elapsed, BaseAt(elapsed)});
+    odometry_truth.push_back({timing.start_time_s + elapsed, WheelBaseAt(elapsed)});
   }
   odometry_ = SimulateOdometry(odometry_truth, options_.odometry, options_.seed);
   // Odometry drift at the end, with odom aligned to truth at the start.
@@ -187,10 +202,10 @@ void RunSimulator::Summarize() {
 
 Eigen::Vector2d RunSimulator::ImageVelocity(double elapsed_s) const {
   // Image position of the floor point under the principal point, differentiated numerically.
-  const geometry::Pose2 now = route_.CameraPoseAt(elapsed_s);
+  const geometry::Pose2 now = CameraAt(elapsed_s);
   const Eigen::Vector2d point(now.x, now.y);
   auto image_of_point = [&](double t) {
-    return camera_.GroundToPixel(route_.CameraPoseAt(t).Inverse() * point);
+    return camera_.GroundToPixel(CameraAt(t).Inverse() * point);
   };
   return (image_of_point(elapsed_s + kVelocityStepS) - image_of_point(elapsed_s - kVelocityStepS)) /
          (2.0 * kVelocityStepS);

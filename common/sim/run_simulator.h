@@ -70,7 +70,12 @@ class RunSimulator {
   void Summarize();
   // The floor's velocity across the image at elapsed time `elapsed_s` (for motion blur).
   Eigen::Vector2d ImageVelocity(double elapsed_s) const;
+  // camera_ground in map at `elapsed_s`: on the route, a jump further after a kidnap.
+  geometry::Pose2 CameraAt(double elapsed_s) const;
   geometry::Pose2 BaseAt(double elapsed_s) const;
+  // What the wheels saw: base_link in map until a kidnap, then continued from where the vehicle
+  // was picked up by its motion since being set down (no jump).
+  geometry::Pose2 WheelBaseAt(double elapsed_s) const;
 
   geometry::CameraModel camera_;
   SimOptions options_;

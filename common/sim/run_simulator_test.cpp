@@ -147,5 +147,70 @@ TEST(RunSimulator, RejectsInvalidOptionsNamingTheField) {
   EXPECT_FALSE(RunSimulator::Create(&floor, camera, SimOptions{}).ok());
 }
 
+TEST(RunSimulator, KidnapMovesTheFramesButNotTheOdometry) {
+  mosaic::ImageRasterSource floor = GravelFloor();
+  SimOptions options = CleanSimOptions(SimOptions{});
+  options.timing.frames = 40;
+  options.kidnap.at_s = 4.0;  // between frames 19 (3.85 s) and 20 (4.05 s)
+  options.kidnap.jump_fraction = 0.5;
+  auto sim = RunSimulator::Create(&floor, SmallCamera(), options);
+  ASSERT_TRUE(sim.ok()) << sim.status().message();
+  const auto& truth = (*sim)->truth();
+  const Route& route = (*sim)->route();
+  const geometry::Pose2 mount_inverse = SmallCamera().mount.Inverse();
+  for (const geometry::StampedPose& base : truth) {
+    const double elapsed = base.t - options.timing.start_time_s;
+    const double jump = elapsed >= 4.0 ? 0.5 * route.length_m() : 0.0;
+    const geometry::Pose2 expected =
+        route.CameraPoseAtArcLength(route.ArcLengthAt(elapsed) + jump) * mount_inverse;
+    EXPECT_NEAR(base.pose.x, expected.x, 1e-12);
+    EXPECT_NEAR(base.pose.y, expected.y, 1e-12);
+  }
+  const double truth_step = std::hypot(truth[20].pose.x - truth[19].pose.x,
+                                       truth[20].pose.y - truth[19].pose.y);
+  EXPECT_GT(truth_step, 0.05);  // the vehicle was carried off (a frame step is ~0.3 m · 0.2 s)
+  // Exact odometry without jitter (clean options) has a sample at every frame time: its increment
+  // over the jump is the motion without it, and after it every increment is the truth's.
+  auto odom_at = [&](double t) {
+    for (const auto& sample : (*sim)->odometry()) {
+      if (std::abs(sample.t - t) < 1e-9) return sample.pose;
+    }
+    ADD_FAILURE() << "no odometry sample at t=" << t;
+    return geometry::Pose2{};
+  };
+  auto odom_between = [&](int a, int b) {
+    return geometry::Between(odom_at(truth[a].t), odom_at(truth[b].t));
+  };
+  // Across the jump: the motion up to the pick-up, then the motion since the set-down.
+  auto base_on_route = [&](double t, double jump_m) {
+    return route.CameraPoseAtArcLength(route.ArcLengthAt(t) + jump_m) * mount_inverse;
+  };
+  const double jump_m = 0.5 * route.length_m();
+  const geometry::Pose2 expected_across =
+      geometry::Between(truth[19].pose, base_on_route(4.0, 0.0)) *
+      geometry::Between(base_on_route(4.0, jump_m), truth[20].pose);
+  const geometry::Pose2 across = odom_between(19, 20);
+  EXPECT_NEAR(across.x, expected_across.x, 1e-9);
+  EXPECT_NEAR(across.y, expected_across.y, 1e-9);
+  EXPECT_NEAR(across.theta, expected_across.theta, 1e-9);
+  for (int i = 21; i < 40; ++i) {
+    const geometry::Pose2 odom = odom_between(i - 1, i);
+    const geometry::Pose2 moved = geometry::Between(truth[i - 1].pose, truth[i].pose);
+    EXPECT_NEAR(odom.x, moved.x, 1e-3);
+    EXPECT_NEAR(odom.y, moved.y, 1e-3);
+    EXPECT_NEAR(odom.theta, moved.theta, 1e-3);
+  }
+}
+
+TEST(RunSimulator, RejectsAKidnapJumpOutsideTheRoute) {
+  mosaic::ImageRasterSource floor = GravelFloor();
+  SimOptions options;
+  options.kidnap.at_s = 1.0;
+  options.kidnap.jump_fraction = 1.5;
+  auto sim = RunSimulator::Create(&floor, SmallCamera(), options);
+  ASSERT_FALSE(sim.ok());
+  EXPECT_NE(sim.status().message().find("kidnap_jump_fraction"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::sim

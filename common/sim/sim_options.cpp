@@ -44,6 +44,12 @@ void CheckRoute(const RouteOptions& r, Checker* c) {
   c->Range("start_fraction", r.start_fraction, 0.0, 1.0);
 }
 
+void CheckKidnap(const KidnapOptions& k, Checker* c) {
+  if (!k.enabled()) return;
+  c->Range("kidnap_at_s", k.at_s, 0.0, 1e9);
+  c->Range("kidnap_jump_fraction", k.jump_fraction, 0.01, 0.99);
+}
+
 void CheckTiming(const TimingOptions& t, Checker* c) {
   c->Range("frames", t.frames, 1, 1e7);
   c->Range("frame_rate_hz", t.frame_rate_hz, 1e-3, 1000.0);
@@ -97,6 +103,7 @@ void CheckRender(const RenderOptions& r, Checker* c) {
 Status Validate(const SimOptions& options) {
   Checker c;
   CheckRoute(options.route, &c);
+  CheckKidnap(options.kidnap, &c);
   CheckTiming(options.timing, &c);
   CheckOdometry(options.odometry, options.initial_pose, &c);
   CheckRender(options.render, &c);

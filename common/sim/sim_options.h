@@ -82,8 +82,18 @@ struct RenderOptions {
   double bias_max_dn = 8.0;
 };
 
+// A kidnapped vehicle: at `at_s` after the start it is picked up and set down `jump_fraction` of
+// a lap further along the route. The frames show the new place from then on; the wheels never
+// turned, so the odometry continues smoothly through the jump (it cannot see it).
+struct KidnapOptions {
+  double at_s = -1.0;           // elapsed time of the jump; negative: never
+  double jump_fraction = 0.5;   // how far along the route, as a fraction of its length
+  bool enabled() const { return at_s >= 0.0; }
+};
+
 struct SimOptions {
   RouteOptions route;
+  KidnapOptions kidnap;
   TimingOptions timing;
   OdometryOptions odometry;
   InitialPoseOptions initial_pose;
