@@ -27,6 +27,7 @@ FLEETLOC_DDS_TYPE(fleetloc_RemapStatus);
 FLEETLOC_DDS_TYPE(fleetloc_VehiclePose);
 FLEETLOC_DDS_TYPE(fleetloc_VehicleHealth);
 FLEETLOC_DDS_TYPE(fleetloc_ServiceHealth);
+FLEETLOC_DDS_TYPE(fleetloc_PlaceIndexChunk);
 
 #undef FLEETLOC_DDS_TYPE
 

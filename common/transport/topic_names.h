@@ -16,6 +16,7 @@ inline constexpr const char* kRemapStatus = "fleetloc/remap_status";
 inline constexpr const char* kVehiclePose = "fleetloc/vehicle_pose";
 inline constexpr const char* kVehicleHealth = "fleetloc/vehicle_health";
 inline constexpr const char* kServiceHealth = "fleetloc/service_health";
+inline constexpr const char* kPlaceIndex = "fleetloc/place_index";
 
 // Replies meant for one vehicle (Tile, PatchAck) are written in this partition only, so a
 // vehicle's traffic does not grow with the fleet. Requires a valid vehicle id (IsValidEntityId).

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <random>
 
-#include "progress_log.h"
+#include "io/progress_log.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
 
@@ -82,7 +82,7 @@ Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore
                            std::make_shared<mosaic::TileCache>(256LL << 20));
   sim::CameraRenderer renderer(&floor, BenchCamera(layout), sim::RenderOptions{}, settings.seed);
   std::mt19937_64 rng(settings.seed);
-  PercentLog log("relocalization trials", "trials", 5);
+  io::PercentLog log("relocalization trials", "trials", 5);
   std::vector<RelocTrial> trials;
   for (int t = 0; t < settings.trials; ++t) {
     const geometry::Pose2 start = sim::RandomFullFramePose(layout, renderer.camera(), rng);

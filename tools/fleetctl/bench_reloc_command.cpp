@@ -18,6 +18,7 @@
 #include "forked_step.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
+#include "mosaic/place_index_cache.h"
 #include "reloc_index.h"
 #include "replay/replay.h"
 
@@ -82,10 +83,10 @@ Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceI
     if (!store.ok()) return store.status();
     mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                             std::make_shared<mosaic::TileCache>(64LL << 20));
-    Result<LoadedPlaceIndex> built = LoadOrBuildPlaceIndex(db, view, o, IndexCache::kRebuild);
+    Result<mosaic::LoadedPlaceIndex> built = mosaic::LoadOrBuildPlaceIndex(db, view, o, mosaic::IndexCache::kRebuild);
     if (!built.ok()) return built.status();
     return nlohmann::json{{"features", built->index.size()},
-                          {"blob_bytes", built->blob_bytes},
+                          {"blob_bytes", built->blob.size()},
                           {"seconds", built->seconds}}
         .dump();
   });
@@ -189,7 +190,7 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
   if (!store.ok()) return store.status();
   mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                           std::make_shared<mosaic::TileCache>(64LL << 20));
-  Result<LoadedPlaceIndex> index = LoadOrBuildPlaceIndex(*db, view, args.index, IndexCache::kUse);
+  Result<mosaic::LoadedPlaceIndex> index = mosaic::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic::IndexCache::kUse);
   if (!index.ok()) return index.status();
   Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, index->index, args.trials);
   if (!trials.ok()) return trials.status();
@@ -201,7 +202,7 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
         {"height_px", layout.height_px},
         {"megapixels", layout.width_px * static_cast<double>(layout.height_px) / 1e6}}},
       {"index",
-       {{"key", PlaceIndexKey(args.index)},
+       {{"key", mosaic::PlaceIndexKey(args.index)},
         {"features", built["features"]},
         {"blob_bytes", built["blob_bytes"]},
         {"build_s", built["seconds"]},

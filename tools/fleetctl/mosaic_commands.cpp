@@ -22,7 +22,7 @@
 #include "mosaic/tile_store.h"
 #include "mosaic_build.h"
 #include "parse_numbers.h"
-#include "progress_log.h"
+#include "io/progress_log.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -50,7 +50,7 @@ Status RunImport(const ImportArgs& args) {
     options.origin_x_m = (*origin)[0];
     options.origin_y_m = (*origin)[1];
   }
-  PercentLog progress("import " + args.image, "rows", 10);
+  io::PercentLog progress("import " + args.image, "rows", 10);
   Result<mosaic::MosaicLayout> layout =
       mosaic::ImportImage(args.image, options, args.out, std::ref(progress));
   if (!layout.ok()) return layout.status();

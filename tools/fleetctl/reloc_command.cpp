@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "io/run.h"
 #include "mosaic/tile_store.h"
+#include "mosaic/place_index_cache.h"
 #include "reloc_index.h"
 
 namespace fleetloc::fleetctl {
@@ -50,9 +51,9 @@ Status RunReloc(const RelocArgs& args) {
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
-  Result<LoadedPlaceIndex> index =
-      LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
-                            args.no_cache ? IndexCache::kIgnore : IndexCache::kUse);
+  Result<mosaic::LoadedPlaceIndex> index =
+      mosaic::LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
+                            args.no_cache ? mosaic::IndexCache::kIgnore : mosaic::IndexCache::kUse);
   if (!index.ok()) return index.status();
   auto relocalizer = mapmatch::Relocalizer::Create(&index->index, &view, run->camera.model,
                                                    mapmatch::RelocalizerOptions{});
