@@ -128,6 +128,14 @@ Status JsonFields::NonEmptyString(std::string_view key, std::string* out) const 
   return Status::Ok();
 }
 
+Status JsonFields::Bool(std::string_view key, bool* out) const {
+  const json* value = nullptr;
+  FLEETLOC_RETURN_IF_ERROR(Find(key, &value));
+  if (!value->is_boolean()) return WrongType(key, *value, "true or false");
+  *out = value->get<bool>();
+  return Status::Ok();
+}
+
 Status JsonFields::Numbers(std::string_view key, std::initializer_list<std::size_t> sizes,
                            std::vector<double>* out) const {
   const json* value = nullptr;

@@ -36,6 +36,7 @@ class JsonFields {
   Status PositiveNumber(std::string_view key, double* out) const;
   Status PositiveInt(std::string_view key, int* out) const;
   Status NonEmptyString(std::string_view key, std::string* out) const;
+  Status Bool(std::string_view key, bool* out) const;  // true or false
   // An array of finite numbers whose length is one of `sizes`.
   Status Numbers(std::string_view key, std::initializer_list<std::size_t> sizes,
                  std::vector<double>* out) const;

@@ -43,7 +43,8 @@ Status Validate(const PlaceIndexOptions& options) {
 }
 
 Result<PlaceIndex> PlaceIndex::Build(mosaic::RasterSource& mosaic, const PlaceIndexOptions& options,
-                                     const PlaceIndexProgress& progress) {
+                                     const PlaceIndexProgress& progress,
+                                     const std::atomic<bool>* cancel) {
   FLEETLOC_RETURN_IF_ERROR(Validate(options));
   const mosaic::MosaicLayout& layout = mosaic.layout();
   const int level = options.features.level;
@@ -62,6 +63,7 @@ Result<PlaceIndex> PlaceIndex::Build(mosaic::RasterSource& mosaic, const PlaceIn
   const int strips = (height + options.strip_rows_px - 1) / options.strip_rows_px;
   std::vector<cv::Mat> descriptor_blocks;
   for (int s = 0; s < strips; ++s) {
+    if (cancel && cancel->load()) return Internal("place index build cancelled");
     const Strip strip = StripAt(s, options.strip_rows_px, width, height, margin);
     const cv::Mat pixels = mosaic.ReadBlock(level, strip.read);
     const cv::Rect keep(margin, margin, width, strip.y1 - strip.y0);

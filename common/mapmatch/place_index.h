@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -53,9 +54,10 @@ class PlaceIndex {
   // Detects features over the whole mosaic at options.features.level, strip by strip (memory: one
   // strip of the level plus the features). Unmapped mosaic pixels (0) yield no features.
   // InvalidInput for bad options, a level the mosaic lacks, or a floor without any distinctive
-  // feature (e.g. textureless).
+  // feature (e.g. textureless); Internal "cancelled" when *cancel becomes true (checked per strip).
   static Result<PlaceIndex> Build(mosaic::RasterSource& mosaic, const PlaceIndexOptions& options,
-                                  const PlaceIndexProgress& progress = {});
+                                  const PlaceIndexProgress& progress = {},
+                                  const std::atomic<bool>* cancel = nullptr);
 
   // A blob from Serialize(). InvalidInput naming the problem (not an index, unknown version,
   // truncated, checksum mismatch, inconsistent fields) — never a crash.

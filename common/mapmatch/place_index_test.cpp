@@ -97,6 +97,19 @@ TEST(PlaceIndex, TexturelessFloorIsAClearError) {
   EXPECT_NE(index.status().message().find("no distinctive features"), std::string::npos);
 }
 
+TEST(PlaceIndex, ABuildStopsWhenCancelled) {
+  mosaic::ImageRasterSource floor = GravelFloor();
+  PlaceIndexOptions options;
+  options.strip_rows_px = 64;  // several strips
+  std::atomic<bool> cancel{false};
+  int strips_done = 0;
+  const Result<PlaceIndex> index = PlaceIndex::Build(
+      floor, options, [&](int done, int) { strips_done = done, cancel = done == 2; }, &cancel);
+  ASSERT_FALSE(index.ok());
+  EXPECT_NE(index.status().message().find("cancelled"), std::string::npos);
+  EXPECT_EQ(strips_done, 2);
+}
+
 TEST(PlaceIndex, BadOptionsAreRejected) {
   mosaic::ImageRasterSource floor = GravelFloor();
   PlaceIndexOptions options;

@@ -48,7 +48,8 @@ std::string PlaceIndexKey(const mapmatch::PlaceIndexOptions& o) {
 Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
                                                RasterSource& view,
                                                const mapmatch::PlaceIndexOptions& options,
-                                               IndexCache cache) {
+                                               IndexCache cache,
+                                               const std::atomic<bool>* cancel) {
   const long long version = view.layout().version;
   const std::string key = PlaceIndexKey(options);
   if (cache == IndexCache::kUse) {
@@ -59,7 +60,7 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
   const auto start = std::chrono::steady_clock::now();
   io::PercentLog log("place index of " + mosaic_path, "strips");
   Result<mapmatch::PlaceIndex> built =
-      mapmatch::PlaceIndex::Build(view, options, [&](int done, int total) { log(done, total); });
+      mapmatch::PlaceIndex::Build(view, options, [&](int done, int total) { log(done, total); }, cancel);
   if (!built.ok()) return built.status();
   LoadedPlaceIndex loaded{std::move(built).value(), {}, false, SecondsSince(start)};
   loaded.blob = loaded.index.Serialize();

@@ -4,6 +4,7 @@
 // vehicles, and by `fleetctl reloc` / `fleetctl bench reloc`.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,10 +33,12 @@ enum class IndexCache {
 
 // The index of the mosaic at `mosaic_path` (whose pixels `view` reads, at the store's version),
 // as `cache` says: a cached blob for (version, key) that cannot be used is logged and rebuilt; a
-// failure to store is logged, not fatal. The build's error otherwise (e.g. a textureless floor).
+// failure to store is logged, not fatal. The build's error otherwise (e.g. a textureless floor,
+// or "cancelled" once *cancel is set).
 Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
                                                RasterSource& view,
                                                const mapmatch::PlaceIndexOptions& options,
-                                               IndexCache cache);
+                                               IndexCache cache,
+                                               const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace fleetloc::mosaic

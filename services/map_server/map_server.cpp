@@ -22,7 +22,8 @@ constexpr dds_attach_t kRemapCommands = 3;
 
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
-  for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames()}) {
+  for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
+                           PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
   }
   return names;
@@ -100,6 +101,13 @@ Status MapServer::OpenServices() {
         return RunRemapJob(job, progress, cancel);
       },
       remap_status_writer_.get(), &counters_);
+  if (!config_.serve_place_index) return Status::Ok();
+  auto publisher = transport::PlaceIndexPublisher::Create(*participant_, config_.server_id);
+  if (!publisher.ok()) return publisher.status();
+  place_index_publisher_ = std::move(publisher).value();
+  place_index_ = std::make_unique<PlaceIndexService>(config_.mosaic_path,
+                                                     place_index_publisher_.get(), &counters_);
+  place_index_->RequestCurrent();
   return Status::Ok();
 }
 
@@ -141,6 +149,7 @@ Status MapServer::AnnounceFinishedJobs() {
     update.tiles._length = update.tiles._maximum = static_cast<uint32_t>(addresses.size());
     FLEETLOC_RETURN_IF_ERROR(update_writer_->Write(update));
     FLEETLOC_RETURN_IF_ERROR(PublishMosaicInfo());
+    if (place_index_) place_index_->RequestCurrent();
   }
   return Status::Ok();
 }
@@ -206,6 +215,7 @@ Status MapServer::ServeOnce() {
   if (!taken.ok()) return taken.status();
   tiles_->AnswerPending();
   patch_service_->FlushAcks();
+  if (place_index_) place_index_->PublishReady();
   return AnnounceFinishedJobs();
 }
 

@@ -1,8 +1,9 @@
 // The map server: owns the one shared mosaic (SQLite), announces it (MosaicInfo, durable),
 // answers tile requests into each vehicle's partition, collects and acknowledges patches, runs
-// re-mapping jobs (announcing changed tiles with TileUpdate), and reports its health
-// (ServiceHealth). One thread runs the DDS loop, one the re-mapping jobs; Run() returns when the
-// stop flag is set.
+// re-mapping jobs (announcing changed tiles with TileUpdate), serves the place index of each
+// mosaic version for global relocalization (PlaceIndexChunk, durable), and reports its health
+// (ServiceHealth). One thread runs the DDS loop, one the re-mapping jobs, one builds place
+// indexes; Run() returns when the stop flag is set.
 #pragma once
 
 #include <atomic>
@@ -10,6 +11,7 @@
 
 #include "map_server/map_server_config.h"
 #include "map_server/patch_service.h"
+#include "map_server/place_index_service.h"
 #include "map_server/remap_service.h"
 #include "map_server/server_counters.h"
 #include "map_server/tile_service.h"
@@ -73,6 +75,8 @@ class MapServer {
   std::unique_ptr<VehicleChannels> channels_;
   std::unique_ptr<TileService> tiles_;
   std::unique_ptr<PatchService> patch_service_;
+  std::unique_ptr<transport::PlaceIndexPublisher> place_index_publisher_;
+  std::unique_ptr<PlaceIndexService> place_index_;  // null unless config_.serve_place_index
   std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
   uint64_t reported_rejected_ = 0;     // counts in the last health report
   uint64_t reported_read_errors_ = 0;

@@ -54,7 +54,8 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
-      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s"};
+      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
+      "serve_place_index"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -81,6 +82,9 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
     FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber("health_period_s", &c.health_period_s));
   }
   if (fields.Has("owned_tiles")) FLEETLOC_RETURN_IF_ERROR(ReadOwnedTiles(fields, &c));
+  if (fields.Has("serve_place_index")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.Bool("serve_place_index", &c.serve_place_index));
+  }
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

@@ -22,6 +22,9 @@ struct MapServerConfig {
   int max_vehicles = 4096;                 // reply channels kept open (LRU)
   int tile_cache_mb = 64;                  // encoded tiles kept in memory
   double health_period_s = 1.0;
+  // Build (or load from the mosaic file) and publish the place index of each version served, so
+  // vehicles can relocalize anywhere (global relocalization).
+  bool serve_place_index = true;
 };
 
 Status Validate(const MapServerConfig& config);

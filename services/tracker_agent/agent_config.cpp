@@ -31,6 +31,13 @@ Status Validate(const AgentConfig& c) {
   if (!(c.patch_min_changed > 0 && c.patch_min_changed <= 1)) return bad("patch_min_changed", "must be in (0, 1]");
   if (!(c.patch_retry_s > 0)) return bad("patch_retry_s", "must be > 0");
   if (!(c.drain_s >= 0)) return bad("drain_s", "must be >= 0");
+  if (c.start_pose != "given" && c.start_pose != "relocalize") {
+    return bad("start_pose", "must be given or relocalize");
+  }
+  if (c.relocalize_after_coasting_frames < 1) return bad("relocalize_after_coasting_frames", "must be >= 1");
+  if (!(c.relocalize_interval_s >= 0 && c.relocalize_interval_s <= 60)) {
+    return bad("relocalize_interval_s", "must be in [0, 60]");
+  }
   return Status::Ok();
 }
 
@@ -42,7 +49,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
       "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
-      "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed"};
+      "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
+      "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames", "relocalize_interval_s"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -50,13 +58,14 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
                                     {"run", &c.run_path}, {"tracker", &c.tracker_options_path},
                                     {"outbox", &c.outbox_path}, {"source", &c.source},
-                                    {"sim_floor", &c.sim_floor}}) {
+                                    {"sim_floor", &c.sim_floor}, {"start_pose", &c.start_pose}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
   }
   for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
                                     {"tile_timeout_ms", &c.tile_timeout_ms},
                                     {"prefetch_margin_px", &c.prefetch_margin_px},
-                                    {"sim_seed", &c.sim_seed}}) {
+                                    {"sim_seed", &c.sim_seed},
+                                    {"relocalize_after_coasting_frames", &c.relocalize_after_coasting_frames}}) {
     if (!fields.Has(key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
@@ -76,11 +85,14 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   if (fields.Has("sim_start_fraction")) {
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("sim_start_fraction", &c.sim_start_fraction));
   }
-  if (fields.Has("drain_s")) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("drain_s", &c.drain_s));
-  if (fields.Has("paced")) {
-    if (!(*json)["paced"].is_boolean()) return fields.Error("paced", "must be true or false");
-    c.paced = (*json)["paced"].get<bool>();
+  for (const auto& [key, target] : {std::pair{"drain_s", &c.drain_s},
+                                    {"relocalize_interval_s", &c.relocalize_interval_s}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, target));
   }
+  if (fields.Has("relocalize_on_lost")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.Bool("relocalize_on_lost", &c.relocalize_on_lost));
+  }
+  if (fields.Has("paced")) FLEETLOC_RETURN_IF_ERROR(fields.Bool("paced", &c.paced));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

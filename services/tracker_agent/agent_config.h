@@ -38,6 +38,11 @@ struct AgentConfig {
   double patch_retry_s = 2.0;         // resend an unacknowledged patch after this long
   double drain_s = 10.0;              // at the end of the input, wait this long for acks
   std::string summary_path;           // if set: a JSON summary (frames, cycle times) at exit
+  // Global relocalization with the place index the map server publishes.
+  std::string start_pose = "given";   // "given" (the run's or simulator's) or "relocalize" (none)
+  bool relocalize_on_lost = true;     // when lock is lost ("kidnapped vehicle")
+  int relocalize_after_coasting_frames = 5;  // also after this many frames in a row without a fix
+  double relocalize_interval_s = 0.5;  // frame time between two attempts
 };
 
 Status Validate(const AgentConfig& config);

@@ -27,6 +27,20 @@ TEST(AgentConfig, ReadsFieldsOverDefaults) {
   EXPECT_EQ(c->tile_cache_mb, 32);
   EXPECT_EQ(c->tile_timeout_ms, 2000);
   EXPECT_EQ(c->map_server_timeout_s, 5.0);
+  EXPECT_EQ(c->start_pose, "given");
+  EXPECT_TRUE(c->relocalize_on_lost);
+}
+
+TEST(AgentConfig, ReadsRelocalizationFields) {
+  auto c = LoadAgentConfig(Write("reloc", R"({"run": "/runs/a", "start_pose": "relocalize",
+                                              "relocalize_on_lost": false,
+                                              "relocalize_after_coasting_frames": 3,
+                                              "relocalize_interval_s": 0.25})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->start_pose, "relocalize");
+  EXPECT_FALSE(c->relocalize_on_lost);
+  EXPECT_EQ(c->relocalize_after_coasting_frames, 3);
+  EXPECT_EQ(c->relocalize_interval_s, 0.25);
 }
 
 TEST(AgentConfig, ShippedSampleLoads) {
@@ -43,6 +57,10 @@ TEST(AgentConfig, BadFieldsAreNamed) {
       {R"({"run": "r", "tile_timeout_ms": 1})", "tile_timeout_ms"},
       {R"({"run": "r", "domain": 300})", "domain"},
       {R"({"run": "r", "map_server_timeout_s": 0.01})", "map_server_timeout_s"},
+      {R"({"run": "r", "start_pose": "guess"})", "start_pose"},
+      {R"({"run": "r", "relocalize_on_lost": 1})", "relocalize_on_lost"},
+      {R"({"run": "r", "relocalize_after_coasting_frames": 0})", "relocalize_after_coasting_frames"},
+      {R"({"run": "r", "relocalize_interval_s": 100})", "relocalize_interval_s"},
   };
   int i = 0;
   for (const auto& [json, field] : cases) {

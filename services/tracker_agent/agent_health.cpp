@@ -22,6 +22,10 @@ void AgentHealth::RecordDroppedFrame(const std::string& error) {
 
 void AgentHealth::RecordError(const std::string& error) { last_error_ = error; }
 
+void AgentHealth::RecordRelocalization(bool found) {
+  if (found) state_ = tracking::LockState::kRelocalized;
+}
+
 double AgentHealth::CyclePercentile(double percent, size_t window) const {
   const size_t n = std::min(window, cycle_ms_.size());
   return replay::Percentile({cycle_ms_.end() - static_cast<long>(n), cycle_ms_.end()}, percent);
@@ -53,7 +57,11 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
     transport::SetBounded(issue.message, message);
     issues->push_back(issue);
   };
-  if (state_ == tracking::LockState::kLost) add("lock_lost", fleetloc_HEALTH_ERROR, "localization lost");
+  if (state_ == tracking::LockState::kLost) {
+    add("lock_lost", fleetloc_HEALTH_ERROR,
+        in.place_index_ready ? "localization lost: relocalizing"
+                             : "localization lost and no place index yet to relocalize with");
+  }
   if (state_ == tracking::LockState::kCoasting) add("coasting", fleetloc_HEALTH_WARN, "odometry only");
   if (!in.map_server_reachable) add("map_server_unreachable", fleetloc_HEALTH_WARN, "tracking from the tile cache");
   if (in.loader.timeouts > 0) {

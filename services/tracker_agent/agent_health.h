@@ -19,6 +19,8 @@ class AgentHealth {
   void RecordFrame(const tracking::FrameResult& result, double cycle_ms);
   void RecordDroppedFrame(const std::string& error);
   void RecordError(const std::string& error);
+  // A global relocalization attempt; a found pose makes the lock state `relocalized`.
+  void RecordRelocalization(bool found);
 
   struct Inputs {
     std::string vehicle_id;
@@ -27,6 +29,7 @@ class AgentHealth {
     size_t tiles_pending = 0;
     size_t patch_outbox = 0;
     bool map_server_reachable = false;
+    bool place_index_ready = false;  // relocalization possible
   };
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,

@@ -21,12 +21,13 @@ namespace fleetloc::tracker_agent {
 namespace topics = transport::topics;
 
 TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
-                           const geometry::PoseWithCovariance& initial)
+                           const std::optional<geometry::PoseWithCovariance>& initial)
     : config_(config), camera_(camera), initial_(initial) {}
 
 Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
     const AgentConfig& config, const io::CameraFile& camera,
-    const geometry::PoseWithCovariance& initial, const tracking::TrackerOptions& options) {
+    const std::optional<geometry::PoseWithCovariance>& initial,
+    const tracking::TrackerOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(Validate(config));
   std::unique_ptr<TrackerAgent> agent(new TrackerAgent(config, camera, initial));
   FLEETLOC_RETURN_IF_ERROR(agent->Open(options));
@@ -71,6 +72,10 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
   propagator_.emplace(options.odometry);
+  auto relocalizer = AgentRelocalizer::Create(p, layout_.mosaic_id, view_.get(), camera_.model,
+                                              mapmatch::RelocalizerOptions{});
+  if (!relocalizer.ok()) return relocalizer.status();
+  relocalizer_ = std::move(relocalizer).value();
   auto patches = transport::PatchClient::Create(p, config_.vehicle_id);
   if (!patches.ok()) return patches.status();
   patches_ = std::move(patches).value();
@@ -116,16 +121,61 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     health_.RecordDroppedFrame("frame at t=" + std::to_string(t) + ": " + odom.status().message());
     return;
   }
-  if (!started_) tracker_->Reset(initial_, *odom), started_ = true;
+  if (!started_) {
+    if (!initial_) {  // where the vehicle is is unknown until a frame relocalizes
+      (void)TryRelocalize(t, frame, *odom);
+      return;
+    }
+    tracker_->Reset(*initial_, *odom), started_ = true;
+  }
   const auto start = std::chrono::steady_clock::now();
-  const tracking::FrameResult result = tracker_->Track(frame, t, *odom);
+  tracking::FrameResult result = tracker_->Track(frame, t, *odom);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (std::exchange(provisional_, false) && result.state != tracking::LockState::kTracking) {
+    spdlog::warn("the relocalized pose did not hold at t={:.3f}: lost again", t);
+    result.state = tracking::LockState::kLost;
+  }
+  coasting_in_a_row_ = result.state == tracking::LockState::kCoasting ? coasting_in_a_row_ + 1 : 0;
   health_.RecordFrame(result, ms);
   state_ = result.state;
+  if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) return;  // published there
   propagator_->SetAnchor(t, *odom, result.base_in_map);
   Publish(t, result.base_in_map, result.state);
   Prefetch(result.base_in_map.pose);
   MaybeCollectPatch(t, frame, result);
+}
+
+bool TrackerAgent::NeedsRelocalization(const tracking::FrameResult& result) const {
+  if (!config_.relocalize_on_lost) return false;
+  return result.state == tracking::LockState::kLost ||
+         coasting_in_a_row_ >= config_.relocalize_after_coasting_frames;
+}
+
+bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom) {
+  if (!relocalizer_->ready() || t - last_relocalize_t_ < config_.relocalize_interval_s) return false;
+  last_relocalize_t_ = t;
+  Result<mapmatch::Relocalization> found = relocalizer_->Relocalize(frame);
+  if (!found.ok()) {
+    health_.RecordError("relocalization: " + found.status().message());
+    return false;
+  }
+  health_.RecordRelocalization(found->found);
+  if (!found->found) {
+    spdlog::info("relocalization at t={:.3f} found nothing ({:.0f} ms): {}", t,
+                 relocalizer_->stats().last_ms, found->reason);
+    return false;
+  }
+  const geometry::PoseWithCovariance& base = found->base_in_map;
+  spdlog::info("relocalized at t={:.3f}: ({:.4f}, {:.4f}, {:.2f} deg), {} inliers, {:.0f} ms", t,
+               base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
+               relocalizer_->stats().last_ms);
+  tracker_->Reset(base, odom);
+  started_ = true, provisional_ = true, coasting_in_a_row_ = 0;
+  state_ = tracking::LockState::kRelocalized;
+  propagator_->SetAnchor(t, odom, base);
+  Publish(t, base, state_);
+  Prefetch(base.pose);
+  return true;
 }
 
 void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
@@ -235,11 +285,34 @@ void TrackerAgent::UpdateMapServerReachability() {
 void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
-                         outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_};
+                         outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_,
+                         relocalizer_->ready()};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
   if (Status sent = health_writer_->Write(health); !sent.ok()) health_.RecordError(sent.message());
+}
+
+Status TrackerAgent::WriteSummary() const {
+  const RelocalizationStats& reloc = relocalizer_->stats();
+  const nlohmann::json summary{
+      {"vehicle_id", config_.vehicle_id},
+      {"frames", health_.frames()},
+      {"cycle_ms", {{"median", health_.CyclePercentile(50, 10000)},
+                    {"p95", health_.CyclePercentile(95, 10000)},
+                    {"p99", health_.CyclePercentile(99, 10000)}}},
+      {"tiles", {{"requested", loader_->stats().requested}, {"received", loader_->stats().received},
+                 {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts},
+                 {"unserved", loader_->stats().unserved},
+                 {"invalidated", loader_->stats().invalidated},
+                 {"refreshed", loader_->stats().refreshed}, {"stale", loader_->stats().stale}}},
+      {"relocalization", {{"index_version", relocalizer_->index_version()},
+                          {"indexes_loaded", reloc.indexes_loaded},
+                          {"indexes_rejected", reloc.indexes_rejected},
+                          {"chunks_rejected", relocalizer_->chunks_rejected()},
+                          {"attempts", reloc.attempts}, {"found", reloc.found},
+                          {"mean_ms", reloc.attempts > 0 ? reloc.total_ms / reloc.attempts : 0.0}}}};
+  return io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n");
 }
 
 Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
@@ -264,25 +337,13 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     }
     UpdateMapServerReachability();
     ApplyTileUpdates();
+    relocalizer_->Poll();
     PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
   }
   DrainPatches(stop);
   PublishHealth();
-  if (!config_.summary_path.empty()) {
-    const nlohmann::json summary{
-        {"vehicle_id", config_.vehicle_id},
-        {"frames", health_.frames()},
-        {"cycle_ms", {{"median", health_.CyclePercentile(50, 10000)},
-                      {"p95", health_.CyclePercentile(95, 10000)},
-                      {"p99", health_.CyclePercentile(99, 10000)}}},
-        {"tiles", {{"requested", loader_->stats().requested}, {"received", loader_->stats().received},
-                   {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts},
-                   {"unserved", loader_->stats().unserved},
-                   {"invalidated", loader_->stats().invalidated},
-                   {"refreshed", loader_->stats().refreshed}, {"stale", loader_->stats().stale}}}};
-    FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n"));
-  }
+  if (!config_.summary_path.empty()) FLEETLOC_RETURN_IF_ERROR(WriteSummary());
   spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
   return Status::Ok();
 }

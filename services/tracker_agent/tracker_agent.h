@@ -3,7 +3,9 @@
 // a TileUpdate announces a new version), publishes VehiclePose at the odometry rate (the last
 // tracked pose propagated with odometry, and the tracked pose itself at each frame's time) and
 // VehicleHealth periodically. Frames wait until odometry covers their time (delay compensation),
-// so the live results equal `fleetctl track` over the same run.
+// so the live results equal `fleetctl track` over the same run. Without an initial pose, and when
+// lock is lost, it relocalizes globally with the map server's place index; a relocalized pose is
+// provisional until the next frame tracks from it.
 #pragma once
 
 #include <atomic>
@@ -16,6 +18,7 @@
 #include "mosaic/mosaic_view.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/agent_health.h"
+#include "tracker_agent/agent_relocalizer.h"
 #include "tracker_agent/patch_outbox.h"
 #include "tracker_agent/vehicle_input.h"
 #include "tracking/mosaic_tracker.h"
@@ -32,11 +35,12 @@ namespace fleetloc::tracker_agent {
 class TrackerAgent {
  public:
   // Joins the DDS domain, waits (up to mosaic_wait_s) for a map server's MosaicInfo and sets up
-  // the tracker for `camera`, starting from `initial` (base_link in map at the first frame).
-  static Result<std::unique_ptr<TrackerAgent>> Create(const AgentConfig& config,
-                                                      const io::CameraFile& camera,
-                                                      const geometry::PoseWithCovariance& initial,
-                                                      const tracking::TrackerOptions& options);
+  // the tracker for `camera`, starting from `initial` (base_link in map at the first frame), or,
+  // without one, from the first frame the place index relocalizes.
+  static Result<std::unique_ptr<TrackerAgent>> Create(
+      const AgentConfig& config, const io::CameraFile& camera,
+      const std::optional<geometry::PoseWithCovariance>& initial,
+      const tracking::TrackerOptions& options);
 
   // Runs until the input ends or `stop` is set.
   Status Run(VehicleInput& input, const std::atomic<bool>& stop);
@@ -44,11 +48,17 @@ class TrackerAgent {
 
  private:
   TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
-               const geometry::PoseWithCovariance& initial);
+               const std::optional<geometry::PoseWithCovariance>& initial);
   Status Open(const tracking::TrackerOptions& options);
   void OnOdometry(double t, const geometry::Pose2& odom);
   void ProcessReadyFrames();
   void Track(double t, const cv::Mat& frame);
+  // After a frame's result: lost, or coasting for too long, asks for relocalization.
+  bool NeedsRelocalization(const tracking::FrameResult& result) const;
+  // Relocalizes the frame (at most once per relocalize_interval_s of frame time); on success
+  // restarts the tracker there and publishes the pose as `relocalized`. True on success.
+  bool TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom);
+  Status WriteSummary() const;  // frames, cycle times, tiles, relocalization
   void Prefetch(const geometry::Pose2& base);
   void ApplyTileUpdates();
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
@@ -65,7 +75,7 @@ class TrackerAgent {
 
   AgentConfig config_;
   io::CameraFile camera_;
-  geometry::PoseWithCovariance initial_;
+  std::optional<geometry::PoseWithCovariance> initial_;
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::TileClient> tiles_;
   std::unique_ptr<transport::DdsTileLoader> loader_;
@@ -84,6 +94,10 @@ class TrackerAgent {
   std::unique_ptr<mosaic::MosaicView> view_;
   std::unique_ptr<tracking::MosaicTracker> tracker_;
   std::optional<calibration::Rectifier> rectifier_;
+  std::unique_ptr<AgentRelocalizer> relocalizer_;
+  bool provisional_ = false;  // the pose came from relocalization and no frame tracked from it yet
+  int coasting_in_a_row_ = 0;
+  double last_relocalize_t_ = -1e300;
   tracking::OdometryHistory odometry_{10.0, 0.0};
   std::optional<tracking::PosePropagator> propagator_;
   tracking::LockState state_ = tracking::LockState::kLost;

@@ -14,6 +14,13 @@ namespace {
 
 using namespace fleetloc;
 
+// The pose the agent starts from: the given one, or none when it is to relocalize globally.
+std::optional<geometry::PoseWithCovariance> StartPose(const tracker_agent::AgentConfig& config,
+                                                      const geometry::PoseWithCovariance& given) {
+  if (config.start_pose == "relocalize") return std::nullopt;
+  return given;
+}
+
 // A live simulated vehicle driving forever over the configured floor image.
 Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
                            const tracking::TrackerOptions& options, const std::atomic<bool>& stop) {
@@ -31,7 +38,8 @@ Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
   camera.model = sim::DefaultSimCameraModel(640, 480, res);
   auto input = tracker_agent::SimInput::Create(&source, camera.model, sim, config.paced);
   if (!input.ok()) return input.status();
-  auto agent = tracker_agent::TrackerAgent::Create(config, camera, (*input)->initial_pose(), options);
+  auto agent = tracker_agent::TrackerAgent::Create(config, camera, StartPose(config, (*input)->initial_pose()),
+                                                   options);
   if (!agent.ok()) return agent.status();
   return (*agent)->Run(**input, stop);
 }
@@ -49,7 +57,7 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;
   const geometry::PoseWithCovariance initial{run->initial_pose, sigma.cwiseProduct(sigma).asDiagonal()};
-  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, initial, options);
+  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial), options);
   if (!agent.ok()) return agent.status();
   tracker_agent::ReplayInput input(std::move(run).value(), config.paced);
   return (*agent)->Run(input, stop);
@@ -72,6 +80,9 @@ int main(int argc, char** argv) {
   app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
   app.add_option("--summary", summary, "Write a JSON summary (frames, cycle times) at exit");
   app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
+  bool relocalize = false;
+  app.add_flag("--relocalize", relocalize,
+               "Start without the given initial pose: find it with the map server's place index");
   CLI11_PARSE(app, argc, argv);
   tracker_agent::AgentConfig config;
   if (!config_path.empty()) {
@@ -88,6 +99,7 @@ int main(int argc, char** argv) {
   if (domain >= 0) config.domain_id = domain;
   if (!dds_config.empty()) config.dds_config_path = dds_config;
   if (fast) config.paced = false;
+  if (relocalize) config.start_pose = "relocalize";
   if (!outbox.empty()) config.outbox_path = outbox;
   if (!summary.empty()) config.summary_path = summary;
   io::SetupLogging(config.vehicle_id);

@@ -1,0 +1,67 @@
+// Global relocalization in the tracker agent: collects the place index the map server publishes
+// (the newest complete one for the mosaic being tracked), deserializes it off the tracking thread,
+// and relocalizes a frame on request — at start without an initial pose, and when lock is lost
+// (a "kidnapped" vehicle). Candidates are verified against the agent's own mosaic view, so tiles
+// come through its cache and the map server like the tracker's.
+#pragma once
+
+#include <future>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "mapmatch/relocalizer.h"
+#include "transport/place_index_channel.h"
+
+namespace fleetloc::tracker_agent {
+
+struct RelocalizationStats {
+  long long attempts = 0;
+  long long found = 0;
+  long long indexes_loaded = 0;
+  long long indexes_rejected = 0;  // blobs that did not deserialize, or of another mosaic
+  double last_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+class AgentRelocalizer {
+ public:
+  // `mosaic` (the agent's view of `mosaic_id`) must outlive this object.
+  static Result<std::unique_ptr<AgentRelocalizer>> Create(
+      const transport::Participant& participant, std::string mosaic_id,
+      mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
+      const mapmatch::RelocalizerOptions& options);
+  ~AgentRelocalizer();
+
+  // Takes arrived index chunks; starts loading a newly completed index in the background and
+  // swaps in one whose loading finished. Cheap; call once per loop.
+  void Poll();
+  bool ready() const { return relocalizer_ != nullptr; }
+  long long index_version() const { return index_version_; }
+  // Relocalizes `frame` (rectified, the camera's size). Requires ready().
+  Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame);
+  const RelocalizationStats& stats() const { return stats_; }
+  std::uint64_t chunks_rejected() const { return receiver_->rejected(); }
+
+ private:
+  AgentRelocalizer(std::unique_ptr<transport::PlaceIndexReceiver> receiver, std::string mosaic_id,
+                   mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
+                   const mapmatch::RelocalizerOptions& options);
+  void StartLoading(transport::PlaceIndexBlob blob);
+  void FinishLoading();
+
+  std::unique_ptr<transport::PlaceIndexReceiver> receiver_;
+  std::string mosaic_id_;
+  mosaic::RasterSource* mosaic_;
+  geometry::CameraModel camera_;
+  mapmatch::RelocalizerOptions options_;
+  std::future<Result<mapmatch::PlaceIndex>> loading_;
+  long long loading_version_ = -1;
+  std::unique_ptr<transport::PlaceIndexBlob> queued_;  // arrived while another was loading
+  std::unique_ptr<mapmatch::PlaceIndex> index_;
+  std::unique_ptr<mapmatch::Relocalizer> relocalizer_;  // reads *index_
+  long long index_version_ = -1;
+  RelocalizationStats stats_;
+};
+
+}  // namespace fleetloc::tracker_agent
