@@ -24,6 +24,7 @@ Status Validate(const AgentConfig& c) {
   if (c.tile_cache_mb < 1) return bad("tile_cache_mb", "must be >= 1");
   if (c.tile_timeout_ms < 10) return bad("tile_timeout_ms", "must be >= 10");
   if (c.prefetch_margin_px < 0) return bad("prefetch_margin_px", "must be >= 0");
+  if (!(c.prefetch_ahead_s >= 0 && c.prefetch_ahead_s <= 10)) return bad("prefetch_ahead_s", "must be in [0, 10]");
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) return bad("health_period_s", "must be in [0.05, 60]");
   if (!(c.map_server_timeout_s >= 0.1)) return bad("map_server_timeout_s", "must be >= 0.1");
   if (!(c.mosaic_wait_s > 0)) return bad("mosaic_wait_s", "must be > 0");
@@ -47,7 +48,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
-      "tile_timeout_ms", "prefetch_margin_px", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
+      "tile_timeout_ms", "prefetch_margin_px", "prefetch_ahead_s", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
       "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames", "relocalize_interval_s"};
@@ -86,6 +87,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("sim_start_fraction", &c.sim_start_fraction));
   }
   for (const auto& [key, target] : {std::pair{"drain_s", &c.drain_s},
+                                    {"prefetch_ahead_s", &c.prefetch_ahead_s},
                                     {"relocalize_interval_s", &c.relocalize_interval_s}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, target));
   }

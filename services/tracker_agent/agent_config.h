@@ -26,6 +26,7 @@ struct AgentConfig {
   int tile_cache_mb = 64;             // raw mosaic tiles kept (LRU, byte-bounded)
   int tile_timeout_ms = 2000;         // one wait for a missing tile
   int prefetch_margin_px = 256;       // tiles this far around the predicted footprint are asked ahead
+  double prefetch_ahead_s = 0.5;      // ... along the motion predicted this far ahead (odometry)
   double health_period_s = 1.0;
   // The map server counts as unreachable when none of its health reports (1 Hz by default) came
   // for this long; the agent then tracks from its cache and says so in its health.

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -128,6 +129,9 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     }
     tracker_->Reset(*initial_, *odom), started_ = true;
   }
+  // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
+  // (one round trip instead of one per tile it reads).
+  Prefetch(t, propagator_->anchored() ? propagator_->At(t, *odom).pose : initial_->pose);
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -141,7 +145,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) return;  // published there
   propagator_->SetAnchor(t, *odom, result.base_in_map);
   Publish(t, result.base_in_map, result.state);
-  Prefetch(result.base_in_map.pose);
+  Prefetch(t, result.base_in_map.pose);
   MaybeCollectPatch(t, frame, result);
 }
 
@@ -174,7 +178,7 @@ bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry:
   state_ = tracking::LockState::kRelocalized;
   propagator_->SetAnchor(t, odom, base);
   Publish(t, base, state_);
-  Prefetch(base.pose);
+  Prefetch(t, base.pose);
   return true;
 }
 
@@ -237,7 +241,24 @@ void TrackerAgent::DrainPatches(const std::atomic<bool>& stop) {
   if (left.ok() && *left > 0) spdlog::warn("{} patches stay in the outbox for the next start", *left);
 }
 
-void TrackerAgent::Prefetch(const geometry::Pose2& base) {
+void TrackerAgent::Prefetch(double t, const geometry::Pose2& base) {
+  // Where the vehicle is and where it will be prefetch_ahead_s from now if it keeps moving as it
+  // did over the last prefetch_ahead_s (odometry), with the footprint in between.
+  std::vector<geometry::Pose2> along{base};
+  const Result<geometry::Pose2> before = odometry_.At(t - config_.prefetch_ahead_s);
+  const Result<geometry::Pose2> now = odometry_.At(t);
+  if (before.ok() && now.ok()) {
+    const geometry::Pose2 step = geometry::Between(*before, *now);
+    along.push_back(base * tracking::Interpolate({}, step, 0.5));
+    along.push_back(base * step);
+  }
+  std::set<mosaic::TileKey> keys;
+  for (const geometry::Pose2& pose : along) AddFootprintTiles(pose, &keys);
+  const std::vector<mosaic::TileKey> missing(keys.begin(), keys.end());
+  if (Status asked = loader_->Prefetch(missing); !asked.ok()) health_.RecordError(asked.message());
+}
+
+void TrackerAgent::AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const {
   // The footprint's bounding box grown by the margin, at level 0 and at the coarse levels.
   const geometry::Pose2 camera = base * camera_.model.mount;
   const double reach_m = (std::hypot(camera_.model.width_px, camera_.model.height_px) / 2 +
@@ -245,15 +266,13 @@ void TrackerAgent::Prefetch(const geometry::Pose2& base) {
   const double u = (camera.x - layout_.geo.origin_x) / layout_.geo.resolution;
   const double v = (layout_.geo.origin_y - camera.y) / layout_.geo.resolution;
   const int r = static_cast<int>(reach_m / layout_.geo.resolution);
-  std::vector<mosaic::TileKey> keys;
   for (int level = 0; level < std::min(layout_.levels, 3); ++level) {
     const cv::Rect box(static_cast<int>(u - r) >> level, static_cast<int>(v - r) >> level,
                        (2 * r) >> level, (2 * r) >> level);
     mosaic::TilesCovering(layout_, level, box).ForEach([&](const mosaic::TileKey& k) {
-      if (!tile_cache_->Contains(k)) keys.push_back(k);
+      if (!tile_cache_->Contains(k)) keys->insert(k);
     });
   }
-  if (Status asked = loader_->Prefetch(keys); !asked.ok()) health_.RecordError(asked.message());
 }
 
 void TrackerAgent::ApplyTileUpdates() {

@@ -12,6 +12,7 @@
 #include <deque>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "calibration/rectifier.h"
 #include "io/run.h"
@@ -59,7 +60,9 @@ class TrackerAgent {
   // restarts the tracker there and publishes the pose as `relocalized`. True on success.
   bool TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom);
   Status WriteSummary() const;  // frames, cycle times, tiles, relocalization
-  void Prefetch(const geometry::Pose2& base);
+  // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.
+  void Prefetch(double t, const geometry::Pose2& base);
+  void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
   void ApplyTileUpdates();
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
   // Reachable: reads our tile requests (DDS match) and was heard from (ServiceHealth) within
