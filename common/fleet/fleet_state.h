@@ -27,7 +27,7 @@ struct TrailPoint {
 
 struct TrailOptions {
   double period_s = 0.25;  // at most one point per period
-  double length_s = 60.0;  // points older than this (relative to the newest) are dropped
+  double length_s = 10.0;  // points older than this (relative to the newest) are dropped
 };
 
 struct VehicleState {

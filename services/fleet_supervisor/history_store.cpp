@@ -20,12 +20,12 @@ INSERT OR IGNORE INTO history_meta VALUES('format', 'fleetloc-history/1');
 CREATE TABLE IF NOT EXISTS poses(vehicle TEXT NOT NULL, t REAL NOT NULL, received REAL NOT NULL,
   x REAL, y REAL, theta REAL, cov_xx REAL, cov_xy REAL, cov_yy REAL, cov_tt REAL,
   lock INTEGER, score REAL, deviation_m REAL, mosaic_version INTEGER);
-CREATE INDEX IF NOT EXISTS poses_by_vehicle ON poses(vehicle, t);
+CREATE INDEX IF NOT EXISTS poses_by_vehicle ON poses(vehicle, received);
 CREATE TABLE IF NOT EXISTS health(vehicle TEXT NOT NULL, t REAL NOT NULL, received REAL NOT NULL,
   level INTEGER, issues TEXT, lock INTEGER, cycle_p50 REAL, cycle_p95 REAL, cycle_p99 REAL,
   inliers INTEGER, cache_hit_rate REAL, tiles_pending INTEGER, patch_outbox INTEGER,
   reachable INTEGER, drops INTEGER, last_error TEXT);
-CREATE INDEX IF NOT EXISTS health_by_vehicle ON health(vehicle, t);
+CREATE INDEX IF NOT EXISTS health_by_vehicle ON health(vehicle, received);
 CREATE TABLE IF NOT EXISTS alerts(id INTEGER PRIMARY KEY AUTOINCREMENT, vehicle TEXT NOT NULL,
   kind TEXT NOT NULL, severity TEXT NOT NULL, raised REAL NOT NULL, cleared REAL, message TEXT);
 CREATE INDEX IF NOT EXISTS alerts_by_raised ON alerts(raised);
@@ -171,7 +171,7 @@ Result<std::vector<T>> RangeOf(sqlite3* db, const char* table, const char* colum
                                const std::string& vehicle, double from, double to, int limit,
                                Read&& read) {
   const std::string sql = std::string("SELECT ") + columns + " FROM " + table +
-                          " WHERE vehicle = ?1 AND t >= ?2 AND t <= ?3 ORDER BY t DESC LIMIT ?4";
+                          " WHERE vehicle = ?1 AND received >= ?2 AND received <= ?3 ORDER BY received DESC LIMIT ?4";
   Result<std::vector<T>> rows = Query<T>(
       db, sql,
       [&](sqlite3_stmt* s) {
@@ -268,7 +268,7 @@ Status HistoryStore::CloseAlert(long long id, double cleared_t) {
 Result<long long> HistoryStore::Prune(double before) {
   std::lock_guard lock(mutex_);
   long long deleted = 0;
-  for (const char* sql : {"DELETE FROM poses WHERE t < ?1", "DELETE FROM health WHERE t < ?1",
+  for (const char* sql : {"DELETE FROM poses WHERE received < ?1", "DELETE FROM health WHERE received < ?1",
                           "DELETE FROM alerts WHERE cleared IS NOT NULL AND cleared < ?1"}) {
     Result<sqlite::Stmt> stmt = sqlite::Prepare(db_.get(), sql);
     if (!stmt.ok()) return stmt.status();
@@ -308,8 +308,8 @@ Result<std::vector<fleet::VehicleState>> HistoryStore::LatestVehicles() {
   std::lock_guard lock(mutex_);
   std::map<std::string, fleet::VehicleState> vehicles;
   auto newest = [](const char* table, const char* columns) {
-    return std::string("SELECT ") + columns + " FROM " + table + " r JOIN (SELECT vehicle AS v, MAX(t) AS mt FROM " +
-           table + " GROUP BY vehicle) m ON r.vehicle = m.v AND r.t = m.mt";
+    return std::string("SELECT ") + columns + " FROM " + table + " r JOIN (SELECT vehicle AS v, MAX(received) AS mt FROM " +
+           table + " GROUP BY vehicle) m ON r.vehicle = m.v AND r.received = m.mt";
   };
   Result<std::vector<StoredPose>> poses =
       Query<StoredPose>(db_.get(), newest("poses", kPoseColumns), [](sqlite3_stmt*) {}, ReadPose);

@@ -45,11 +45,12 @@ class HistoryStore {
   // Stores a raised alert and returns its id; Close sets the cleared time of a stored one.
   Result<long long> InsertAlert(const fleet::Alert& alert);
   Status CloseAlert(long long id, double cleared_t);
-  // Deletes pose and health rows older than `before` (their time of validity) and alerts cleared
-  // before it; returns the number of rows deleted.
+  // Deletes pose and health rows received before `before` and alerts cleared before it; returns
+  // the number of rows deleted. (History is indexed by the supervisor's receive time: a vehicle's
+  // stamps may be on another clock, e.g. a replayed run's.)
   Result<long long> Prune(double before);
 
-  // Rows of one vehicle with from <= t <= to, oldest first, at most `limit` (the newest kept).
+  // Rows of one vehicle received in [from, to], oldest first, at most `limit` (the newest kept).
   Result<std::vector<StoredPose>> Poses(const std::string& vehicle_id, double from, double to, int limit);
   Result<std::vector<StoredHealth>> Health(const std::string& vehicle_id, double from, double to, int limit);
   // Alerts, newest raised first.

@@ -49,8 +49,9 @@ TEST(HistoryStore, RowsRoundTripAndRangesAreOldestFirstWithTheNewestKept) {
   auto range = (*store)->Poses("agv-1", kT0 + 10, kT0 + 50, 5);
   ASSERT_TRUE(range.ok());
   ASSERT_EQ(range->size(), 5u);
-  EXPECT_DOUBLE_EQ(range->front().pose.t, kT0 + 46);  // the newest 5 of [10, 50], oldest first
-  EXPECT_DOUBLE_EQ(range->back().pose.x, 5.0);
+  // Received 0.01 s after their stamps: the newest 5 received in [10, 50], oldest first.
+  EXPECT_DOUBLE_EQ(range->front().pose.t, kT0 + 45);
+  EXPECT_DOUBLE_EQ(range->back().pose.x, 4.9);
   EXPECT_EQ(range->back().pose.lock, tracking::LockState::kCoasting);
   EXPECT_EQ(range->back().pose.mosaic_version, 2);
   auto h = (*store)->Health("agv-1", kT0, kT0 + 1000, 100);

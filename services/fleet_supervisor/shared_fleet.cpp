@@ -33,8 +33,8 @@ void SharedFleet::Apply(const Received& in, double now, std::vector<StoredPose>*
   for (const auto& [id, pose] : in.poses) {
     fleet_.OnPose(id, pose, now);
     double& last = last_stored_[id];
-    if (pose.t >= last + history_period_s_) {
-      last = pose.t;
+    if (now >= last + history_period_s_) {
+      last = now;
       poses->push_back({id, now, pose});
     }
   }
@@ -82,7 +82,7 @@ void SharedFleet::Restore(const std::vector<fleet::VehicleState>& vehicles,
   std::lock_guard lock(mutex_);
   for (const fleet::VehicleState& v : vehicles) {
     fleet_.Restore(v);
-    if (v.pose) last_stored_[v.id] = v.pose->t;
+    last_stored_[v.id] = v.last_seen;
   }
   for (const fleet::Alert& a : open) fleet_.RestoreAlert(a);
 }

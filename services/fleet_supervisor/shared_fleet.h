@@ -67,7 +67,7 @@ class SharedFleet {
   mutable std::mutex mutex_;
   fleet::FleetState fleet_;
   double history_period_s_;
-  std::map<std::string, double> last_stored_;  // per vehicle: time of the last stored pose
+  std::map<std::string, double> last_stored_;  // per vehicle: receive time of the last stored pose
   std::map<uint64_t, transport::RemapProgress> jobs_;
   std::map<std::string, std::pair<ServiceReport, double>> services_;  // with the received time
   std::string last_rejection_;
