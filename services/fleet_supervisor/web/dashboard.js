@@ -37,12 +37,17 @@ function toMap(sx, sy) {
   const v = state.view;
   return [(sx - canvas.width / 2) / v.scale + v.cx, v.cy - (sy - canvas.height / 2) / v.scale];
 }
+// Shows the whole mosaic and every vehicle (base_link may lie off the floor it sees: the camera
+// is mounted ahead of it). Refitted until the operator pans or zooms.
 function fitView() {
-  const m = state.mosaic;
-  if (!m) { state.view = { cx: 0, cy: 0, scale: 100 }; return; }
-  const w = m.width_px * m.resolution, h = m.height_px * m.resolution;
-  state.view = { cx: m.origin_x + w / 2, cy: m.origin_y - h / 2,
-                 scale: 0.95 * Math.min(canvas.width / w, canvas.height / h) };
+  const m = state.mosaic, box = [Infinity, Infinity, -Infinity, -Infinity];
+  const grow = (x, y) => { box[0] = Math.min(box[0], x); box[1] = Math.min(box[1], y); box[2] = Math.max(box[2], x); box[3] = Math.max(box[3], y); };
+  if (m) { grow(m.origin_x, m.origin_y); grow(m.origin_x + m.width_px * m.resolution, m.origin_y - m.height_px * m.resolution); }
+  if (state.snapshot) state.snapshot.vehicles.forEach((v) => v.pose && grow(v.pose.x, v.pose.y));
+  if (!(box[2] > box[0])) { state.view = { cx: 0, cy: 0, scale: 100 }; return; }
+  const w = Math.max(box[2] - box[0], 0.1), h = Math.max(box[3] - box[1], 0.1);
+  state.view = { cx: (box[0] + box[2]) / 2, cy: (box[1] + box[3]) / 2,
+                 scale: 0.9 * Math.min(canvas.width / w, canvas.height / h) };
 }
 function resize() {
   const r = canvas.getBoundingClientRect();
@@ -129,6 +134,7 @@ function draw() {
 
 canvas.addEventListener('mousedown', (e) => {
   const [x, y] = toMap(e.offsetX, e.offsetY);
+  state.userView = true;
   state.drag = { sx: e.offsetX, sy: e.offsetY, x, y, view: { ...state.view } };
 });
 canvas.addEventListener('mousemove', (e) => {
@@ -147,6 +153,7 @@ canvas.addEventListener('mousemove', (e) => {
 window.addEventListener('mouseup', () => { state.drag = null; });
 canvas.addEventListener('wheel', (e) => {
   e.preventDefault();
+  state.userView = true;
   const [x, y] = toMap(e.offsetX, e.offsetY), f = Math.exp(-e.deltaY * 0.0015);
   state.view.scale *= f;
   state.view.cx = x - (x - state.view.cx) / f; state.view.cy = y - (y - state.view.cy) / f;
@@ -226,6 +233,8 @@ function onSnapshot(snapshot) {
   renderSummary(snapshot.summary); renderVehicles(snapshot.vehicles); renderAlerts(snapshot.alerts);
   renderJobs(snapshot.remap_jobs); renderStatus(snapshot);
   if (state.selected) renderDetailInfo();
+  const outside = (v) => { if (!v.pose) return false; const [sx, sy] = toScreen(v.pose.x, v.pose.y); return sx < 0 || sy < 0 || sx > canvas.width || sy > canvas.height; };
+  if (!state.userView && snapshot.vehicles.some(outside)) fitView();
   draw();
 }
 
@@ -239,9 +248,8 @@ function connect() {
 async function loadMosaic() {
   const res = await fetch('/api/mosaic');
   if (!res.ok) { setTimeout(loadMosaic, 2000); return; }
-  const first = !state.mosaic;
   state.mosaic = await res.json();
-  if (first) fitView();
+  if (!state.userView) fitView();
   draw();
 }
 
