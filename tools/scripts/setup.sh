@@ -30,15 +30,7 @@ if ! command -v npm >/dev/null 2>&1; then
 fi
 
 BUILD_TYPE="${FLEETLOC_BUILD_TYPE:-Release}"
-cmake -S . -B build -G Ninja -DCMAKE_# Node.js for the browser test: Debian's nodejs and npm unless a node with npm is already there.
-if ! command -v npm >/dev/null 2>&1; then
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  $SUDO apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends nodejs npm
-fi
-
-BUILD_TYPE="$BUILD_TYPE" >/dev/null
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >/dev/null
 cmake --build build -j "$(nproc)"
 # The browser test's Node packages (playwright-core, pinned by tests/browser/package-lock.json).
 tests/browser/install_deps.sh build/browser
