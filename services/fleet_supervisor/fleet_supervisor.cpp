@@ -214,8 +214,9 @@ Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
     if (!woke.ok()) return woke.status();
     Step(Now());
   }
-  FlushHistory(Now());
   http_->Stop();
+  fleet_->NewestUnstored(&pending_poses_);
+  FlushHistory(Now());
   spdlog::info("stopping: {} poses and {} health reports received, {} history rows written",
                fleet_->counters().poses_received.load(), fleet_->counters().health_received.load(),
                fleet_->counters().history_rows.load());

@@ -52,6 +52,14 @@ void SharedFleet::Apply(const Received& in, double now, std::vector<StoredPose>*
   }
 }
 
+void SharedFleet::NewestUnstored(std::vector<StoredPose>* poses) {
+  std::lock_guard lock(mutex_);
+  fleet_.ForEach([&](const fleet::VehicleState& v) {
+    double& last = last_stored_[v.id];
+    if (v.pose && last < v.last_seen) poses->push_back({v.id, v.last_seen, *v.pose}), last = v.last_seen;
+  });
+}
+
 std::vector<fleet::Alert> SharedFleet::Evaluate(double now) {
   std::lock_guard lock(mutex_);
   std::vector<fleet::Alert> changes = fleet_.Evaluate(now);

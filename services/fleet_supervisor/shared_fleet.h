@@ -40,6 +40,9 @@ class SharedFleet {
   // to one per vehicle per history period, every health report) and counts rejections.
   void Apply(const Received& in, double now, std::vector<StoredPose>* poses,
              std::vector<StoredHealth>* health);
+  // Appends the newest pose of every vehicle whose newest pose was thinned out of the history
+  // (at shutdown, so that a restart restores the last known pose).
+  void NewestUnstored(std::vector<StoredPose>* poses);
   // Runs the alert rules; returns the changes (raised ones without id: see SetAlertId).
   std::vector<fleet::Alert> Evaluate(double now);
   void SetAlertId(const fleet::Alert& alert, long long id);
