@@ -12,6 +12,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <future>
 #include <nlohmann/json.hpp>
 
 namespace fleetloc {
@@ -149,6 +150,18 @@ TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
   ASSERT_TRUE(stats);
   EXPECT_GE(json::parse(stats->body).value("http_rejected", 0), 25) << stats->body;
   EXPECT_EQ(http.Get("/api/fleet")->status, 200) << "still serving";
+
+  // fleetctl status hears the vehicle and the supervisor over DDS.
+  auto status = std::async(std::launch::async, [] {
+    return testing::RunFleetctl("status --json --wait 1.5 --domain " + std::to_string(kDomain));
+  });
+  while (status.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) vehicle.Publish(0.6);
+  const testing::CommandResult r = status.get();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json fleet = json::parse(r.out);
+  EXPECT_EQ(fleet["summary"].value("vehicles", 0), 1) << r.out;
+  EXPECT_EQ(fleet["vehicles"][0].value("id", ""), "agv-h1");
+  EXPECT_EQ(fleet["services"][0].value("kind", ""), "fleet_supervisor");
 }
 
 TEST(SupervisorHttp, HistoryAndVehiclesSurviveARestart) {

@@ -18,6 +18,7 @@ void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
 void RegisterMapmatchCommand(CLI::App& app, Status* result);
 void RegisterRelocCommand(CLI::App& app, Status* result);
+void RegisterStatusCommand(CLI::App& app, Status* result);
 
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
