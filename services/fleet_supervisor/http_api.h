@@ -2,7 +2,7 @@
 // and the dashboard's static files. Reads are open; every change (starting a re-mapping job)
 // needs the maintainer token as "Authorization: Bearer <token>" — 401 without it, 403 with a
 // wrong one or when no token is configured (read-only). Bad input gets a 4xx JSON
-// {"error": "..."} and is counted. The API is listed in docs/fleet_supervisor.md.
+// {"error": "..."} and is counted. The API is listed in docs/architecture.md.
 #pragma once
 
 #include <functional>
