@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "io/child_process.h"
+#include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
@@ -181,31 +182,12 @@ void FleetSupervisor::Step(double now) {
 }
 
 Status FleetSupervisor::PublishHealth() {
-  fleetloc_ServiceHealth health{};
-  health.wire_version = fleetloc_WIRE_VERSION;
-  transport::SetBounded(health.service_id, config_.supervisor_id);
-  transport::SetBounded(health.kind, "fleet_supervisor");
-  health.stamp = transport::NowStamp();
-  std::vector<fleetloc_Counter> counters;
-  for (const auto& [name, value] : fleet_->counters().Snapshot()) {
-    fleetloc_Counter counter{};
-    transport::SetBounded(counter.name, name);
-    counter.value = value;
-    counters.push_back(counter);
-  }
-  health.counters._buffer = counters.data();
-  health.counters._length = health.counters._maximum = static_cast<uint32_t>(counters.size());
-  fleetloc_HealthIssue issue{};
-  health.level = fleetloc_HEALTH_OK;
+  transport::ServiceHealthReport report{config_.supervisor_id, "fleet_supervisor", std::nullopt,
+                                        fleet_->counters().Snapshot()};
   if (fleet_->counters().history_errors > 0) {
-    health.level = fleetloc_HEALTH_ERROR;
-    transport::SetBounded(issue.name, "history_errors");
-    issue.level = health.level;
-    transport::SetBounded(issue.message, "the SQLite history could not be written");
-    health.issues._buffer = &issue;
-    health.issues._length = health.issues._maximum = 1;
+    report.issue = {"history_errors", fleetloc_HEALTH_ERROR, "the SQLite history could not be written"};
   }
-  return health_writer_->Write(health);
+  return transport::WriteServiceHealth(*health_writer_, report);
 }
 
 Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
