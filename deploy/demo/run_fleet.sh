@@ -5,13 +5,14 @@
 # and three simulated vehicles driving forever over the floor, each with its own tracker agent.
 # Prints the dashboard URL and the maintainer token; Ctrl-C (or SIGTERM) stops everything cleanly.
 # Environment: FLEETLOC_DOMAIN (DDS domain, default 0), FLEETLOC_HTTP_PORT (default 8080),
-# FLEETLOC_VEHICLES (default 3).
+# FLEETLOC_VEHICLES (default 3); for tests: FLEETLOC_FLEET_DIR (default out/fleet) and
+# FLEETLOC_SKIP_SETUP=1 (use the existing build).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-tools/scripts/setup.sh
+[ "${FLEETLOC_SKIP_SETUP:-0}" = 1 ] || tools/scripts/setup.sh
 
 BIN=build/bin
-OUT=out/fleet
+OUT="${FLEETLOC_FLEET_DIR:-out/fleet}"
 DOMAIN="${FLEETLOC_DOMAIN:-0}"
 PORT="${FLEETLOC_HTTP_PORT:-8080}"
 VEHICLES="${FLEETLOC_VEHICLES:-3}"
