@@ -56,7 +56,7 @@ Status ReadFields(const nlohmann::json& object, const FieldTable& table, const s
   for (const auto& [key, value] : object.items()) {
     if (prefix.empty() && key == "odometry") continue;
     const auto it = std::find_if(table.begin(), table.end(),
-                                 [&](const auto& f) { return key == f.first; });
+                                 [&key = key](const auto& f) { return key == f.first; });
     const std::string name = prefix + key;
     if (it == table.end()) return InvalidInput(where + ": field '" + name + "': unknown option");
     if (const auto* i = std::get_if<int*>(&it->second)) {
@@ -77,7 +77,7 @@ Status ReadFields(const nlohmann::json& object, const FieldTable& table, const s
 nlohmann::json WriteFields(const FieldTable& table) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [key, field] : table) {
-    std::visit([&](auto* p) { j[key] = *p; }, field);
+    std::visit([&j, &key = key](auto* p) { j[key] = *p; }, field);
   }
   return j;
 }

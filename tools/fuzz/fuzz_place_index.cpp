@@ -1,0 +1,10 @@
+// Fuzz target: a place-index blob as a vehicle receives it from the map server (and as cached in
+// the mosaic file) — PlaceIndex::Deserialize must reject anything malformed with an error.
+#include <span>
+
+#include "mapmatch/place_index.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  (void)fleetloc::mapmatch::PlaceIndex::Deserialize(std::span<const std::uint8_t>(data, size));
+  return 0;
+}

@@ -1,0 +1,21 @@
+// Fuzz target: a run directory (CONTRACT §4) — run.json, camera.json, frames.csv, odometry.csv and
+// truth.csv from one input (parts separated by "\n--\n") — read by io::ReadRun, and a landmark and
+// a points file (CONTRACT §7). Any input must give a value or an error, never a crash.
+#include "fuzz_input.h"
+#include "io/mapmatch_files.h"
+#include "io/run.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace fleetloc;
+  const std::vector<std::string> parts = fuzz::SplitParts(data, size, 5);
+  const std::filesystem::path dir = fuzz::ScratchDir();
+  const char* names[] = {"run.json", "camera.json", "frames.csv", "odometry.csv", "truth.csv"};
+  for (int i = 0; i < 5; ++i) {
+    if (!parts[i].empty()) fuzz::WriteFile(dir / names[i], parts[i]);
+  }
+  (void)io::ReadRun(dir);
+  (void)io::ReadLandmarksCsv(dir / "frames.csv");
+  (void)io::ReadPointsCsv(dir / "odometry.csv");
+  (void)io::ReadPosesCsv(dir / "truth.csv");
+  return 0;
+}
