@@ -28,9 +28,10 @@ TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& came
 Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
     const AgentConfig& config, const io::CameraFile& camera,
     const std::optional<geometry::PoseWithCovariance>& initial,
-    const tracking::TrackerOptions& options) {
+    const tracking::TrackerOptions& options, std::unique_ptr<AgentPositionUpdate> position_update) {
   FLEETLOC_RETURN_IF_ERROR(Validate(config));
   std::unique_ptr<TrackerAgent> agent(new TrackerAgent(config, camera, initial));
+  agent->position_update_ = std::move(position_update);
   FLEETLOC_RETURN_IF_ERROR(agent->Open(options));
   return agent;
 }
@@ -109,11 +110,45 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
 }
 
 void TrackerAgent::ProcessReadyFrames() {
-  while (!waiting_frames_.empty() && waiting_frames_.front().first <= latest_odometry_t_) {
-    auto [t, frame] = std::move(waiting_frames_.front());
+  while (!waiting_frames_.empty() && waiting_frames_.front().t <= latest_odometry_t_) {
+    const WaitingFrame frame = std::move(waiting_frames_.front());
     waiting_frames_.pop_front();
-    Track(t, frame);
+    if (frame.forward) UpdatePosition(frame.t, frame.image);
+    else Track(frame.t, frame.image);
   }
+}
+
+bool TrackerAgent::Start(double t, const geometry::Pose2& odom) {
+  if (!initial_) return false;
+  tracker_->Reset(*initial_, odom), started_ = true;
+  propagator_->SetAnchor(t, odom, *initial_);
+  return true;
+}
+
+void TrackerAgent::UpdatePosition(double t, const cv::Mat& image) {
+  Result<geometry::Pose2> odom = odometry_.At(t);
+  if (!odom.ok()) {
+    return health_.RecordDroppedFrame("forward image at t=" + std::to_string(t) + ": " +
+                                      odom.status().message());
+  }
+  if (!started_) {
+    if (!Start(t, *odom)) return;  // nowhere to place its landmarks until a frame relocalizes
+    state_ = tracking::LockState::kCoasting;  // odometry only, until a frame or a fit
+    health_.RecordLockState(state_);
+  }
+  const geometry::PoseWithCovariance estimate = propagator_->At(t, *odom);
+  if (Status added = position_update_->AddImage(t, image, estimate.pose); !added.ok()) {
+    return health_.RecordDroppedFrame(added.message());
+  }
+  // The mosaic tracks to millimetres, the map fit to centimetres: a tracked pose stays.
+  const bool use = state_ != tracking::LockState::kTracking;
+  const std::optional<geometry::PoseWithCovariance> corrected = position_update_->Update(t, estimate, use);
+  if (!corrected || !use) return;
+  tracker_->Reset(*corrected, *odom);  // the next frame tracks from the corrected pose
+  state_ = tracking::LockState::kRelocalized;
+  health_.RecordLockState(state_);
+  propagator_->SetAnchor(t, *odom, *corrected);
+  Publish(t, *corrected, state_);
 }
 
 void TrackerAgent::Track(double t, const cv::Mat& frame) {
@@ -122,16 +157,13 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     health_.RecordDroppedFrame("frame at t=" + std::to_string(t) + ": " + odom.status().message());
     return;
   }
-  if (!started_) {
-    if (!initial_) {  // where the vehicle is is unknown until a frame relocalizes
-      (void)TryRelocalize(t, frame, *odom);
-      return;
-    }
-    tracker_->Reset(*initial_, *odom), started_ = true;
+  if (!started_ && !Start(t, *odom)) {  // where the vehicle is is unknown until a frame relocalizes
+    (void)TryRelocalize(t, frame, *odom);
+    return;
   }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
-  Prefetch(t, propagator_->anchored() ? propagator_->At(t, *odom).pose : initial_->pose);
+  Prefetch(t, propagator_->At(t, *odom).pose);
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -175,6 +207,7 @@ bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry:
                relocalizer_->stats().last_ms);
   tracker_->Reset(base, odom);
   started_ = true, provisional_ = true, coasting_in_a_row_ = 0;
+  if (position_update_) position_update_->Forget();  // its points were placed before the jump
   state_ = tracking::LockState::kRelocalized;
   propagator_->SetAnchor(t, odom, base);
   Publish(t, base, state_);
@@ -305,7 +338,7 @@ void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
                          outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_,
-                         relocalizer_->ready()};
+                         relocalizer_->ready(), position_update_ ? &position_update_->stats() : nullptr};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
@@ -314,7 +347,7 @@ void TrackerAgent::PublishHealth() {
 
 Status TrackerAgent::WriteSummary() const {
   const RelocalizationStats& reloc = relocalizer_->stats();
-  const nlohmann::json summary{
+  nlohmann::json summary{
       {"vehicle_id", config_.vehicle_id},
       {"frames", health_.frames()},
       {"cycle_ms", {{"median", health_.CyclePercentile(50, 10000)},
@@ -331,6 +364,8 @@ Status TrackerAgent::WriteSummary() const {
                           {"chunks_rejected", relocalizer_->chunks_rejected()},
                           {"attempts", reloc.attempts}, {"found", reloc.found},
                           {"mean_ms", reloc.attempts > 0 ? reloc.total_ms / reloc.attempts : 0.0}}}};
+  summary["position_update"] = position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
+  summary["position_update"]["enabled"] = position_update_ != nullptr;
   return io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n");
 }
 
@@ -350,8 +385,9 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     InputEvent& e = **event;
     if (e.kind == InputEvent::Kind::kOdometry) {
       OnOdometry(e.t, e.odom);
-    } else {
-      waiting_frames_.emplace_back(e.t, rectifier_ ? rectifier_->Rectify(e.frame) : e.frame);
+    } else if (e.kind == InputEvent::Kind::kFrame || position_update_) {
+      const bool forward = e.kind == InputEvent::Kind::kForwardFrame;  // not rectified: its own model
+      waiting_frames_.push_back({e.t, forward, forward || !rectifier_ ? e.frame : rectifier_->Rectify(e.frame)});
       ProcessReadyFrames();
     }
     UpdateMapServerReachability();
