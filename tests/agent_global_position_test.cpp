@@ -1,5 +1,5 @@
 // The global position update in the live agent: `fleetctl sim-forward` drives a vehicle down a
-// rendered corridor for 33 s (13 m) with a forward camera, drifting odometry and no downward
+// rendered corridor for 32.5 s (13 m) with a forward camera, drifting odometry and no downward
 // frames; a tracker_agent replays it (a map_server on some mosaic only because the agent needs one
 // to start). Its published poses must stay within centimetres of the truth while the odometry
 // alone drifts decimetres away. And bad input: a malformed forward_camera.json or a landmark file
@@ -43,7 +43,7 @@ cv::Mat SomeFloor() {
 std::string WriteForwardRun(const std::filesystem::path& dir) {
   const std::string run_dir = (dir / "run").string();
   const testing::CommandResult sim =
-      testing::RunFleetctl("sim-forward --frames 67 --seed 4 --out " + testing::Quote(run_dir));
+      testing::RunFleetctl("sim-forward --frames 66 --seed 4 --out " + testing::Quote(run_dir));
   EXPECT_EQ(sim.exit_code, 0) << sim.err;
   return run_dir;
 }
@@ -65,7 +65,7 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   ASSERT_TRUE(run->frames.empty()) << "a drive without downward frames";
   ASSERT_TRUE(run->forward.has_value());
   const std::vector<geometry::StampedPose>& truth = run->forward->truth;
-  ASSERT_EQ(truth.size(), 67u);
+  ASSERT_EQ(truth.size(), 66u);
 
   transport::Participant& p = server.participant();
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
@@ -110,10 +110,10 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   ASSERT_TRUE(in.good()) << "no summary";
   const nlohmann::json update = nlohmann::json::parse(in)["position_update"];
   EXPECT_TRUE(update.value("enabled", false)) << update.dump();
-  EXPECT_EQ(update.value("images", 0), 67) << update.dump();
+  EXPECT_EQ(update.value("images", 0), 66) << update.dump();
   EXPECT_EQ(update.value("images_rejected", -1), 0) << update.dump();
-  EXPECT_EQ(update.value("attempted", 0), 33) << update.dump();  // one per second after the first
-  EXPECT_GE(update.value("applied", 0), 30) << update.dump();
+  EXPECT_EQ(update.value("attempted", 0), 32) << update.dump();  // one per second after the first
+  EXPECT_GE(update.value("applied", 0), 28) << update.dump();
   EXPECT_LT(update.value("max_correction_m", 1.0), 0.05) << update.dump();
 }
 

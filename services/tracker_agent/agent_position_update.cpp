@@ -46,6 +46,7 @@ Result<std::unique_ptr<AgentPositionUpdate>> AgentPositionUpdate::Create(
   if (!(std::isfinite(options.window_s) && options.window_s > 0)) {
     return InvalidInput("position update: window_s must be > 0");
   }
+  if (options.min_landmarks < 2) return InvalidInput("position update: min_landmarks must be >= 2");
   if (!(std::isfinite(options.max_correction_m) && options.max_correction_m > 0)) {
     return InvalidInput("position update: max_correction_m must be > 0");
   }
@@ -114,6 +115,14 @@ std::optional<geometry::PoseWithCovariance> AgentPositionUpdate::Update(
   }
   if (!update->applied) {
     Reject(t, "the map fit did not converge: " + update->fit.reason);
+    return std::nullopt;
+  }
+  const mapmatch::MapFitResult& fit = update->fit;
+  spdlog::debug("position fit at t={:.3f}: {} landmarks, {} pairs, rms {:.3f} m, {} iterations", t,
+                fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.iterations);
+  if (fit.landmarks_matched < options_.min_landmarks) {
+    Reject(t, "the fit pairs " + std::to_string(fit.landmarks_matched) + " landmark(s), fewer than " +
+                  std::to_string(options_.min_landmarks));
     return std::nullopt;
   }
   const double moved = Distance(update->pose.pose, current.pose);

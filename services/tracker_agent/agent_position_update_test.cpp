@@ -1,7 +1,8 @@
-// The agent's position update on rendered corridor images (sim/forward_renderer.h): an estimate
-// 15 cm and 1.5° off is brought back to the truth by the fits and kept there; a tracked pose is
-// left alone with the disagreement reported; bad images, an empty window and broken landmark maps
-// are counted or refused with a message, never a crash.
+// The agent's position update on rendered corridor images (sim/forward_renderer.h, the images of
+// `fleetctl sim-forward --seed 4`): an estimate 15 cm and 1.5° off is brought back to the truth by
+// the fits and kept there; fits on too few landmarks or that jump too far are rejected; a tracked
+// pose is left alone with the disagreement reported; bad images, an empty window and broken
+// landmark maps are counted or refused with a message, never a crash.
 #include "tracker_agent/agent_position_update.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 
 #include "sim/forward_renderer.h"
 #include "sim/forward_run.h"
+#include "sim/random.h"
 
 namespace fleetloc::tracker_agent {
 namespace {
@@ -40,11 +42,12 @@ class RenderedDrive : public ::testing::Test {
   static void SetUpTestSuite() {
     sim::ForwardRunOptions options;
     options.frames = 13;
+    options.seed = 4;
     const sim::CorridorScene scene = sim::BuildCorridorScene(options.scene);
     const sim::ForwardRenderer renderer(mapmatch::ForwardCamera::Create(TestCamera()).value(), {});
     for (const geometry::StampedPose& truth : sim::PlanForwardRun(options).frame_truth) {
       truth_.push_back(truth);
-      images_.push_back(renderer.Render(scene, truth.pose, 7 + truth_.size()));
+      images_.push_back(renderer.Render(scene, truth.pose, sim::MixSeed(options.seed, truth_.size() - 1)));
     }
   }
 
@@ -80,8 +83,27 @@ TEST_F(RenderedDrive, FitsBringADriftedEstimateBackToTheTruth) {
   EXPECT_GE(stats.applied, 5) << stats.last_reason;
   EXPECT_EQ(used, stats.applied);
   EXPECT_GT(stats.max_correction_m, 0.1) << "the first fit removes most of the 16 cm";
-  EXPECT_LT(worst_after_first, 0.02);  // measured 6-10 mm
+  EXPECT_LT(worst_after_first, 0.02);  // measured 10 mm
   EXPECT_EQ(stats.not_needed, 0);
+}
+
+TEST_F(RenderedDrive, FitsOnTooFewLandmarksOrThatJumpTooFarAreRejected) {
+  auto rejects = [&](const PositionUpdateOptions& options, const std::string& reason) {
+    auto update = AgentPositionUpdate::Create(TestCamera(), sim::BuildCorridorScene({}).landmarks,
+                                              options).value();
+    const geometry::Pose2 error{0.1, 0.0, 0.0};
+    for (std::size_t i = 0; i < 5; ++i) {
+      const geometry::Pose2 estimate = error * truth_[i].pose;
+      ASSERT_TRUE(update->AddImage(truth_[i].t, images_[i], estimate).ok());
+      EXPECT_FALSE(update->Update(truth_[i].t, {estimate, Eigen::Matrix3d::Zero()}, true));
+    }
+    EXPECT_EQ(update->stats().rejected, 2);
+    EXPECT_EQ(update->stats().applied, 0);
+    EXPECT_NE(update->stats().last_reason.find(reason), std::string::npos)
+        << update->stats().last_reason;
+  };
+  rejects({.min_landmarks = 50}, "fewer than 50");
+  rejects({.max_correction_m = 0.05}, "would move the pose");
 }
 
 TEST_F(RenderedDrive, ATrackedPoseIsLeftAloneAndTheDisagreementReported) {

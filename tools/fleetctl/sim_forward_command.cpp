@@ -101,7 +101,8 @@ Status RunSimForward(const SimForwardArgs& a) {
   if (!params.ok()) return params.status();
   Result<mapmatch::ForwardCamera> camera = mapmatch::ForwardCamera::Create(*params);
   if (!camera.ok()) return camera.status();
-  const fs::path dir(a.out), forward = fs::path(a.out) / "forward";
+  // Absolute: forward.csv names its images relative to forward/, whatever the working directory.
+  const fs::path dir = io::AbsoluteDir(a.out), forward = dir / "forward";
   FLEETLOC_RETURN_IF_ERROR(PrepareForwardDir(dir, a.overwrite));
   const sim::CorridorScene scene = sim::BuildCorridorScene(a.run.scene);
   const sim::ForwardRunPlan plan = sim::PlanForwardRun(a.run);
