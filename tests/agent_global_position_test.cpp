@@ -71,6 +71,20 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
       p.get(), *pose_topic, transport::Qos().Reliable().KeepAll());
+  auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
+  auto health_reader = transport::Reader<fleetloc_VehicleHealth>::Create(
+      p.get(), *health_topic, transport::Qos().Reliable().KeepAll());
+  std::string update_issue;  // the newest health report's position update line
+  fleetloc_LockState health_state = fleetloc_LOCK_LOST;
+  auto take_health = [&] {
+    (void)health_reader->TakeAll([&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
+      health_state = h.lock_state;
+      for (uint32_t i = 0; i < h.issues._length; ++i) {
+        const std::string name = transport::GetBounded(h.issues._buffer[i].name);
+        if (name.starts_with("position_update")) update_issue = name + ": " + transport::GetBounded(h.issues._buffer[i].message);
+      }
+    });
+  };
   const std::string summary_path = (server.dir() / "summary.json").string();
   io::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run_dir, "--fast", "--domain", std::to_string(kDomain),
@@ -78,9 +92,10 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
                         "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
-  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 120));
+  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); take_health(); return !agent.Running(); }, 120));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
+  take_health();
 
   // At every forward image: the agent's pose and the odometry alone (the initial pose, which is
   // the truth, propagated with odometry) against the truth.
@@ -96,13 +111,18 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
     const transport::PoseReport* pose = testing::PoseAt(published, at.t);
     if (pose == nullptr) continue;
     ++compared;
+    // Coasting from the initial pose until the first fit (t = 1 s), then corrected. At a fit's time
+    // the odometry-rate pose comes first (the image waits for the odometry sample), then the
+    // corrected one: PoseAt finds the former, so the errors are those before each fit.
+    EXPECT_EQ(pose->state, at.t <= 1.0 ? tracking::LockState::kCoasting : tracking::LockState::kRelocalized)
+        << "at t=" << at.t;
     const double error = PositionError(pose->base_in_map.pose, at.pose);
     worst_agent = std::max(worst_agent, error);
     EXPECT_LT(error, 0.05) << "at t=" << at.t;  // the unit tests' bound (2-3 cm per fit, < 5 cm)
   }
   std::printf("forward drive: agent worst %.1f mm over %d images; odometry alone worst %.1f mm, at the end %.1f mm\n",
               worst_agent * 1000, compared, worst_odometry * 1000, final_odometry * 1000);
-  EXPECT_GE(compared, 64) << "a pose at (nearly) every image";
+  EXPECT_GE(compared, 64) << "a pose at (nearly) every image, the start pose included";
   EXPECT_GT(final_odometry, 0.25) << "odometry alone drifts visibly";
   EXPECT_GT(worst_odometry, 5 * worst_agent);
 
@@ -115,6 +135,9 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   EXPECT_EQ(update.value("attempted", 0), 32) << update.dump();  // one per second after the first
   EXPECT_GE(update.value("applied", 0), 28) << update.dump();
   EXPECT_LT(update.value("max_correction_m", 1.0), 0.05) << update.dump();
+  // The health says so too (its last report may warn about the fits facing the end wall).
+  EXPECT_EQ(health_state, fleetloc_LOCK_RELOCALIZED);
+  EXPECT_NE(update_issue.find(" of 32 position updates applied"), std::string::npos) << update_issue;
 }
 
 TEST(AgentGlobalPosition, MalformedForwardCameraOrLandmarksStopTheAgentWithTheFileAndField) {

@@ -135,6 +135,7 @@ void TrackerAgent::UpdatePosition(double t, const cv::Mat& image) {
     if (!Start(t, *odom)) return;  // nowhere to place its landmarks until a frame relocalizes
     state_ = tracking::LockState::kCoasting;  // odometry only, until a frame or a fit
     health_.RecordLockState(state_);
+    Publish(t, *initial_, state_);
   }
   const geometry::PoseWithCovariance estimate = propagator_->At(t, *odom);
   if (Status added = position_update_->AddImage(t, image, estimate.pose); !added.ok()) {
