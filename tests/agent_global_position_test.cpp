@@ -68,10 +68,12 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   ASSERT_EQ(truth.size(), 66u);
 
   transport::Participant& p = server.participant();
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
       p.get(), *pose_topic, transport::Qos().Reliable().KeepAll());
-  auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
+  auto health_topic =
+      transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
   auto health_reader = transport::Reader<fleetloc_VehicleHealth>::Create(
       p.get(), *health_topic, transport::Qos().Reliable().KeepAll());
   std::string update_issue;  // the newest health report's position update line
@@ -81,18 +83,25 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
       health_state = h.lock_state;
       for (uint32_t i = 0; i < h.issues._length; ++i) {
         const std::string name = transport::GetBounded(h.issues._buffer[i].name);
-        if (name.starts_with("position_update")) update_issue = name + ": " + transport::GetBounded(h.issues._buffer[i].message);
+        if (name.starts_with("position_update"))
+          update_issue = name + ": " + transport::GetBounded(h.issues._buffer[i].message);
       }
     });
   };
   const std::string summary_path = (server.dir() / "summary.json").string();
   io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run_dir, "--fast", "--domain", std::to_string(kDomain),
-                        "--vehicle-id", "agv-6", "--outbox", (server.dir() / "outbox.db").string(),
-                        "--summary", summary_path},
+      "tracker_agent",
+      {"--run", run_dir, "--fast", "--domain", std::to_string(kDomain), "--vehicle-id", "agv-6",
+       "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
-  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); take_health(); return !agent.Running(); }, 120));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        testing::TakePoses(*pose_reader, &published);
+        take_health();
+        return !agent.Running();
+      },
+      120));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
   take_health();
@@ -114,16 +123,19 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
     // Coasting from the initial pose until the first fit (t = 1 s), then corrected. At a fit's time
     // the odometry-rate pose comes first (the image waits for the odometry sample), then the
     // corrected one: PoseAt finds the former, so the errors are those before each fit.
-    EXPECT_EQ(pose->state, at.t <= 1.0 ? tracking::LockState::kCoasting : tracking::LockState::kRelocalized)
+    EXPECT_EQ(pose->state,
+              at.t <= 1.0 ? tracking::LockState::kCoasting : tracking::LockState::kRelocalized)
         << "at t=" << at.t;
     const double error = PositionError(pose->base_in_map.pose, at.pose);
     worst_agent = std::max(worst_agent, error);
     final_agent = error;
     EXPECT_LT(error, 0.05) << "at t=" << at.t;  // the unit tests' bound (2-3 cm per fit, < 5 cm)
   }
-  std::printf("forward drive: agent worst %.1f mm over %d images, at the end %.1f mm; odometry alone "
-              "worst %.1f mm, at the end %.1f mm\n", worst_agent * 1000, compared, final_agent * 1000,
-              worst_odometry * 1000, final_odometry * 1000);
+  std::printf(
+      "forward drive: agent worst %.1f mm over %d images, at the end %.1f mm; odometry alone "
+      "worst %.1f mm, at the end %.1f mm\n",
+      worst_agent * 1000, compared, final_agent * 1000, worst_odometry * 1000,
+      final_odometry * 1000);
   EXPECT_GE(compared, 64) << "a pose at (nearly) every image, the start pose included";
   EXPECT_GT(final_odometry, 0.25) << "odometry alone drifts visibly";
   EXPECT_GT(worst_odometry, 5 * worst_agent);
@@ -139,15 +151,19 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   EXPECT_LT(update.value("max_correction_m", 1.0), 0.05) << update.dump();
   // The health says so too (its last report may warn about the fits facing the end wall).
   EXPECT_EQ(health_state, fleetloc_LOCK_RELOCALIZED);
-  EXPECT_NE(update_issue.find(" of 32 position updates applied"), std::string::npos) << update_issue;
+  EXPECT_NE(update_issue.find(" of 32 position updates applied"), std::string::npos)
+      << update_issue;
 }
 
 TEST(AgentGlobalPosition, MalformedForwardCameraOrLandmarksStopTheAgentWithTheFileAndField) {
   testing::ScratchDir dir("agent_global_position_bad");
-  const std::string run_dir = testing::RunFleetctl("sim-forward --frames 2 --out " + dir / "run").exit_code == 0
-                                  ? dir / "run" : "";
+  const std::string run_dir =
+      testing::RunFleetctl("sim-forward --frames 2 --out " + dir / "run").exit_code == 0
+          ? dir / "run"
+          : "";
   ASSERT_FALSE(run_dir.empty());
-  const std::filesystem::path camera_json = std::filesystem::path(run_dir) / "forward" / "forward_camera.json";
+  const std::filesystem::path camera_json =
+      std::filesystem::path(run_dir) / "forward" / "forward_camera.json";
   const std::string good_camera = testing::ReadWhole(camera_json);
   nlohmann::json camera = nlohmann::json::parse(good_camera);
   camera["mount"]["pitch"] = "down";
@@ -155,10 +171,12 @@ TEST(AgentGlobalPosition, MalformedForwardCameraOrLandmarksStopTheAgentWithTheFi
   const std::string log1 = dir / "agent1.log";
   EXPECT_EQ(RunAgentExpectingRefusal(run_dir, log1), 2);
   const std::string said1 = testing::ReadWhole(log1);
-  EXPECT_NE(said1.find("forward/forward_camera.json: field 'mount.pitch'"), std::string::npos) << said1;
+  EXPECT_NE(said1.find("forward/forward_camera.json: field 'mount.pitch'"), std::string::npos)
+      << said1;
 
   std::ofstream(camera_json, std::ios::trunc) << good_camera;
-  std::ofstream(std::filesystem::path(run_dir) / "landmarks.csv", std::ios::trunc) << "id,x,y\n0,1.0,2.0\n1,nan,1.2\n";
+  std::ofstream(std::filesystem::path(run_dir) / "landmarks.csv", std::ios::trunc)
+      << "id,x,y\n0,1.0,2.0\n1,nan,1.2\n";
   const std::string log2 = dir / "agent2.log";
   EXPECT_EQ(RunAgentExpectingRefusal(run_dir, log2), 2);
   const std::string said2 = testing::ReadWhole(log2);

@@ -1,6 +1,7 @@
 // Readers and writers for the files of CONTRACT sections 3–5: camera.json, a run directory
-// (run.json, frames.csv, odometry.csv, truth.csv, the optional forward/) and poses.csv. Every reader rejects a file that
-// breaks the contract with a one-line message naming the file, the line and the field.
+// (run.json, frames.csv, odometry.csv, truth.csv, the optional forward/) and poses.csv. Every
+// reader rejects a file that breaks the contract with a one-line message naming the file, the line
+// and the field.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,9 +39,9 @@ struct FrameRef {
 // The optional forward (landmark) camera of a run: its `forward/` directory (CONTRACT §4,
 // docs/forward_camera.md).
 struct ForwardStream {
-  mapmatch::ForwardCameraParams camera;          // forward/forward_camera.json
-  std::vector<FrameRef> frames;                  // forward/forward.csv, may be empty
-  std::vector<geometry::StampedPose> truth;      // forward/truth.csv (simulated), empty if absent
+  mapmatch::ForwardCameraParams camera;      // forward/forward_camera.json
+  std::vector<FrameRef> frames;              // forward/forward.csv, may be empty
+  std::vector<geometry::StampedPose> truth;  // forward/truth.csv (simulated), empty if absent
 };
 
 struct Run {

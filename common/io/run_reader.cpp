@@ -113,9 +113,8 @@ Status ReadTables(Run* run) {
   FLEETLOC_RETURN_IF_ERROR(
       CheckOdometryCoversFrames(run->odometry, odometry_csv, run->frames, frames_csv));
   if (run->forward) {
-    FLEETLOC_RETURN_IF_ERROR(CheckOdometryCoversFrames(run->odometry, odometry_csv,
-                                                       run->forward->frames,
-                                                       run->dir / "forward" / "forward.csv"));
+    FLEETLOC_RETURN_IF_ERROR(CheckOdometryCoversFrames(
+        run->odometry, odometry_csv, run->forward->frames, run->dir / "forward" / "forward.csv"));
   }
   return ReadTruthOfFrames(run->dir / "truth.csv", run->frames, frames_csv, &run->truth);
 }

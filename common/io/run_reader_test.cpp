@@ -191,7 +191,8 @@ TEST_F(ReadRunTest, TruthMustHaveOneRowPerFrameAtTheSameTime) {
 // forward/ of the valid run: the default forward camera and two images at t = 0.05 and 0.15.
 void WriteForwardDir(const fs::path& run_dir) {
   ASSERT_TRUE(WriteForwardCameraJson(run_dir / "forward" / "forward_camera.json", {}).ok());
-  for (int i = 0; i < 2; ++i) testing::WriteGrayPng(run_dir / "forward" / "img" / (std::to_string(i) + ".png"), 64, 48);
+  for (int i = 0; i < 2; ++i)
+    testing::WriteGrayPng(run_dir / "forward" / "img" / (std::to_string(i) + ".png"), 64, 48);
   WriteText(run_dir / "forward" / "forward.csv", "t,file\n0.05,img/0.png\n0.15,img/1.png\n");
 }
 
@@ -219,13 +220,15 @@ TEST_F(ReadRunTest, ARunMayHaveForwardFramesOnly) {
   EXPECT_TRUE(run->frames.empty());
   EXPECT_EQ(run->forward->frames.size(), 2u);
   WriteText(File("forward/forward.csv"), "t,file\n");
-  EXPECT_TRUE(HasError(ReadRun(run_dir_).status(), StatusCode::kInvalidInput, File("frames.csv"), 0, ""));
+  EXPECT_TRUE(
+      HasError(ReadRun(run_dir_).status(), StatusCode::kInvalidInput, File("frames.csv"), 0, ""));
 }
 
 TEST_F(ReadRunTest, ForwardDirectoryErrorsNameTheFileAndField) {
   const StatusCode bad = StatusCode::kInvalidInput;
   WriteForwardDir(run_dir_);
-  nlohmann::json camera = nlohmann::json::parse(testing::ReadText(File("forward/forward_camera.json")));
+  nlohmann::json camera =
+      nlohmann::json::parse(testing::ReadText(File("forward/forward_camera.json")));
   camera["mount"]["height"] = -1.0;
   EXPECT_TRUE(HasError(ReadWith("forward/forward_camera.json", camera.dump()), bad,
                        File("forward/forward_camera.json"), 0, "mount.height"));

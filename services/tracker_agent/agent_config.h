@@ -47,10 +47,10 @@ struct AgentConfig {
   // Global position update (DESIGN §4, docs/forward_camera.md): landmarks the forward camera sees
   // (a run's forward/) fitted to the landmark map; it corrects the pose when the downward camera
   // is not tracking.
-  std::string landmarks_path;             // landmarks.csv (CONTRACT §7); empty: the run's own
-                                          // landmarks.csv if it has one
-  double position_update_period_s = 1.0;  // one map fit per this much forward-camera time
-  double position_update_window_s = 2.0;  // ... over the detections of this last stretch
+  std::string landmarks_path;                // landmarks.csv (CONTRACT §7); empty: the run's own
+                                             // landmarks.csv if it has one
+  double position_update_period_s = 1.0;     // one map fit per this much forward-camera time
+  double position_update_window_s = 2.0;     // ... over the detections of this last stretch
   double position_update_half_life_s = 1.0;  // older detections count less (0: all alike)
 };
 

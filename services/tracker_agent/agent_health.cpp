@@ -71,12 +71,17 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   }
   if (const PositionUpdateStats* u = in.position_update) {
     // One line with the counts; a warning while the newest fit was rejected.
+    const long correction_mm = std::lround(u->last_correction_m * 1000);
     const std::string counts = std::to_string(u->applied) + " of " + std::to_string(u->attempted) +
                                " position updates applied, " + std::to_string(u->rejected) +
-                               " rejected; last correction " +
-                               std::to_string(static_cast<int>(std::lround(u->last_correction_m * 1000))) + " mm";
-    if (u->last_rejected) add("position_update_rejected", fleetloc_HEALTH_WARN, counts + "; last rejected: " + u->last_reason);
-    else add("position_update", fleetloc_HEALTH_OK, counts);
+                               " rejected; last correction " + std::to_string(correction_mm) +
+                               " mm";
+    if (u->last_rejected) {
+      add("position_update_rejected", fleetloc_HEALTH_WARN,
+          counts + "; last rejected: " + u->last_reason);
+    } else {
+      add("position_update", fleetloc_HEALTH_OK, counts);
+    }
   }
   if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
   h->level = fleetloc_HEALTH_OK;

@@ -30,11 +30,18 @@ double Distance(const geometry::Pose2& a, const geometry::Pose2& b) {
 }  // namespace
 
 nlohmann::json ToJson(const PositionUpdateStats& s) {
-  return {{"images", s.images}, {"images_rejected", s.images_rejected}, {"points", s.points},
-          {"attempted", s.attempted}, {"applied", s.applied}, {"rejected", s.rejected},
-          {"not_needed", s.not_needed}, {"last_correction_m", s.last_correction_m},
-          {"max_correction_m", s.max_correction_m}, {"last_disagreement_m", s.last_disagreement_m},
-          {"max_disagreement_m", s.max_disagreement_m}, {"last_reason", s.last_reason}};
+  return {{"images", s.images},
+          {"images_rejected", s.images_rejected},
+          {"points", s.points},
+          {"attempted", s.attempted},
+          {"applied", s.applied},
+          {"rejected", s.rejected},
+          {"not_needed", s.not_needed},
+          {"last_correction_m", s.last_correction_m},
+          {"max_correction_m", s.max_correction_m},
+          {"last_disagreement_m", s.last_disagreement_m},
+          {"max_disagreement_m", s.max_disagreement_m},
+          {"last_reason", s.last_reason}};
 }
 
 Result<std::unique_ptr<AgentPositionUpdate>> AgentPositionUpdate::Create(
@@ -121,8 +128,8 @@ std::optional<geometry::PoseWithCovariance> AgentPositionUpdate::Update(
   spdlog::debug("position fit at t={:.3f}: {} landmarks, {} pairs, rms {:.3f} m, {} iterations", t,
                 fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.iterations);
   if (fit.landmarks_matched < options_.min_landmarks) {
-    Reject(t, "the fit pairs " + std::to_string(fit.landmarks_matched) + " landmark(s), fewer than " +
-                  std::to_string(options_.min_landmarks));
+    Reject(t, "the fit pairs " + std::to_string(fit.landmarks_matched) +
+                  " landmark(s), fewer than " + std::to_string(options_.min_landmarks));
     return std::nullopt;
   }
   const double moved = Distance(update->pose.pose, current.pose);

@@ -34,24 +34,24 @@ struct PositionUpdateOptions {
   double max_correction_rad = 0.1;
   // h shrinks to 5 cm: on rendered corridors (agent_position_update_test, exact poses) the fits
   // were 3-7 cm off with the library's 10 cm and mostly within 1.3 cm with 5 cm.
-  mapmatch::GlobalPositionUpdateOptions fit{
-      .weight_half_life_s = 1.0, .fit = {.radius_m = 0.5, .final_radius_m = 0.05}};
+  mapmatch::GlobalPositionUpdateOptions fit{.weight_half_life_s = 1.0,
+                                            .fit = {.radius_m = 0.5, .final_radius_m = 0.05}};
   mapmatch::LandmarkDetectorOptions detector;
 };
 
 struct PositionUpdateStats {
-  long long images = 0;           // forward images given
-  long long images_rejected = 0;  // that the detector could not use (size, type) or not placed
-  long long points = 0;           // floor points detected in them
-  long long attempted = 0;        // fits due: each one applied, rejected or not needed
-  long long applied = 0;          // corrections the agent used
-  long long rejected = 0;         // fits that did not converge, failed or jumped: never used
-  long long not_needed = 0;       // converged while the downward camera tracked: not used
+  long long images = 0;            // forward images given
+  long long images_rejected = 0;   // that the detector could not use (size, type) or not placed
+  long long points = 0;            // floor points detected in them
+  long long attempted = 0;         // fits due: each one applied, rejected or not needed
+  long long applied = 0;           // corrections the agent used
+  long long rejected = 0;          // fits that did not converge, failed or jumped: never used
+  long long not_needed = 0;        // converged while the downward camera tracked: not used
   double last_correction_m = 0.0;  // position change of the last used correction
   double max_correction_m = 0.0;
   double last_disagreement_m = 0.0;  // while tracking: the fit's pose vs the tracked one
   double max_disagreement_m = 0.0;
-  std::string last_reason;  // why the last rejected fit was rejected
+  std::string last_reason;     // why the last rejected fit was rejected
   bool last_rejected = false;  // the last fit was rejected
 };
 
@@ -75,8 +75,9 @@ class AgentPositionUpdate {
   // When a fit is due at t (period_s after the previous one, the first period_s after the first
   // image), fits the window against the map with `current` (the estimate at t) and returns the
   // corrected pose with the fit's covariance if the fit converged on min_landmarks within the max
-  // correction; nullopt otherwise (counted as rejected with the reason, or not due). `use`: the agent replaces its estimate with the result
-  // (the window follows the correction); otherwise only the disagreement is recorded.
+  // correction; nullopt otherwise (counted as rejected with the reason, or not due). `use`: the
+  // agent replaces its estimate with the result (the window follows the correction); otherwise only
+  // the disagreement is recorded.
   std::optional<geometry::PoseWithCovariance> Update(double t,
                                                      const geometry::PoseWithCovariance& current,
                                                      bool use);

@@ -33,7 +33,8 @@ mapmatch::ForwardCameraParams TestCamera() {
 }
 
 std::unique_ptr<AgentPositionUpdate> Create() {
-  return AgentPositionUpdate::Create(TestCamera(), sim::BuildCorridorScene({}).landmarks, {}).value();
+  return AgentPositionUpdate::Create(TestCamera(), sim::BuildCorridorScene({}).landmarks, {})
+      .value();
 }
 
 // A 6 s drive at 2 images per second down the default corridor, rendered once for the tests.
@@ -47,7 +48,8 @@ class RenderedDrive : public ::testing::Test {
     const sim::ForwardRenderer renderer(mapmatch::ForwardCamera::Create(TestCamera()).value(), {});
     for (const geometry::StampedPose& truth : sim::PlanForwardRun(options).frame_truth) {
       truth_.push_back(truth);
-      images_.push_back(renderer.Render(scene, truth.pose, sim::MixSeed(options.seed, truth_.size() - 1)));
+      images_.push_back(
+          renderer.Render(scene, truth.pose, sim::MixSeed(options.seed, truth_.size() - 1)));
     }
   }
 
@@ -89,8 +91,9 @@ TEST_F(RenderedDrive, FitsBringADriftedEstimateBackToTheTruth) {
 
 TEST_F(RenderedDrive, FitsOnTooFewLandmarksOrThatJumpTooFarAreRejected) {
   auto rejects = [&](const PositionUpdateOptions& options, const std::string& reason) {
-    auto update = AgentPositionUpdate::Create(TestCamera(), sim::BuildCorridorScene({}).landmarks,
-                                              options).value();
+    auto update =
+        AgentPositionUpdate::Create(TestCamera(), sim::BuildCorridorScene({}).landmarks, options)
+            .value();
     const geometry::Pose2 error{0.1, 0.0, 0.0};
     for (std::size_t i = 0; i < 5; ++i) {
       const geometry::Pose2 estimate = error * truth_[i].pose;

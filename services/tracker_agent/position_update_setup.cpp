@@ -25,12 +25,14 @@ Result<std::unique_ptr<AgentPositionUpdate>> PositionUpdateForRun(const AgentCon
     landmarks_csv = run.dir / "landmarks.csv";
   }
   if (!run.forward) {
-    if (!landmarks_csv.empty()) spdlog::info("no forward camera in {}: no position updates", run.dir.string());
+    if (!landmarks_csv.empty())
+      spdlog::info("no forward camera in {}: no position updates", run.dir.string());
     return std::unique_ptr<AgentPositionUpdate>();
   }
   if (landmarks_csv.empty()) {
-    spdlog::warn("{} has forward camera images but no landmark map (landmarks.csv): no position updates",
-                 run.dir.string());
+    spdlog::warn(
+        "{} has forward camera images but no landmark map (landmarks.csv): no position updates",
+        run.dir.string());
     return std::unique_ptr<AgentPositionUpdate>();
   }
   Result<io::LandmarkMap> map = io::ReadLandmarksCsv(landmarks_csv);
@@ -38,7 +40,8 @@ Result<std::unique_ptr<AgentPositionUpdate>> PositionUpdateForRun(const AgentCon
   auto update = AgentPositionUpdate::Create(run.forward->camera, map->positions,
                                             PositionUpdateOptionsFrom(config));
   if (!update.ok()) {
-    return Status(update.status().code(), landmarks_csv.string() + ": " + update.status().message());
+    return Status(update.status().code(),
+                  landmarks_csv.string() + ": " + update.status().message());
   }
   spdlog::info("position updates every {} s with {} forward images and {} landmarks ({})",
                config.position_update_period_s, run.forward->frames.size(), map->positions.size(),

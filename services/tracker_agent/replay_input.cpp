@@ -23,7 +23,8 @@ std::optional<std::pair<InputEvent::Kind, double>> ReplayInput::Peek() const {
   };
   consider(Kind::kOdometry, next_odometry_ < run_.odometry.size(),
            [&] { return run_.odometry[next_odometry_].t; });
-  consider(Kind::kFrame, next_frame_ < run_.frames.size(), [&] { return run_.frames[next_frame_].t; });
+  consider(Kind::kFrame, next_frame_ < run_.frames.size(),
+           [&] { return run_.frames[next_frame_].t; });
   const std::vector<io::FrameRef>* forward = run_.forward ? &run_.forward->frames : nullptr;
   consider(Kind::kForwardFrame, forward && next_forward_ < forward->size(),
            [&] { return (*forward)[next_forward_].t; });
@@ -51,7 +52,9 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
     }
     case InputEvent::Kind::kForwardFrame: {
       Result<cv::Mat> image = io::ReadGrayImage(run_.forward->frames[next_forward_++].file);
-      if (!image.ok()) return Status(image.status().code(), "forward camera: " + image.status().message());
+      if (!image.ok()) {
+        return Status(image.status().code(), "forward camera: " + image.status().message());
+      }
       event.frame = std::move(image).value();
       break;
     }

@@ -60,8 +60,8 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   const geometry::PoseWithCovariance initial{run->initial_pose, sigma.cwiseProduct(sigma).asDiagonal()};
   auto position_update = tracker_agent::PositionUpdateForRun(config, *run);
   if (!position_update.ok()) return position_update.status();
-  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial), options,
-                                                   std::move(position_update).value());
+  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial),
+                                                   options, std::move(position_update).value());
   if (!agent.ok()) return agent.status();
   tracker_agent::ReplayInput input(std::move(run).value(), config.paced);
   return (*agent)->Run(input, stop);

@@ -47,7 +47,8 @@ mapmatch::ForwardCameraParams DefaultForwardCamera() {
 Status PrepareForwardDir(const fs::path& dir, bool overwrite) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
-    if (!overwrite) return InvalidInput(dir.string() + ": exists and is not empty (use --overwrite)");
+    if (!overwrite)
+      return InvalidInput(dir.string() + ": exists and is not empty (use --overwrite)");
     fs::remove_all(dir / "forward", ec);
     fs::remove(dir / "landmarks.csv", ec);
   }
