@@ -69,19 +69,16 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   if (in.loader.timeouts > 0) {
     add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
   }
-  if (const PositionUpdateStats* u = in.position_update) {
-    // One line with the counts; a warning while the newest fit was rejected.
+  if (const PositionUpdateStats* u = in.position_update; u && u->last_rejected) {
+    // While the newest fit was rejected (an issue name alone reads as a problem on the
+    // supervisor's dashboard, so all-well is not reported; the summary has the counts).
     const long correction_mm = std::lround(u->last_correction_m * 1000);
     const std::string counts = std::to_string(u->applied) + " of " + std::to_string(u->attempted) +
                                " position updates applied, " + std::to_string(u->rejected) +
                                " rejected; last correction " + std::to_string(correction_mm) +
                                " mm";
-    if (u->last_rejected) {
-      add("position_update_rejected", fleetloc_HEALTH_WARN,
-          counts + "; last rejected: " + u->last_reason);
-    } else {
-      add("position_update", fleetloc_HEALTH_OK, counts);
-    }
+    add("position_update_rejected", fleetloc_HEALTH_WARN,
+        counts + "; last rejected: " + u->last_reason);
   }
   if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
   h->level = fleetloc_HEALTH_OK;

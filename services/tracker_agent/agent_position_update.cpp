@@ -41,7 +41,8 @@ nlohmann::json ToJson(const PositionUpdateStats& s) {
           {"max_correction_m", s.max_correction_m},
           {"last_disagreement_m", s.last_disagreement_m},
           {"max_disagreement_m", s.max_disagreement_m},
-          {"last_reason", s.last_reason}};
+          {"last_reason", s.last_reason},
+          {"last_rejected", s.last_rejected}};
 }
 
 Result<std::unique_ptr<AgentPositionUpdate>> AgentPositionUpdate::Create(
