@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "transport/mosaic_messages.h"
+#include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
@@ -163,35 +164,17 @@ Status MapServer::PublishMosaicInfo() {
 }
 
 Status MapServer::PublishHealth() {
-  fleetloc_ServiceHealth health{};
-  health.wire_version = fleetloc_WIRE_VERSION;
-  transport::SetBounded(health.service_id, config_.server_id);
-  transport::SetBounded(health.kind, "map_server");
-  health.stamp = transport::NowStamp();
-  std::vector<fleetloc_Counter> counters;
-  for (const auto& [name, value] : counters_.Snapshot()) {
-    fleetloc_Counter counter{};
-    transport::SetBounded(counter.name, name);
-    counter.value = value;
-    counters.push_back(counter);
-  }
-  health.counters._buffer = counters.data();
-  health.counters._length = health.counters._maximum = static_cast<uint32_t>(counters.size());
-  fleetloc_HealthIssue issue{};
+  transport::ServiceHealthReport report{config_.server_id, "map_server", std::nullopt,
+                                        counters_.Snapshot()};
   const uint64_t rejected = counters_.TotalRejected();
   const uint64_t read_errors = counters_.Get("tile_read_errors");
-  health.level = fleetloc_HEALTH_OK;
-  if (read_errors > reported_read_errors_ || rejected > reported_rejected_) {
-    health.level = read_errors > reported_read_errors_ ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN;
-    transport::SetBounded(issue.name, read_errors > reported_read_errors_ ? "tile_read_errors"
-                                                                     : "rejected_input");
-    issue.level = health.level;
-    transport::SetBounded(issue.message, counters_.last_error());
-    health.issues._buffer = &issue;
-    health.issues._length = health.issues._maximum = 1;
+  if (read_errors > reported_read_errors_) {
+    report.issue = {"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()};
+  } else if (rejected > reported_rejected_) {
+    report.issue = {"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()};
   }
   reported_rejected_ = rejected, reported_read_errors_ = read_errors;
-  return health_writer_->Write(health);
+  return transport::WriteServiceHealth(*health_writer_, report);
 }
 
 Status MapServer::ServeOnce() {

@@ -235,6 +235,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchMosaicDistortion(*bench, result);
   RegisterBenchMapFit(*bench, result);
   RegisterBenchReloc(*bench, result);
+  RegisterBenchSupervisor(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -18,10 +18,13 @@ void RegisterRemapCommand(CLI::App& app, Status* result);
 void RegisterCalibrateCommand(CLI::App& app, Status* result);
 void RegisterMapmatchCommand(CLI::App& app, Status* result);
 void RegisterRelocCommand(CLI::App& app, Status* result);
+void RegisterStatusCommand(CLI::App& app, Status* result);
 
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
 // `bench reloc` (bench_reloc_command.cpp).
 void RegisterBenchReloc(CLI::App& bench, Status* result);
+// `bench supervisor` (bench_supervisor.cpp).
+void RegisterBenchSupervisor(CLI::App& bench, Status* result);
 
 }  // namespace fleetloc::fleetctl

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   fleetloc::fleetctl::RegisterCalibrateCommand(app, &result);
   fleetloc::fleetctl::RegisterMapmatchCommand(app, &result);
   fleetloc::fleetctl::RegisterRelocCommand(app, &result);
+  fleetloc::fleetctl::RegisterStatusCommand(app, &result);
   spdlog::set_default_logger(spdlog::stderr_color_mt("fleetctl"));
   try {
     app.parse(argc, argv);

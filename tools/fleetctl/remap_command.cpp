@@ -5,13 +5,10 @@
 #include <chrono>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <thread>
 
 #include "commands.h"
-#include "transport/topic_names.h"
-#include "transport/typed_io.h"
-#include "transport/wire_util.h"
+#include "transport/remap_client.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -25,40 +22,6 @@ struct RemapArgs {
   double timeout_s = 600;
 };
 
-const char* StateName(fleetloc_RemapState state) {
-  switch (state) {
-    case fleetloc_REMAP_QUEUED: return "queued";
-    case fleetloc_REMAP_RUNNING: return "running";
-    case fleetloc_REMAP_DONE: return "done";
-    case fleetloc_REMAP_FAILED: return "failed";
-    case fleetloc_REMAP_REJECTED: return "rejected";
-  }
-  return "unknown";
-}
-
-nlohmann::json StatusJson(const fleetloc_RemapStatus& s) {
-  return {{"command_id", s.command_id},
-          {"server_id", transport::GetBounded(s.server_id)},
-          {"state", StateName(s.state)},
-          {"new_version", s.new_version},
-          {"tiles_changed", s.tiles_changed},
-          {"patches_folded", s.patches_folded},
-          {"patches_rejected", s.patches_rejected},
-          {"message", transport::GetBounded(s.message)}};
-}
-
-fleetloc_RemapCommand MakeCommand(const RemapArgs& a, uint64_t command_id) {
-  fleetloc_RemapCommand command{};
-  command.wire_version = fleetloc_WIRE_VERSION;
-  command.command_id = command_id;
-  transport::SetBounded(command.requester, "fleetctl");
-  transport::SetBounded(command.mosaic_id, a.mosaic_id);
-  command.region = {a.region[0], a.region[1], a.region[2], a.region[3]};
-  command.mode = a.mode == "replace" ? fleetloc_REMAP_REPLACE : fleetloc_REMAP_BLEND;
-  command.stamp = transport::NowStamp();
-  return command;
-}
-
 // Sends the command once a map server listens, then follows its status until done, failed,
 // rejected or the time-out.
 Status RunRemap(const RemapArgs& a) {
@@ -66,37 +29,36 @@ Status RunRemap(const RemapArgs& a) {
   using namespace transport;
   auto participant = Participant::Create(a.domain, {"", a.dds_config});
   if (!participant.ok()) return participant.status();
-  auto command_topic = Topic<fleetloc_RemapCommand>::Create(*participant, topics::kRemapCommand);
-  auto status_topic = Topic<fleetloc_RemapStatus>::Create(*participant, topics::kRemapStatus);
-  if (!command_topic.ok()) return command_topic.status();
-  if (!status_topic.ok()) return status_topic.status();
-  auto writer = Writer<fleetloc_RemapCommand>::Create(participant->get(), *command_topic, CommandQos());
-  auto reader = Reader<fleetloc_RemapStatus>::Create(participant->get(), *status_topic, DurableStateQos());
-  if (!writer.ok()) return writer.status();
-  if (!reader.ok()) return reader.status();
+  auto client = RemapClient::Create(*participant);
+  if (!client.ok()) return client.status();
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration<double>(a.timeout_s);
-  while (writer->MatchedReaders() == 0) {
+  while (!(*client)->ServerMatched()) {
     if (Clock::now() > deadline) return Internal("no map server on domain " + std::to_string(a.domain));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  const uint64_t id = std::random_device{}() * 4294967296ull + std::random_device{}();
-  FLEETLOC_RETURN_IF_ERROR(writer->Write(MakeCommand(a, id)));
-  spdlog::info("remap: command {} sent", id);
-  std::optional<fleetloc_RemapStatus> final;
+  const RemapRequest request{a.region[0], a.region[1], a.region[2], a.region[3],
+                             a.mode == "replace", a.mosaic_id, "fleetctl"};
+  Result<uint64_t> id = (*client)->Send(request);
+  if (!id.ok()) return id.status();
+  spdlog::info("remap: command {} sent", *id);
+  std::optional<RemapProgress> final;
   while (!final && Clock::now() < deadline) {
-    (void)reader->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
-      if (s.command_id != id) return;
-      spdlog::info("remap: {} {} {:.0f}%", StateName(s.state), GetBounded(s.phase), 100 * s.progress);
-      if (s.state >= fleetloc_REMAP_DONE) final = s;
-    });
+    Result<std::vector<RemapProgress>> statuses = (*client)->TakeStatuses();
+    if (!statuses.ok()) return statuses.status();
+    for (const RemapProgress& s : *statuses) {
+      if (s.command_id != *id) continue;
+      spdlog::info("remap: {} {} {:.0f}%", RemapStateName(s.state), s.phase, 100 * s.progress);
+      if (s.final()) final = s;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (!final) return Internal("remap: no final status within " + std::to_string(a.timeout_s) + " s");
-  std::cout << StatusJson(*final).dump(2) << "\n";
-  const std::string message = GetBounded(final->message);
-  if (final->state == fleetloc_REMAP_REJECTED) return InvalidInput("remap rejected: " + message);
-  if (final->state == fleetloc_REMAP_FAILED) return Internal("remap failed: " + message);
+  nlohmann::json out = ToJson(*final);
+  out.erase("phase"), out.erase("progress"), out.erase("t");
+  std::cout << out.dump(2) << "\n";
+  if (final->state == fleetloc_REMAP_REJECTED) return InvalidInput("remap rejected: " + final->message);
+  if (final->state == fleetloc_REMAP_FAILED) return Internal("remap failed: " + final->message);
   return Status::Ok();
 }
 

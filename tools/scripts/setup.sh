@@ -6,7 +6,8 @@ cd "$(dirname "$0")/../.."
 
 PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libeigen3-dev
           libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
-          cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev)
+          cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev
+          chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -20,6 +21,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
+# Node.js for the browser test: Debian's nodejs and npm unless a node with npm is already there.
+if ! command -v npm >/dev/null 2>&1; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends nodejs npm
+fi
+
 BUILD_TYPE="${FLEETLOC_BUILD_TYPE:-Release}"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >/dev/null
 cmake --build build -j "$(nproc)"
+# The browser test's Node packages (playwright-core, pinned by tests/browser/package-lock.json).
+tests/browser/install_deps.sh build/browser

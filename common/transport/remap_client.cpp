@@ -1,0 +1,97 @@
+// RemapCommand out, RemapStatus in.
+#include "transport/remap_client.h"
+
+#include <cmath>
+#include <random>
+
+#include "transport/topic_names.h"
+#include "transport/wire_util.h"
+
+namespace fleetloc::transport {
+
+const char* RemapStateName(fleetloc_RemapState state) {
+  switch (state) {
+    case fleetloc_REMAP_QUEUED: return "queued";
+    case fleetloc_REMAP_RUNNING: return "running";
+    case fleetloc_REMAP_DONE: return "done";
+    case fleetloc_REMAP_FAILED: return "failed";
+    case fleetloc_REMAP_REJECTED: return "rejected";
+  }
+  return "unknown";
+}
+
+RemapProgress FromIdl(const fleetloc_RemapStatus& s) {
+  RemapProgress p;
+  p.command_id = s.command_id;
+  p.server_id = GetBounded(s.server_id);
+  p.state = s.state;
+  p.phase = GetBounded(s.phase);
+  p.progress = s.progress;
+  p.new_version = s.new_version;
+  p.tiles_changed = s.tiles_changed;
+  p.patches_folded = s.patches_folded;
+  p.patches_rejected = s.patches_rejected;
+  p.message = GetBounded(s.message);
+  p.t = ToSeconds(s.stamp);
+  return p;
+}
+
+nlohmann::json ToJson(const RemapProgress& p) {
+  return {{"command_id", p.command_id},
+          {"server_id", p.server_id},
+          {"state", RemapStateName(p.state)},
+          {"phase", p.phase},
+          {"progress", p.progress},
+          {"new_version", p.new_version},
+          {"tiles_changed", p.tiles_changed},
+          {"patches_folded", p.patches_folded},
+          {"patches_rejected", p.patches_rejected},
+          {"message", p.message},
+          {"t", p.t}};
+}
+
+Result<std::unique_ptr<RemapClient>> RemapClient::Create(const Participant& participant) {
+  auto command_topic = Topic<fleetloc_RemapCommand>::Create(participant, topics::kRemapCommand);
+  auto status_topic = Topic<fleetloc_RemapStatus>::Create(participant, topics::kRemapStatus);
+  if (!command_topic.ok()) return command_topic.status();
+  if (!status_topic.ok()) return status_topic.status();
+  auto writer = Writer<fleetloc_RemapCommand>::Create(participant.get(), *command_topic, CommandQos());
+  auto reader = Reader<fleetloc_RemapStatus>::Create(participant.get(), *status_topic, DurableStateQos());
+  if (!writer.ok()) return writer.status();
+  if (!reader.ok()) return reader.status();
+  return std::unique_ptr<RemapClient>(new RemapClient(
+      std::move(command_topic).value(), std::move(status_topic).value(), std::move(writer).value(),
+      std::move(reader).value()));
+}
+
+Result<uint64_t> RemapClient::Send(const RemapRequest& r) {
+  for (double v : {r.x_min, r.y_min, r.x_max, r.y_max}) {
+    if (!std::isfinite(v)) return InvalidInput("remap region: coordinates must be finite numbers");
+  }
+  if (!(r.x_min < r.x_max && r.y_min < r.y_max)) {
+    return InvalidInput("remap region: need x_min < x_max and y_min < y_max");
+  }
+  std::random_device random;
+  const uint64_t id = (static_cast<uint64_t>(random()) << 32) | random();
+  fleetloc_RemapCommand command{};
+  command.wire_version = fleetloc_WIRE_VERSION;
+  command.command_id = id;
+  SetBounded(command.requester, r.requester);
+  SetBounded(command.mosaic_id, r.mosaic_id);
+  command.region = {r.x_min, r.y_min, r.x_max, r.y_max};
+  command.mode = r.replace ? fleetloc_REMAP_REPLACE : fleetloc_REMAP_BLEND;
+  command.stamp = NowStamp();
+  FLEETLOC_RETURN_IF_ERROR(commands_.Write(command));
+  return id;
+}
+
+Result<std::vector<RemapProgress>> RemapClient::TakeStatuses() {
+  std::vector<RemapProgress> statuses;
+  Result<int> taken = statuses_.TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+    statuses.push_back(FromIdl(s));
+  });
+  if (!taken.ok()) return taken.status();
+  return statuses;
+}
+
+}  // namespace fleetloc::transport

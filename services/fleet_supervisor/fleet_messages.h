@@ -1,0 +1,25 @@
+// Conversions from the wire (VehiclePose, VehicleHealth, ServiceHealth) to the fleet library's
+// plain samples, with the checks a receiver owes its peers: wire version, entity id, finite
+// numbers. A sample that fails them is rejected with a message naming the sender and the field.
+#pragma once
+
+#include <string>
+
+#include "base/status.h"
+#include "fleet/vehicle_samples.h"
+#include "transport/fleetloc_types.h"
+
+namespace fleetloc::fleet_supervisor {
+
+struct ServiceReport {
+  std::string service_id;
+  std::string kind;
+  fleet::HealthLevel level = fleet::HealthLevel::kOk;
+  double t = 0.0;
+};
+
+Result<fleet::PoseSample> PoseFromIdl(const fleetloc_VehiclePose& pose);
+Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& health);
+Result<ServiceReport> ServiceFromIdl(const fleetloc_ServiceHealth& health);
+
+}  // namespace fleetloc::fleet_supervisor

@@ -1,0 +1,50 @@
+// fleet_supervisor: the operators' view of the fleet (DDS in, HTTP dashboard out) until
+// SIGINT/SIGTERM.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "fleet_supervisor/fleet_supervisor.h"
+#include "io/logging.h"
+#include "io/stop_signal.h"
+
+int main(int argc, char** argv) {
+  using namespace fleetloc::fleet_supervisor;
+  CLI::App app{"fleetloc fleet supervisor: fleet state, alerts, history and the operators' dashboard"};
+  std::string config_path, history, dds_config, bind, token_file, web_dir, port_file;
+  int domain = -1, port = -1;
+  app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
+  app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
+  app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
+  app.add_option("--history", history, "SQLite history file (overrides the configuration)");
+  app.add_option("--http-bind", bind, "Address to listen on (default 127.0.0.1)");
+  app.add_option("--http-port", port, "Port (0: any free one; see --port-file)");
+  app.add_option("--port-file", port_file, "Write the bound port into this file");
+  app.add_option("--token-file", token_file, "File whose first line is the maintainer token");
+  app.add_option("--web-dir", web_dir, "Dashboard files (default: installed beside the binary)");
+  CLI11_PARSE(app, argc, argv);
+
+  SupervisorConfig config;
+  if (!config_path.empty()) {
+    auto loaded = LoadSupervisorConfig(config_path);
+    if (!loaded.ok()) return std::fprintf(stderr, "fleet_supervisor: %s\n", loaded.status().message().c_str()), 2;
+    config = *loaded;
+  }
+  if (domain >= 0) config.domain_id = domain;
+  if (!dds_config.empty()) config.dds_config_path = dds_config;
+  if (!history.empty()) config.history_db = history;
+  if (!bind.empty()) config.http_bind = bind;
+  if (port >= 0) config.http_port = port;
+  if (!port_file.empty()) config.port_file = port_file;
+  if (!token_file.empty()) config.maintainer_token = "", config.maintainer_token_file = token_file;
+  if (!web_dir.empty()) config.web_dir = web_dir;
+  fleetloc::io::SetupLogging(config.supervisor_id);
+  const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
+  auto supervisor = FleetSupervisor::Create(config);
+  if (!supervisor.ok()) {
+    spdlog::error("{}", supervisor.status().message());
+    return supervisor.status().ExitCode();
+  }
+  const fleetloc::Status ran = (*supervisor)->Run(stop);
+  if (!ran.ok()) spdlog::error("{}", ran.message());
+  return ran.ExitCode();
+}

@@ -1,0 +1,123 @@
+// JSON of vehicles, alerts, jobs and history.
+#include "fleet_supervisor/fleet_view.h"
+
+#include <algorithm>
+#include <set>
+
+#include "fleet/history_decimation.h"
+
+namespace fleetloc::fleet_supervisor {
+
+using nlohmann::json;
+
+namespace {
+
+json PoseJson(const fleet::PoseSample& p) {
+  return {{"t", p.t},
+          {"x", p.x},
+          {"y", p.y},
+          {"theta", p.theta},
+          {"cov", {p.cov_xx, p.cov_xy, p.cov_yy, p.cov_tt}},
+          {"lock", tracking::LockStateName(p.lock)},
+          {"score", p.localization_score},
+          {"deviation_m", p.deviation_range_m},
+          {"mosaic_version", p.mosaic_version}};
+}
+
+json HealthJson(const fleet::HealthSample& h) {
+  return {{"t", h.t},
+          {"level", fleet::HealthLevelName(h.level)},
+          {"issues", h.issues},
+          {"lock", tracking::LockStateName(h.lock)},
+          {"cycle_ms", {h.cycle_ms_p50, h.cycle_ms_p95, h.cycle_ms_p99}},
+          {"inliers", h.inliers},
+          {"cache_hit_rate", h.cache_hit_rate},
+          {"tiles_pending", h.tiles_pending},
+          {"patch_outbox", h.patch_outbox},
+          {"map_server_reachable", h.map_server_reachable},
+          {"camera_frame_drops", h.camera_frame_drops},
+          {"last_error", h.last_error}};
+}
+
+// Sorted union of the indices two decimations keep.
+std::vector<size_t> Union(const std::vector<size_t>& a, const std::vector<size_t>& b) {
+  std::set<size_t> all(a.begin(), a.end());
+  all.insert(b.begin(), b.end());
+  return {all.begin(), all.end()};
+}
+
+}  // namespace
+
+json VehicleJson(const fleet::VehicleState& v, bool silent, bool trail) {
+  json out = {{"id", v.id},
+              {"last_seen", v.last_seen},
+              {"silent", silent},
+              {"poses_received", v.poses},
+              {"health_received", v.healths},
+              {"pose", v.pose ? PoseJson(*v.pose) : json(nullptr)},
+              {"health", v.health ? HealthJson(*v.health) : json(nullptr)}};
+  if (trail) {
+    json points = json::array();
+    for (const fleet::TrailPoint& p : v.trail) points.push_back({p.t, p.x, p.y});
+    out["trail"] = std::move(points);
+  }
+  return out;
+}
+
+json AlertJson(const fleet::Alert& a) {
+  return {{"id", a.id},
+          {"vehicle", a.vehicle_id},
+          {"kind", fleet::AlertKindName(a.kind)},
+          {"severity", fleet::SeverityName(a.severity)},
+          {"raised", a.raised_t},
+          {"cleared", a.cleared_t ? json(*a.cleared_t) : json(nullptr)},
+          {"active", !a.cleared_t.has_value()},
+          {"message", a.message}};
+}
+
+json SummaryJson(const fleet::FleetSummary& s) {
+  return {{"vehicles", s.vehicles}, {"tracking", s.tracking}, {"coasting", s.coasting},
+          {"lost", s.lost},         {"relocalized", s.relocalized}, {"unknown", s.unknown},
+          {"silent", s.silent},     {"critical_alerts", s.critical_alerts},
+          {"warning_alerts", s.warning_alerts}};
+}
+
+json RemapJobJson(const transport::RemapProgress& job) {
+  json out = transport::ToJson(job);
+  out["command_id"] = std::to_string(job.command_id);
+  return out;
+}
+
+json PoseHistoryJson(const std::vector<StoredPose>& poses, size_t max_points) {
+  std::vector<double> t, deviation;
+  for (const StoredPose& p : poses) t.push_back(p.received), deviation.push_back(p.pose.deviation_range_m);
+  json out = {{"t", json::array()}, {"x", json::array()}, {"y", json::array()}, {"theta", json::array()},
+              {"deviation_m", json::array()}, {"score", json::array()}, {"lock", json::array()}};
+  for (size_t i : fleet::DecimateMinMax(t, deviation, max_points)) {
+    const fleet::PoseSample& p = poses[i].pose;
+    out["t"].push_back(poses[i].received), out["x"].push_back(p.x), out["y"].push_back(p.y);
+    out["theta"].push_back(p.theta), out["deviation_m"].push_back(p.deviation_range_m);
+    out["score"].push_back(p.localization_score), out["lock"].push_back(tracking::LockStateName(p.lock));
+  }
+  return out;
+}
+
+json HealthHistoryJson(const std::vector<StoredHealth>& health, size_t max_points) {
+  std::vector<double> t, cycle, inliers;
+  for (const StoredHealth& h : health) {
+    t.push_back(h.received), cycle.push_back(h.health.cycle_ms_p95), inliers.push_back(h.health.inliers);
+  }
+  json out = {{"t", json::array()}, {"cycle_ms_p50", json::array()}, {"cycle_ms_p95", json::array()},
+              {"inliers", json::array()}, {"level", json::array()}, {"camera_frame_drops", json::array()}};
+  const size_t half = std::max<size_t>(2, max_points / 2);
+  for (size_t i : Union(fleet::DecimateMinMax(t, cycle, half), fleet::DecimateMinMax(t, inliers, half))) {
+    const fleet::HealthSample& h = health[i].health;
+    out["t"].push_back(health[i].received), out["cycle_ms_p50"].push_back(h.cycle_ms_p50);
+    out["cycle_ms_p95"].push_back(h.cycle_ms_p95), out["inliers"].push_back(h.inliers);
+    out["level"].push_back(fleet::HealthLevelName(h.level));
+    out["camera_frame_drops"].push_back(h.camera_frame_drops);
+  }
+  return out;
+}
+
+}  // namespace fleetloc::fleet_supervisor

@@ -1,0 +1,60 @@
+// The supervisor's HTTP server (cpp-httplib): the JSON API, the live stream (Server-Sent Events)
+// and the dashboard's static files. Reads are open; every change (starting a re-mapping job)
+// needs the maintainer token as "Authorization: Bearer <token>" — 401 without it, 403 with a
+// wrong one or when no token is configured (read-only). Bad input gets a 4xx JSON
+// {"error": "..."} and is counted. The API is listed in docs/architecture.md.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "base/status.h"
+#include "fleet_supervisor/event_stream.h"
+#include "fleet_supervisor/history_store.h"
+#include "fleet_supervisor/overview_tiles.h"
+#include "fleet_supervisor/shared_fleet.h"
+#include "fleet_supervisor/supervisor_config.h"
+#include "transport/remap_client.h"
+
+namespace httplib {
+class Server;
+}
+
+namespace fleetloc::fleet_supervisor {
+
+// What the handlers use; everything outlives the HttpApi.
+struct ApiContext {
+  const SupervisorConfig* config = nullptr;
+  std::string maintainer_token;  // empty: read-only
+  SharedFleet* fleet = nullptr;
+  HistoryStore* history = nullptr;
+  OverviewTiles* tiles = nullptr;
+  EventStream* stream = nullptr;
+  // Sends a RemapCommand; Unavailable-like Internal when no map server listens.
+  std::function<Result<uint64_t>(const transport::RemapRequest&)> start_remap;
+  std::function<bool()> map_server_listening;
+};
+
+class HttpApi {
+ public:
+  explicit HttpApi(ApiContext context);
+  ~HttpApi();  // stops the server
+
+  // Binds (config http_bind / http_port; port 0: any free one) and serves `web_dir` at "/" on a
+  // thread of its own. Internal naming the address if it cannot bind.
+  Status Start(const std::string& web_dir);
+  int port() const { return port_; }
+  void Stop();
+
+ private:
+  void Routes();
+
+  ApiContext ctx_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread thread_;
+  int port_ = 0;
+};
+
+}  // namespace fleetloc::fleet_supervisor

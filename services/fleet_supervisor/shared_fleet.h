@@ -1,0 +1,80 @@
+// The supervisor's state shared between its DDS thread (which applies what it receives and runs
+// the alert rules) and the HTTP threads (which read JSON views of it): the fleet, the re-mapping
+// jobs seen on RemapStatus, the services heard on ServiceHealth, and the supervisor's counters.
+// Every method is thread-safe.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fleet/fleet_state.h"
+#include "fleet_supervisor/fleet_listener.h"
+#include "fleet_supervisor/history_store.h"
+#include "transport/remap_client.h"
+
+namespace fleetloc::fleet_supervisor {
+
+// Event counters (served at /api/stats and in the supervisor's ServiceHealth).
+struct SupervisorCounters {
+  std::atomic<uint64_t> poses_received{0}, health_received{0}, rejected_samples{0};
+  std::atomic<uint64_t> history_rows{0}, history_errors{0}, alerts_raised{0}, alerts_cleared{0};
+  std::atomic<uint64_t> http_requests{0}, http_rejected{0}, tiles_served{0}, remaps_started{0};
+  std::atomic<uint64_t> stream_snapshots{0}, deadline_misses{0};
+  std::atomic<uint64_t> history_queue{0};  // rows waiting for the next write
+  // (name, value) pairs in a fixed order.
+  std::vector<std::pair<std::string, uint64_t>> Snapshot() const;
+};
+
+class SharedFleet {
+ public:
+  SharedFleet(const fleet::AlertOptions& alerts, const fleet::TrailOptions& trail,
+              double history_period_s);
+
+  // DDS thread: applies the samples received at `now`; appends the rows to store (poses thinned
+  // to one per vehicle per history period, every health report) and counts rejections.
+  void Apply(const Received& in, double now, std::vector<StoredPose>* poses,
+             std::vector<StoredHealth>* health);
+  // Appends the newest pose of every vehicle whose newest pose was thinned out of the history
+  // (at shutdown, so that a restart restores the last known pose).
+  void NewestUnstored(std::vector<StoredPose>* poses);
+  // Runs the alert rules; returns the changes (raised ones without id: see SetAlertId).
+  std::vector<fleet::Alert> Evaluate(double now);
+  void SetAlertId(const fleet::Alert& alert, long long id);
+  void OnRemapStatus(const std::vector<transport::RemapProgress>& statuses);
+  void Restore(const std::vector<fleet::VehicleState>& vehicles, const std::vector<fleet::Alert>& open);
+
+  // Views. `mosaic` and `map_server` are filled in by the caller.
+  nlohmann::json Snapshot(double now) const;                 // the live stream's state
+  nlohmann::json Fleet(double now, bool trails) const;       // GET /api/fleet
+  std::optional<nlohmann::json> Vehicle(const std::string& id) const;
+  nlohmann::json ActiveAlerts() const;
+  nlohmann::json RemapJobs() const;
+  // Whether a map_server reported within `timeout_s` before `now`.
+  bool MapServerAlive(double now, double timeout_s) const;
+
+  SupervisorCounters& counters() { return counters_; }
+  const SupervisorCounters& counters() const { return counters_; }
+
+ private:
+  nlohmann::json ServicesJson(double now) const;
+  nlohmann::json VehiclesJson(bool trails) const;
+  nlohmann::json AlertsJson() const;
+  nlohmann::json JobsJson() const;
+
+  mutable std::mutex mutex_;
+  fleet::FleetState fleet_;
+  double history_period_s_;
+  std::map<std::string, double> last_stored_;  // per vehicle: receive time of the last stored pose
+  std::map<uint64_t, transport::RemapProgress> jobs_;
+  std::map<std::string, std::pair<ServiceReport, double>> services_;  // with the received time
+  std::string last_rejection_;
+  SupervisorCounters counters_;
+};
+
+}  // namespace fleetloc::fleet_supervisor

@@ -1,0 +1,52 @@
+// A fleet_supervisor process for integration tests: own DDS domain, history in a scratch
+// directory, any free HTTP port on loopback (read back from --port-file), a maintainer token.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "cli_runner.h"
+#include "daemon_process.h"
+#include "map_server_fixture.h"
+
+namespace fleetloc::testing {
+
+class SupervisorProcess {
+ public:
+  SupervisorProcess(const std::filesystem::path& dir, uint32_t domain, const std::string& token)
+      : dir_(dir), token_(token) {
+    const std::string token_file = (dir / "token").string();
+    std::ofstream(token_file) << token << "\n";
+    const std::string port_file = (dir / "port").string();
+    std::filesystem::remove(port_file);
+    process_ = std::make_unique<io::ChildProcess>(StartDaemon(
+        "fleet_supervisor",
+        {"--domain", std::to_string(domain), "--history", (dir / "history.db").string(), "--http-port", "0",
+         "--port-file", port_file, "--token-file", token_file},
+        (dir / "fleet_supervisor.log").string()));
+    EXPECT_TRUE(Eventually([&] {
+      std::ifstream in(port_file);
+      return static_cast<bool>(in >> port_) && port_ > 0;
+    })) << "the supervisor never wrote its port; log: " << ReadWhole(dir / "fleet_supervisor.log");
+  }
+  ~SupervisorProcess() {
+    if (process_) EXPECT_EQ(process_->Stop(SIGTERM), 0) << "fleet_supervisor did not stop cleanly";
+  }
+
+  int port() const { return port_; }
+  std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  const std::string& token() const { return token_; }
+  std::string log() const { return ReadWhole(dir_ / "fleet_supervisor.log"); }
+
+ private:
+  std::filesystem::path dir_;
+  std::string token_;
+  int port_ = 0;
+  std::unique_ptr<io::ChildProcess> process_;
+};
+
+}  // namespace fleetloc::testing
