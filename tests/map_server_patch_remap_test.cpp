@@ -11,6 +11,7 @@
 #include "mosaic/tile_codec.h"
 #include "transport/mosaic_messages.h"
 #include "transport/patch_client.h"
+#include "transport/remap_client.h"
 #include "transport/tile_client.h"
 
 namespace fleetloc {
@@ -155,9 +156,29 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
 }
 
 TEST_F(MapServerPatchRemap, BadRemapCommandsAreRejected) {
+  // fleetctl refuses an inverted region itself; a forged command gets past it to the server.
   const testing::CommandResult inverted = Remap("0.3,0.3,0.2,0.2");
   EXPECT_EQ(inverted.exit_code, 2);
-  EXPECT_NE(inverted.err.find("empty or inverted"), std::string::npos) << inverted.err;
+  EXPECT_NE(inverted.err.find("x_min < x_max"), std::string::npos) << inverted.err;
+  auto forger = transport::RemapClient::Create(server_.participant());
+  ASSERT_TRUE(forger.ok()) << forger.status().message();
+  ASSERT_TRUE(Eventually([&] { return (*forger)->ServerMatched(); }));
+  fleetloc_RemapCommand forged{};
+  forged.wire_version = fleetloc_WIRE_VERSION;
+  forged.command_id = 77;
+  forged.region = {0.3, 0.3, 0.2, 0.2};
+  ASSERT_TRUE((*forger)->SendRaw(forged).ok());
+  bool rejected = false;
+  ASSERT_TRUE(Eventually([&] {
+    auto statuses = (*forger)->TakeStatuses();
+    for (const auto& s : statuses.ok() ? *statuses : std::vector<transport::RemapProgress>{}) {
+      if (s.command_id == 77 && s.state == fleetloc_REMAP_REJECTED) {
+        rejected = true;
+        EXPECT_NE(s.message.find("empty or inverted"), std::string::npos) << s.message;
+      }
+    }
+    return rejected;
+  }));
   const testing::CommandResult outside = Remap("5,5,6,6");
   EXPECT_EQ(outside.exit_code, 2);
   EXPECT_NE(outside.err.find("outside"), std::string::npos) << outside.err;

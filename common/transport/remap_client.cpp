@@ -81,9 +81,11 @@ Result<uint64_t> RemapClient::Send(const RemapRequest& r) {
   command.region = {r.x_min, r.y_min, r.x_max, r.y_max};
   command.mode = r.replace ? fleetloc_REMAP_REPLACE : fleetloc_REMAP_BLEND;
   command.stamp = NowStamp();
-  FLEETLOC_RETURN_IF_ERROR(commands_.Write(command));
+  FLEETLOC_RETURN_IF_ERROR(SendRaw(command));
   return id;
 }
+
+Status RemapClient::SendRaw(const fleetloc_RemapCommand& command) { return commands_.Write(command); }
 
 Result<std::vector<RemapProgress>> RemapClient::TakeStatuses() {
   std::vector<RemapProgress> statuses;

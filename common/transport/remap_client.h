@@ -47,6 +47,8 @@ class RemapClient {
   // Sends the command with a fresh random id, which it returns. InvalidInput for an empty or
   // inverted region or non-finite numbers; Internal on a DDS failure.
   Result<uint64_t> Send(const RemapRequest& request);
+  // Sends an already filled wire sample as is, unchecked (tests use it to forge bad ones).
+  Status SendRaw(const fleetloc_RemapCommand& command);
   // The statuses received since the last call (of every job, also other requesters').
   Result<std::vector<RemapProgress>> TakeStatuses();
 

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The running fleet on this machine, on the embedded default: installs and builds (setup.sh),
+# composes the default real floor from the demo photographs and imports it as the shared mosaic
+# (once; kept in out/fleet/), then starts the map server, the fleet supervisor with its dashboard
+# and three simulated vehicles driving forever over the floor, each with its own tracker agent.
+# Prints the dashboard URL and the maintainer token; Ctrl-C (or SIGTERM) stops everything cleanly.
+# Environment: FLEETLOC_DOMAIN (DDS domain, default 0), FLEETLOC_HTTP_PORT (default 8080),
+# FLEETLOC_VEHICLES (default 3).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+tools/scripts/setup.sh
+
+BIN=build/bin
+OUT=out/fleet
+DOMAIN="${FLEETLOC_DOMAIN:-0}"
+PORT="${FLEETLOC_HTTP_PORT:-8080}"
+VEHICLES="${FLEETLOC_VEHICLES:-3}"
+F=deploy/demo/floors
+mkdir -p "$OUT/logs"
+
+if [ ! -f "$OUT/mosaic.db" ]; then
+  "$BIN/fleetctl" compose-floor "$F/rock_dirt_2048.png" "$F/stone_slab_floor_2048.png" \
+    "$F/moss_2560x1600.jpg" --out "$OUT/floor.png"
+  "$BIN/fleetctl" mosaic import "$OUT/floor.png" --resolution 0.0005 --out "$OUT/mosaic.db.part"
+  mv "$OUT/mosaic.db.part" "$OUT/mosaic.db"
+fi
+[ -f "$OUT/maintainer.token" ] || head -c 18 /dev/urandom | base64 | tr '+/' '-_' > "$OUT/maintainer.token"
+chmod 600 "$OUT/maintainer.token"
+
+PIDS=()
+stop_all() {
+  trap - INT TERM
+  echo "fleet: stopping ${#PIDS[@]} processes" >&2
+  for pid in "${PIDS[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
+  echo "fleet: stopped" >&2
+  exit 0
+}
+trap stop_all INT TERM
+
+start() {  # name, then the command; output to out/fleet/logs/<name>.log
+  local name="$1"; shift
+  "$@" > "$OUT/logs/$name.log" 2>&1 &
+  PIDS+=("$!")
+}
+
+start map_server "$BIN/map_server" --mosaic "$OUT/mosaic.db" --domain "$DOMAIN"
+start fleet_supervisor "$BIN/fleet_supervisor" --domain "$DOMAIN" --http-port "$PORT" \
+  --history "$OUT/fleet_history.db" --token-file "$OUT/maintainer.token"
+for i in $(seq 1 "$VEHICLES"); do
+  id="agv-$i"
+  # Spread the vehicles along the route; each starts from its own simulated pose.
+  printf '{"vehicle_id": "%s", "source": "sim", "sim_floor": "%s", "sim_start_fraction": %s, "sim_seed": %d}\n' \
+    "$id" "$OUT/floor.png" "$(awk -v i="$i" -v n="$VEHICLES" 'BEGIN { printf "%.3f", (i - 1) / n }')" "$i" \
+    > "$OUT/$id.json"
+  start "$id" "$BIN/tracker_agent" --config "$OUT/$id.json" --domain "$DOMAIN" \
+    --outbox "$OUT/outbox-$id.db"
+done
+
+echo "fleet: map server, supervisor and $VEHICLES vehicles running on DDS domain $DOMAIN" >&2
+echo "fleet: dashboard  http://127.0.0.1:$PORT/" >&2
+echo "fleet: maintainer token (for re-mapping from the dashboard) in $OUT/maintainer.token" >&2
+echo "fleet: logs in $OUT/logs/; Ctrl-C stops everything" >&2
+# Any process that exits on its own is reported; the rest keep running until Ctrl-C.
+while true; do
+  for idx in "${!PIDS[@]}"; do
+    if ! kill -0 "${PIDS[$idx]}" 2>/dev/null; then
+      wait "${PIDS[$idx]}" 2>/dev/null && rc=0 || rc=$?
+      echo "fleet: process ${PIDS[$idx]} exited ($rc); see $OUT/logs/" >&2
+      unset "PIDS[$idx]"
+    fi
+  done
+  sleep 1 &
+  wait $! || true
+done
