@@ -1,6 +1,7 @@
 // Readers and writers for the files of CONTRACT sections 3–5: camera.json, a run directory
-// (run.json, frames.csv, odometry.csv, truth.csv) and poses.csv. Every reader rejects a file that
-// breaks the contract with a one-line message naming the file, the line and the field.
+// (run.json, frames.csv, odometry.csv, truth.csv, the optional forward/) and poses.csv. Every
+// reader rejects a file that breaks the contract with a one-line message naming the file, the line
+// and the field.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,6 +15,7 @@
 #include "base/status.h"
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
+#include "mapmatch/forward_camera.h"
 
 namespace fleetloc::io {
 
@@ -34,6 +36,14 @@ struct FrameRef {
   std::filesystem::path file;  // absolute (resolved against the run directory)
 };
 
+// The optional forward (landmark) camera of a run: its `forward/` directory (CONTRACT §4,
+// docs/forward_camera.md).
+struct ForwardStream {
+  mapmatch::ForwardCameraParams camera;      // forward/forward_camera.json
+  std::vector<FrameRef> frames;              // forward/forward.csv, may be empty
+  std::vector<geometry::StampedPose> truth;  // forward/truth.csv (simulated), empty if absent
+};
+
 struct Run {
   std::filesystem::path dir;
   std::string vehicle_id;
@@ -43,6 +53,7 @@ struct Run {
   std::vector<FrameRef> frames;
   std::vector<geometry::StampedPose> odometry;  // base_link in odom
   std::vector<geometry::StampedPose> truth;     // base_link in map, empty if absent
+  std::optional<ForwardStream> forward;         // when the run has a forward/ directory
 };
 
 // One row of poses.csv (CONTRACT section 5).
@@ -66,7 +77,9 @@ Result<CameraFile> ReadCameraJson(const std::filesystem::path& path);
 Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& camera);
 
 // Reads and validates a whole run directory (not the images themselves: they are read lazily by
-// the tracker with ReadFrame so that a bad image is reported with its file name).
+// the tracker with ReadFrame so that a bad image is reported with its file name), with its
+// forward/ directory if there is one. frames.csv may have no rows when forward/forward.csv has
+// some (a run without downward frames); odometry must cover the frames of both cameras.
 Result<Run> ReadRun(const std::filesystem::path& dir);
 // Writes run.json, camera.json, frames.csv, odometry.csv and (if non-empty) truth.csv. Frame
 // files are written by the caller; FrameRef::file is written relative to the run directory.

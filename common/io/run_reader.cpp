@@ -1,8 +1,9 @@
 // ReadRun: a whole run directory, each file validated, then the cross-file rules of CONTRACT
-// section 4 (odometry covers the frames, truth has one row per frame).
+// section 4 (odometry covers the frames of both cameras, truth has one row per frame).
 #include <cmath>
 
 #include "io/file_util.h"
+#include "io/forward_camera_json.h"
 #include "io/messages.h"
 #include "io/run.h"
 #include "io/run_json.h"
@@ -24,69 +25,98 @@ std::string FrameLocation(const fs::path& frames_csv, std::size_t row, double t)
 }
 
 // At least as many samples as frames, and first/last samples bracketing the frames' time span.
-Status CheckOdometryCoversFrames(const Run& run, const fs::path& odometry_csv,
+Status CheckOdometryCoversFrames(const std::vector<geometry::StampedPose>& odometry,
+                                 const fs::path& odometry_csv, const std::vector<FrameRef>& frames,
                                  const fs::path& frames_csv) {
-  const std::size_t n = run.odometry.size();
-  if (n < run.frames.size()) {
+  if (frames.empty()) return Status::Ok();
+  const std::size_t n = odometry.size();
+  if (n < frames.size()) {
     return BadField(odometry_csv, 0, "t",
-                    std::to_string(n) + " samples for " + std::to_string(run.frames.size()) +
-                        " frames; odometry must be sampled at least as often as frames");
+                    std::to_string(n) + " samples for " + std::to_string(frames.size()) +
+                        " frames of " + frames_csv.filename().string() +
+                        "; odometry must be sampled at least as often as frames");
   }
-  if (run.odometry.front().t > run.frames.front().t) {
+  if (odometry.front().t > frames.front().t) {
     return BadField(odometry_csv, DataLine(0), "t",
-                    "first odometry sample t=" + FormatDouble(run.odometry.front().t) +
-                        " is after the first " +
-                        FrameLocation(frames_csv, 0, run.frames.front().t) +
+                    "first odometry sample t=" + FormatDouble(odometry.front().t) +
+                        " is after the first " + FrameLocation(frames_csv, 0, frames.front().t) +
                         "; odometry must cover the frames' time span");
   }
-  if (run.odometry.back().t < run.frames.back().t) {
-    const std::size_t last = run.frames.size() - 1;
+  if (odometry.back().t < frames.back().t) {
+    const std::size_t last = frames.size() - 1;
     return BadField(odometry_csv, DataLine(n - 1), "t",
-                    "last odometry sample t=" + FormatDouble(run.odometry.back().t) +
-                        " is before the last " +
-                        FrameLocation(frames_csv, last, run.frames.back().t) +
+                    "last odometry sample t=" + FormatDouble(odometry.back().t) +
+                        " is before the last " + FrameLocation(frames_csv, last, frames.back().t) +
                         "; odometry must cover the frames' time span");
   }
   return Status::Ok();
 }
 
-Status CheckTruthMatchesFrames(const Run& run, const fs::path& truth_csv,
-                               const fs::path& frames_csv) {
-  if (run.truth.size() != run.frames.size()) {
+// An optional truth table: absent (left empty), or one row per frame at the frame's time.
+Status ReadTruthOfFrames(const fs::path& truth_csv, const std::vector<FrameRef>& frames,
+                         const fs::path& frames_csv, std::vector<geometry::StampedPose>* truth) {
+  std::error_code ec;
+  if (!fs::exists(truth_csv, ec)) return Status::Ok();
+  Result<std::vector<geometry::StampedPose>> read = ReadStampedPosesCsv(truth_csv);
+  if (!read.ok()) return read.status();
+  *truth = std::move(*read);
+  if (truth->size() != frames.size()) {
     return BadField(truth_csv, 0, "t",
-                    std::to_string(run.truth.size()) + " rows for " +
-                        std::to_string(run.frames.size()) + " frames; it needs one row per frame");
+                    std::to_string(truth->size()) + " rows for " + std::to_string(frames.size()) +
+                        " frames; it needs one row per frame");
   }
-  for (std::size_t i = 0; i < run.truth.size(); ++i) {
-    if (std::abs(run.truth[i].t - run.frames[i].t) > kTruthTimeTolerance_s) {
+  for (std::size_t i = 0; i < truth->size(); ++i) {
+    if (std::abs((*truth)[i].t - frames[i].t) > kTruthTimeTolerance_s) {
       return BadField(truth_csv, DataLine(i), "t",
-                      FormatDouble(run.truth[i].t) + " differs from " +
-                          FrameLocation(frames_csv, i, run.frames[i].t));
+                      FormatDouble((*truth)[i].t) + " differs from " +
+                          FrameLocation(frames_csv, i, frames[i].t));
     }
   }
   return Status::Ok();
 }
 
+// forward/ (CONTRACT §4): forward_camera.json, forward.csv and, in simulated runs, truth.csv.
+Result<std::optional<ForwardStream>> ReadForwardStream(const fs::path& run_dir) {
+  const fs::path dir = run_dir / "forward";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return std::optional<ForwardStream>();
+  ForwardStream forward;
+  Result<mapmatch::ForwardCameraParams> camera = ReadForwardCameraJson(dir / "forward_camera.json");
+  if (!camera.ok()) return camera.status();
+  forward.camera = *camera;
+  const fs::path forward_csv = dir / "forward.csv";
+  Result<std::vector<FrameRef>> frames = ReadFramesCsv(forward_csv, dir);
+  if (!frames.ok()) return frames.status();
+  forward.frames = std::move(*frames);
+  FLEETLOC_RETURN_IF_ERROR(
+      ReadTruthOfFrames(dir / "truth.csv", forward.frames, forward_csv, &forward.truth));
+  return std::optional<ForwardStream>(std::move(forward));
+}
+
 Status ReadTables(Run* run) {
+  Result<std::optional<ForwardStream>> forward = ReadForwardStream(run->dir);
+  if (!forward.ok()) return forward.status();
+  run->forward = std::move(*forward);
   const fs::path frames_csv = run->dir / "frames.csv";
   Result<std::vector<FrameRef>> frames = ReadFramesCsv(frames_csv, run->dir);
   if (!frames.ok()) return frames.status();
-  if (frames->empty()) return BadField(frames_csv, 0, "", "no frames; a run needs at least one");
+  if (frames->empty() && (!run->forward || run->forward->frames.empty())) {
+    return BadField(frames_csv, 0, "",
+                    "no frames; a run needs at least one (here or in forward/forward.csv)");
+  }
   run->frames = std::move(*frames);
 
   const fs::path odometry_csv = run->dir / "odometry.csv";
   Result<std::vector<geometry::StampedPose>> odometry = ReadStampedPosesCsv(odometry_csv);
   if (!odometry.ok()) return odometry.status();
   run->odometry = std::move(*odometry);
-  FLEETLOC_RETURN_IF_ERROR(CheckOdometryCoversFrames(*run, odometry_csv, frames_csv));
-
-  const fs::path truth_csv = run->dir / "truth.csv";
-  std::error_code ec;
-  if (!fs::exists(truth_csv, ec)) return Status::Ok();
-  Result<std::vector<geometry::StampedPose>> truth = ReadStampedPosesCsv(truth_csv);
-  if (!truth.ok()) return truth.status();
-  run->truth = std::move(*truth);
-  return CheckTruthMatchesFrames(*run, truth_csv, frames_csv);
+  FLEETLOC_RETURN_IF_ERROR(
+      CheckOdometryCoversFrames(run->odometry, odometry_csv, run->frames, frames_csv));
+  if (run->forward) {
+    FLEETLOC_RETURN_IF_ERROR(CheckOdometryCoversFrames(
+        run->odometry, odometry_csv, run->forward->frames, run->dir / "forward" / "forward.csv"));
+  }
+  return ReadTruthOfFrames(run->dir / "truth.csv", run->frames, frames_csv, &run->truth);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "io/forward_camera_json.h"
 #include "io/io_test_util.h"
 #include "io/run.h"
 
@@ -185,6 +186,58 @@ TEST_F(ReadRunTest, TruthMustHaveOneRowPerFrameAtTheSameTime) {
   EXPECT_TRUE(HasError(ReadWith("truth.csv", header + "0,0,0,0\n0.1,nan,0,0\n0.2,0,0,0\n"), bad,
                        csv, 3, "x"));
   EXPECT_TRUE(ReadWith("truth.csv", header + "0,0,0,0\n0.1000000005,0,0,0\n0.2,0,0,0\n").ok());
+}
+
+// forward/ of the valid run: the default forward camera and two images at t = 0.05 and 0.15.
+void WriteForwardDir(const fs::path& run_dir) {
+  ASSERT_TRUE(WriteForwardCameraJson(run_dir / "forward" / "forward_camera.json", {}).ok());
+  for (int i = 0; i < 2; ++i)
+    testing::WriteGrayPng(run_dir / "forward" / "img" / (std::to_string(i) + ".png"), 64, 48);
+  WriteText(run_dir / "forward" / "forward.csv", "t,file\n0.05,img/0.png\n0.15,img/1.png\n");
+}
+
+TEST_F(ReadRunTest, ReadsTheForwardDirectory) {
+  WriteForwardDir(run_dir_);
+  WriteText(File("forward/truth.csv"), "t,x,y,theta\n0.05,1,2,0\n0.15,1.1,2,0\n");
+  const Result<io::Run> run = ReadRun(run_dir_);
+  ASSERT_TRUE(run.ok()) << run.status().message();
+  ASSERT_TRUE(run->forward.has_value());
+  EXPECT_EQ(run->forward->camera.width_px, 640);
+  ASSERT_EQ(run->forward->frames.size(), 2u);
+  EXPECT_EQ(run->forward->frames[1].t, 0.15);
+  EXPECT_EQ(run->forward->frames[1].file, run->dir / "forward" / "img" / "1.png");
+  ASSERT_EQ(run->forward->truth.size(), 2u);
+  EXPECT_EQ(run->forward->truth[1].pose.x, 1.1);
+  EXPECT_FALSE(ReadRun(testing::WriteValidRun(dir_.path() / "plain").dir)->forward.has_value());
+}
+
+TEST_F(ReadRunTest, ARunMayHaveForwardFramesOnly) {
+  WriteForwardDir(run_dir_);
+  WriteText(File("frames.csv"), "t,file\n");
+  fs::remove(File("truth.csv"));
+  const Result<io::Run> run = ReadRun(run_dir_);
+  ASSERT_TRUE(run.ok()) << run.status().message();
+  EXPECT_TRUE(run->frames.empty());
+  EXPECT_EQ(run->forward->frames.size(), 2u);
+  WriteText(File("forward/forward.csv"), "t,file\n");
+  EXPECT_TRUE(
+      HasError(ReadRun(run_dir_).status(), StatusCode::kInvalidInput, File("frames.csv"), 0, ""));
+}
+
+TEST_F(ReadRunTest, ForwardDirectoryErrorsNameTheFileAndField) {
+  const StatusCode bad = StatusCode::kInvalidInput;
+  WriteForwardDir(run_dir_);
+  nlohmann::json camera =
+      nlohmann::json::parse(testing::ReadText(File("forward/forward_camera.json")));
+  camera["mount"]["height"] = -1.0;
+  EXPECT_TRUE(HasError(ReadWith("forward/forward_camera.json", camera.dump()), bad,
+                       File("forward/forward_camera.json"), 0, "mount.height"));
+  ASSERT_TRUE(WriteForwardCameraJson(File("forward/forward_camera.json"), {}).ok());
+  // Odometry (t = 0 … 0.2) must cover the forward frames too.
+  EXPECT_TRUE(HasError(ReadWith("forward/forward.csv", "t,file\n0.05,img/0.png\n0.25,img/1.png\n"),
+                       bad, File("odometry.csv"), 6, "t"));
+  EXPECT_TRUE(HasError(ReadWith("forward/truth.csv", "t,x,y,theta\n0.05,1,2,0\n"), bad,
+                       File("forward/truth.csv"), 0, "t"));
 }
 
 }  // namespace

@@ -39,6 +39,15 @@ Status Validate(const AgentConfig& c) {
   if (!(c.relocalize_interval_s >= 0 && c.relocalize_interval_s <= 60)) {
     return bad("relocalize_interval_s", "must be in [0, 60]");
   }
+  if (!(c.position_update_period_s >= 0.1 && c.position_update_period_s <= 60)) {
+    return bad("position_update_period_s", "must be in [0.1, 60]");
+  }
+  if (!(c.position_update_window_s >= 0.1 && c.position_update_window_s <= 60)) {
+    return bad("position_update_window_s", "must be in [0.1, 60]");
+  }
+  if (!(c.position_update_half_life_s >= 0 && c.position_update_half_life_s <= 60)) {
+    return bad("position_update_half_life_s", "must be in [0, 60]");
+  }
   return Status::Ok();
 }
 
@@ -51,7 +60,9 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
       "tile_timeout_ms", "prefetch_margin_px", "prefetch_ahead_s", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
-      "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames", "relocalize_interval_s"};
+      "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames",
+      "relocalize_interval_s", "landmarks", "position_update_period_s", "position_update_window_s",
+      "position_update_half_life_s"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -59,7 +70,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
                                     {"run", &c.run_path}, {"tracker", &c.tracker_options_path},
                                     {"outbox", &c.outbox_path}, {"source", &c.source},
-                                    {"sim_floor", &c.sim_floor}, {"start_pose", &c.start_pose}}) {
+                                    {"sim_floor", &c.sim_floor}, {"start_pose", &c.start_pose},
+                                    {"landmarks", &c.landmarks_path}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
   }
   for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
@@ -80,7 +92,10 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
                                     {"patch_min_changed", &c.patch_min_changed},
                                     {"patch_retry_s", &c.patch_retry_s},
                                     {"sim_resolution_m", &c.sim_resolution_m},
-                                    {"sim_speed_px_s", &c.sim_speed_px_s}, {"sim_rate_hz", &c.sim_rate_hz}}) {
+                                    {"sim_speed_px_s", &c.sim_speed_px_s},
+                                    {"sim_rate_hz", &c.sim_rate_hz},
+                                    {"position_update_period_s", &c.position_update_period_s},
+                                    {"position_update_window_s", &c.position_update_window_s}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
   }
   if (fields.Has("sim_start_fraction")) {
@@ -88,7 +103,9 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   }
   for (const auto& [key, target] : {std::pair{"drain_s", &c.drain_s},
                                     {"prefetch_ahead_s", &c.prefetch_ahead_s},
-                                    {"relocalize_interval_s", &c.relocalize_interval_s}}) {
+                                    {"relocalize_interval_s", &c.relocalize_interval_s},
+                                    {"position_update_half_life_s",
+                                     &c.position_update_half_life_s}}) {
     if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, target));
   }
   if (fields.Has("relocalize_on_lost")) {

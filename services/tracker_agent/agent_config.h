@@ -44,6 +44,14 @@ struct AgentConfig {
   bool relocalize_on_lost = true;     // when lock is lost ("kidnapped vehicle")
   int relocalize_after_coasting_frames = 5;  // also after this many frames in a row without a fix
   double relocalize_interval_s = 0.5;  // frame time between two attempts
+  // Global position update (DESIGN §4, docs/forward_camera.md): landmarks the forward camera sees
+  // (a run's forward/) fitted to the landmark map; it corrects the pose when the downward camera
+  // is not tracking.
+  std::string landmarks_path;                // landmarks.csv (CONTRACT §7); empty: the run's own
+                                             // landmarks.csv if it has one
+  double position_update_period_s = 1.0;     // one map fit per this much forward-camera time
+  double position_update_window_s = 2.0;     // ... over the detections of this last stretch
+  double position_update_half_life_s = 1.0;  // older detections count less (0: all alike)
 };
 
 Status Validate(const AgentConfig& config);

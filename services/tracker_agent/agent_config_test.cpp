@@ -43,6 +43,22 @@ TEST(AgentConfig, ReadsRelocalizationFields) {
   EXPECT_EQ(c->relocalize_interval_s, 0.25);
 }
 
+TEST(AgentConfig, ReadsPositionUpdateFields) {
+  auto defaults = LoadAgentConfig(Write("gpu_defaults", R"({"run": "/runs/a"})"));
+  ASSERT_TRUE(defaults.ok()) << defaults.status().message();
+  EXPECT_EQ(defaults->landmarks_path, "");
+  EXPECT_EQ(defaults->position_update_period_s, 1.0);
+  auto c = LoadAgentConfig(Write("gpu", R"({"run": "/runs/a", "landmarks": "/maps/l.csv",
+                                            "position_update_period_s": 0.5,
+                                            "position_update_window_s": 3,
+                                            "position_update_half_life_s": 0})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->landmarks_path, "/maps/l.csv");
+  EXPECT_EQ(c->position_update_period_s, 0.5);
+  EXPECT_EQ(c->position_update_window_s, 3.0);
+  EXPECT_EQ(c->position_update_half_life_s, 0.0);
+}
+
 TEST(AgentConfig, ShippedSampleLoads) {
   auto c = LoadAgentConfig(FLEETLOC_SOURCE_DIR "/deploy/config/tracker_agent.json");
   ASSERT_TRUE(c.ok()) << c.status().message();
@@ -61,6 +77,11 @@ TEST(AgentConfig, BadFieldsAreNamed) {
       {R"({"run": "r", "relocalize_on_lost": 1})", "relocalize_on_lost"},
       {R"({"run": "r", "relocalize_after_coasting_frames": 0})", "relocalize_after_coasting_frames"},
       {R"({"run": "r", "relocalize_interval_s": 100})", "relocalize_interval_s"},
+      {R"({"run": "r", "landmarks": ""})", "landmarks"},
+      {R"({"run": "r", "position_update_period_s": 0.01})", "position_update_period_s"},
+      {R"({"run": "r", "position_update_period_s": 0})", "position_update_period_s"},
+      {R"({"run": "r", "position_update_window_s": 100})", "position_update_window_s"},
+      {R"({"run": "r", "position_update_half_life_s": -1})", "position_update_half_life_s"},
   };
   int i = 0;
   for (const auto& [json, field] : cases) {

@@ -1,6 +1,8 @@
 // Health bookkeeping and VehicleHealth filling.
 #include "tracker_agent/agent_health.h"
 
+#include <cmath>
+
 #include "replay/replay.h"
 #include "transport/pose_messages.h"
 #include "transport/wire_util.h"
@@ -66,6 +68,17 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   if (!in.map_server_reachable) add("map_server_unreachable", fleetloc_HEALTH_WARN, "tracking from the tile cache");
   if (in.loader.timeouts > 0) {
     add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
+  }
+  if (const PositionUpdateStats* u = in.position_update; u && u->last_rejected) {
+    // While the newest fit was rejected (an issue name alone reads as a problem on the
+    // supervisor's dashboard, so all-well is not reported; the summary has the counts).
+    const long correction_mm = std::lround(u->last_correction_m * 1000);
+    const std::string counts = std::to_string(u->applied) + " of " + std::to_string(u->attempted) +
+                               " position updates applied, " + std::to_string(u->rejected) +
+                               " rejected; last correction " + std::to_string(correction_mm) +
+                               " mm";
+    add("position_update_rejected", fleetloc_HEALTH_WARN,
+        counts + "; last rejected: " + u->last_reason);
   }
   if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
   h->level = fleetloc_HEALTH_OK;

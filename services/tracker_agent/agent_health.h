@@ -1,6 +1,6 @@
 // The tracker agent's health: cycle-time percentiles over recent frames, inliers, lock state,
-// tile cache and loader counters, reachability, dropped frames and the last error, turned into a
-// VehicleHealth with a level (OK / WARN / ERROR) and named issues.
+// tile cache and loader counters, reachability, dropped frames, the position updates and the last
+// error, turned into a VehicleHealth with a level (OK / WARN / ERROR) and named issues.
 #pragma once
 
 #include <deque>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mosaic/tile_cache.h"
+#include "tracker_agent/agent_position_update.h"
 #include "tracking/frame_localizer.h"
 #include "transport/dds_tile_loader.h"
 #include "transport/fleetloc_types.h"
@@ -21,6 +22,8 @@ class AgentHealth {
   void RecordError(const std::string& error);
   // A global relocalization attempt; a found pose makes the lock state `relocalized`.
   void RecordRelocalization(bool found);
+  // The lock state changed without a frame (started without downward frames, a position update).
+  void RecordLockState(tracking::LockState state) { state_ = state; }
 
   struct Inputs {
     std::string vehicle_id;
@@ -30,6 +33,7 @@ class AgentHealth {
     size_t patch_outbox = 0;
     bool map_server_reachable = false;
     bool place_index_ready = false;  // relocalization possible
+    const PositionUpdateStats* position_update = nullptr;  // null: no position updates
   };
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,

@@ -15,24 +15,49 @@ void Pacer::WaitUntil(double t) {
 
 ReplayInput::ReplayInput(io::Run run, bool paced) : run_(std::move(run)), pacer_(paced) {}
 
+std::optional<std::pair<InputEvent::Kind, double>> ReplayInput::Peek() const {
+  using Kind = InputEvent::Kind;
+  std::optional<std::pair<Kind, double>> next;
+  auto consider = [&](Kind kind, bool left, auto time) {  // earlier wins, ties keep the first
+    if (left && (!next || time() < next->second)) next = std::pair{kind, time()};
+  };
+  consider(Kind::kOdometry, next_odometry_ < run_.odometry.size(),
+           [&] { return run_.odometry[next_odometry_].t; });
+  consider(Kind::kFrame, next_frame_ < run_.frames.size(),
+           [&] { return run_.frames[next_frame_].t; });
+  const std::vector<io::FrameRef>* forward = run_.forward ? &run_.forward->frames : nullptr;
+  consider(Kind::kForwardFrame, forward && next_forward_ < forward->size(),
+           [&] { return (*forward)[next_forward_].t; });
+  return next;
+}
+
+Result<cv::Mat> ReplayInput::ReadFrame(const io::FrameRef& ref) const {
+  return run_.camera.raw ? io::ReadGrayImage(ref.file) : io::ReadFrame(ref, run_.camera.model);
+}
+
 Result<std::optional<InputEvent>> ReplayInput::Next() {
-  const bool odometry_left = next_odometry_ < run_.odometry.size();
-  const bool frames_left = next_frame_ < run_.frames.size();
-  if (!odometry_left && !frames_left) return std::optional<InputEvent>();
-  // Odometry first on equal times, so a frame always finds the sample at its own time.
-  const bool take_odometry =
-      odometry_left && (!frames_left || run_.odometry[next_odometry_].t <= run_.frames[next_frame_].t);
+  const std::optional<std::pair<InputEvent::Kind, double>> next = Peek();
+  if (!next) return std::optional<InputEvent>();
   InputEvent event;
-  if (take_odometry) {
-    const geometry::StampedPose& sample = run_.odometry[next_odometry_++];
-    event.kind = InputEvent::Kind::kOdometry, event.t = sample.t, event.odom = sample.pose;
-  } else {
-    const io::FrameRef& ref = run_.frames[next_frame_++];
-    event.kind = InputEvent::Kind::kFrame, event.t = ref.t;
-    Result<cv::Mat> frame = run_.camera.raw ? io::ReadGrayImage(ref.file)
-                                            : io::ReadFrame(ref, run_.camera.model);
-    if (!frame.ok()) return frame.status();
-    event.frame = std::move(frame).value();
+  event.kind = next->first, event.t = next->second;
+  switch (event.kind) {
+    case InputEvent::Kind::kOdometry:
+      event.odom = run_.odometry[next_odometry_++].pose;
+      break;
+    case InputEvent::Kind::kFrame: {
+      Result<cv::Mat> frame = ReadFrame(run_.frames[next_frame_++]);
+      if (!frame.ok()) return frame.status();
+      event.frame = std::move(frame).value();
+      break;
+    }
+    case InputEvent::Kind::kForwardFrame: {
+      Result<cv::Mat> image = io::ReadGrayImage(run_.forward->frames[next_forward_++].file);
+      if (!image.ok()) {
+        return Status(image.status().code(), "forward camera: " + image.status().message());
+      }
+      event.frame = std::move(image).value();
+      break;
+    }
   }
   pacer_.WaitUntil(event.t);
   return std::optional<InputEvent>(std::move(event));

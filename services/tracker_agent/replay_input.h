@@ -1,5 +1,5 @@
-// A recorded run (CONTRACT §4) as vehicle input: odometry samples and frames merged in time order,
-// either as fast as possible or paced to their recorded times.
+// A recorded run (CONTRACT §4) as vehicle input: odometry samples, frames and the forward/ images
+// merged in time order, either as fast as possible or paced to their recorded times.
 #pragma once
 
 #include <chrono>
@@ -13,13 +13,19 @@ class ReplayInput : public VehicleInput {
  public:
   // `paced`: each event is released at its recorded time after the first (else at once).
   ReplayInput(io::Run run, bool paced);
+  // On equal times: odometry first (a frame always finds the sample at its own time), then the
+  // downward frame, then the forward image.
   Result<std::optional<InputEvent>> Next() override;
   const io::Run& run() const { return run_; }
 
  private:
+  // The next event's kind and time, nullopt at the end.
+  std::optional<std::pair<InputEvent::Kind, double>> Peek() const;
+  Result<cv::Mat> ReadFrame(const io::FrameRef& ref) const;
+
   io::Run run_;
   Pacer pacer_;
-  size_t next_odometry_ = 0, next_frame_ = 0;
+  size_t next_odometry_ = 0, next_frame_ = 0, next_forward_ = 0;
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -1,4 +1,4 @@
-// Tracker agent: DDS wiring, the frame/odometry loop, pose and health publishing.
+// Tracker agent: DDS wiring, the frame/odometry/forward-image loop, pose and health publishing.
 #include "tracker_agent/tracker_agent.h"
 
 #include <spdlog/spdlog.h>
@@ -9,10 +9,7 @@
 #include <thread>
 
 #include "io/file_util.h"
-#include "mapping/change_detection.h"
-#include "mosaic/tile_codec.h"
 #include "replay/replay.h"
-#include "tracking/predicted_view.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -28,9 +25,10 @@ TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& came
 Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
     const AgentConfig& config, const io::CameraFile& camera,
     const std::optional<geometry::PoseWithCovariance>& initial,
-    const tracking::TrackerOptions& options) {
+    const tracking::TrackerOptions& options, std::unique_ptr<AgentPositionUpdate> position_update) {
   FLEETLOC_RETURN_IF_ERROR(Validate(config));
   std::unique_ptr<TrackerAgent> agent(new TrackerAgent(config, camera, initial));
+  agent->position_update_ = std::move(position_update);
   FLEETLOC_RETURN_IF_ERROR(agent->Open(options));
   return agent;
 }
@@ -109,11 +107,50 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
 }
 
 void TrackerAgent::ProcessReadyFrames() {
-  while (!waiting_frames_.empty() && waiting_frames_.front().first <= latest_odometry_t_) {
-    auto [t, frame] = std::move(waiting_frames_.front());
+  while (!waiting_frames_.empty() && waiting_frames_.front().t <= latest_odometry_t_) {
+    const WaitingFrame frame = std::move(waiting_frames_.front());
     waiting_frames_.pop_front();
-    Track(t, frame);
+    if (frame.forward) {
+      UpdatePosition(frame.t, frame.image);
+    } else {
+      Track(frame.t, frame.image);
+    }
   }
+}
+
+bool TrackerAgent::Start(double t, const geometry::Pose2& odom) {
+  if (!initial_) return false;
+  tracker_->Reset(*initial_, odom), started_ = true;
+  propagator_->SetAnchor(t, odom, *initial_);
+  return true;
+}
+
+void TrackerAgent::UpdatePosition(double t, const cv::Mat& image) {
+  Result<geometry::Pose2> odom = odometry_.At(t);
+  if (!odom.ok()) {
+    return health_.RecordDroppedFrame("forward image at t=" + std::to_string(t) + ": " +
+                                      odom.status().message());
+  }
+  if (!started_) {
+    if (!Start(t, *odom)) return;  // nowhere to place its landmarks until a frame relocalizes
+    state_ = tracking::LockState::kCoasting;  // odometry only, until a frame or a fit
+    health_.RecordLockState(state_);
+    Publish(t, *initial_, state_);
+  }
+  const geometry::PoseWithCovariance estimate = propagator_->At(t, *odom);
+  if (Status added = position_update_->AddImage(t, image, estimate.pose); !added.ok()) {
+    return health_.RecordDroppedFrame(added.message());
+  }
+  // The mosaic tracks to millimetres, the map fit to centimetres: a tracked pose stays.
+  const bool use = state_ != tracking::LockState::kTracking;
+  const std::optional<geometry::PoseWithCovariance> corrected =
+      position_update_->Update(t, estimate, use);
+  if (!corrected || !use) return;
+  tracker_->Reset(*corrected, *odom);  // the next frame tracks from the corrected pose
+  state_ = tracking::LockState::kRelocalized;
+  health_.RecordLockState(state_);
+  propagator_->SetAnchor(t, *odom, *corrected);
+  Publish(t, *corrected, state_);
 }
 
 void TrackerAgent::Track(double t, const cv::Mat& frame) {
@@ -122,16 +159,13 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     health_.RecordDroppedFrame("frame at t=" + std::to_string(t) + ": " + odom.status().message());
     return;
   }
-  if (!started_) {
-    if (!initial_) {  // where the vehicle is is unknown until a frame relocalizes
-      (void)TryRelocalize(t, frame, *odom);
-      return;
-    }
-    tracker_->Reset(*initial_, *odom), started_ = true;
+  if (!started_ && !Start(t, *odom)) {  // where the vehicle is is unknown until a frame relocalizes
+    (void)TryRelocalize(t, frame, *odom);
+    return;
   }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
-  Prefetch(t, propagator_->anchored() ? propagator_->At(t, *odom).pose : initial_->pose);
+  Prefetch(t, propagator_->At(t, *odom).pose);
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -175,70 +209,12 @@ bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry:
                relocalizer_->stats().last_ms);
   tracker_->Reset(base, odom);
   started_ = true, provisional_ = true, coasting_in_a_row_ = 0;
+  if (position_update_) position_update_->Forget();  // its points were placed before the jump
   state_ = tracking::LockState::kRelocalized;
   propagator_->SetAnchor(t, odom, base);
   Publish(t, base, state_);
   Prefetch(t, base.pose);
   return true;
-}
-
-void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
-                                     const tracking::FrameResult& result) {
-  if (result.state != tracking::LockState::kTracking || t - last_patch_t_ < config_.patch_min_interval_s) return;
-  const geometry::Pose2 camera = result.base_in_map.pose * camera_.model.mount;
-  const cv::Mat view = tracking::RenderPredictedView(
-      view_.get(), {0, 0, frame.cols, frame.rows},
-      tracking::FrameMosaicWarp::For(camera, camera_.model, layout_.geo), 0);
-  const mapping::ChangeReport change = mapping::CompareWithMosaic(frame, view);
-  if (change.changed_fraction() < config_.patch_min_changed) return;
-  last_patch_t_ = t;
-  Result<std::vector<std::uint8_t>> png = mosaic::EncodeTile(frame);
-  if (!png.ok()) return health_.RecordError(png.status().message());
-  transport::PatchToSend patch;
-  patch.stamp_s = t;
-  patch.mosaic_id = layout_.mosaic_id;
-  patch.mosaic_version = layout_.version;
-  patch.pose = camera;  // camera_ground of the image centre (principal point)
-  // The camera pose's covariance: the base's, carried through the rigid mount (first order).
-  const geometry::PoseWithCovariance cam = geometry::ComposeFixed(result.base_in_map, camera_.model.mount);
-  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(patch.covariance) = cam.covariance;
-  patch.quality = static_cast<float>(std::min(1.0, result.inliers / 20.0));
-  patch.resolution_m = camera_.model.resolution_m;
-  patch.png = std::move(png).value();
-  Result<uint64_t> added = outbox_->Add(&patch);
-  if (!added.ok()) return health_.RecordError(added.status().message());
-  spdlog::info("patch {} queued: of {} blocks, {} differ from the mosaic and {} are not mapped",
-               *added, change.blocks, change.changed, change.unmapped);
-}
-
-void TrackerAgent::PumpPatches() {
-  Result<std::vector<transport::ReceivedAck>> acks = patches_->TakeAcks();
-  if (acks.ok()) {
-    for (const transport::ReceivedAck& ack : *acks) {
-      if (ack.status == fleetloc_PATCH_REJECTED) spdlog::warn("patch {} rejected: {}", ack.sequence, ack.reason);
-      if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
-    }
-  }
-  // Keep them for when the server is back (a dead server stays matched until its lease ends).
-  if (!patches_->ServerMatched() || !map_server_reachable_) return;
-  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
-  if (!due.ok()) return health_.RecordError(due.status().message());
-  for (const transport::PatchToSend& patch : *due) {
-    if (Status sent = patches_->Send(patch); !sent.ok()) return health_.RecordError(sent.message());
-    (void)outbox_->MarkSent(patch.sequence, now);
-  }
-}
-
-void TrackerAgent::DrainPatches(const std::atomic<bool>& stop) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.drain_s);
-  Result<long long> left = outbox_->Size();
-  while (!stop.load() && left.ok() && *left > 0 && std::chrono::steady_clock::now() < end) {
-    PumpPatches();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    left = outbox_->Size();
-  }
-  if (left.ok() && *left > 0) spdlog::warn("{} patches stay in the outbox for the next start", *left);
 }
 
 void TrackerAgent::Prefetch(double t, const geometry::Pose2& base) {
@@ -305,7 +281,8 @@ void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
                          outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_,
-                         relocalizer_->ready()};
+                         relocalizer_->ready(),
+                         position_update_ ? &position_update_->stats() : nullptr};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
@@ -314,7 +291,7 @@ void TrackerAgent::PublishHealth() {
 
 Status TrackerAgent::WriteSummary() const {
   const RelocalizationStats& reloc = relocalizer_->stats();
-  const nlohmann::json summary{
+  nlohmann::json summary{
       {"vehicle_id", config_.vehicle_id},
       {"frames", health_.frames()},
       {"cycle_ms", {{"median", health_.CyclePercentile(50, 10000)},
@@ -331,6 +308,9 @@ Status TrackerAgent::WriteSummary() const {
                           {"chunks_rejected", relocalizer_->chunks_rejected()},
                           {"attempts", reloc.attempts}, {"found", reloc.found},
                           {"mean_ms", reloc.attempts > 0 ? reloc.total_ms / reloc.attempts : 0.0}}}};
+  summary["position_update"] =
+      position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
+  summary["position_update"]["enabled"] = position_update_ != nullptr;
   return io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n");
 }
 
@@ -350,8 +330,11 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     InputEvent& e = **event;
     if (e.kind == InputEvent::Kind::kOdometry) {
       OnOdometry(e.t, e.odom);
-    } else {
-      waiting_frames_.emplace_back(e.t, rectifier_ ? rectifier_->Rectify(e.frame) : e.frame);
+    } else if (e.kind == InputEvent::Kind::kFrame || position_update_) {
+      // A forward image is not rectified: its detector has its own camera model.
+      const bool forward = e.kind == InputEvent::Kind::kForwardFrame;
+      const cv::Mat image = forward || !rectifier_ ? e.frame : rectifier_->Rectify(e.frame);
+      waiting_frames_.push_back({e.t, forward, image});
       ProcessReadyFrames();
     }
     UpdateMapServerReachability();

@@ -5,7 +5,9 @@
 // VehicleHealth periodically. Frames wait until odometry covers their time (delay compensation),
 // so the live results equal `fleetctl track` over the same run. Without an initial pose, and when
 // lock is lost, it relocalizes globally with the map server's place index; a relocalized pose is
-// provisional until the next frame tracks from it.
+// provisional until the next frame tracks from it. With a forward camera and a landmark map, the
+// global position update corrects the pose whenever the downward camera is not tracking (or the
+// run has no downward frames at all: the initial pose propagated with odometry and corrected).
 #pragma once
 
 #include <atomic>
@@ -19,6 +21,7 @@
 #include "mosaic/mosaic_view.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/agent_health.h"
+#include "tracker_agent/agent_position_update.h"
 #include "tracker_agent/agent_relocalizer.h"
 #include "tracker_agent/patch_outbox.h"
 #include "tracker_agent/vehicle_input.h"
@@ -37,11 +40,13 @@ class TrackerAgent {
  public:
   // Joins the DDS domain, waits (up to mosaic_wait_s) for a map server's MosaicInfo and sets up
   // the tracker for `camera`, starting from `initial` (base_link in map at the first frame), or,
-  // without one, from the first frame the place index relocalizes.
+  // without one, from the first frame the place index relocalizes. `position_update` (may be
+  // null: none) takes the forward camera's images.
   static Result<std::unique_ptr<TrackerAgent>> Create(
       const AgentConfig& config, const io::CameraFile& camera,
       const std::optional<geometry::PoseWithCovariance>& initial,
-      const tracking::TrackerOptions& options);
+      const tracking::TrackerOptions& options,
+      std::unique_ptr<AgentPositionUpdate> position_update = nullptr);
 
   // Runs until the input ends or `stop` is set.
   Status Run(VehicleInput& input, const std::atomic<bool>& stop);
@@ -54,6 +59,12 @@ class TrackerAgent {
   void OnOdometry(double t, const geometry::Pose2& odom);
   void ProcessReadyFrames();
   void Track(double t, const cv::Mat& frame);
+  // Before the first frame of either camera: the tracker and the propagator start from the initial
+  // pose (false without one: the first downward frame is to relocalize).
+  bool Start(double t, const geometry::Pose2& odom);
+  // A forward-camera image: its landmarks into the window; when a fit is due and the downward
+  // camera is not tracking, the corrected pose restarts the tracker and is published.
+  void UpdatePosition(double t, const cv::Mat& image);
   // After a frame's result: lost, or coasting for too long, asks for relocalization.
   bool NeedsRelocalization(const tracking::FrameResult& result) const;
   // Relocalizes the frame (at most once per relocalize_interval_s of frame time); on success
@@ -104,7 +115,13 @@ class TrackerAgent {
   tracking::OdometryHistory odometry_{10.0, 0.0};
   std::optional<tracking::PosePropagator> propagator_;
   tracking::LockState state_ = tracking::LockState::kLost;
-  std::deque<std::pair<double, cv::Mat>> waiting_frames_;  // until odometry covers their time
+  std::unique_ptr<AgentPositionUpdate> position_update_;
+  struct WaitingFrame {
+    double t = 0.0;
+    bool forward = false;  // a forward-camera image (else a rectified downward frame)
+    cv::Mat image;
+  };
+  std::deque<WaitingFrame> waiting_frames_;  // until odometry covers their time, in time order
   double latest_odometry_t_ = -1e300;
   bool started_ = false;
   bool map_server_reachable_ = true;

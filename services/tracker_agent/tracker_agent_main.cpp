@@ -6,6 +6,7 @@
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "io/tracker_config.h"
+#include "tracker_agent/position_update_setup.h"
 #include "tracker_agent/replay_input.h"
 #include "tracker_agent/sim_input.h"
 #include "tracker_agent/tracker_agent.h"
@@ -57,7 +58,10 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;
   const geometry::PoseWithCovariance initial{run->initial_pose, sigma.cwiseProduct(sigma).asDiagonal()};
-  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial), options);
+  auto position_update = tracker_agent::PositionUpdateForRun(config, *run);
+  if (!position_update.ok()) return position_update.status();
+  auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial),
+                                                   options, std::move(position_update).value());
   if (!agent.ok()) return agent.status();
   tracker_agent::ReplayInput input(std::move(run).value(), config.paced);
   return (*agent)->Run(input, stop);
@@ -74,6 +78,9 @@ int main(int argc, char** argv) {
   app.add_option("--vehicle-id", vehicle_id, "Vehicle id (overrides the configuration)");
   std::string sim_floor;
   app.add_option("--run", run, "Replay this run directory (overrides the configuration)");
+  std::string landmarks;
+  app.add_option("--landmarks", landmarks,
+                 "Landmark map for the position updates (default: the run's landmarks.csv)");
   app.add_option("--sim-floor", sim_floor, "Drive a live simulated vehicle over this floor image forever");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
@@ -102,6 +109,7 @@ int main(int argc, char** argv) {
   if (relocalize) config.start_pose = "relocalize";
   if (!outbox.empty()) config.outbox_path = outbox;
   if (!summary.empty()) config.summary_path = summary;
+  if (!landmarks.empty()) config.landmarks_path = landmarks;
   io::SetupLogging(config.vehicle_id);
   const Status ran = RunAgent(config, io::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());

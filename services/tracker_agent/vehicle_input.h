@@ -1,4 +1,5 @@
-// What a vehicle feeds its tracker agent: odometry samples and camera frames, in time order,
+// What a vehicle feeds its tracker agent: odometry samples, downward camera frames and
+// forward-camera images, in time order,
 // from a source behind this small interface (a recorded run, a live simulated vehicle, later a
 // real camera and wheel odometry driver).
 #pragma once
@@ -13,18 +14,20 @@
 namespace fleetloc::tracker_agent {
 
 struct InputEvent {
-  enum class Kind { kOdometry, kFrame };
+  // kForwardFrame: an image of the forward (landmark) camera (forward/, CONTRACT §4).
+  enum class Kind { kOdometry, kFrame, kForwardFrame };
   Kind kind = Kind::kOdometry;
   double t = 0.0;            // capture time, seconds (the source's clock)
   geometry::Pose2 odom;      // kOdometry: base_link in odom
-  cv::Mat frame;             // kFrame: the camera image (raw or rectified, see camera.json)
+  cv::Mat frame;             // kFrame: the camera image (raw or rectified, see camera.json);
+                             // kForwardFrame: the forward camera's image as recorded
 };
 
 class VehicleInput {
  public:
   virtual ~VehicleInput() = default;
-  // The next event; nullopt when the source has ended. A frame that cannot be read is an error
-  // naming its file (the agent counts it as a dropped frame and goes on).
+  // The next event; nullopt when the source has ended. A frame (of either camera) that cannot be
+  // read is an error naming its file (the agent counts it as a dropped frame and goes on).
   virtual Result<std::optional<InputEvent>> Next() = 0;
 };
 

@@ -1,6 +1,7 @@
 // fleetctl sim-forward: a simulated forward-camera drive down a corridor (docs/forward_camera.md) —
-// the `forward/` directory of a run (forward_camera.json, forward.csv, images) with the drive's
-// truth and drifting odometry, and the corridor's landmarks.csv (CONTRACT §7), for end-to-end
+// a run without downward frames (CONTRACT §4: run.json, camera.json, an empty frames.csv and the
+// drive's drifting odometry.csv) with its `forward/` directory (forward_camera.json, forward.csv,
+// images, the truth at each image) and the corridor's landmarks.csv (CONTRACT §7), for end-to-end
 // tests of the global position update.
 #include <spdlog/spdlog.h>
 
@@ -17,6 +18,7 @@
 #include "sim/forward_renderer.h"
 #include "sim/forward_run.h"
 #include "sim/random.h"
+#include "sim_run_writer.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -25,6 +27,7 @@ namespace fs = std::filesystem;
 
 struct SimForwardArgs {
   std::string out;
+  std::string vehicle_id = "agv-1";
   std::string
       camera;  // forward_camera.json to use; default: a 640×480 camera 1 m up, 0.25 rad down
   bool overwrite = false;
@@ -39,18 +42,33 @@ mapmatch::ForwardCameraParams DefaultForwardCamera() {
   return p;
 }
 
+// Empty or new, or (overwrite) a run written before: its forward/ and landmarks.csv are removed,
+// the run's own files are rewritten.
 Status PrepareForwardDir(const fs::path& dir, bool overwrite) {
   std::error_code ec;
-  if (fs::exists(dir / "forward", ec) || fs::exists(dir / "landmarks.csv", ec)) {
-    if (!overwrite) {
-      return InvalidInput(dir.string() + ": has forward/ or landmarks.csv (use --overwrite)");
-    }
+  if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
+    if (!overwrite)
+      return InvalidInput(dir.string() + ": exists and is not empty (use --overwrite)");
     fs::remove_all(dir / "forward", ec);
     fs::remove(dir / "landmarks.csv", ec);
   }
   fs::create_directories(dir / "forward" / "img", ec);
   if (ec) return Internal(dir.string() + ": cannot create forward/: " + ec.message());
   return Status::Ok();
+}
+
+// The run's own files: no downward frames, the drive's odometry, and the truth at the first image
+// as the initial pose (camera.json describes the simulator's downward camera, which saw nothing).
+Status WriteForwardOnlyRun(const fs::path& dir, const std::string& vehicle_id,
+                           const sim::ForwardRunPlan& plan) {
+  io::Run run;
+  run.dir = dir;
+  run.vehicle_id = vehicle_id;
+  run.camera = DefaultSimCamera(640, 480, 0.0005);
+  run.initial_pose = plan.frame_truth.front().pose;
+  run.initial_sigma = {0.01, 0.01, 0.005};
+  run.odometry = plan.odometry;
+  return io::WriteRun(run);
 }
 
 Status WriteImage(const fs::path& path, const cv::Mat& image) {
@@ -84,7 +102,8 @@ Status RunSimForward(const SimForwardArgs& a) {
   if (!params.ok()) return params.status();
   Result<mapmatch::ForwardCamera> camera = mapmatch::ForwardCamera::Create(*params);
   if (!camera.ok()) return camera.status();
-  const fs::path dir(a.out), forward = fs::path(a.out) / "forward";
+  // Absolute: forward.csv names its images relative to forward/, whatever the working directory.
+  const fs::path dir = io::AbsoluteDir(a.out), forward = dir / "forward";
   FLEETLOC_RETURN_IF_ERROR(PrepareForwardDir(dir, a.overwrite));
   const sim::CorridorScene scene = sim::BuildCorridorScene(a.run.scene);
   const sim::ForwardRunPlan plan = sim::PlanForwardRun(a.run);
@@ -103,8 +122,8 @@ Status RunSimForward(const SimForwardArgs& a) {
   FLEETLOC_RETURN_IF_ERROR(io::WriteForwardCameraJson(forward / "forward_camera.json", *params));
   FLEETLOC_RETURN_IF_ERROR(io::WriteFramesCsv(forward / "forward.csv", frames, forward));
   FLEETLOC_RETURN_IF_ERROR(io::WriteStampedPosesCsv(forward / "truth.csv", plan.frame_truth));
-  FLEETLOC_RETURN_IF_ERROR(io::WriteStampedPosesCsv(forward / "odometry.csv", plan.odometry));
   FLEETLOC_RETURN_IF_ERROR(WriteLandmarksCsv(dir / "landmarks.csv", scene.landmarks));
+  FLEETLOC_RETURN_IF_ERROR(WriteForwardOnlyRun(dir, a.vehicle_id, plan));
   std::cout << "{\"frames\": " << frames.size() << ", \"landmarks\": " << scene.landmarks.size()
             << ", \"forward\": \"" << forward.string() << "\"}\n";
   return Status::Ok();
@@ -115,12 +134,15 @@ Status RunSimForward(const SimForwardArgs& a) {
 void RegisterSimForwardCommand(CLI::App& app, Status* result) {
   auto a = std::make_shared<SimForwardArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "sim-forward", "Simulate a forward-camera drive down a corridor: forward/ and landmarks.csv");
+      "sim-forward",
+      "Simulate a forward-camera drive down a corridor: a run with forward/ and landmarks.csv");
   cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--out", a->out, "Run directory to add forward/ and landmarks.csv to")
+  cmd->add_option("--out", a->out, "Run directory to write (new or empty, or see --overwrite)")
       ->required();
+  cmd->add_option("--vehicle-id", a->vehicle_id, "run.json's vehicle_id");
   cmd->add_option("--camera", a->camera, "forward_camera.json to simulate (default: built in)");
-  cmd->add_flag("--overwrite", a->overwrite, "Replace an existing forward/ and landmarks.csv");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "Write over a non-empty directory (its run files, forward/, landmarks.csv)");
   cmd->add_option("--frames", a->run.frames, "Forward frames");
   cmd->add_option("--frame-rate-hz", a->run.frame_rate_hz, "Forward frames per second");
   cmd->add_option("--speed-m-s", a->run.speed_m_s, "Driving speed");
