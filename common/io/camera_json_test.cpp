@@ -95,6 +95,14 @@ TEST_F(CameraJsonTest, SyntaxErrorNamesTheLine) {
   EXPECT_TRUE(HasError(ReadCameraJson(path_).status(), StatusCode::kInvalidInput, path_, 3, ""));
 }
 
+TEST_F(CameraJsonTest, ANumberTooLargeForADoubleIsAnErrorNotAnException) {
+  // Found by fuzz_run_files: nlohmann throws out_of_range (not parse_error) for it.
+  WriteText(path_, "{\"format\": \"fleetloc-camera/1\", \"width\": -0.15E8704140835}");
+  const Status status = ReadCameraJson(path_).status();
+  EXPECT_TRUE(HasError(status, StatusCode::kInvalidInput, path_, 0, "")) << status.message();
+  EXPECT_NE(status.message().find("invalid JSON"), std::string::npos) << status.message();
+}
+
 TEST_F(CameraJsonTest, TopLevelArrayIsRejected) {
   WriteText(path_, "[1, 2]");
   EXPECT_TRUE(HasError(ReadCameraJson(path_).status(), StatusCode::kInvalidInput, path_, 0, ""));

@@ -38,6 +38,8 @@ Result<json> ReadJsonObjectFile(const std::filesystem::path& path) {
     const auto byte = static_cast<std::ptrdiff_t>(std::min<std::size_t>(e.byte, text->size()));
     const int line = 1 + static_cast<int>(std::count(text->begin(), text->begin() + byte, '\n'));
     return BadField(path, line, "", "invalid JSON: " + ShortJsonError(e.what()));
+  } catch (const json::exception& e) {  // e.g. a number too large for a double (found by fuzzing)
+    return BadField(path, 0, "", "invalid JSON: " + ShortJsonError(e.what()));
   }
   if (!parsed.is_object()) {
     return BadField(path, 0, "", std::string("expected a JSON object, got ") + parsed.type_name());

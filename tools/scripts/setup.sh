@@ -7,6 +7,7 @@ cd "$(dirname "$0")/../.."
 PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libeigen3-dev
           libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
           cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev systemd curl
+          clang libclang-rt-14-dev
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
