@@ -44,7 +44,8 @@ std::vector<AlertChange> FleetState::Evaluate(double now) {
   for (auto& [id, entry] : entries_) {
     const VehicleState& v = entry.state;
     entry.alerts.Evaluate(now, v.last_seen, v.pose, v.health,
-                          [&](AlertKind kind, bool raised, const std::string& message) {
+                          [&, &id = id, &entry = entry](AlertKind kind, bool raised,
+                                                          const std::string& message) {
                             if (raised) {
                               Alert alert{0, id, kind, SeverityOf(kind), now, std::nullopt, message};
                               entry.open[kind] = alert;

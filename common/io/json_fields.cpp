@@ -47,14 +47,16 @@ Result<json> ReadJsonObjectFile(const std::filesystem::path& path) {
   return parsed;
 }
 
+std::string DumpJson(const json& value, int indent) {
+  return value.dump(indent, ' ', false, json::error_handler_t::replace);
+}
+
 Status WriteJsonFile(const std::filesystem::path& path, const json& object) {
-  std::string text;
   try {
-    text = object.dump(2) + "\n";
+    return WriteFileAtomically(path, object.dump(2) + "\n");
   } catch (const json::exception& e) {  // invalid UTF-8 in a string
     return InvalidInput(path.string() + ": cannot serialise JSON: " + ShortJsonError(e.what()));
   }
-  return WriteFileAtomically(path, text);
 }
 
 JsonFields::JsonFields(const json& object, std::filesystem::path file, std::string prefix)

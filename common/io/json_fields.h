@@ -20,6 +20,10 @@ namespace fleetloc::io {
 Result<nlohmann::json> ReadJsonObjectFile(const std::filesystem::path& path);
 
 // Serialises `object` (pretty-printed, numbers round-trip exactly) and writes it atomically.
+// `value` as JSON text; bytes of strings that are not valid UTF-8 (e.g. from another participant
+// or an HTTP request) become U+FFFD instead of throwing (nlohmann's default).
+std::string DumpJson(const nlohmann::json& value, int indent = -1);
+
 Status WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& object);
 
 // A view of one JSON object inside a file. Holds a pointer: the json must outlive the view.

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "io/child_process.h"
+#include "io/json_fields.h"
 #include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -172,7 +173,7 @@ void FleetSupervisor::Step(double now) {
     snapshot["mosaic"] = layout ? nlohmann::json{{"mosaic_id", layout->mosaic_id}, {"version", layout->version}}
                                 : nlohmann::json(nullptr);
     snapshot["map_server_alive"] = fleet_->MapServerAlive(now, kMapServerTimeoutS);
-    stream_.Publish(snapshot.dump());
+    stream_.Publish(io::DumpJson(snapshot));
     ++fleet_->counters().stream_snapshots;
   }
   if (now >= next_health_) {

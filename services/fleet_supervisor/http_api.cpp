@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "fleet_supervisor/fleet_view.h"
+#include "io/json_fields.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::fleet_supervisor {
@@ -30,7 +31,7 @@ double Now() {
 
 void Reply(Response& res, int status, const json& body) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(io::DumpJson(body), "application/json");
 }
 
 void Fail(Response& res, int status, const std::string& message) { Reply(res, status, {{"error", message}}); }

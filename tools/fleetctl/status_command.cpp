@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "commands.h"
+#include "io/json_fields.h"
 #include "fleet_supervisor/fleet_listener.h"
 #include "fleet_supervisor/fleet_view.h"
 #include "transport/mosaic_messages.h"
@@ -100,7 +101,7 @@ Status RunStatus(const StatusArgs& a) {
   }
   for (const auto& [id, m] : mosaics) out["mosaics"].push_back(m);
   if (a.json) {
-    std::cout << out.dump(2) << "\n";
+    std::cout << io::DumpJson(out, 2) << "\n";
   } else {
     PrintTable(out);
   }

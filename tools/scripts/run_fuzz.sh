@@ -11,7 +11,8 @@ CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWit
   -DFLEETLOC_FUZZ=ON -DFLEETLOC_BUILD_TESTS=OFF -DFLEETLOC_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build build-fuzz --target fuzz_targets -j "$(nproc)"
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_run_files fuzz_camera_json fuzz_tile_png fuzz_place_index fuzz_wire_samples)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_run_files fuzz_camera_json fuzz_tile_png fuzz_place_index fuzz_wire_samples
+                                 fuzz_http_api)
 mkdir -p build-fuzz/findings
 failed=0
 for t in "${targets[@]}"; do
