@@ -46,8 +46,8 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
   auto reporter = transport::PatchClient::Create(p, "agv-1");
   ASSERT_TRUE(reporter.ok());
   ASSERT_TRUE(Eventually([&] { return (*reporter)->ServerMatched(); }));
-  ASSERT_TRUE((*reporter)->Send(testing::ScenePatch(scene, 1, {490, 425}, {})).ok());
-  ASSERT_TRUE((*reporter)->Send(testing::ScenePatch(scene, 2, {470, 440}, {})).ok());
+  ASSERT_TRUE(testing::SendPatch(**reporter, testing::ScenePatch(scene, 1, {490, 425}, {})));
+  ASSERT_TRUE(testing::SendPatch(**reporter, testing::ScenePatch(scene, 2, {470, 440}, {})));
   size_t acked = 0;
   ASSERT_TRUE(Eventually([&] {
     auto acks = (*reporter)->TakeAcks();

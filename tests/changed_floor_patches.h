@@ -3,7 +3,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <string>
+#include <thread>
 
 #include "mapping/changed_floor_scene.h"
 #include "mosaic/tile_codec.h"
@@ -37,6 +39,18 @@ inline std::string RegionAroundChange(const Scene& scene) {
   const Eigen::Vector2d a = scene.geo.PixelToMap({400, 500}), b = scene.geo.PixelToMap({600, 350});
   return std::to_string(a.x()) + "," + std::to_string(a.y()) + "," + std::to_string(b.x()) + "," +
          std::to_string(b.y());
+}
+
+// Sends `patch`, retrying for up to 10 s: a patch writer waits at most 0.1 s for room in the
+// reliable history (so a vehicle never stalls), and under load back-to-back large patches can
+// time out once — the agent's outbox retries the same way. True when one send was accepted.
+inline bool SendPatch(transport::PatchClient& client, const transport::PatchToSend& patch) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!client.Send(patch).ok()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return true;
 }
 
 }  // namespace fleetloc::testing

@@ -44,8 +44,8 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   for (int y = 200; y <= 820; y += 90) {
     for (int x = 200; x <= 820; x += 90) {
       const uint64_t sequence = static_cast<uint64_t>(++sent);
-      ASSERT_TRUE((*patches)->Send(testing::ScenePatch(scene, sequence, {x, y},
-                                                       {Scene::kRes, -Scene::kRes, 0.002})).ok());
+      ASSERT_TRUE(testing::SendPatch(**patches, testing::ScenePatch(scene, sequence, {x, y},
+                                                       {Scene::kRes, -Scene::kRes, 0.002})));
     }
   }
   size_t acked = 0;

@@ -47,8 +47,8 @@ class MapServerPatchRemap : public ::testing::Test {
   }
 
   void SendTheTwoPatches() {
-    ASSERT_TRUE(patches_->Send(PatchAt(1, {490, 425}, {2 * Scene::kRes, -1.5 * Scene::kRes, 0.005})).ok());
-    ASSERT_TRUE(patches_->Send(PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})).ok());
+    ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(1, {490, 425}, {2 * Scene::kRes, -1.5 * Scene::kRes, 0.005})));
+    ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})));
     const auto acks = Acks(2);
     ASSERT_EQ(acks.size(), 2u);
     for (const auto& [seq, ack] : acks) EXPECT_EQ(ack.status, fleetloc_PATCH_STORED) << ack.reason;
@@ -69,7 +69,7 @@ class MapServerPatchRemap : public ::testing::Test {
 
 TEST_F(MapServerPatchRemap, PatchesAreStoredOnceAndAcknowledged) {
   SendTheTwoPatches();
-  ASSERT_TRUE(patches_->Send(PatchAt(1, {490, 425}, {})).ok());  // a retry of patch 1
+  ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(1, {490, 425}, {})));  // a retry of patch 1
   const auto acks = Acks(1);
   ASSERT_EQ(acks.count(1), 1u);
   EXPECT_EQ(acks.at(1).status, fleetloc_PATCH_DUPLICATE);
@@ -91,7 +91,7 @@ TEST_F(MapServerPatchRemap, BadPatchesAreRejectedWithAReasonAndCounted) {
   transport::PatchToSend wrong_scale = PatchAt(14, {490, 425}, {});
   wrong_scale.resolution_m = 0.001;
   for (const auto* p : {&oversized, &corrupt, &foreign, &nan_pose, &wrong_scale}) {
-    ASSERT_TRUE(patches_->Send(*p).ok());
+    ASSERT_TRUE(testing::SendPatch(*patches_, *p));
   }
   const auto acks = Acks(5);
   ASSERT_EQ(acks.size(), 5u);
