@@ -34,24 +34,38 @@ long long OutboxValue(const std::string& path, const char* sql) {
   return value;
 }
 
-TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
-  const cv::Mat rock = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
-                                  cv::IMREAD_GRAYSCALE)(cv::Rect(0, 0, 1536, 1536)).clone();
-  testing::MapServerFixture server("agent_patch_fault", rock, kDomain);
-  // The floor the vehicle sees: a new 384² marking (another real texture) at the route's crossing.
-  cv::Mat changed = rock.clone();
+cv::Mat RockFloor() {
+  return cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                    cv::IMREAD_GRAYSCALE)(cv::Rect(0, 0, 1536, 1536)).clone();
+}
+
+// A simulated run over the server's floor with a new 384² marking (another real texture) at the
+// route's crossing, so the agent queues patches of it; "" on failure.
+std::string ChangedFloorRun(testing::MapServerFixture& server) {
+  cv::Mat changed = RockFloor();
   const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
   brick(cv::Rect(0, 0, 384, 384)).copyTo(changed(cv::Rect(576, 576, 384, 384)));
   const std::string floor = (server.dir() / "changed_floor.png").string();
-  ASSERT_TRUE(cv::imwrite(floor, changed));
   const std::string run = (server.dir() / "run").string();
-  ASSERT_EQ(testing::RunFleetctl("sim --image " + floor + " --resolution 0.0005 --frames 80 --seed 5 --out " + run)
-                .exit_code, 0);
+  if (!cv::imwrite(floor, changed)) return "";
+  const auto sim = testing::RunFleetctl("sim --image " + floor +
+                                        " --resolution 0.0005 --frames 80 --seed 5 --out " + run);
+  return sim.exit_code == 0 ? run : "";
+}
+
+io::ChildProcess StartAgent(testing::MapServerFixture& server, const std::string& run,
+                            const std::string& outbox, const std::string& log) {
+  return testing::StartDaemon("tracker_agent", {"--run", run, "--domain", std::to_string(kDomain),
+                                                "--vehicle-id", "agv-5", "--outbox", outbox},
+                              (server.dir() / log).string());
+}
+
+TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
+  testing::MapServerFixture server("agent_patch_fault", RockFloor(), kDomain);
+  const std::string run = ChangedFloorRun(server);
+  ASSERT_FALSE(run.empty());
   const std::string outbox = (server.dir() / "outbox.db").string();
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-5",
-                        "--outbox", outbox},
-      (server.dir() / "agent.log").string());
+  io::ChildProcess agent = StartAgent(server, run, outbox, "agent.log");
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(server.participant(),
                                                                    transport::topics::kVehiclePose);
   auto poses = transport::Reader<fleetloc_VehiclePose>::Create(server.participant().get(), *pose_topic,
@@ -101,6 +115,34 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   EXPECT_GT(tracked_while_down, 50);
   const long long queued = OutboxValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
   EXPECT_GE(queued, 2) << "the changed floor should have produced patches";
+  EXPECT_EQ(OutboxValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  auto store = mosaic::PatchStore::Open(server.mosaic_path());
+  ASSERT_TRUE(store.ok());
+  EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";
+}
+
+// The agent killed (SIGKILL) while its patches wait for a map server that is down: the patches
+// stay in its outbox on disk; restarted with the same outbox once the server is back, it sends
+// them, and every patch it ever queued is stored exactly once.
+TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
+  testing::MapServerFixture server("agent_restart_fault", RockFloor(), kDomain);
+  const std::string run = ChangedFloorRun(server);
+  ASSERT_FALSE(run.empty());
+  const std::string outbox = (server.dir() / "outbox.db").string();
+  io::ChildProcess agent = StartAgent(server, run, outbox, "agent_1.log");
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  ASSERT_TRUE(Eventually([&] { return OutboxValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
+      << "no patch queued while the server was down";
+  EXPECT_EQ(agent.Stop(SIGKILL), 128 + SIGKILL);
+  const long long pending = OutboxValue(outbox, "SELECT COUNT(*) FROM outbox");
+  EXPECT_GE(pending, 1) << "the queued patches are on disk after the kill";
+  server.StartServer();
+  io::ChildProcess restarted = StartAgent(server, run, outbox, "agent_2.log");
+  ASSERT_TRUE(Eventually([&] { return !restarted.Running(); }, 90));
+  EXPECT_EQ(restarted.Wait(std::chrono::seconds(1)), 0);
+  const long long queued = OutboxValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  EXPECT_GE(queued, pending);
   EXPECT_EQ(OutboxValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
   auto store = mosaic::PatchStore::Open(server.mosaic_path());
   ASSERT_TRUE(store.ok());
