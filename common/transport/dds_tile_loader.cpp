@@ -89,7 +89,7 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   if (!arrived_.count(key)) {
     ++stats_.waited;
     if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
-    if (!server_reachable_) {
+    if (!reachable_(key)) {
       ++stats_.unserved;
       in_flight_.erase(key);  // ask again next time
       return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");

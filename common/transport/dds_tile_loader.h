@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -39,9 +40,16 @@ class DdsTileLoader {
   Result<cv::Mat> Load(const mosaic::TileKey& key);
   // Asks for tiles that are not already asked for or buffered, without waiting.
   Status Prefetch(const std::vector<mosaic::TileKey>& keys);
-  // While the map server is known to be unreachable, a missing tile is still asked for but not
-  // waited for: the tracker goes on from what it has instead of stalling a timeout per tile.
-  void SetServerReachable(bool reachable) { server_reachable_ = reachable; }
+  // Whether the map server answering for a tile is reachable now (with the mosaic split across
+  // servers, each tile has its own). A missing tile whose server is known to be unreachable is
+  // still asked for but not waited for: the tracker goes on from what it has instead of stalling
+  // a timeout per tile.
+  using Reachability = std::function<bool(const mosaic::TileKey&)>;
+  void SetReachability(Reachability reachable) { reachable_ = std::move(reachable); }
+  // The same for every tile (one map server serving them all).
+  void SetServerReachable(bool reachable) {
+    SetReachability([reachable](const mosaic::TileKey&) { return reachable; });
+  }
   // A TileUpdate announced `version` of `keys`: buffered copies are dropped, and answers older
   // than `version` for them are refused (they were in flight before the update) and asked again.
   void Invalidate(const std::vector<mosaic::TileKey>& keys, long long version);
@@ -68,8 +76,8 @@ class DdsTileLoader {
   std::set<mosaic::TileKey> in_flight_;
   std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
   std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
-  std::map<mosaic::TileKey, long long> min_version_;
-  bool server_reachable_ = true;  // announced by TileUpdates, not yet received
+  std::map<mosaic::TileKey, long long> min_version_;  // announced by TileUpdates, not yet received
+  Reachability reachable_ = [](const mosaic::TileKey&) { return true; };
   DdsTileLoaderStats stats_;
 };
 

@@ -24,12 +24,19 @@ void ServiceWatch::Poll() {
   (void)reader_.TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
     if (GetBounded(h.kind) != kind_) return;
     last_seen_ = Clock::now();
+    last_seen_by_id_[GetBounded(h.service_id)] = last_seen_;
     ++reports_;
   });
 }
 
 bool ServiceWatch::SeenWithin(Clock::duration timeout, Clock::time_point now) const {
   return now - last_seen_ <= timeout;
+}
+
+bool ServiceWatch::SeenWithin(const std::string& service_id, Clock::duration timeout,
+                              Clock::time_point now) const {
+  auto it = last_seen_by_id_.find(service_id);
+  return now - (it == last_seen_by_id_.end() ? created_ : it->second) <= timeout;
 }
 
 }  // namespace fleetloc::transport

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -24,6 +25,9 @@ class ServiceWatch {
   // first report, the watch's creation counts as one: a service is not called unreachable
   // before it has had `timeout` to report.
   bool SeenWithin(Clock::duration timeout, Clock::time_point now = Clock::now()) const;
+  // The same for the one service `service_id` of this kind (e.g. one of several map servers).
+  bool SeenWithin(const std::string& service_id, Clock::duration timeout,
+                  Clock::time_point now = Clock::now()) const;
   long long reports() const { return reports_; }
 
  private:
@@ -34,7 +38,9 @@ class ServiceWatch {
   std::string kind_;
   Topic<fleetloc_ServiceHealth> topic_;
   Reader<fleetloc_ServiceHealth> reader_;
-  Clock::time_point last_seen_ = Clock::now();
+  const Clock::time_point created_ = Clock::now();
+  Clock::time_point last_seen_ = created_;
+  std::map<std::string, Clock::time_point> last_seen_by_id_;
   long long reports_ = 0;
 };
 

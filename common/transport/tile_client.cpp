@@ -82,11 +82,20 @@ Result<std::vector<ReceivedTile>> TileClient::TakeTiles() {
   return received;
 }
 
-std::optional<fleetloc_MosaicInfo> TileClient::LatestMosaicInfo() {
+const std::map<std::string, fleetloc_MosaicInfo>& TileClient::MosaicInfos() {
   (void)info_reader_.TakeAll([&](const fleetloc_MosaicInfo& info, const dds_sample_info_t&) {
-    if (!latest_info_ || info.version >= latest_info_->version) latest_info_ = info;
+    fleetloc_MosaicInfo& kept = infos_[GetBounded(info.server_id)];
+    if (info.version >= kept.version) kept = info;
   });
-  return latest_info_;
+  return infos_;
+}
+
+std::optional<fleetloc_MosaicInfo> TileClient::LatestMosaicInfo() {
+  std::optional<fleetloc_MosaicInfo> latest;
+  for (const auto& [server, info] : MosaicInfos()) {
+    if (!latest || info.version > latest->version) latest = info;
+  }
+  return latest;
 }
 
 bool TileClient::ServerMatched() const {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -37,6 +38,9 @@ class TileClient {
   Result<std::vector<ReceivedTile>> TakeTiles();
   // The newest MosaicInfo received from any server (kept until a newer one arrives).
   std::optional<fleetloc_MosaicInfo> LatestMosaicInfo();
+  // The newest MosaicInfo of each server heard from, by server id (a mosaic split across servers
+  // has one per server, each with the tile range it owns).
+  const std::map<std::string, fleetloc_MosaicInfo>& MosaicInfos();
 
   // True when a map server reads our requests and our tile reader is matched by its writer.
   bool ServerMatched() const;
@@ -58,7 +62,7 @@ class TileClient {
   Writer<fleetloc_TileRequest> requests_;
   Reader<fleetloc_Tile> tile_reader_;
   Reader<fleetloc_MosaicInfo> info_reader_;
-  std::optional<fleetloc_MosaicInfo> latest_info_;
+  std::map<std::string, fleetloc_MosaicInfo> infos_;  // by server id
 };
 
 }  // namespace fleetloc::transport

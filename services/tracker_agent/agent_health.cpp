@@ -65,7 +65,12 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
                              : "localization lost and no place index yet to relocalize with");
   }
   if (state_ == tracking::LockState::kCoasting) add("coasting", fleetloc_HEALTH_WARN, "odometry only");
-  if (!in.map_server_reachable) add("map_server_unreachable", fleetloc_HEALTH_WARN, "tracking from the tile cache");
+  if (!in.map_server_reachable) {
+    add("map_server_unreachable", fleetloc_HEALTH_WARN,
+        in.unreachable_servers.empty()
+            ? std::string("tracking from the tile cache")
+            : in.unreachable_servers + ": their tiles from the cache only");
+  }
   if (in.loader.timeouts > 0) {
     add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
   }

@@ -31,7 +31,8 @@ class AgentHealth {
     transport::DdsTileLoaderStats loader;
     size_t tiles_pending = 0;
     size_t patch_outbox = 0;
-    bool map_server_reachable = false;
+    bool map_server_reachable = false;     // every map server owning part of the mosaic
+    std::string unreachable_servers;       // their ids when not, comma-separated
     bool place_index_ready = false;  // relocalization possible
     const PositionUpdateStats* position_update = nullptr;  // null: no position updates
   };

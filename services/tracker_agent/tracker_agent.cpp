@@ -40,9 +40,6 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   auto client = transport::TileClient::Create(p, config_.vehicle_id);
   if (!client.ok()) return client.status();
   tiles_ = std::move(client).value();
-  auto watch = transport::ServiceWatch::Create(p, "map_server");
-  if (!watch.ok()) return watch.status();
-  map_server_watch_ = std::move(watch).value();
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
@@ -51,7 +48,9 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_));
   spdlog::info("waiting up to {} s for a map server on domain {}", config_.mosaic_wait_s, config_.domain_id);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.mosaic_wait_s);
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(config_.mosaic_wait_s));
   std::optional<fleetloc_MosaicInfo> info;
   while (!(info = tiles_->LatestMosaicInfo()) || !tiles_->RequestsMatched()) {
     if (std::chrono::steady_clock::now() > deadline) {
@@ -64,9 +63,15 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   layout_ = *layout;
   spdlog::info("mosaic {} version {} from '{}'", layout_.mosaic_id, layout_.version,
                transport::GetBounded(info->server_id));
+  auto directory = MapServerDirectory::Create(
+      p, tiles_.get(), layout_.mosaic_id, std::chrono::duration<double>(config_.map_server_timeout_s));
+  if (!directory.ok()) return directory.status();
+  map_servers_ = std::move(directory).value();
+  WaitForTileCoverage(deadline);
   loader_ = std::make_unique<transport::DdsTileLoader>(
       tiles_.get(), layout_.mosaic_id, layout_.tile_size_px,
       std::chrono::milliseconds(config_.tile_timeout_ms));
+  loader_->SetReachability([this](const mosaic::TileKey& key) { return map_servers_->Reachable(key); });
   tile_cache_ = std::make_shared<mosaic::TileCache>(static_cast<size_t>(config_.tile_cache_mb) << 20);
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
@@ -264,23 +269,31 @@ void TrackerAgent::ApplyTileUpdates() {
   });
 }
 
-void TrackerAgent::UpdateMapServerReachability() {
-  map_server_watch_->Poll();
-  const auto timeout = std::chrono::duration_cast<transport::ServiceWatch::Clock::duration>(
-      std::chrono::duration<double>(config_.map_server_timeout_s));
-  const bool reachable = tiles_->RequestsMatched() && map_server_watch_->SeenWithin(timeout);
-  loader_->SetServerReachable(reachable);
-  if (reachable != map_server_reachable_) {
-    if (reachable) spdlog::info("map server reachable");
-    else spdlog::warn("map server unreachable: tracking from the tile cache");
-    map_server_reachable_ = reachable;
+void TrackerAgent::WaitForTileCoverage(std::chrono::steady_clock::time_point deadline) {
+  // With the mosaic split across map servers, the other servers' MosaicInfos may come a moment
+  // after the first: wait for them (bounded) so no region starts out unreachable.
+  long long uncovered = 0;
+  while ((uncovered = map_servers_->owners().UncoveredTiles(layout_)) > 0 &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    map_servers_->Poll();
   }
+  if (uncovered > 0) {
+    spdlog::warn("{} level-0 tiles of mosaic {} have no map server: they are blank to this vehicle",
+                 uncovered, layout_.mosaic_id);
+  }
+}
+
+void TrackerAgent::UpdateMapServerReachability() {
+  map_servers_->Poll();
+  map_server_reachable_ = map_servers_->AllReachable();
 }
 
 void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
                          outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_,
+                         map_servers_->UnreachableNames(),
                          relocalizer_->ready(),
                          position_update_ ? &position_update_->stats() : nullptr};
   fleetloc_VehicleHealth health;

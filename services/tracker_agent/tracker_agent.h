@@ -11,6 +11,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -31,7 +32,7 @@
 #include "transport/dds_tile_loader.h"
 #include "transport/patch_client.h"
 #include "transport/pose_messages.h"
-#include "transport/service_watch.h"
+#include "tracker_agent/map_server_directory.h"
 #include "transport/tile_client.h"
 
 namespace fleetloc::tracker_agent {
@@ -76,8 +77,11 @@ class TrackerAgent {
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
   void ApplyTileUpdates();
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
-  // Reachable: reads our tile requests (DDS match) and was heard from (ServiceHealth) within
-  // map_server_timeout_s. Logs changes; the tile loader stops waiting while it is unreachable.
+  // Until every tile of the mosaic has a map server announcing it, or `deadline`.
+  void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
+  // A map server is reachable when it reads our tile requests (DDS match) and was heard from
+  // (ServiceHealth) within map_server_timeout_s; the tile loader stops waiting for the tiles of
+  // one that is not. map_server_reachable_: every owning server is.
   void UpdateMapServerReachability();
   void PublishHealth();
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
@@ -94,7 +98,7 @@ class TrackerAgent {
   std::unique_ptr<transport::TileClient> tiles_;
   std::unique_ptr<transport::DdsTileLoader> loader_;
   std::unique_ptr<transport::PatchClient> patches_;
-  std::unique_ptr<transport::ServiceWatch> map_server_watch_;
+  std::unique_ptr<MapServerDirectory> map_servers_;
   std::unique_ptr<PatchOutbox> outbox_;
   double last_patch_t_ = -1e300;
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;

@@ -1,0 +1,53 @@
+// The map servers a vehicle gets its tiles from: each server's MosaicInfo says which tile range it
+// owns (the whole grid, or one region when the mosaic is split across servers), and its periodic
+// ServiceHealth says it is alive. Tile requests go to every server and only a tile's owner
+// answers, so what the vehicle needs to know is whose silence makes which tiles unreachable: the
+// tile loader does not wait for those, tracking goes on from the cache.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mosaic/tile_owners.h"
+#include "transport/service_watch.h"
+#include "transport/tile_client.h"
+
+namespace fleetloc::tracker_agent {
+
+class MapServerDirectory {
+ public:
+  // `tiles` must outlive the directory; only servers announcing `mosaic_id` count.
+  static Result<std::unique_ptr<MapServerDirectory>> Create(const transport::Participant& participant,
+                                                            transport::TileClient* tiles,
+                                                            std::string mosaic_id,
+                                                            std::chrono::duration<double> timeout);
+
+  // Takes new MosaicInfos and health reports; logs servers appearing and reachability changes.
+  void Poll();
+  // The tile's owner (any of them, where ranges overlap) is reachable: it reads our requests and
+  // reported health within the timeout. False for a tile no server owns.
+  bool Reachable(const mosaic::TileKey& key) const;
+  // Every server owning part of the mosaic is reachable (and there is at least one).
+  bool AllReachable() const { return !servers_.empty() && unreachable_.empty(); }
+  bool AnyReachable() const { return unreachable_.size() < servers_.size(); }
+  // Ids of the owning servers now unreachable, comma-separated (empty when none).
+  std::string UnreachableNames() const;
+  const mosaic::TileOwners& owners() const { return owners_; }
+
+ private:
+  MapServerDirectory(transport::TileClient* tiles, std::unique_ptr<transport::ServiceWatch> watch,
+                     std::string mosaic_id, transport::ServiceWatch::Clock::duration timeout)
+      : tiles_(tiles), watch_(std::move(watch)), mosaic_id_(std::move(mosaic_id)), timeout_(timeout) {}
+
+  transport::TileClient* tiles_;
+  std::unique_ptr<transport::ServiceWatch> watch_;
+  std::string mosaic_id_;
+  transport::ServiceWatch::Clock::duration timeout_;
+  mosaic::TileOwners owners_;
+  std::vector<std::string> servers_;      // owning servers of our mosaic, by id
+  std::vector<std::string> unreachable_;  // of servers_, as of the last Poll
+};
+
+}  // namespace fleetloc::tracker_agent
