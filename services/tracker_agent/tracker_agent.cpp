@@ -312,7 +312,7 @@ Status TrackerAgent::WriteSummary() const {
                     {"p99", health_.CyclePercentile(99, 10000)}}},
       {"tiles", {{"requested", loader_->stats().requested}, {"received", loader_->stats().received},
                  {"waited", loader_->stats().waited}, {"timeouts", loader_->stats().timeouts},
-                 {"unserved", loader_->stats().unserved},
+                 {"unserved", loader_->stats().unserved}, {"errors", loader_->stats().errors},
                  {"invalidated", loader_->stats().invalidated},
                  {"refreshed", loader_->stats().refreshed}, {"stale", loader_->stats().stale}}},
       {"relocalization", {{"index_version", relocalizer_->index_version()},
