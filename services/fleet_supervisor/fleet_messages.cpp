@@ -84,8 +84,12 @@ Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& h) {
 
 Result<ServiceReport> ServiceFromIdl(const fleetloc_ServiceHealth& h) {
   FLEETLOC_RETURN_IF_ERROR(CheckHeader(h.wire_version, h.service_id, "ServiceHealth"));
-  return ServiceReport{GetBounded(h.service_id), GetBounded(h.kind), LevelFromIdl(h.level),
-                       transport::ToSeconds(h.stamp)};
+  ServiceReport report{GetBounded(h.service_id), GetBounded(h.kind), LevelFromIdl(h.level),
+                       transport::ToSeconds(h.stamp), {}};
+  for (uint32_t i = 0; i < h.counters._length; ++i) {
+    report.counters[GetBounded(h.counters._buffer[i].name)] = h.counters._buffer[i].value;
+  }
+  return report;
 }
 
 }  // namespace fleetloc::fleet_supervisor

@@ -3,6 +3,7 @@
 // numbers. A sample that fails them is rejected with a message naming the sender and the field.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "base/status.h"
@@ -16,6 +17,7 @@ struct ServiceReport {
   std::string kind;
   fleet::HealthLevel level = fleet::HealthLevel::kOk;
   double t = 0.0;
+  std::map<std::string, uint64_t> counters;  // the service's own counters, by name
 };
 
 Result<fleet::PoseSample> PoseFromIdl(const fleetloc_VehiclePose& pose);

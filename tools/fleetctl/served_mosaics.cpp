@@ -12,9 +12,8 @@
 #include "transport/wire_util.h"
 
 namespace fleetloc::fleetctl {
-namespace {
 
-nlohmann::json ToJson(const fleetloc_MosaicInfo& i) {
+nlohmann::json MosaicInfoJson(const fleetloc_MosaicInfo& i) {
   using transport::GetBounded;
   return {{"server_id", GetBounded(i.server_id)},
           {"mosaic_id", GetBounded(i.mosaic_id)},
@@ -34,8 +33,6 @@ nlohmann::json ToJson(const fleetloc_MosaicInfo& i) {
           {"stamp", transport::ToSeconds(i.stamp)}};
 }
 
-}  // namespace
-
 Status PrintServedMosaics(int domain, double wait_s, const std::string& dds_config) {
   using namespace transport;
   auto participant = Participant::Create(domain, {"", dds_config});
@@ -48,7 +45,7 @@ Status PrintServedMosaics(int domain, double wait_s, const std::string& dds_conf
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
   while (std::chrono::steady_clock::now() < end) {
     (void)reader->TakeAll([&](const fleetloc_MosaicInfo& info, const dds_sample_info_t&) {
-      servers[GetBounded(info.server_id)] = ToJson(info);
+      servers[GetBounded(info.server_id)] = MosaicInfoJson(info);
     });
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

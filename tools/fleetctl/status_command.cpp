@@ -14,6 +14,7 @@
 #include "io/json_fields.h"
 #include "fleet_supervisor/fleet_listener.h"
 #include "fleet_supervisor/fleet_view.h"
+#include "served_mosaics.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -87,9 +88,7 @@ Status RunStatus(const StatusArgs& a) {
     for (const auto& s : in.services) services[s.service_id] = {s, now};
     for (const std::string& rejected : in.rejections) spdlog::warn("ignored: {}", rejected);
     (void)infos->TakeAll([&](const fleetloc_MosaicInfo& info, const dds_sample_info_t&) {
-      mosaics[GetBounded(info.server_id)] = {{"server_id", GetBounded(info.server_id)},
-                                             {"mosaic_id", GetBounded(info.mosaic_id)},
-                                             {"version", info.version}};
+      mosaics[GetBounded(info.server_id)] = MosaicInfoJson(info);
     });
   } while (std::chrono::steady_clock::now() < end);
   nlohmann::json out = {{"domain", a.domain}, {"summary", fleet_supervisor::SummaryJson(fleet.Summary())},
@@ -97,7 +96,9 @@ Status RunStatus(const StatusArgs& a) {
                         {"mosaics", nlohmann::json::array()}};
   fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_supervisor::VehicleJson(v, false, false)); });
   for (const auto& [id, entry] : services) {
-    out["services"].push_back({{"id", id}, {"kind", entry.first.kind}, {"level", fleet::HealthLevelName(entry.first.level)}});
+    out["services"].push_back({{"id", id}, {"kind", entry.first.kind},
+                               {"level", fleet::HealthLevelName(entry.first.level)},
+                               {"counters", entry.first.counters}});
   }
   for (const auto& [id, m] : mosaics) out["mosaics"].push_back(m);
   if (a.json) {
