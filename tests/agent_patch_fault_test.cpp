@@ -4,7 +4,6 @@
 // queued is stored by the server exactly once and its outbox is empty — nothing lost.
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <sqlite3.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -12,6 +11,7 @@
 #include "io/run.h"
 #include "map_server_fixture.h"
 #include "mosaic/patch_store.h"
+#include "sqlite_value.h"
 #include "transport/pose_messages.h"
 
 namespace fleetloc {
@@ -19,20 +19,6 @@ namespace {
 
 using testing::Eventually;
 constexpr uint32_t kDomain = 86;
-
-long long OutboxValue(const std::string& path, const char* sql) {
-  sqlite3* db = nullptr;
-  long long value = -1;
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr) == SQLITE_OK && sqlite3_step(stmt) == SQLITE_ROW) {
-      value = sqlite3_column_int64(stmt, 0);
-    }
-    sqlite3_finalize(stmt);
-  }
-  sqlite3_close(db);
-  return value;
-}
 
 cv::Mat RockFloor() {
   return cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
@@ -113,9 +99,9 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   // The agent went on tracking from its cache while the server was down. (Its poses reach this
   // participant directly, without the server.)
   EXPECT_GT(tracked_while_down, 50);
-  const long long queued = OutboxValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  const long long queued = testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
   EXPECT_GE(queued, 2) << "the changed floor should have produced patches";
-  EXPECT_EQ(OutboxValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
   auto store = mosaic::PatchStore::Open(server.mosaic_path());
   ASSERT_TRUE(store.ok());
   EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";
@@ -132,18 +118,18 @@ TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
   io::ChildProcess agent = StartAgent(server, run, outbox, "agent_1.log");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
-  ASSERT_TRUE(Eventually([&] { return OutboxValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
+  ASSERT_TRUE(Eventually([&] { return testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
       << "no patch queued while the server was down";
   EXPECT_EQ(agent.Stop(SIGKILL), 128 + SIGKILL);
-  const long long pending = OutboxValue(outbox, "SELECT COUNT(*) FROM outbox");
+  const long long pending = testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox");
   EXPECT_GE(pending, 1) << "the queued patches are on disk after the kill";
   server.StartServer();
   io::ChildProcess restarted = StartAgent(server, run, outbox, "agent_2.log");
   ASSERT_TRUE(Eventually([&] { return !restarted.Running(); }, 90));
   EXPECT_EQ(restarted.Wait(std::chrono::seconds(1)), 0);
-  const long long queued = OutboxValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  const long long queued = testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
   EXPECT_GE(queued, pending);
-  EXPECT_EQ(OutboxValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
   auto store = mosaic::PatchStore::Open(server.mosaic_path());
   ASSERT_TRUE(store.ok());
   EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";

@@ -1,0 +1,161 @@
+// The fleet spread over five "hosts" (network namespaces, NetnsLab) talking DDS with the shipped
+// multi-host configuration (deploy/cyclonedds/multihost.xml, unicast peers, no multicast):
+//   ms1 10.10.0.1   map server ms-west, owning tile columns [0, 5) of the mosaic
+//   sup 10.10.0.2   fleet supervisor (HTTP API inside its host)
+//   ms2 10.10.0.3   map server ms-east, owning columns [5, 10); its own replica of the mosaic
+//   agv1 10.10.0.11, agv2 10.10.0.12   tracker agents driving simulated vehicles forever
+// The mosaic is the moss photograph (1.28 m x 0.8 m, 10 x 7 tiles); the vehicles drive over the
+// same floor with a new brick marking at the middle, so they also send patches. Their tile caches
+// are small (2 MB), so tiles keep streaming from both servers as they cross the boundary.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli_runner.h"
+#include "map_server_fixture.h"
+#include "mosaic/importer.h"
+#include "netns_lab.h"
+#include "sqlite_value.h"
+
+namespace fleetloc::testing {
+
+class MultiHostFleet {
+ public:
+  static constexpr double kBoundaryX = 0.64;  // map x of tile column 5
+  static constexpr const char* kVehicles[] = {"agv-1", "agv-2"};
+
+  // Builds the network and starts the fleet; `skip` set (and nothing started) where this machine
+  // cannot have network namespaces.
+  explicit MultiHostFleet(const std::string& name) : dir_(name) {
+    auto lab = NetnsLab::Create({{"ms1", "10.10.0.1"}, {"sup", "10.10.0.2"}, {"ms2", "10.10.0.3"},
+                                 {"agv1", "10.10.0.11"}, {"agv2", "10.10.0.12"}});
+    if (!lab.ok()) {
+      skip = lab.status().message();
+      EXPECT_EQ(lab.status().code(), StatusCode::kNotFound) << skip;
+      return;
+    }
+    lab_ = std::move(lab).value();
+    MakeFloors();
+    for (const char* name : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(name);
+  }
+
+  std::string skip;
+
+  // Starts (or restarts) one of the fleet's processes.
+  void Start(const std::string& name) {
+    const std::string log = dir_ / (name + "_" + std::to_string(++starts_[name]) + ".log");
+    const std::vector<std::string> dds{"--dds-config", FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml"};
+    std::vector<std::string> args;
+    std::string host, program;
+    if (name == "ms-west" || name == "ms-east") {
+      host = name == "ms-west" ? "ms1" : "ms2", program = "map_server";
+      args = {"--config", ServerConfig(name)};
+    } else if (name == "sup") {
+      host = "sup", program = "fleet_supervisor";
+      args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
+    } else {
+      host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
+      args = {"--config", AgentConfig(name), "--outbox", Outbox(name)};
+    }
+    args.insert(args.end(), dds.begin(), dds.end());
+    processes_.erase(name);
+    processes_.emplace(name, lab_->Start(host, program, args, log));
+  }
+  // Stops one with `signal`; its exit status.
+  int Stop(const std::string& name, int signal) {
+    const int status = processes_.at(name).Stop(signal);
+    processes_.erase(name);
+    return status;
+  }
+  // Every process still running stops cleanly on SIGTERM (agents drain their outboxes first).
+  void StopAll() {
+    for (auto& [name, process] : processes_) EXPECT_EQ(process.Stop(SIGTERM, std::chrono::seconds(30)), 0) << name;
+    processes_.clear();
+  }
+
+  NetnsLab& lab() { return *lab_; }
+  std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
+  std::string Mosaic(const std::string& server) const { return dir_ / (server + ".db"); }
+  const ScratchDir& dir() const { return dir_; }
+
+  // GET `path` from the supervisor's API (inside its host); null when it does not answer.
+  nlohmann::json Api(const std::string& path) const {
+    const std::string body = lab_->Capture("sup", "curl -sf --max-time 5 'http://127.0.0.1:8080" + path + "'");
+    return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
+  }
+  // `fleetctl status --json` run on the supervisor's host: vehicles, services with counters, mosaics.
+  nlohmann::json Status() const {
+    const std::string body = lab_->Capture(
+        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
+                   FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml");
+    return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
+  }
+  // The supervisor sees both vehicles tracking and every map server reachable from both.
+  bool AllTracking() const {
+    const nlohmann::json fleet = Api("/api/fleet");
+    if (!fleet.is_object() || fleet["summary"].value("tracking", 0) < 2) return false;
+    for (const nlohmann::json& v : fleet["vehicles"]) {
+      if (!v["health"].is_object() || !v["health"].value("map_server_reachable", false)) return false;
+    }
+    return true;
+  }
+  // The lock states and x positions the supervisor recorded for `vehicle` since `from` (its clock).
+  std::pair<std::vector<std::string>, std::vector<double>> Trace(const std::string& vehicle, double from) const {
+    const nlohmann::json h = Api("/api/vehicles/" + vehicle + "/history?max_points=5000&from=" + std::to_string(from));
+    if (!h.is_object()) return {};
+    return {h["poses"]["lock"].get<std::vector<std::string>>(), h["poses"]["x"].get<std::vector<double>>()};
+  }
+  long long StoredPatches(const std::string& server) const {
+    return SqliteValue(Mosaic(server), "SELECT COUNT(*) FROM patches");
+  }
+
+ private:
+  void MakeFloors() {
+    const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg", cv::IMREAD_GRAYSCALE);
+    EXPECT_TRUE(cv::imwrite(dir_ / "floor.png", floor));
+    mosaic::ImportOptions options;
+    options.resolution_m = 0.0005;
+    auto imported = mosaic::ImportImage(dir_ / "floor.png", options, Mosaic("ms-west"));
+    ASSERT_TRUE(imported.ok()) << imported.status().message();
+    std::filesystem::copy_file(Mosaic("ms-west"), Mosaic("ms-east"));
+    cv::Mat changed = floor.clone();
+    const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+    brick(cv::Rect(0, 0, 256, 256)).copyTo(changed(cv::Rect(1152, 672, 256, 256)));
+    EXPECT_TRUE(cv::imwrite(dir_ / "changed_floor.png", changed));
+  }
+  std::string ServerConfig(const std::string& id) const {
+    const bool west = id == "ms-west";
+    const nlohmann::json config{{"server_id", id}, {"mosaic", Mosaic(id)},
+                                {"owned_tiles", {{"col_begin", west ? 0 : 5}, {"col_end", west ? 5 : 10},
+                                                 {"row_begin", 0}, {"row_end", 7}}}};
+    return Write(id + ".json", config);
+  }
+  std::string AgentConfig(const std::string& id) const {
+    const nlohmann::json config{{"vehicle_id", id}, {"source", "sim"}, {"sim_floor", dir_ / "changed_floor.png"},
+                                {"sim_start_fraction", id == "agv-1" ? 0.0 : 0.5}, {"sim_seed", id == "agv-1" ? 1 : 2},
+                                {"tile_cache_mb", 2}};
+    return Write(id + ".json", config);
+  }
+  std::string TokenFile() const {
+    std::ofstream(dir_ / "token") << "multihost-test-token\n";
+    return dir_ / "token";
+  }
+  std::string Write(const std::string& name, const nlohmann::json& config) const {
+    std::ofstream(dir_ / name) << config.dump(2);
+    return dir_ / name;
+  }
+
+  ScratchDir dir_;
+  std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
+  std::map<std::string, io::ChildProcess> processes_;  // they stop before the network goes
+  std::map<std::string, int> starts_;
+};
+
+}  // namespace fleetloc::testing

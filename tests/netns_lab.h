@@ -1,0 +1,98 @@
+// A small network of "hosts" on this machine for multi-host tests: one network namespace per
+// host, each with an `eth0` (veth) at its own 10.10.0.x/24 address on a bridge that lives in a
+// namespace of its own (the machine's own networking is never touched), programs started inside
+// a host, and `tc netem` packet loss and delay on a host's link. Needs root (CAP_NET_ADMIN);
+// Create() answers NotFound when this machine cannot have namespaces (a test skips then) and
+// Internal when building the network failed.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "daemon_process.h"
+
+namespace fleetloc::testing {
+
+class NetnsLab {
+ public:
+  // `hosts`: name → address (10.10.0.x). Names become namespace names `<prefix>-<name>`.
+  static Result<std::unique_ptr<NetnsLab>> Create(const std::map<std::string, std::string>& hosts) {
+    if (::geteuid() != 0) return NotFound("network namespaces need root");
+    std::unique_ptr<NetnsLab> lab(new NetnsLab("fl" + std::to_string(::getpid() % 100000)));
+    const std::string net = lab->Namespace("net");
+    if (!lab->Run("ip netns add " + net)) return NotFound("'ip netns add' failed here");
+    lab->namespaces_.push_back(net);
+    bool ok = lab->Run("ip netns exec " + net + " ip link add br0 type bridge") &&
+              lab->Run("ip netns exec " + net + " ip link set br0 up");
+    for (const auto& [name, address] : hosts) ok = ok && lab->AddHost(name, address);
+    if (!ok) return Internal("could not build the namespace network (see the test log)");
+    return lab;
+  }
+  // Programs started in the lab must be stopped before it goes (declare the lab first).
+  ~NetnsLab() {
+    for (const std::string& ns : namespaces_) Run("ip netns del " + ns);
+  }
+
+  // Starts build/bin/`program` inside `host`.
+  io::ChildProcess Start(const std::string& host, const std::string& program,
+                         const std::vector<std::string>& args, const std::string& log) {
+    std::vector<std::string> all{"netns", "exec", Namespace(host),
+                                 std::string(FLEETLOC_BINARY_DIR "/bin/") + program};
+    all.insert(all.end(), args.begin(), args.end());
+    auto child = io::ChildProcess::Start(kIp, all, log);
+    if (!child.ok()) {
+      ADD_FAILURE() << child.status().message();
+      std::abort();
+    }
+    return std::move(child).value();
+  }
+  // Runs a shell `command` inside `host`; its standard output (empty on failure).
+  std::string Capture(const std::string& host, const std::string& command) const {
+    std::string out;
+    FILE* pipe = ::popen(("ip netns exec " + Namespace(host) + " " + command + " 2>/dev/null").c_str(), "r");
+    if (pipe == nullptr) return out;
+    std::array<char, 4096> buffer{};
+    size_t n = 0;
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), n);
+    return ::pclose(pipe) == 0 ? out : std::string();
+  }
+  // Packet loss and delay on everything `host` sends (`spec`: tc netem parameters, e.g.
+  // "delay 30ms 10ms loss 3%"); an empty spec removes it.
+  bool Netem(const std::string& host, const std::string& spec) {
+    const std::string dev = "ip netns exec " + Namespace(host) + " tc qdisc ";
+    return spec.empty() ? Run(dev + "del dev eth0 root") : Run(dev + "replace dev eth0 root netem " + spec);
+  }
+
+ private:
+  static constexpr const char* kIp = "/usr/sbin/ip";
+  explicit NetnsLab(std::string prefix) : prefix_(std::move(prefix)) {}
+
+  std::string Namespace(const std::string& host) const { return prefix_ + "-" + host; }
+  static bool Run(const std::string& command) {
+    const int status = std::system((command + " >/dev/null 2>&1").c_str());
+    if (status != 0) std::fprintf(stderr, "netns lab: '%s' failed (%d)\n", command.c_str(), status);
+    return status == 0;
+  }
+  bool AddHost(const std::string& name, const std::string& address) {
+    const std::string ns = Namespace(name), net = Namespace("net"), in = "ip netns exec " + ns + " ";
+    const std::string peer = "v" + std::to_string(namespaces_.size()) + "-" + prefix_;  // <= 15 chars
+    if (!Run("ip netns add " + ns)) return false;
+    namespaces_.push_back(ns);
+    return Run("ip link add eth0 netns " + ns + " type veth peer name " + peer + " netns " + net) &&
+           Run("ip netns exec " + net + " ip link set " + peer + " master br0 up") &&
+           Run(in + "ip addr add " + address + "/24 dev eth0") && Run(in + "ip link set eth0 up") &&
+           Run(in + "ip link set lo up");
+  }
+
+  std::string prefix_;
+  std::vector<std::string> namespaces_;
+};
+
+}  // namespace fleetloc::testing
