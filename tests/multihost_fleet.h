@@ -32,8 +32,12 @@ class MultiHostFleet {
   static constexpr const char* kVehicles[] = {"agv-1", "agv-2"};
 
   // Builds the network and starts the fleet; `skip` set (and nothing started) where this machine
-  // cannot have network namespaces.
-  explicit MultiHostFleet(const std::string& name) : dir_(name) {
+  // cannot have network namespaces. `lossy`: packet loss and delay between the hosts from the
+  // start — with netem, every host's link loses 2 % of what it sends and delays the rest by
+  // 20 ± 5 ms. A kernel without netem (some container kernels) gets the same loss from DDS itself
+  // (Cyclone's Internal/Test/XmitLossiness drops 2 % of the packets each process sends) and a
+  // token-bucket link of 20 Mbit/s whose queue adds up to 20 ms and drops what overflows it.
+  explicit MultiHostFleet(const std::string& name, bool lossy = false) : name_(name), dir_(name) {
     auto lab = NetnsLab::Create({{"ms1", "10.10.0.1"}, {"sup", "10.10.0.2"}, {"ms2", "10.10.0.3"},
                                  {"agv1", "10.10.0.11"}, {"agv2", "10.10.0.12"}});
     if (!lab.ok()) {
@@ -42,16 +46,33 @@ class MultiHostFleet {
       return;
     }
     lab_ = std::move(lab).value();
+    if (lossy) Impair();
     MakeFloors();
     for (const char* name : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(name);
   }
 
+  // A failed test keeps the processes' logs in build/test-artifacts/<name>/.
+  ~MultiHostFleet() {
+    processes_.clear();
+    if (!::testing::Test::HasFailure() || !lab_) return;
+    const std::filesystem::path keep = std::filesystem::path(FLEETLOC_BINARY_DIR "/test-artifacts") / name_;
+    std::filesystem::create_directories(keep);
+    for (const auto& entry : std::filesystem::directory_iterator(dir_.path())) {
+      if (entry.path().extension() == ".log" || entry.path().extension() == ".json") {
+        std::filesystem::copy_file(entry.path(), keep / entry.path().filename(),
+                                   std::filesystem::copy_options::overwrite_existing);
+      }
+    }
+    std::printf("logs kept in %s\n", keep.c_str());
+  }
+
   std::string skip;
+  std::string impairment;  // what `lossy` put between the hosts
 
   // Starts (or restarts) one of the fleet's processes.
   void Start(const std::string& name) {
     const std::string log = dir_ / (name + "_" + std::to_string(++starts_[name]) + ".log");
-    const std::vector<std::string> dds{"--dds-config", FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml"};
+    const std::vector<std::string> dds{"--dds-config", dds_config_};
     std::vector<std::string> args;
     std::string host, program;
     if (name == "ms-west" || name == "ms-east") {
@@ -93,8 +114,7 @@ class MultiHostFleet {
   // `fleetctl status --json` run on the supervisor's host: vehicles, services with counters, mosaics.
   nlohmann::json Status() const {
     const std::string body = lab_->Capture(
-        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
-                   FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml");
+        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") + dds_config_);
     return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
   }
   // The supervisor sees both vehicles tracking and every map server reachable from both.
@@ -115,6 +135,25 @@ class MultiHostFleet {
   long long StoredPatches(const std::string& server) const {
     return SqliteValue(Mosaic(server), "SELECT COUNT(*) FROM patches");
   }
+  // How many of the patches `vehicle` queued were acknowledged (gone from its outbox) but are
+  // stored by none of `servers`.
+  long long AcknowledgedButMissing(const std::string& vehicle, const std::vector<std::string>& servers) const {
+    std::string sql =
+        "WITH RECURSIVE queued(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM queued"
+        " WHERE n < (SELECT value - 1 FROM meta WHERE name = 'next_sequence'))"
+        " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = 'next_sequence') > 0"
+        " AND n NOT IN (SELECT sequence FROM outbox)";
+    std::vector<std::pair<std::string, std::string>> attach;
+    for (const std::string& server : servers) {
+      const std::string schema = "s" + std::to_string(attach.size());
+      attach.emplace_back(schema, Mosaic(server));
+      sql += " AND n NOT IN (SELECT sequence FROM " + schema + ".patches WHERE vehicle_id = '" + vehicle + "')";
+    }
+    return SqliteValue(Outbox(vehicle), sql.c_str(), attach);
+  }
+  long long Queued(const std::string& vehicle) const {
+    return SqliteValue(Outbox(vehicle), "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  }
 
  private:
   void MakeFloors() {
@@ -129,6 +168,26 @@ class MultiHostFleet {
     const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
     brick(cv::Rect(0, 0, 256, 256)).copyTo(changed(cv::Rect(1152, 672, 256, 256)));
     EXPECT_TRUE(cv::imwrite(dir_ / "changed_floor.png", changed));
+  }
+  void Impair() {
+    const char* hosts[] = {"ms1", "sup", "ms2", "agv1", "agv2"};
+    if (lab_->NetemAvailable()) {
+      for (const char* host : hosts) EXPECT_TRUE(lab_->Netem(host, "delay 20ms 5ms loss 2%")) << host;
+      impairment = "netem: 2 % loss, 20 +- 5 ms delay on every link";
+      return;
+    }
+    for (const char* host : hosts) EXPECT_TRUE(lab_->Shape(host, "tbf rate 20mbit burst 32kb latency 20ms")) << host;
+    dds_config_ = LossyDdsConfig(20);
+    impairment = "no netem in this kernel: DDS drops 2 % of sent packets; 20 Mbit/s links, 20 ms queues";
+  }
+  std::string LossyDdsConfig(int loss_per_mille) const {
+    std::ifstream in(dds_config_);
+    std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string test = "<Internal><Test><XmitLossiness>" + std::to_string(loss_per_mille) +
+                             "</XmitLossiness></Test>";
+    xml.replace(xml.find("<Internal>"), std::string("<Internal>").size(), test);
+    std::ofstream(dir_ / "lossy.xml") << xml;
+    return dir_ / "lossy.xml";
   }
   std::string ServerConfig(const std::string& id) const {
     const bool west = id == "ms-west";
@@ -152,7 +211,9 @@ class MultiHostFleet {
     return dir_ / name;
   }
 
+  std::string name_;
   ScratchDir dir_;
+  std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
   std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
   std::map<std::string, io::ChildProcess> processes_;  // they stop before the network goes
   std::map<std::string, int> starts_;

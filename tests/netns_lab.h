@@ -64,10 +64,18 @@ class NetnsLab {
     return ::pclose(pipe) == 0 ? out : std::string();
   }
   // Packet loss and delay on everything `host` sends (`spec`: tc netem parameters, e.g.
-  // "delay 30ms 10ms loss 3%"); an empty spec removes it.
-  bool Netem(const std::string& host, const std::string& spec) {
-    const std::string dev = "ip netns exec " + Namespace(host) + " tc qdisc ";
-    return spec.empty() ? Run(dev + "del dev eth0 root") : Run(dev + "replace dev eth0 root netem " + spec);
+  // "delay 30ms 10ms loss 3%"); false where the kernel has no netem (see Shape).
+  bool Netem(const std::string& host, const std::string& spec) { return Shape(host, "netem " + spec); }
+  // Any root qdisc on `host`'s link (e.g. "tbf rate 20mbit burst 32kb latency 20ms").
+  bool Shape(const std::string& host, const std::string& qdisc) {
+    return Run("ip netns exec " + Namespace(host) + " tc qdisc replace dev eth0 root " + qdisc);
+  }
+  // Whether this kernel has the netem qdisc (some container kernels ship without it).
+  bool NetemAvailable() {
+    const std::string host = hosts_.front();
+    const bool ok = Netem(host, "delay 1ms");
+    if (ok) Run("ip netns exec " + Namespace(host) + " tc qdisc del dev eth0 root");
+    return ok;
   }
 
  private:
@@ -85,6 +93,7 @@ class NetnsLab {
     const std::string peer = "v" + std::to_string(namespaces_.size()) + "-" + prefix_;  // <= 15 chars
     if (!Run("ip netns add " + ns)) return false;
     namespaces_.push_back(ns);
+    hosts_.push_back(name);
     return Run("ip link add eth0 netns " + ns + " type veth peer name " + peer + " netns " + net) &&
            Run("ip netns exec " + net + " ip link set " + peer + " master br0 up") &&
            Run(in + "ip addr add " + address + "/24 dev eth0") && Run(in + "ip link set eth0 up") &&
@@ -93,6 +102,7 @@ class NetnsLab {
 
   std::string prefix_;
   std::vector<std::string> namespaces_;
+  std::vector<std::string> hosts_;
 };
 
 }  // namespace fleetloc::testing
