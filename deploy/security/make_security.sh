@@ -7,16 +7,16 @@
 # when their content changes. Run it again with a longer list to add a participant.
 #
 #   make_security.sh --out DIR [--domain N|MIN-MAX] [--maintainers a,b] [--vehicles agv-1,agv-2]
-#                    [--servers map-1] [--supervisors sup-1] [--supervisor-remap yes|no]
+#                    [--servers map-1] [--supervisors sup-1]
 #                    [--base-config FILE] [--install-dir DIR] [--days N]
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-out="" domain="0" maintainers="" vehicles="" servers="" supervisors="" supervisor_remap="yes"
+out="" domain="0" maintainers="" vehicles="" servers="" supervisors=""
 base_config="$here/../cyclonedds/loopback.xml" install_dir="" days=3650
 plugins="${FLEETLOC_DDS_SECURITY_PLUGINS:-/usr/lib/x86_64-linux-gnu/libddsc0debian}"
 
-usage() { sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit "${1:-2}"; }
+usage() { sed -n '2,11p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit "${1:-2}"; }
 die() { echo "make_security: $*" >&2; exit 1; }
 step() { echo "make_security: $*"; }
 
@@ -28,7 +28,6 @@ while [[ $# -gt 0 ]]; do
     --vehicles) vehicles="$2"; shift 2 ;;
     --servers) servers="$2"; shift 2 ;;
     --supervisors) supervisors="$2"; shift 2 ;;
-    --supervisor-remap) supervisor_remap="$2"; shift 2 ;;
     --base-config) base_config="$2"; shift 2 ;;
     --install-dir) install_dir="$2"; shift 2 ;;
     --days) days="$2"; shift 2 ;;
@@ -39,7 +38,6 @@ done
 
 [[ -n "$out" ]] || die "--out DIR is required"
 [[ "$domain" =~ ^[0-9]+(-[0-9]+)?$ ]] || die "--domain '$domain' is not N or MIN-MAX"
-[[ "$supervisor_remap" =~ ^(yes|no)$ ]] || die "--supervisor-remap must be yes or no"
 [[ "$days" =~ ^[0-9]+$ ]] || die "--days '$days' is not a number"
 [[ -r "$base_config" ]] || die "cannot read the base configuration $base_config"
 grep -q '</Domain>' "$base_config" || die "$base_config has no <Domain> element"
@@ -161,10 +159,11 @@ server_rules() {
   criterion subscribe "$any_vehicle" tile_request patch_observation
   criterion subscribe "" remap_command service_health
 }
-supervisor_rules() {  # its overview tiles come in its own partition, like a vehicle's
+# A supervisor holds the maintainer's RemapCommand grant: the dashboard's re-map (behind the
+# maintainer token) is sent by it. Its overview tiles come in its own partition, like a vehicle's.
+supervisor_rules() {
   local own="fleetloc.vehicle.$1"
-  criterion publish "" service_health
-  [[ "$supervisor_remap" == yes ]] && criterion publish "" remap_command
+  criterion publish "" service_health remap_command
   criterion publish "$own" tile_request
   criterion subscribe "$own" tile
   criterion subscribe "$any_vehicle" vehicle_pose vehicle_health
