@@ -1,6 +1,8 @@
 // Vehicle streams: partitions and the writer-partition check.
 #include "transport/vehicle_streams.h"
 
+#include <algorithm>
+
 #include "transport/topic_names.h"
 
 namespace fleetloc::transport {
@@ -31,6 +33,18 @@ Result<Entity> CreateVehiclePublisher(const Participant& participant,
 
 Result<Entity> CreateAnyVehicleSubscriber(const Participant& participant) {
   return participant.CreateSubscriber({topics::kAnyVehiclePartition});
+}
+
+void VehicleSourceCheck::LearnNewWriters() {
+  dds_subscription_matched_status_t status{};
+  if (dds_get_subscription_matched_status(reader_, &status) < 0) return;
+  if (status.total_count == matched_total_) return;
+  matched_total_ = status.total_count;
+  std::vector<dds_instance_handle_t> writers(status.current_count + 16);
+  const dds_return_t n = dds_get_matched_publications(reader_, writers.data(), writers.size());
+  for (dds_return_t i = 0; i < std::min<dds_return_t>(n, static_cast<dds_return_t>(writers.size())); ++i) {
+    (void)WriterPartitions(writers[i]);
+  }
 }
 
 Status VehicleSourceCheck::Check(const std::string& vehicle_id, const dds_sample_info_t& info) {

@@ -34,14 +34,19 @@ Result<Entity> CreateAnyVehicleSubscriber(const Participant& participant);
 class VehicleSourceCheck {
  public:
   explicit VehicleSourceCheck(dds_entity_t reader) : reader_(reader) {}
+  // Looks up the writers matched since the last call, so that the samples of a writer that
+  // goes away before they are taken can still be checked. Call before each take.
+  void LearnNewWriters();
   // OK when the sample's writer (info.publication_handle) writes in exactly the partition of
-  // `vehicle_id`; InvalidInput otherwise, or when the writer is not (or no longer) matched.
+  // `vehicle_id`; InvalidInput otherwise, or when the writer is unknown (matched and gone again
+  // between two takes).
   Status Check(const std::string& vehicle_id, const dds_sample_info_t& info);
 
  private:
   static constexpr size_t kMaxWriters = 4096;  // forgets every writer past this many
   const std::vector<std::string>* WriterPartitions(dds_instance_handle_t writer);
   dds_entity_t reader_;
+  uint32_t matched_total_ = 0;  // writers ever matched, when last learned
   std::unordered_map<dds_instance_handle_t, std::vector<std::string>> partitions_;
 };
 
@@ -88,6 +93,7 @@ class VehicleStreamReader {
   // rejected(const std::string& message) for each one that fails the check (also counted).
   template <typename Fn, typename Rejected>
   Result<int> TakeAll(Fn&& fn, Rejected&& rejected) {
+    check_->LearnNewWriters();
     return reader_.TakeAll([&](const T& sample, const dds_sample_info_t& info) {
       const std::string id(sample.vehicle_id, strnlen(sample.vehicle_id, sizeof sample.vehicle_id));
       if (Status ok = check_->Check(id, info); !ok.ok()) {

@@ -77,5 +77,36 @@ TEST(VehicleStreamReader, DeliversOwnVehicleIdAndRejectsAForgedOneWrittenInAnoth
   EXPECT_EQ(reader.rejected(), 1u);
 }
 
+TEST(VehicleStreamReader, ChecksTheSamplesOfAWriterThatIsGoneBeforeTheyAreTaken) {
+  Participant vehicle = Participant::Create(kDomain).value();
+  Participant receiver = Participant::Create(kDomain).value();
+  auto topic_v = Topic<fleetloc_VehiclePose>::Create(vehicle, topics::kVehiclePose).value();
+  auto topic_r = Topic<fleetloc_VehiclePose>::Create(receiver, topics::kVehiclePose).value();
+  auto reader = VehicleStreamReader<fleetloc_VehiclePose>::Create(receiver, topic_r, CommandQos()).value();
+  {
+    auto writer = VehicleStreamWriter<fleetloc_VehiclePose>::Create(vehicle, "agv-3", topic_v, CommandQos()).value();
+    ASSERT_TRUE(Eventually([&] { return writer.MatchedReaders() == 1 && reader.MatchedWriters() == 1; }));
+    int none = 0;
+    (void)reader.TakeAll([&](const fleetloc_VehiclePose&, const dds_sample_info_t&) { ++none; });  // learns it
+    EXPECT_EQ(none, 0);
+    ASSERT_TRUE(writer.Write(Pose("agv-3", 3.0)).ok());
+    ASSERT_TRUE(writer.Write(Pose("agv-4", 4.0)).ok());
+    ASSERT_TRUE(Eventually([&] {  // both arrived (dds_read leaves them to take)
+      void* samples[4] = {};
+      dds_sample_info_t infos[4];
+      const dds_return_t n = dds_read(reader.get(), samples, infos, 4, 4);
+      if (n > 0) dds_return_loan(reader.get(), samples, n);
+      return n == 2;
+    }));
+  }  // the writer is deleted here
+  ASSERT_TRUE(Eventually([&] { return reader.MatchedWriters() == 0; }));
+  std::vector<double> delivered;
+  int rejected = 0;
+  (void)reader.TakeAll([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { delivered.push_back(p.x); },
+                       [&](const std::string&) { ++rejected; });
+  EXPECT_EQ(delivered, std::vector<double>{3.0});
+  EXPECT_EQ(rejected, 1);
+}
+
 }  // namespace
 }  // namespace fleetloc::transport
