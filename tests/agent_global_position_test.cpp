@@ -13,6 +13,7 @@
 #include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -70,12 +71,12 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
   transport::Participant& p = server.participant();
   auto pose_topic =
       transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
-      p.get(), *pose_topic, transport::Qos().Reliable().KeepAll());
+  auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *pose_topic, transport::Qos().Reliable().KeepAll());
   auto health_topic =
       transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
-  auto health_reader = transport::Reader<fleetloc_VehicleHealth>::Create(
-      p.get(), *health_topic, transport::Qos().Reliable().KeepAll());
+  auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
+      p, *health_topic, transport::Qos().Reliable().KeepAll());
   std::string update_issue;  // the newest health report's position update line
   fleetloc_LockState health_state = fleetloc_LOCK_LOST;
   auto take_health = [&] {

@@ -13,6 +13,7 @@
 #include "mosaic/patch_store.h"
 #include "sqlite_value.h"
 #include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -54,12 +55,12 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   io::ChildProcess agent = StartAgent(server, run, outbox, "agent.log");
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(server.participant(),
                                                                    transport::topics::kVehiclePose);
-  auto poses = transport::Reader<fleetloc_VehiclePose>::Create(server.participant().get(), *pose_topic,
+  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(server.participant(), *pose_topic,
                                                                transport::Qos().Reliable().KeepAll());
   auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(
       server.participant(), transport::topics::kVehicleHealth);
-  auto health = transport::Reader<fleetloc_VehicleHealth>::Create(
-      server.participant().get(), *health_topic, transport::Qos().Reliable().KeepAll());
+  auto health = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
+      server.participant(), *health_topic, transport::Qos().Reliable().KeepAll());
   int tracked_while_down = 0;
   std::optional<bool> reachable;  // as the newest health report says
   bool named_unreachable = false;

@@ -13,6 +13,7 @@
 #include "map_server_fixture.h"
 #include "published_poses.h"
 #include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -73,7 +74,7 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
 
   transport::Participant& p = server.participant();
   auto topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto reader = transport::Reader<fleetloc_VehiclePose>::Create(p.get(), *topic,
+  auto reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *topic,
                                                                 transport::Qos().Reliable().KeepAll());
   io::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id",

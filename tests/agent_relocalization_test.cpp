@@ -13,6 +13,7 @@
 #include "map_server_fixture.h"
 #include "published_poses.h"
 #include "transport/place_index_channel.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -53,8 +54,8 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
   EXPECT_EQ(blobs[0].mosaic_id, server.layout().mosaic_id);
 
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
-      p.get(), *pose_topic, transport::Qos().Reliable().KeepAll());
+  auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *pose_topic, transport::Qos().Reliable().KeepAll());
   const std::string summary_path = (server.dir() / "summary.json").string();
   io::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run_dir, "--relocalize", "--domain", std::to_string(kDomain),

@@ -10,6 +10,7 @@
 #include "map_server_fixture.h"
 #include "published_poses.h"
 #include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -34,10 +35,10 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   transport::Participant& p = server.participant();
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
-  auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
-      p.get(), *pose_topic, transport::Qos().Reliable().KeepAll());
-  auto health_reader = transport::Reader<fleetloc_VehicleHealth>::Create(
-      p.get(), *health_topic, transport::Qos().Reliable().KeepAll());
+  auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *pose_topic, transport::Qos().Reliable().KeepAll());
+  auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
+      p, *health_topic, transport::Qos().Reliable().KeepAll());
   io::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
                         "--outbox", (server.dir() / "outbox.db").string()},

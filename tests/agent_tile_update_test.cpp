@@ -11,6 +11,7 @@
 #include "changed_floor_patches.h"
 #include "map_server_fixture.h"
 #include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -32,7 +33,7 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
 
   transport::Participant& p = server.participant();
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto poses = transport::Reader<fleetloc_VehiclePose>::Create(p.get(), *pose_topic,
+  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *pose_topic,
                                                                transport::Qos().Reliable().KeepAll());
   int tracked = 0;
   auto count_tracked = [&] {

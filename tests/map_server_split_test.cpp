@@ -13,6 +13,7 @@
 #include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -93,8 +94,8 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   auto p = transport::Participant::Create(kDomain);
   ASSERT_TRUE(p.ok()) << p.status().message();
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(*p, transport::topics::kVehiclePose);
-  auto pose_reader = transport::Reader<fleetloc_VehiclePose>::Create(
-      p->get(), *pose_topic, transport::Qos().Reliable().KeepAll());
+  auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      *p, *pose_topic, transport::Qos().Reliable().KeepAll());
   ASSERT_EQ(ServerCounters(*p, 2, 20).size(), 2u) << "both map servers report health";
 
   const std::string summary_path = dir / "summary.json";

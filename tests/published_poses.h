@@ -10,9 +10,9 @@
 
 namespace fleetloc::testing {
 
-// Takes every pose `reader` has into `published`.
-inline void TakePoses(const transport::Reader<fleetloc_VehiclePose>& reader,
-                      std::vector<transport::PoseReport>* published) {
+// Takes every pose `reader` (a transport::VehicleStreamReader) has into `published`.
+template <typename PoseReader>
+void TakePoses(PoseReader& reader, std::vector<transport::PoseReport>* published) {
   (void)reader.TakeAll([&](const fleetloc_VehiclePose& pose, const dds_sample_info_t&) {
     published->push_back(transport::FromIdl(pose));
   });

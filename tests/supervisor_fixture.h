@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_runner.h"
 #include "daemon_process.h"
@@ -17,17 +18,20 @@ namespace fleetloc::testing {
 
 class SupervisorProcess {
  public:
-  SupervisorProcess(const std::filesystem::path& dir, uint32_t domain, const std::string& token)
+  // `extra_args` go to fleet_supervisor after the fixture's own (e.g. --dds-config FILE).
+  SupervisorProcess(const std::filesystem::path& dir, uint32_t domain, const std::string& token,
+                    const std::vector<std::string>& extra_args = {})
       : dir_(dir), token_(token) {
     const std::string token_file = (dir / "token").string();
     std::ofstream(token_file) << token << "\n";
     const std::string port_file = (dir / "port").string();
     std::filesystem::remove(port_file);
-    process_ = std::make_unique<io::ChildProcess>(StartDaemon(
-        "fleet_supervisor",
-        {"--domain", std::to_string(domain), "--history", (dir / "history.db").string(), "--http-port", "0",
-         "--port-file", port_file, "--token-file", token_file},
-        (dir / "fleet_supervisor.log").string()));
+    std::vector<std::string> args = {"--domain", std::to_string(domain), "--history",
+                                     (dir / "history.db").string(), "--http-port", "0",
+                                     "--port-file", port_file, "--token-file", token_file};
+    args.insert(args.end(), extra_args.begin(), extra_args.end());
+    process_ = std::make_unique<io::ChildProcess>(
+        StartDaemon("fleet_supervisor", args, (dir / "fleet_supervisor.log").string()));
     EXPECT_TRUE(Eventually([&] {
       std::ifstream in(port_file);
       return static_cast<bool>(in >> port_) && port_ > 0;

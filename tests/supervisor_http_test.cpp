@@ -5,6 +5,7 @@
 // breaks Eigen's headers when included first.
 #include "supervisor_fixture.h"
 #include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
@@ -29,10 +30,10 @@ class FakeVehicle {
         std::move(transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose).value()));
     health_topic_ = std::make_unique<transport::Topic<fleetloc_VehicleHealth>>(
         std::move(transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth).value()));
-    poses_ = std::make_unique<transport::Writer<fleetloc_VehiclePose>>(std::move(
-        transport::Writer<fleetloc_VehiclePose>::Create(p.get(), *pose_topic_, transport::PoseStreamQos()).value()));
-    health_ = std::make_unique<transport::Writer<fleetloc_VehicleHealth>>(std::move(
-        transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3, 5)).value()));
+    poses_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehiclePose>>(std::move(
+        transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(p, id_, *pose_topic_, transport::PoseStreamQos()).value()));
+    health_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehicleHealth>>(std::move(
+        transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(p, id_, *health_topic_, transport::PeriodicStateQos(3, 5)).value()));
   }
   void Publish(double x, unsigned short wire_version = fleetloc_WIRE_VERSION) {
     transport::PoseReport report{id_, ToSeconds(transport::NowStamp()), {}, tracking::LockState::kTracking, 1};
@@ -56,8 +57,8 @@ class FakeVehicle {
   std::string id_;
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
   std::unique_ptr<transport::Topic<fleetloc_VehicleHealth>> health_topic_;
-  std::unique_ptr<transport::Writer<fleetloc_VehiclePose>> poses_;
-  std::unique_ptr<transport::Writer<fleetloc_VehicleHealth>> health_;
+  std::unique_ptr<transport::VehicleStreamWriter<fleetloc_VehiclePose>> poses_;
+  std::unique_ptr<transport::VehicleStreamWriter<fleetloc_VehicleHealth>> health_;
 };
 
 // Status and the "error" member of a JSON error body ("" when the body has none).

@@ -9,7 +9,7 @@ namespace fleetloc::transport {
 PatchClient::PatchClient(std::string vehicle_id, Entity subscriber,
                          Topic<fleetloc_PatchObservation> patch_topic,
                          Topic<fleetloc_PatchAck> ack_topic,
-                         Writer<fleetloc_PatchObservation> patches,
+                         VehicleStreamWriter<fleetloc_PatchObservation> patches,
                          Reader<fleetloc_PatchAck> ack_reader)
     : vehicle_id_(std::move(vehicle_id)),
       subscriber_(std::move(subscriber)),
@@ -31,8 +31,8 @@ Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& part
   if (!subscriber.ok()) return subscriber.status();
   // A vehicle never stalls on a patch: a write with no room within 0.1 s fails, and the patch
   // stays in the caller's outbox for a later retry.
-  auto patches = Writer<fleetloc_PatchObservation>::Create(participant.get(), *patch_topic,
-                                                           BulkQos(64, 0.1));
+  auto patches = VehicleStreamWriter<fleetloc_PatchObservation>::Create(
+      participant, vehicle_id, *patch_topic, BulkQos(64, 0.1));
   auto acks = Reader<fleetloc_PatchAck>::Create(subscriber->get(), *ack_topic, CommandQos());
   if (!patches.ok()) return patches.status();
   if (!acks.ok()) return acks.status();

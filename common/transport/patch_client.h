@@ -11,6 +11,7 @@
 
 #include "geometry/pose2.h"
 #include "transport/typed_io.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc::transport {
 
@@ -46,13 +47,13 @@ class PatchClient {
 
  private:
   PatchClient(std::string vehicle_id, Entity subscriber, Topic<fleetloc_PatchObservation> patch_topic,
-              Topic<fleetloc_PatchAck> ack_topic, Writer<fleetloc_PatchObservation> patches,
+              Topic<fleetloc_PatchAck> ack_topic, VehicleStreamWriter<fleetloc_PatchObservation> patches,
               Reader<fleetloc_PatchAck> ack_reader);
   std::string vehicle_id_;
   Entity subscriber_;
   Topic<fleetloc_PatchObservation> patch_topic_;
   Topic<fleetloc_PatchAck> ack_topic_;
-  Writer<fleetloc_PatchObservation> patches_;
+  VehicleStreamWriter<fleetloc_PatchObservation> patches_;  // in the vehicle's partition
   Reader<fleetloc_PatchAck> ack_reader_;
 };
 

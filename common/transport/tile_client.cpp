@@ -10,7 +10,7 @@ namespace fleetloc::transport {
 TileClient::TileClient(std::string vehicle_id, Entity subscriber,
                        Topic<fleetloc_TileRequest> request_topic, Topic<fleetloc_Tile> tile_topic,
                        Topic<fleetloc_MosaicInfo> info_topic,
-                       Writer<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
+                       VehicleStreamWriter<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
                        Reader<fleetloc_MosaicInfo> info_reader)
     : vehicle_id_(std::move(vehicle_id)),
       subscriber_(std::move(subscriber)),
@@ -34,8 +34,8 @@ Result<std::unique_ptr<TileClient>> TileClient::Create(const Participant& partic
   if (!info_topic.ok()) return info_topic.status();
   auto subscriber = participant.CreateSubscriber({topics::VehiclePartition(vehicle_id)});
   if (!subscriber.ok()) return subscriber.status();
-  auto requests =
-      Writer<fleetloc_TileRequest>::Create(participant.get(), *request_topic, CommandQos());
+  auto requests = VehicleStreamWriter<fleetloc_TileRequest>::Create(participant, vehicle_id,
+                                                                    *request_topic, CommandQos());
   auto tiles = Reader<fleetloc_Tile>::Create(subscriber->get(), *tile_topic, TileQos());
   auto info =
       Reader<fleetloc_MosaicInfo>::Create(participant.get(), *info_topic, DurableStateQos());

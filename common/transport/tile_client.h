@@ -12,6 +12,7 @@
 
 #include "mosaic/tile_key.h"
 #include "transport/typed_io.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc::transport {
 
@@ -51,7 +52,7 @@ class TileClient {
  private:
   TileClient(std::string vehicle_id, Entity subscriber, Topic<fleetloc_TileRequest> request_topic,
              Topic<fleetloc_Tile> tile_topic, Topic<fleetloc_MosaicInfo> info_topic,
-             Writer<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
+             VehicleStreamWriter<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
              Reader<fleetloc_MosaicInfo> info_reader);
 
   std::string vehicle_id_;
@@ -59,7 +60,7 @@ class TileClient {
   Topic<fleetloc_TileRequest> request_topic_;
   Topic<fleetloc_Tile> tile_topic_;
   Topic<fleetloc_MosaicInfo> info_topic_;
-  Writer<fleetloc_TileRequest> requests_;
+  VehicleStreamWriter<fleetloc_TileRequest> requests_;  // in the vehicle's partition
   Reader<fleetloc_Tile> tile_reader_;
   Reader<fleetloc_MosaicInfo> info_reader_;
   std::map<std::string, fleetloc_MosaicInfo> infos_;  // by server id

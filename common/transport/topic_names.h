@@ -18,10 +18,15 @@ inline constexpr const char* kVehicleHealth = "fleetloc/vehicle_health";
 inline constexpr const char* kServiceHealth = "fleetloc/service_health";
 inline constexpr const char* kPlaceIndex = "fleetloc/place_index";
 
-// Replies meant for one vehicle (Tile, PatchAck) are written in this partition only, so a
-// vehicle's traffic does not grow with the fleet. Requires a valid vehicle id (IsValidEntityId).
+// A vehicle's partition. Replies meant for one vehicle (Tile, PatchAck) are written in it only,
+// so a vehicle's traffic does not grow with the fleet; the vehicle's own streams (VehiclePose,
+// VehicleHealth, PatchObservation, TileRequest) are written in it too, so DDS Security can grant
+// a vehicle its own partition only (transport/vehicle_streams.h). Requires a valid vehicle id
+// (IsValidEntityId: never a wildcard).
 inline std::string VehiclePartition(const std::string& vehicle_id) {
   return "fleetloc.vehicle." + vehicle_id;
 }
+// Every vehicle's partition: the receivers of the vehicles' streams subscribe with it.
+inline constexpr const char* kAnyVehiclePartition = "fleetloc.vehicle.*";
 
 }  // namespace fleetloc::transport::topics

@@ -10,6 +10,7 @@ namespace topics = transport::topics;
 using transport::Qos;
 using transport::Reader;
 using transport::Topic;
+using transport::VehicleStreamReader;
 
 Result<std::unique_ptr<FleetListener>> FleetListener::Create(const transport::Participant& p) {
   auto pose_topic = Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose);
@@ -23,10 +24,11 @@ Result<std::unique_ptr<FleetListener>> FleetListener::Create(const transport::Pa
   // compatible with the agents' PoseStreamQos (1 s offered); the health and service readers
   // request none, so a writer of any health period matches (as in transport::ServiceWatch).
   // No liveliness is requested (automatic, infinite): compatible with every writer's lease.
-  auto poses = Reader<fleetloc_VehiclePose>::Create(p.get(), *pose_topic,
-                                                    Qos().Reliable().Volatile().KeepLast(1).Deadline(3.0));
-  auto health = Reader<fleetloc_VehicleHealth>::Create(p.get(), *health_topic,
-                                                       Qos().Reliable().Volatile().KeepLast(1));
+  // Poses and health come from every vehicle's partition, checked against it (vehicle_streams.h).
+  auto poses = VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *pose_topic, Qos().Reliable().Volatile().KeepLast(1).Deadline(3.0));
+  auto health = VehicleStreamReader<fleetloc_VehicleHealth>::Create(
+      p, *health_topic, Qos().Reliable().Volatile().KeepLast(1));
   auto services = Reader<fleetloc_ServiceHealth>::Create(p.get(), *service_topic,
                                                          Qos().Reliable().Volatile().KeepLast(1));
   if (!poses.ok()) return poses.status();
@@ -39,12 +41,14 @@ Result<std::unique_ptr<FleetListener>> FleetListener::Create(const transport::Pa
 
 Status FleetListener::Take(Received* out) {
   // Converts each sample with `convert`; adds (id, value) to `into` or the message to rejections.
-  auto take = [&](const auto& reader, auto convert, auto* into) -> Status {
-    Result<int> taken = reader.TakeAll([&](const auto& sample, const dds_sample_info_t&) {
-      auto value = convert(sample);
-      if (!value.ok()) return out->rejections.push_back(value.status().message());
-      into->emplace_back(transport::GetBounded(sample.vehicle_id), std::move(value).value());
-    });
+  auto take = [&](auto& reader, auto convert, auto* into) -> Status {
+    Result<int> taken = reader.TakeAll(
+        [&](const auto& sample, const dds_sample_info_t&) {
+          auto value = convert(sample);
+          if (!value.ok()) return out->rejections.push_back(value.status().message());
+          into->emplace_back(transport::GetBounded(sample.vehicle_id), std::move(value).value());
+        },
+        [&](const std::string& message) { out->rejections.push_back(message); });
     return taken.ok() ? Status::Ok() : taken.status();
   };
   FLEETLOC_RETURN_IF_ERROR(take(poses_, PoseFromIdl, &out->poses));

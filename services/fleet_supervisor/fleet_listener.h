@@ -1,5 +1,6 @@
 // The supervisor's DDS readers of the fleet: every vehicle's VehiclePose and VehicleHealth and
-// every service's ServiceHealth, converted and checked (fleet_messages.h). Samples that fail the
+// every service's ServiceHealth, converted and checked (fleet_messages.h; a vehicle's samples
+// also against their writer's partition, transport/vehicle_streams.h). Samples that fail the
 // checks are returned as rejection messages for the supervisor to count.
 #pragma once
 
@@ -11,6 +12,7 @@
 #include "fleet/vehicle_samples.h"
 #include "fleet_supervisor/fleet_messages.h"
 #include "transport/typed_io.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -38,8 +40,8 @@ class FleetListener {
   FleetListener(transport::Topic<fleetloc_VehiclePose> pose_topic,
                 transport::Topic<fleetloc_VehicleHealth> health_topic,
                 transport::Topic<fleetloc_ServiceHealth> service_topic,
-                transport::Reader<fleetloc_VehiclePose> poses,
-                transport::Reader<fleetloc_VehicleHealth> health,
+                transport::VehicleStreamReader<fleetloc_VehiclePose> poses,
+                transport::VehicleStreamReader<fleetloc_VehicleHealth> health,
                 transport::Reader<fleetloc_ServiceHealth> services)
       : pose_topic_(std::move(pose_topic)), health_topic_(std::move(health_topic)),
         service_topic_(std::move(service_topic)), poses_(std::move(poses)),
@@ -48,8 +50,8 @@ class FleetListener {
   transport::Topic<fleetloc_VehiclePose> pose_topic_;
   transport::Topic<fleetloc_VehicleHealth> health_topic_;
   transport::Topic<fleetloc_ServiceHealth> service_topic_;
-  transport::Reader<fleetloc_VehiclePose> poses_;
-  transport::Reader<fleetloc_VehicleHealth> health_;
+  transport::VehicleStreamReader<fleetloc_VehiclePose> poses_;
+  transport::VehicleStreamReader<fleetloc_VehicleHealth> health_;
   transport::Reader<fleetloc_ServiceHealth> services_;
 };
 

@@ -21,8 +21,13 @@ constexpr dds_attach_t kTileRequests = 1;
 constexpr dds_attach_t kPatches = 2;
 constexpr dds_attach_t kRemapCommands = 3;
 
+// A vehicle's request or patch whose vehicle_id is not the partition it was written in
+// (transport/vehicle_streams.h).
+constexpr const char* kRejectedPartition = "rejected_vehicle_partition";
+
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
+  names.push_back(kRejectedPartition);
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
                            PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
@@ -62,6 +67,7 @@ Status MapServer::Open() {
 
 Status MapServer::OpenTopics() {
   using transport::Reader;
+  using transport::VehicleStreamReader;
   using transport::Writer;
   const transport::Participant& p = *participant_;
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
@@ -78,8 +84,8 @@ Status MapServer::OpenTopics() {
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_ServiceHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_, transport::DurableStateQos()), &remap_status_writer_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_writer_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_TileRequest>::Create(p.get(), *request_topic_, transport::CommandQos()), &request_reader_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_PatchObservation>::Create(p.get(), *patch_topic_, transport::BulkQos()), &patch_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_TileRequest>::Create(p, *request_topic_, transport::CommandQos()), &request_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_PatchObservation>::Create(p, *patch_topic_, transport::BulkQos()), &patch_reader_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()), &remap_reader_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::WaitSet::Create(p), &waitset_));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(request_reader_->get(), kTileRequests));
@@ -180,15 +186,22 @@ Status MapServer::PublishHealth() {
 Status MapServer::ServeOnce() {
   Result<std::vector<dds_attach_t>> woke = waitset_->Wait(0.05);
   if (!woke.ok()) return woke.status();
+  auto rejected = [this](const char* what) {
+    return [this, what](const std::string& message) {
+      counters_.Reject(kRejectedPartition, std::string(what) + ": " + message);
+    };
+  };
   Result<int> taken = request_reader_->TakeAll(
       [this](const fleetloc_TileRequest& request, const dds_sample_info_t&) {
         tiles_->Receive(request);
-      });
+      },
+      rejected("tile request"));
   if (!taken.ok()) return taken.status();
   taken = patch_reader_->TakeAll(
       [this](const fleetloc_PatchObservation& patch, const dds_sample_info_t&) {
         patch_service_->Receive(patch);
-      });
+      },
+      rejected("patch"));
   if (!taken.ok()) return taken.status();
   const mosaic::MosaicLayout layout = store_->layout();
   taken = remap_reader_->TakeAll(

@@ -20,6 +20,7 @@
 #include "mosaic/remap_job.h"
 #include "mosaic/tile_store.h"
 #include "transport/typed_io.h"
+#include "transport/vehicle_streams.h"
 #include "transport/waitset.h"
 
 namespace fleetloc::map_server {
@@ -68,8 +69,8 @@ class MapServer {
   std::unique_ptr<transport::Writer<fleetloc_ServiceHealth>> health_writer_;
   std::unique_ptr<transport::Writer<fleetloc_RemapStatus>> remap_status_writer_;
   std::unique_ptr<transport::Writer<fleetloc_TileUpdate>> update_writer_;
-  std::unique_ptr<transport::Reader<fleetloc_TileRequest>> request_reader_;
-  std::unique_ptr<transport::Reader<fleetloc_PatchObservation>> patch_reader_;
+  std::unique_ptr<transport::VehicleStreamReader<fleetloc_TileRequest>> request_reader_;
+  std::unique_ptr<transport::VehicleStreamReader<fleetloc_PatchObservation>> patch_reader_;
   std::unique_ptr<transport::Reader<fleetloc_RemapCommand>> remap_reader_;
   std::unique_ptr<transport::WaitSet> waitset_;
   std::unique_ptr<VehicleChannels> channels_;

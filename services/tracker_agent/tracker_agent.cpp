@@ -43,9 +43,10 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_VehiclePose>::Create(p.get(), *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
+  const std::string& id = config_.vehicle_id;  // its streams go in its own partition
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(p, id, *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_VehicleHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(p, id, *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_));
   spdlog::info("waiting up to {} s for a map server on domain {}", config_.mosaic_wait_s, config_.domain_id);
   const auto deadline = std::chrono::steady_clock::now() +

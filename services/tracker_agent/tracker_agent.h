@@ -34,6 +34,7 @@
 #include "transport/pose_messages.h"
 #include "tracker_agent/map_server_directory.h"
 #include "transport/tile_client.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -104,8 +105,8 @@ class TrackerAgent {
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
   std::unique_ptr<transport::Topic<fleetloc_VehicleHealth>> health_topic_;
   std::unique_ptr<transport::Topic<fleetloc_TileUpdate>> update_topic_;
-  std::unique_ptr<transport::Writer<fleetloc_VehiclePose>> pose_writer_;
-  std::unique_ptr<transport::Writer<fleetloc_VehicleHealth>> health_writer_;
+  std::unique_ptr<transport::VehicleStreamWriter<fleetloc_VehiclePose>> pose_writer_;
+  std::unique_ptr<transport::VehicleStreamWriter<fleetloc_VehicleHealth>> health_writer_;
   std::unique_ptr<transport::Reader<fleetloc_TileUpdate>> update_reader_;
   mosaic::MosaicLayout layout_;
   std::shared_ptr<mosaic::TileCache> tile_cache_;

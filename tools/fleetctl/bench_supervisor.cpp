@@ -25,6 +25,7 @@
 #include "replay/replay.h"
 #include "transport/topic_names.h"
 #include "transport/typed_io.h"
+#include "transport/vehicle_streams.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::fleetctl {
@@ -72,10 +73,19 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop, s
   if (!participant.ok()) return spdlog::error("{}", participant.status().message());
   auto pose_topic = Topic<fleetloc_VehiclePose>::Create(*participant, topics::kVehiclePose);
   auto health_topic = Topic<fleetloc_VehicleHealth>::Create(*participant, topics::kVehicleHealth);
-  auto poses = Writer<fleetloc_VehiclePose>::Create(participant->get(), *pose_topic, PoseStreamQos());
-  auto health = Writer<fleetloc_VehicleHealth>::Create(participant->get(), *health_topic, PeriodicStateQos(3, 5));
-  if (!poses.ok() || !health.ok()) return spdlog::error("bench: cannot create the writers");
-  while (poses->MatchedReaders() == 0 && !stop) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (!pose_topic.ok() || !health_topic.ok()) return spdlog::error("bench: cannot create the topics");
+  // Each vehicle writes in its own partition, as an agent does (transport/vehicle_streams.h).
+  std::vector<VehicleStreamWriter<fleetloc_VehiclePose>> poses;
+  std::vector<VehicleStreamWriter<fleetloc_VehicleHealth>> health;
+  for (int i = 0; i < a.vehicles; ++i) {
+    const std::string id = "sim-" + std::to_string(i);
+    auto pose_writer = VehicleStreamWriter<fleetloc_VehiclePose>::Create(*participant, id, *pose_topic, PoseStreamQos());
+    auto health_writer = VehicleStreamWriter<fleetloc_VehicleHealth>::Create(*participant, id, *health_topic, PeriodicStateQos(3, 5));
+    if (!pose_writer.ok() || !health_writer.ok()) return spdlog::error("bench: cannot create the writers");
+    poses.push_back(std::move(pose_writer).value());
+    health.push_back(std::move(health_writer).value());
+  }
+  while (!poses.empty() && poses.back().MatchedReaders() == 0 && !stop) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   const auto period = std::chrono::duration<double>(1.0 / a.pose_hz);
   auto next = Clock::now();
   for (long long tick = 0; !stop; ++tick) {
@@ -85,7 +95,7 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop, s
       const double phase = now * 0.2 + i;
       report.base_in_map.pose = {10 * (i % 25) + std::cos(phase), 10 * (i / 25) + std::sin(phase), phase + M_PI / 2};
       report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
-      if (poses->Write(ToIdl(report)).ok()) ++*published;
+      if (poses[i].Write(ToIdl(report)).ok()) ++*published;
       if (tick % static_cast<long long>(std::max(1.0, a.pose_hz)) == 0) {
         fleetloc_VehicleHealth h{};
         h.wire_version = fleetloc_WIRE_VERSION;
@@ -93,7 +103,7 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop, s
         h.stamp = NowStamp();
         h.cycle_ms_p50 = 1.2f, h.cycle_ms_p95 = 1.9f, h.cycle_ms_p99 = 2.5f, h.inliers = 24;
         h.map_server_reachable = true;
-        (void)health->Write(h);
+        (void)health[i].Write(h);
       }
     }
     next += std::chrono::duration_cast<Clock::duration>(period);
