@@ -4,8 +4,8 @@
 //   security_probe --domain D [--dds-config FILE] --remap
 //       tries to create a RemapCommand writer (transport::RemapClient);
 //   security_probe --domain D [--dds-config FILE] --partition-of V --vehicle-id ID [--seconds S]
-//       creates VehiclePose, VehicleHealth and PatchObservation writers in vehicle V's partition and
-//       for S seconds (default 4) writes samples naming vehicle ID at 10 Hz; then prints the
+//       creates VehiclePose, VehicleHealth and PatchObservation writers in vehicle V's partition
+//       and for S seconds (default 4) writes samples naming vehicle ID at 10 Hz; then prints the
 //       largest number of readers its pose writer matched.
 // Exit status: 0 when every writer was created, 3 when one was refused, 2 on bad arguments.
 #include <chrono>
@@ -44,8 +44,10 @@ Result<VehicleStreamWriter<T>> Open(const Participant& p, const std::string& par
 int WriteStreams(const Participant& p, const std::string& partition_of, const std::string& id,
                  double seconds) {
   auto poses = Open<fleetloc_VehiclePose>(p, partition_of, topics::kVehiclePose, PoseStreamQos());
-  auto health = Open<fleetloc_VehicleHealth>(p, partition_of, topics::kVehicleHealth, PeriodicStateQos(3, 5));
-  auto patches = Open<fleetloc_PatchObservation>(p, partition_of, topics::kPatchObservation, BulkQos(64, 0.1));
+  auto health =
+      Open<fleetloc_VehicleHealth>(p, partition_of, topics::kVehicleHealth, PeriodicStateQos(3, 5));
+  auto patches =
+      Open<fleetloc_PatchObservation>(p, partition_of, topics::kPatchObservation, BulkQos(64, 0.1));
   const bool all = Report("vehicle_pose", poses) & Report("vehicle_health", health) &
                    Report("patch_observation", patches);
   int matched = 0;
@@ -94,7 +96,8 @@ int Main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!args.count("--domain") || args["--domain"].find_first_not_of("0123456789") != std::string::npos) {
+  if (!args.count("--domain") ||
+      args["--domain"].find_first_not_of("0123456789") != std::string::npos) {
     std::fprintf(stderr, "security_probe: --domain N is required\n");
     return 2;
   }

@@ -38,7 +38,9 @@ class SupervisorProcess {
     })) << "the supervisor never wrote its port; log: " << ReadWhole(dir / "fleet_supervisor.log");
   }
   ~SupervisorProcess() {
-    if (process_) EXPECT_EQ(process_->Stop(SIGTERM), 0) << "fleet_supervisor did not stop cleanly";
+    if (process_) {
+      EXPECT_EQ(process_->Stop(SIGTERM), 0) << "fleet_supervisor did not stop cleanly";
+    }
   }
 
   int port() const { return port_; }

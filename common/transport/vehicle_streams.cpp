@@ -42,7 +42,8 @@ void VehicleSourceCheck::LearnNewWriters() {
   matched_total_ = status.total_count;
   std::vector<dds_instance_handle_t> writers(status.current_count + 16);
   const dds_return_t n = dds_get_matched_publications(reader_, writers.data(), writers.size());
-  for (dds_return_t i = 0; i < std::min<dds_return_t>(n, static_cast<dds_return_t>(writers.size())); ++i) {
+  for (dds_return_t i = 0; i < std::min<dds_return_t>(n, static_cast<dds_return_t>(writers.size()));
+       ++i) {
     (void)WriterPartitions(writers[i]);
   }
 }

@@ -25,7 +25,8 @@ Status CheckVehiclePartition(const std::string& vehicle_id,
                              const std::vector<std::string>& writer_partitions);
 
 // A publisher in the partition of `vehicle_id` (a valid entity id), for that vehicle's streams.
-Result<Entity> CreateVehiclePublisher(const Participant& participant, const std::string& vehicle_id);
+Result<Entity> CreateVehiclePublisher(const Participant& participant,
+                                      const std::string& vehicle_id);
 // A subscriber in every vehicle's partition, for the receivers of the vehicles' streams.
 Result<Entity> CreateAnyVehicleSubscriber(const Participant& participant);
 
@@ -114,7 +115,8 @@ class VehicleStreamReader {
 
  private:
   VehicleStreamReader(Entity subscriber, Reader<T> reader)
-      : subscriber_(std::move(subscriber)), reader_(std::move(reader)),
+      : subscriber_(std::move(subscriber)),
+        reader_(std::move(reader)),
         check_(std::make_unique<VehicleSourceCheck>(reader_.get())) {}
   Entity subscriber_;  // declared first: deleted after the reader
   Reader<T> reader_;

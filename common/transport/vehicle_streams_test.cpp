@@ -29,7 +29,8 @@ TEST(CheckVehiclePartition, RejectsAnotherVehiclesPartitionNamingBoth) {
 TEST(CheckVehiclePartition, RejectsDefaultWildcardAndExtraPartitions) {
   EXPECT_FALSE(CheckVehiclePartition("agv-1", {}).ok());
   EXPECT_FALSE(CheckVehiclePartition("agv-1", {"fleetloc.vehicle.*"}).ok());
-  EXPECT_FALSE(CheckVehiclePartition("agv-1", {"fleetloc.vehicle.agv-1", "fleetloc.vehicle.agv-2"}).ok());
+  EXPECT_FALSE(
+      CheckVehiclePartition("agv-1", {"fleetloc.vehicle.agv-1", "fleetloc.vehicle.agv-2"}).ok());
   EXPECT_FALSE(CheckVehiclePartition("agv-1", {"fleetloc.vehicle.agv-10"}).ok());
 }
 
@@ -56,9 +57,11 @@ TEST(VehicleStreamReader, DeliversOwnVehicleIdAndRejectsAForgedOneWrittenInAnoth
   auto topic_v = Topic<fleetloc_VehiclePose>::Create(vehicle, topics::kVehiclePose).value();
   auto topic_r = Topic<fleetloc_VehiclePose>::Create(receiver, topics::kVehiclePose).value();
   Entity publisher = CreateVehiclePublisher(vehicle, "agv-1").value();
-  auto writer = Writer<fleetloc_VehiclePose>::Create(publisher.get(), topic_v, CommandQos()).value();
+  auto writer =
+      Writer<fleetloc_VehiclePose>::Create(publisher.get(), topic_v, CommandQos()).value();
   auto outside = Writer<fleetloc_VehiclePose>::Create(vehicle.get(), topic_v, CommandQos()).value();
-  auto reader = VehicleStreamReader<fleetloc_VehiclePose>::Create(receiver, topic_r, CommandQos()).value();
+  auto reader =
+      VehicleStreamReader<fleetloc_VehiclePose>::Create(receiver, topic_r, CommandQos()).value();
   ASSERT_TRUE(Eventually([&] { return writer.MatchedReaders() == 1; }));
   EXPECT_EQ(outside.MatchedReaders(), 0);  // the default partition is not a vehicle's
   ASSERT_TRUE(writer.Write(Pose("agv-2", 2.0)).ok());
@@ -66,8 +69,9 @@ TEST(VehicleStreamReader, DeliversOwnVehicleIdAndRejectsAForgedOneWrittenInAnoth
   std::vector<double> delivered;
   std::vector<std::string> rejections;
   ASSERT_TRUE(Eventually([&] {
-    (void)reader.TakeAll([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { delivered.push_back(p.x); },
-                         [&](const std::string& message) { rejections.push_back(message); });
+    (void)reader.TakeAll(
+        [&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { delivered.push_back(p.x); },
+        [&](const std::string& message) { rejections.push_back(message); });
     return delivered.size() + rejections.size() >= 2;
   }));
   EXPECT_EQ(delivered, std::vector<double>{1.0});
@@ -82,12 +86,17 @@ TEST(VehicleStreamReader, ChecksTheSamplesOfAWriterThatIsGoneBeforeTheyAreTaken)
   Participant receiver = Participant::Create(kDomain).value();
   auto topic_v = Topic<fleetloc_VehiclePose>::Create(vehicle, topics::kVehiclePose).value();
   auto topic_r = Topic<fleetloc_VehiclePose>::Create(receiver, topics::kVehiclePose).value();
-  auto reader = VehicleStreamReader<fleetloc_VehiclePose>::Create(receiver, topic_r, CommandQos()).value();
+  auto reader =
+      VehicleStreamReader<fleetloc_VehiclePose>::Create(receiver, topic_r, CommandQos()).value();
   {
-    auto writer = VehicleStreamWriter<fleetloc_VehiclePose>::Create(vehicle, "agv-3", topic_v, CommandQos()).value();
-    ASSERT_TRUE(Eventually([&] { return writer.MatchedReaders() == 1 && reader.MatchedWriters() == 1; }));
+    auto writer =
+        VehicleStreamWriter<fleetloc_VehiclePose>::Create(vehicle, "agv-3", topic_v, CommandQos())
+            .value();
+    ASSERT_TRUE(
+        Eventually([&] { return writer.MatchedReaders() == 1 && reader.MatchedWriters() == 1; }));
     int none = 0;
-    (void)reader.TakeAll([&](const fleetloc_VehiclePose&, const dds_sample_info_t&) { ++none; });  // learns it
+    (void)reader.TakeAll(
+        [&](const fleetloc_VehiclePose&, const dds_sample_info_t&) { ++none; });  // learns it
     EXPECT_EQ(none, 0);
     ASSERT_TRUE(writer.Write(Pose("agv-3", 3.0)).ok());
     ASSERT_TRUE(writer.Write(Pose("agv-4", 4.0)).ok());
@@ -102,8 +111,9 @@ TEST(VehicleStreamReader, ChecksTheSamplesOfAWriterThatIsGoneBeforeTheyAreTaken)
   ASSERT_TRUE(Eventually([&] { return reader.MatchedWriters() == 0; }));
   std::vector<double> delivered;
   int rejected = 0;
-  (void)reader.TakeAll([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { delivered.push_back(p.x); },
-                       [&](const std::string&) { ++rejected; });
+  (void)reader.TakeAll(
+      [&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { delivered.push_back(p.x); },
+      [&](const std::string&) { ++rejected; });
   EXPECT_EQ(delivered, std::vector<double>{3.0});
   EXPECT_EQ(rejected, 1);
 }

@@ -46,11 +46,6 @@ for lib in auth ac crypto; do
     die "$plugins/libdds_security_$lib.so is missing (Debian package libddsc0debian)"
 done
 command -v openssl > /dev/null || die "openssl is not installed"
-mkdir -p "$out/ca"
-out="$(cd "$out" && pwd)"
-# Where the files will be when the services read them (the XML names them with absolute paths).
-install_dir="${install_dir:-$out}"
-
 split() { tr ',' '\n' <<< "$1" | sed '/^$/d'; }
 check_ids() {  # ids are vehicle ids too (partitions): 1-11 of [A-Za-z0-9_-]
   local id
@@ -59,6 +54,11 @@ check_ids() {  # ids are vehicle ids too (partitions): 1-11 of [A-Za-z0-9_-]
   done
 }
 for list in "$maintainers" "$vehicles" "$servers" "$supervisors"; do check_ids "$list"; done
+mkdir -p "$out/ca"
+out="$(cd "$out" && pwd)"
+# Where the files will be when the services read them (the XML names them with absolute paths).
+install_dir="${install_dir:-$out}"
+
 
 # Writes $2 to file $1 only when it differs; returns 0 when the file changed.
 write_if_changed() {

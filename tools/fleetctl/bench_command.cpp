@@ -201,6 +201,10 @@ void RegisterBenchTiles(CLI::App* bench, Status* result) {
   tiles->add_option("--pipeline", s->pipeline, "Requests in flight (throughput)")
       ->check(CLI::Range(1, 64));
   tiles->add_option("--json", s->json, "Write every number to this JSON file");
+  tiles->add_option("--server-dds-config", s->server_dds_config,
+                    "Cyclone DDS XML of the map server (default: built-in loopback)");
+  tiles->add_option("--client-dds-config", s->client_dds_config,
+                    "Cyclone DDS XML of the requesting participant (default: built-in loopback)");
   tiles->callback([s, result] { *result = RunTileBench(*s); });
 }
 

@@ -215,10 +215,12 @@ Status RunTileBench(const TileBenchSettings& s) {
   const std::string uri = "file://" + config;
   auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
                                         {"--mosaic", *mosaic, "--domain", std::to_string(s.domain),
-                                         "--server-id", "bench", "--dds-config", config},
+                                         "--server-id", "bench", "--dds-config",
+                                         s.server_dds_config.empty() ? config : s.server_dds_config},
                                         work + "/map_server.log");
   if (!server.ok()) return server.status();
-  auto participant = transport::Participant::Create(s.domain, {"", config});
+  auto participant = transport::Participant::Create(
+      s.domain, {"", s.client_dds_config.empty() ? config : s.client_dds_config});
   if (!participant.ok()) return participant.status();
   spdlog::info("bench tiles: throughput for {} s", s.seconds);
   Result<Throughput> tp = MeasureThroughput(*participant, s);

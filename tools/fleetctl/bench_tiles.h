@@ -20,6 +20,11 @@ struct TileBenchSettings {
   int batch_tiles = 32;               // tiles per request in the throughput phase
   int pipeline = 2;                   // requests in flight (2 × 32 tiles ≈ 3 MB: below rmem_max)
   std::string json;
+  // Cyclone configurations of the map server and of the benchmark's participant (empty: the
+  // built-in loopback one, also used by ddsperf); secured ones measure DDS Security's cost
+  // (docs/benchmarks.md).
+  std::string server_dds_config;
+  std::string client_dds_config;
 };
 
 Status RunTileBench(const TileBenchSettings& settings);
