@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "base/eventually.h"
 #include "cli_runner.h"
 #include "daemon_process.h"
 #include "mosaic/importer.h"
@@ -19,16 +20,6 @@
 #include "transport/wire_util.h"
 
 namespace fleetloc::testing {
-
-// Polls `done` every 10 ms for up to `limit_s`; true once it holds.
-inline bool Eventually(const std::function<bool()>& done, double limit_s = 20.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return done();
-}
 
 class MapServerFixture {
  public:

@@ -14,7 +14,19 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "mosaic/tile_key.h"
+
 namespace fleetloc::mosaic::testing {
+
+// A layout of `width` x `height` level-0 pixels in `tile`-pixel tiles with its full pyramid.
+inline MosaicLayout Layout(int width, int height, int tile) {
+  MosaicLayout layout;
+  layout.width_px = width;
+  layout.height_px = height;
+  layout.tile_size_px = tile;
+  layout.levels = PyramidLevelCount(width, height, tile);
+  return layout;
+}
 
 // Absolute path of a file in the source tree, e.g. "tests/data/gravel.png".
 inline std::string SourcePath(const std::string& relative) {

@@ -6,17 +6,12 @@
 #include <set>
 #include <unordered_set>
 
+#include "mosaic/test_util.h"
+
 namespace fleetloc::mosaic {
 namespace {
 
-MosaicLayout Layout(int width, int height, int tile) {
-  MosaicLayout layout;
-  layout.width_px = width;
-  layout.height_px = height;
-  layout.tile_size_px = tile;
-  layout.levels = PyramidLevelCount(width, height, tile);
-  return layout;
-}
+using testing::Layout;
 
 TEST(TileKey, PyramidTopLevelFitsInOneTile) {
   EXPECT_EQ(PyramidLevelCount(256, 256, 256), 1);

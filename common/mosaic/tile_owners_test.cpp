@@ -4,17 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include "mosaic/test_util.h"
+
 namespace fleetloc::mosaic {
 namespace {
 
-MosaicLayout Layout(int width, int height, int tile) {
-  MosaicLayout layout;
-  layout.width_px = width;
-  layout.height_px = height;
-  layout.tile_size_px = tile;
-  layout.levels = PyramidLevelCount(width, height, tile);
-  return layout;
-}
+using testing::Layout;
 
 using Owners = std::vector<std::string>;
 

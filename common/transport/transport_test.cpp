@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "base/eventually.h"
 #include "transport/typed_io.h"
 #include "transport/waitset.h"
 
@@ -15,15 +16,7 @@ namespace {
 
 constexpr uint32_t kDomain = 71;  // this test binary's own domain
 
-// Polls `done` every 10 ms for up to `limit_s`; true once it holds.
-bool Eventually(const std::function<bool()>& done, double limit_s = 10.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return done();
-}
+using testing::Eventually;
 
 template <typename T>
 T Unwrap(Result<T> result) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <thread>
 
+#include "base/eventually.h"
 #include "transport/topic_names.h"
 
 namespace fleetloc::transport {
@@ -34,14 +35,7 @@ TEST(CheckVehiclePartition, RejectsDefaultWildcardAndExtraPartitions) {
   EXPECT_FALSE(CheckVehiclePartition("agv-1", {"fleetloc.vehicle.agv-10"}).ok());
 }
 
-bool Eventually(const std::function<bool()>& done, double limit_s = 10.0) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return done();
-}
+using testing::Eventually;
 
 fleetloc_VehiclePose Pose(const char* vehicle_id, double x) {
   fleetloc_VehiclePose pose{};
