@@ -1,6 +1,7 @@
 // Faults of the map server: killed with SIGKILL in the middle of a re-mapping job, it leaves the
 // previous mosaic version whole (every tile byte-identical, patches unfolded); restarted, it serves
-// that version and the same job runs to completion.
+// that version and the same job runs to completion. Killed while a vehicle asks for tiles, the
+// requests it missed are asked again once it is back, without waiting out a timeout per tile.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -11,7 +12,9 @@
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "mosaic/tile_store.h"
+#include "transport/dds_tile_loader.h"
 #include "transport/patch_client.h"
+#include "transport/tile_client.h"
 
 namespace fleetloc {
 namespace {
@@ -88,6 +91,32 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   const auto outcome = nlohmann::json::parse(rerun.out);
   EXPECT_EQ(outcome["new_version"], 2);
   EXPECT_EQ(outcome["patches_folded"], sent);
+}
+
+TEST(MapServerFault, TilesAskedForWhileTheServerWasDownAreAskedAgainWhenItReturns) {
+  Scene scene;
+  testing::MapServerFixture server("map_server_fault_tiles", scene.old_floor, kDomain);
+  auto client = transport::TileClient::Create(server.participant(), "agv-8");
+  ASSERT_TRUE(client.ok());
+  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+  const mosaic::MosaicLayout layout = server.layout();
+  const auto timeout = std::chrono::seconds(4);
+  transport::DdsTileLoader loader(client->get(), layout.mosaic_id, layout.tile_size_px, timeout);
+  ASSERT_TRUE(loader.Load({0, 0, 0}).ok());
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  // Asked for while nobody serves: these requests are lost with the dead server.
+  const std::vector<mosaic::TileKey> ahead = {{0, 1, 0}, {0, 0, 1}, {0, 1, 1}};
+  ASSERT_TRUE(loader.Prefetch(ahead).ok());
+  server.StartServer();
+  EXPECT_EQ(server.HealthCounter("rejected_tile_request"), 0u);  // the new server reports
+  std::this_thread::sleep_for(timeout / 2);  // so the prefetched requests count as lost
+  for (const mosaic::TileKey& key : ahead) {
+    Result<cv::Mat> tile = loader.Load(key);
+    ASSERT_TRUE(tile.ok()) << mosaic::ToString(key) << ": " << tile.status().message();
+    EXPECT_EQ(tile->cols, layout.tile_size_px);
+  }
+  EXPECT_EQ(loader.stats().timeouts, 0);
+  EXPECT_EQ(loader.stats().reasked, static_cast<long long>(ahead.size()));
 }
 
 }  // namespace

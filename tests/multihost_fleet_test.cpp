@@ -118,7 +118,7 @@ TEST(MultiHost, PacketLossAndDelayBetweenHosts) {
 // it is back (14 tiles in 30 s; the agents stall on 2 s tile waits and publish few poses) while
 // the same restart on one host recovers at once (MapServerFault, AgentPatchFault). Under
 // investigation; the logs of a run are kept in build/test-artifacts/multihost_server_kill/.
-TEST(MultiHost, DISABLED_MapServerKilledAndRestartedWhileStreaming) {
+TEST(MultiHost, MapServerKilledAndRestartedWhileStreaming) {
   MultiHostFleet fleet("multihost_server_kill");
   if (!fleet.skip.empty()) GTEST_SKIP() << fleet.skip;
   ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 90)) << "the fleet did not come up";

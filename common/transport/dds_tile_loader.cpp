@@ -20,7 +20,8 @@ Status DdsTileLoader::Ask(const std::vector<mosaic::TileKey>& keys) {
     const std::vector<mosaic::TileKey> batch(keys.begin() + begin,
                                              keys.begin() + std::min(keys.size(), begin + 256));
     FLEETLOC_RETURN_IF_ERROR(client_->Request(next_request_++, mosaic_id_, batch));
-    in_flight_.insert(batch.begin(), batch.end());
+    const Clock::time_point now = Clock::now();
+    for (const mosaic::TileKey& key : batch) in_flight_[key] = now;
     stats_.requested += static_cast<long long>(batch.size());
   }
   return Status::Ok();
@@ -66,6 +67,14 @@ void DdsTileLoader::Keep(ReceivedTile tile) {
   }
 }
 
+bool DdsTileLoader::NeedsAsking(const mosaic::TileKey& key, Clock::time_point now) {
+  auto it = in_flight_.find(key);
+  if (it == in_flight_.end()) return true;
+  if (now - it->second < timeout_ / 2) return false;
+  ++stats_.reasked;
+  return true;
+}
+
 Status DdsTileLoader::Poll() {
   Result<std::vector<ReceivedTile>> tiles = client_->TakeTiles();
   if (!tiles.ok()) return tiles.status();
@@ -78,8 +87,9 @@ Status DdsTileLoader::Poll() {
 Status DdsTileLoader::Prefetch(const std::vector<mosaic::TileKey>& keys) {
   FLEETLOC_RETURN_IF_ERROR(Poll());
   std::vector<mosaic::TileKey> wanted;
+  const Clock::time_point now = Clock::now();
   for (const mosaic::TileKey& key : keys) {
-    if (!in_flight_.count(key) && !arrived_.count(key)) wanted.push_back(key);
+    if (!arrived_.count(key) && NeedsAsking(key, now)) wanted.push_back(key);
   }
   return Ask(wanted);
 }
@@ -88,16 +98,17 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   FLEETLOC_RETURN_IF_ERROR(Poll());
   if (!arrived_.count(key)) {
     ++stats_.waited;
-    if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
+    if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
     if (!reachable_(key)) {
       ++stats_.unserved;
       in_flight_.erase(key);  // ask again next time
       return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");
     }
-    const auto deadline = std::chrono::steady_clock::now() + timeout_;
+    const auto deadline = Clock::now() + timeout_;
     while (!arrived_.count(key)) {
-      if (!in_flight_.count(key)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));  // a stale answer came
-      if (std::chrono::steady_clock::now() >= deadline) {
+      // Asked again when a stale answer came (no longer in flight) or the request seems lost.
+      if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
+      if (Clock::now() >= deadline) {
         ++stats_.timeouts;
         in_flight_.erase(key);  // ask again next time
         return Internal("tile " + mosaic::ToString(key) + ": no answer from the map server in " +

@@ -8,7 +8,6 @@
 #include <deque>
 #include <functional>
 #include <map>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -27,6 +26,7 @@ struct DdsTileLoaderStats {
   long long invalidated = 0; // tiles named by TileUpdates (Invalidate)
   long long refreshed = 0;   // invalidated tiles received again at the announced version or newer
   long long stale = 0;       // answers older than an announced version, refused and asked again
+  long long reasked = 0;     // requests presumed lost (unanswered for half a timeout) and sent again
 };
 
 class DdsTileLoader {
@@ -38,7 +38,9 @@ class DdsTileLoader {
   // The decoded tile. NotFound for a tile the mosaic does not have (blank floor); InvalidInput
   // for an error answer or corrupt bytes; Internal when no answer came within the timeout.
   Result<cv::Mat> Load(const mosaic::TileKey& key);
-  // Asks for tiles that are not already asked for or buffered, without waiting.
+  // Asks for tiles that are not already asked for or buffered, without waiting. A request left
+  // unanswered for half the timeout is presumed lost and sent again: its server may have died
+  // and restarted, or not yet have matched our request writer, since it was sent.
   Status Prefetch(const std::vector<mosaic::TileKey>& keys);
   // Whether the map server answering for a tile is reachable now (with the mosaic split across
   // servers, each tile has its own). A missing tile whose server is known to be unreachable is
@@ -63,7 +65,10 @@ class DdsTileLoader {
   size_t pending() const { return in_flight_.size(); }
 
  private:
+  using Clock = std::chrono::steady_clock;
   Status Ask(const std::vector<mosaic::TileKey>& keys);
+  // Whether `key` should be (re)sent: not in flight, or its request presumed lost.
+  bool NeedsAsking(const mosaic::TileKey& key, Clock::time_point now);
   void Keep(ReceivedTile tile);
   bool IsCurrent(const ReceivedTile& tile);
 
@@ -73,7 +78,7 @@ class DdsTileLoader {
   std::chrono::milliseconds timeout_;
   size_t max_buffered_;
   uint32_t next_request_ = 1;
-  std::set<mosaic::TileKey> in_flight_;
+  std::map<mosaic::TileKey, Clock::time_point> in_flight_;  // when each was last asked for
   std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
   std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
   std::map<mosaic::TileKey, long long> min_version_;  // announced by TileUpdates, not yet received
