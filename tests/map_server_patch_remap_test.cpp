@@ -51,7 +51,10 @@ class MapServerPatchRemap : public ::testing::Test {
     ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})));
     const auto acks = Acks(2);
     ASSERT_EQ(acks.size(), 2u);
-    for (const auto& [seq, ack] : acks) EXPECT_EQ(ack.status, fleetloc_PATCH_STORED) << ack.reason;
+    for (const auto& [seq, ack] : acks) {
+      EXPECT_EQ(ack.status, fleetloc_PATCH_STORED) << ack.reason;
+      EXPECT_EQ(ack.server_id, "map-t");  // the ack writer names its server (USER_DATA)
+    }
   }
 
   // `fleetctl remap` on this domain over the region around the change.

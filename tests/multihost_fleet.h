@@ -136,20 +136,15 @@ class MultiHostFleet {
     return SqliteValue(Mosaic(server), "SELECT COUNT(*) FROM patches");
   }
   // How many of the patches `vehicle` queued were acknowledged (gone from its outbox) but are
-  // stored by none of `servers`.
-  long long AcknowledgedButMissing(const std::string& vehicle, const std::vector<std::string>& servers) const {
-    std::string sql =
+  // not stored by `server`.
+  long long AcknowledgedButMissing(const std::string& vehicle, const std::string& server) const {
+    const std::string sql =
         "WITH RECURSIVE queued(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM queued"
         " WHERE n < (SELECT value - 1 FROM meta WHERE name = 'next_sequence'))"
         " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = 'next_sequence') > 0"
-        " AND n NOT IN (SELECT sequence FROM outbox)";
-    std::vector<std::pair<std::string, std::string>> attach;
-    for (const std::string& server : servers) {
-      const std::string schema = "s" + std::to_string(attach.size());
-      attach.emplace_back(schema, Mosaic(server));
-      sql += " AND n NOT IN (SELECT sequence FROM " + schema + ".patches WHERE vehicle_id = '" + vehicle + "')";
-    }
-    return SqliteValue(Outbox(vehicle), sql.c_str(), attach);
+        " AND n NOT IN (SELECT sequence FROM outbox)"
+        " AND n NOT IN (SELECT sequence FROM server.patches WHERE vehicle_id = '" + vehicle + "')";
+    return SqliteValue(Outbox(vehicle), sql.c_str(), {{"server", Mosaic(server)}});
   }
   long long Queued(const std::string& vehicle) const {
     return SqliteValue(Outbox(vehicle), "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/pose2.h"
+#include "transport/matched_writers.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 
@@ -30,6 +31,7 @@ struct PatchToSend {
 
 struct ReceivedAck {
   uint64_t sequence = 0;
+  std::string server_id;  // the acknowledging map server; empty when its writer does not say
   fleetloc_PatchAckStatus status = fleetloc_PATCH_REJECTED;
   std::string reason;
 };
@@ -41,6 +43,7 @@ class PatchClient {
   Status Send(const PatchToSend& patch);
   // Sends an already filled wire sample as is (tests use it to forge bad ones).
   Status SendRaw(const fleetloc_PatchObservation& sample);
+  // The acknowledgements received so far, each with the map server that wrote it.
   Result<std::vector<ReceivedAck>> TakeAcks();
   bool ServerMatched() const { return patches_.MatchedReaders() > 0; }
   dds_entity_t ack_reader() const { return ack_reader_.get(); }
@@ -55,6 +58,7 @@ class PatchClient {
   Topic<fleetloc_PatchAck> ack_topic_;
   VehicleStreamWriter<fleetloc_PatchObservation> patches_;  // in the vehicle's partition
   Reader<fleetloc_PatchAck> ack_reader_;
+  MatchedWriters ack_writers_{ack_reader_.get()};  // which server wrote an ack
 };
 
 }  // namespace fleetloc::transport

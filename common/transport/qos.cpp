@@ -60,6 +60,11 @@ Qos& Qos::Limits(int max_samples, int max_instances, int max_samples_per_instanc
   return *this;
 }
 
+Qos& Qos::UserData(const std::string& bytes) {
+  dds_qset_userdata(qos_, bytes.data(), bytes.size());
+  return *this;
+}
+
 Qos CommandQos() { return Qos().Reliable().KeepAll().Volatile(); }
 
 Qos DurableStateQos(int depth) { return Qos().Reliable().TransientLocal().KeepLast(depth); }

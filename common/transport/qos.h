@@ -29,6 +29,8 @@ class Qos {
   Qos& Partitions(const std::vector<std::string>& names);
   // Bounds a KEEP_ALL history (samples in total and per instance); -1 = unlimited.
   Qos& Limits(int max_samples, int max_instances, int max_samples_per_instance);
+  // USER_DATA: bytes every matched reader can see (MatchedWriters), e.g. which server writes.
+  Qos& UserData(const std::string& bytes);
 
   const dds_qos_t* get() const { return qos_; }
 

@@ -29,4 +29,17 @@ inline std::string VehiclePartition(const std::string& vehicle_id) {
 // Every vehicle's partition: the receivers of the vehicles' streams subscribe with it.
 inline constexpr const char* kAnyVehiclePartition = "fleetloc.vehicle.*";
 
+// The USER_DATA of a map server's PatchAck writers names the server, so a vehicle knows which
+// replica of a split mosaic stored its patch (a PatchAck sample does not say, and the type is
+// @final: see DDS_NOTES on interoperability).
+inline constexpr const char* kServerIdUserDataPrefix = "fleetloc.server_id=";
+inline std::string ServerIdUserData(const std::string& server_id) {
+  return kServerIdUserDataPrefix + server_id;
+}
+// The server id in `user_data`, or empty when it names none.
+inline std::string ServerIdFromUserData(const std::string& user_data) {
+  const std::string prefix = kServerIdUserDataPrefix;
+  return user_data.rfind(prefix, 0) == 0 ? user_data.substr(prefix.size()) : std::string();
+}
+
 }  // namespace fleetloc::transport::topics

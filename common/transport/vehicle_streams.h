@@ -11,10 +11,10 @@
 #include <cstring>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "transport/matched_writers.h"
 #include "transport/typed_io.h"
 
 namespace fleetloc::transport {
@@ -30,25 +30,19 @@ Result<Entity> CreateVehiclePublisher(const Participant& participant,
 // A subscriber in every vehicle's partition, for the receivers of the vehicles' streams.
 Result<Entity> CreateAnyVehicleSubscriber(const Participant& participant);
 
-// Checks the samples of one reader against the partitions of their writers, which it looks up
-// once per writer (dds_get_matched_publication_data) and remembers.
+// Checks the samples of one reader against the partitions of their writers (MatchedWriters).
 class VehicleSourceCheck {
  public:
-  explicit VehicleSourceCheck(dds_entity_t reader) : reader_(reader) {}
-  // Looks up the writers matched since the last call, so that the samples of a writer that
-  // goes away before they are taken can still be checked. Call before each take.
-  void LearnNewWriters();
+  explicit VehicleSourceCheck(dds_entity_t reader) : writers_(reader) {}
+  // Looks up the writers matched since the last call. Call before each take.
+  void LearnNewWriters() { writers_.LearnNew(); }
   // OK when the sample's writer (info.publication_handle) writes in exactly the partition of
   // `vehicle_id`; InvalidInput otherwise, or when the writer is unknown (matched and gone again
   // between two takes).
   Status Check(const std::string& vehicle_id, const dds_sample_info_t& info);
 
  private:
-  static constexpr size_t kMaxWriters = 4096;  // forgets every writer past this many
-  const std::vector<std::string>* WriterPartitions(dds_instance_handle_t writer);
-  dds_entity_t reader_;
-  uint32_t matched_total_ = 0;  // writers ever matched, when last learned
-  std::unordered_map<dds_instance_handle_t, std::vector<std::string>> partitions_;
+  MatchedWriters writers_;
 };
 
 // A writer of one vehicle's stream of type T, through its own publisher in the vehicle's

@@ -5,11 +5,12 @@
 
 namespace fleetloc::map_server {
 
-VehicleChannels::VehicleChannels(const transport::Participant& participant,
+VehicleChannels::VehicleChannels(const transport::Participant& participant, std::string server_id,
                                  const transport::Topic<fleetloc_Tile>& tile_topic,
                                  const transport::Topic<fleetloc_PatchAck>& ack_topic,
                                  size_t max_vehicles)
     : participant_(participant),
+      server_id_(std::move(server_id)),
       tile_topic_(tile_topic),
       ack_topic_(ack_topic),
       max_vehicles_(max_vehicles) {}
@@ -21,8 +22,9 @@ Result<std::unique_ptr<VehicleChannel>> VehicleChannels::Open(const std::string&
   auto tiles = transport::Writer<fleetloc_Tile>::Create(publisher->get(), tile_topic_,
                                                         transport::TileQos());
   if (!tiles.ok()) return tiles.status();
-  auto acks = transport::Writer<fleetloc_PatchAck>::Create(publisher->get(), ack_topic_,
-                                                           transport::CommandQos());
+  auto acks = transport::Writer<fleetloc_PatchAck>::Create(
+      publisher->get(), ack_topic_,
+      transport::CommandQos().UserData(transport::topics::ServerIdUserData(server_id_)));
   if (!acks.ok()) return acks.status();
   return std::make_unique<VehicleChannel>(VehicleChannel{
       std::move(publisher).value(), std::move(tiles).value(), std::move(acks).value()});

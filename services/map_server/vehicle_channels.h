@@ -23,7 +23,8 @@ struct VehicleChannel {
 
 class VehicleChannels {
  public:
-  VehicleChannels(const transport::Participant& participant,
+  // `server_id` goes in the USER_DATA of the PatchAck writers (topics::ServerIdUserData).
+  VehicleChannels(const transport::Participant& participant, std::string server_id,
                   const transport::Topic<fleetloc_Tile>& tile_topic,
                   const transport::Topic<fleetloc_PatchAck>& ack_topic, size_t max_vehicles);
 
@@ -35,6 +36,7 @@ class VehicleChannels {
   Result<std::unique_ptr<VehicleChannel>> Open(const std::string& vehicle_id) const;
 
   const transport::Participant& participant_;
+  const std::string server_id_;
   const transport::Topic<fleetloc_Tile>& tile_topic_;
   const transport::Topic<fleetloc_PatchAck>& ack_topic_;
   const size_t max_vehicles_;

@@ -32,6 +32,8 @@ class MapServerDirectory {
   // Every server owning part of the mosaic is reachable (and there is at least one).
   bool AllReachable() const { return !servers_.empty() && unreachable_.empty(); }
   bool AnyReachable() const { return unreachable_.size() < servers_.size(); }
+  // Ids of the servers owning part of the mosaic (each keeps a replica of every patch).
+  const std::vector<std::string>& servers() const { return servers_; }
   // Ids of the owning servers now unreachable, comma-separated (empty when none).
   std::string UnreachableNames() const;
   const mosaic::TileOwners& owners() const { return owners_; }

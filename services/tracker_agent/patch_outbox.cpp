@@ -3,6 +3,7 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace fleetloc::tracker_agent {
@@ -14,7 +15,9 @@ constexpr const char* kSchema =
     "INSERT OR IGNORE INTO meta(name, value) VALUES('next_sequence', 1);"
     "CREATE TABLE IF NOT EXISTS outbox(sequence INTEGER PRIMARY KEY, stamp REAL, mosaic_id TEXT,"
     " mosaic_version INTEGER, x REAL, y REAL, theta REAL, covariance BLOB, quality REAL,"
-    " resolution REAL, png BLOB NOT NULL, last_sent REAL NOT NULL DEFAULT -1);";
+    " resolution REAL, png BLOB NOT NULL, last_sent REAL NOT NULL DEFAULT -1);"
+    "CREATE TABLE IF NOT EXISTS acks(sequence INTEGER NOT NULL, server_id TEXT NOT NULL,"
+    " PRIMARY KEY(sequence, server_id)) WITHOUT ROWID;";
 
 }  // namespace
 
@@ -108,12 +111,54 @@ Status PatchOutbox::MarkSent(uint64_t sequence, double now_s) {
   return Status::Ok();
 }
 
+Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& server_id,
+                                       const std::vector<std::string>& required) {
+  std::lock_guard lock(mutex_);
+  auto insert = mosaic::sqlite::Prepare(
+      db_.get(),
+      "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
+      " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
+  if (!insert.ok()) return Internal(path_ + ": " + insert.status().message());
+  sqlite3_bind_int64(insert->get(), 1, static_cast<sqlite3_int64>(sequence));
+  sqlite3_bind_text(insert->get(), 2, server_id.c_str(), -1, SQLITE_TRANSIENT);
+  if (sqlite3_step(insert->get()) != SQLITE_DONE) {
+    return Internal(path_ + ": recording an acknowledgement: " + mosaic::sqlite::ErrorMessage(db_.get()));
+  }
+  Result<std::vector<std::string>> acked = AckedByLocked(sequence);
+  if (!acked.ok()) return acked.status();
+  for (const std::string& server : required) {
+    if (std::find(acked->begin(), acked->end(), server) == acked->end()) return false;
+  }
+  FLEETLOC_RETURN_IF_ERROR(RemoveLocked(sequence));
+  return true;
+}
+
+Result<std::vector<std::string>> PatchOutbox::AckedByLocked(uint64_t sequence) {
+  auto select = mosaic::sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
+  if (!select.ok()) return Internal(path_ + ": " + select.status().message());
+  sqlite3_bind_int64(select->get(), 1, static_cast<sqlite3_int64>(sequence));
+  std::vector<std::string> servers;
+  while (sqlite3_step(select->get()) == SQLITE_ROW) {
+    servers.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(select->get(), 0)));
+  }
+  return servers;
+}
+
 Status PatchOutbox::Remove(uint64_t sequence) {
   std::lock_guard lock(mutex_);
-  auto remove = mosaic::sqlite::Prepare(db_.get(), "DELETE FROM outbox WHERE sequence = ?1");
-  if (!remove.ok()) return Internal(path_ + ": " + remove.status().message());
-  sqlite3_bind_int64(remove->get(), 1, static_cast<sqlite3_int64>(sequence));
-  if (sqlite3_step(remove->get()) != SQLITE_DONE) return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+  return RemoveLocked(sequence);
+}
+
+Status PatchOutbox::RemoveLocked(uint64_t sequence) {
+  // Acks first: interrupted in between, the patch is only sent again (servers are idempotent).
+  for (const char* sql : {"DELETE FROM acks WHERE sequence = ?1", "DELETE FROM outbox WHERE sequence = ?1"}) {
+    auto remove = mosaic::sqlite::Prepare(db_.get(), sql);
+    if (!remove.ok()) return Internal(path_ + ": " + remove.status().message());
+    sqlite3_bind_int64(remove->get(), 1, static_cast<sqlite3_int64>(sequence));
+    if (sqlite3_step(remove->get()) != SQLITE_DONE) {
+      return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+    }
+  }
   return Status::Ok();
 }
 

@@ -1,5 +1,5 @@
 // Patch outbox: sequence numbers never reused across restarts, retries after the delay, removal
-// on acknowledgement.
+// once every map server keeping a replica acknowledged (acknowledgements survive a restart).
 #include "tracker_agent/patch_outbox.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +20,36 @@ transport::PatchToSend Patch(double x) {
   return p;
 }
 
+std::string ScratchOutbox(const std::string& name) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            (name + "_" + std::to_string(::getpid()) + ".db")).string();
+  std::filesystem::remove(path);
+  return path;
+}
+
+TEST(PatchOutbox, APatchLeavesOnlyWhenEveryReplicaAcknowledgedIt) {
+  const std::string path = ScratchOutbox("outbox_replicas");
+  const std::vector<std::string> servers = {"ms-east", "ms-west"};
+  {
+    auto outbox = std::move(PatchOutbox::Open(path)).value();
+    transport::PatchToSend a = Patch(1), b = Patch(2);
+    ASSERT_TRUE(outbox->Add(&a).ok());
+    ASSERT_TRUE(outbox->Add(&b).ok());
+    EXPECT_FALSE(*outbox->Acknowledge(1, "ms-west", servers));
+    EXPECT_FALSE(*outbox->Acknowledge(1, "ms-west", servers));  // a duplicate answer
+    EXPECT_EQ(*outbox->Size(), 2);
+    EXPECT_EQ(outbox->Due(0, 1, 10)->size(), 2u);  // still sent, for ms-east
+  }
+  auto outbox = std::move(PatchOutbox::Open(path)).value();  // the agent restarted
+  EXPECT_TRUE(*outbox->Acknowledge(1, "ms-east", servers));  // ms-west's ack was kept
+  EXPECT_EQ(*outbox->Size(), 1);
+  EXPECT_FALSE(*outbox->Acknowledge(1, "ms-east", servers));  // gone: a late duplicate is harmless
+  // A server not (yet) known to the directory still counts for the patch it acknowledged.
+  EXPECT_TRUE(*outbox->Acknowledge(2, "ms-solo", {}));
+  EXPECT_EQ(*outbox->Size(), 0);
+  std::filesystem::remove(path);
+}
+
 TEST(PatchOutbox, SurvivesRestartWithoutReusingSequenceNumbersAndRetries) {
   const std::string path = (std::filesystem::temp_directory_path() /
                             ("outbox_test_" + std::to_string(::getpid()) + ".db")).string();
@@ -29,7 +59,7 @@ TEST(PatchOutbox, SurvivesRestartWithoutReusingSequenceNumbersAndRetries) {
     transport::PatchToSend a = Patch(1), b = Patch(2);
     EXPECT_EQ(*outbox->Add(&a), 1u);
     EXPECT_EQ(*outbox->Add(&b), 2u);
-    ASSERT_TRUE(outbox->Remove(2).ok());  // acknowledged
+    ASSERT_TRUE(*outbox->Acknowledge(2, "ms-1", {"ms-1"}));
     ASSERT_TRUE(outbox->MarkSent(1, 100.0).ok());
   }
   auto outbox = std::move(PatchOutbox::Open(path)).value();  // the agent restarted

@@ -88,6 +88,7 @@ class TrackerAgent {
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
   void MaybeCollectPatch(double t, const cv::Mat& frame, const tracking::FrameResult& result);
   // Takes acknowledgements and (re)sends what is due.
+  void TakeAck(const transport::ReceivedAck& ack);
   void PumpPatches();
   // At the end of the input: keeps pumping until the outbox is empty or drain_s passed.
   void DrainPatches(const std::atomic<bool>& stop);

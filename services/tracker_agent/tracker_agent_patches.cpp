@@ -41,13 +41,26 @@ void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
                *added, change.blocks, change.changed, change.unmapped);
 }
 
+// A rejection ends the patch (resending cannot help); a stored or duplicate answer counts for its
+// server, and the patch leaves the outbox once every map server keeping a replica has it.
+void TrackerAgent::TakeAck(const transport::ReceivedAck& ack) {
+  if (ack.status == fleetloc_PATCH_REJECTED) {
+    spdlog::warn("patch {} rejected by '{}': {}", ack.sequence, ack.server_id, ack.reason);
+    if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
+    return;
+  }
+  if (ack.server_id.empty()) {  // its writer is gone or does not name its server: resent later
+    spdlog::warn("patch {} acknowledged by a writer that names no map server; it stays queued", ack.sequence);
+    return;
+  }
+  Result<bool> done = outbox_->Acknowledge(ack.sequence, ack.server_id, map_servers_->servers());
+  if (!done.ok()) health_.RecordError(done.status().message());
+}
+
 void TrackerAgent::PumpPatches() {
   Result<std::vector<transport::ReceivedAck>> acks = patches_->TakeAcks();
   if (acks.ok()) {
-    for (const transport::ReceivedAck& ack : *acks) {
-      if (ack.status == fleetloc_PATCH_REJECTED) spdlog::warn("patch {} rejected: {}", ack.sequence, ack.reason);
-      if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
-    }
+    for (const transport::ReceivedAck& ack : *acks) TakeAck(ack);
   }
   // Keep them for when the server is back (a dead server stays matched until its lease ends).
   if (!patches_->ServerMatched() || !map_server_reachable_) return;
