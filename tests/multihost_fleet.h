@@ -4,6 +4,7 @@
 //   sup 10.10.0.2   fleet supervisor (HTTP API inside its host)
 //   ms2 10.10.0.3   map server ms-east, owning columns [5, 10); its own replica of the mosaic
 //   agv1 10.10.0.11, agv2 10.10.0.12   tracker agents driving simulated vehicles forever
+// optionally with DDS Security (Mode::kSecured) or loss and delay between the hosts (kLossy).
 // The mosaic is the moss photograph (1.28 m x 0.8 m, 10 x 7 tiles); the vehicles drive over the
 // same floor with a new brick marking at the middle, so they also send patches. Their tile caches
 // are small (2 MB), so tiles keep streaming from both servers as they cross the boundary.
@@ -31,13 +32,21 @@ class MultiHostFleet {
   static constexpr double kBoundaryX = 0.64;  // map x of tile column 5
   static constexpr const char* kVehicles[] = {"agv-1", "agv-2"};
 
+  enum class Mode { kPlain, kLossy, kSecured };
+
   // Builds the network and starts the fleet; `skip` set (and nothing started) where this machine
-  // cannot have network namespaces. `lossy`: packet loss and delay between the hosts from the
-  // start — with netem, every host's link loses 2 % of what it sends and delays the rest by
-  // 20 ± 5 ms. A kernel without netem (some container kernels) gets the same loss from DDS itself
-  // (Cyclone's Internal/Test/XmitLossiness drops 2 % of the packets each process sends) and a
-  // token-bucket link of 20 Mbit/s whose queue adds up to 20 ms and drops what overflows it.
-  explicit MultiHostFleet(const std::string& name, bool lossy = false) : name_(name), dir_(name) {
+  // cannot have network namespaces.
+  // kLossy: packet loss and delay between the hosts from the start — with netem, every host's
+  // link loses 2 % of what it sends and delays the rest by 20 ± 5 ms. A kernel without netem
+  // (some container kernels) gets the same loss from DDS itself (Cyclone's
+  // Internal/Test/XmitLossiness drops 2 % of the packets each process sends) and a token-bucket
+  // link of 20 Mbit/s whose queue adds up to 20 ms and drops what overflows it.
+  // kSecured: DDS Security, the recommended production setting — deploy/security/make_security.sh
+  // makes the site's credentials over the multi-host configuration, and every process runs as
+  // its own participant (server-ms-west, server-ms-east, supervisor-sup-1, vehicle-agv-1,
+  // vehicle-agv-2; fleetctl as maintainer-ops-1).
+  explicit MultiHostFleet(const std::string& name, Mode mode = Mode::kPlain)
+      : name_(name), dir_(name), secured_(mode == Mode::kSecured) {
     auto lab = NetnsLab::Create({{"ms1", "10.10.0.1"}, {"sup", "10.10.0.2"}, {"ms2", "10.10.0.3"},
                                  {"agv1", "10.10.0.11"}, {"agv2", "10.10.0.12"}});
     if (!lab.ok()) {
@@ -46,7 +55,8 @@ class MultiHostFleet {
       return;
     }
     lab_ = std::move(lab).value();
-    if (lossy) Impair();
+    if (mode == Mode::kLossy) Impair();
+    if (secured_) MakeCredentials();
     MakeFloors();
     for (const char* name : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(name);
   }
@@ -72,7 +82,7 @@ class MultiHostFleet {
   // Starts (or restarts) one of the fleet's processes.
   void Start(const std::string& name) {
     const std::string log = dir_ / (name + "_" + std::to_string(++starts_[name]) + ".log");
-    const std::vector<std::string> dds{"--dds-config", dds_config_};
+    const std::vector<std::string> dds{"--dds-config", DdsConfig(name)};
     std::vector<std::string> args;
     std::string host, program;
     if (name == "ms-west" || name == "ms-east") {
@@ -111,10 +121,12 @@ class MultiHostFleet {
     const std::string body = lab_->Capture("sup", "curl -sf --max-time 5 'http://127.0.0.1:8080" + path + "'");
     return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
   }
-  // `fleetctl status --json` run on the supervisor's host: vehicles, services with counters, mosaics.
+  // `fleetctl status --json` run on the supervisor's host (secured: as maintainer ops-1): vehicles,
+  // services with counters, mosaics.
   nlohmann::json Status() const {
     const std::string body = lab_->Capture(
-        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") + dds_config_);
+        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
+                   DdsConfig("ops-1"));
     return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
   }
   // The supervisor sees both vehicles tracking and every map server reachable from both.
@@ -175,6 +187,23 @@ class MultiHostFleet {
     dds_config_ = LossyDdsConfig(20);
     impairment = "no netem in this kernel: DDS drops 2 % of sent packets; 20 Mbit/s links, 20 ms queues";
   }
+  void MakeCredentials() {
+    const std::string command = std::string(FLEETLOC_SOURCE_DIR "/deploy/security/make_security.sh") +
+                                " --out " + (dir_ / "security") +
+                                " --base-config " + dds_config_ +
+                                " --servers ms-west,ms-east --supervisors sup-1 --vehicles agv-1,agv-2"
+                                " --maintainers ops-1 >" + (dir_ / "make_security.log") + " 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << ReadWhole(dir_ / "make_security.log");
+  }
+  // The Cyclone configuration process `name` runs with.
+  std::string DdsConfig(const std::string& name) const {
+    if (!secured_) return dds_config_;
+    const std::string participant = name.rfind("ms-", 0) == 0 ? "server-" + name
+                                    : name == "sup"             ? "supervisor-sup-1"
+                                    : name == "ops-1"           ? "maintainer-ops-1"
+                                                                : "vehicle-" + name;
+    return dir_ / ("security/participants/" + participant + "/cyclonedds.xml");
+  }
   std::string LossyDdsConfig(int loss_per_mille) const {
     std::ifstream in(dds_config_);
     std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -208,6 +237,7 @@ class MultiHostFleet {
 
   std::string name_;
   ScratchDir dir_;
+  bool secured_;
   std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
   std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
   std::map<std::string, io::ChildProcess> processes_;  // they stop before the network goes

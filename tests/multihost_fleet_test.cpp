@@ -1,7 +1,8 @@
 // The fleet across hosts (MultiHostFleet: five network namespaces, the shipped multi-host DDS
 // configuration) with the mosaic split between two map servers: the vehicles track as they cross
-// the boundary between the servers' regions; with packet loss and delay between the hosts; when
-// a map server, the supervisor or an agent is killed (SIGKILL) and restarted. Nothing a server
+// the boundary between the servers' regions; with DDS Security (and an outsider refused); with
+// packet loss and delay between the hosts; when a map server, the supervisor or an agent is
+// killed (SIGKILL) and restarted. Nothing a server
 // acknowledged is lost, both mosaic replicas store every patch, every vehicle returns to tracking.
 #include <gtest/gtest.h>
 
@@ -92,8 +93,33 @@ TEST(MultiHost, TheFleetTracksAcrossHostsWithTheMosaicSplitBetweenTwoServers) {
   ExpectNoAcknowledgedPatchLost(fleet);
 }
 
+TEST(MultiHost, SecuredFleetTracksAcrossHostsAndAnOutsiderSeesNothing) {
+  MultiHostFleet fleet("multihost_secured", MultiHostFleet::Mode::kSecured);
+  if (!fleet.skip.empty()) GTEST_SKIP() << fleet.skip;
+  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 90)) << "the secured fleet did not come up";
+  const double from = WallNow();
+  Drive(20);
+  EXPECT_GE(ExpectTrackingSince(fleet, from), 1) << "no vehicle crossed between the servers' regions";
+  // A maintainer sees the whole fleet.
+  const nlohmann::json status = fleet.Status();
+  EXPECT_EQ(status["vehicles"].size(), 2u) << status.dump(1);
+  EXPECT_EQ(status["mosaics"].size(), 2u) << status.dump(1);
+  // A participant without the site's credentials, on a vehicle's host with the same peers, sees
+  // nothing: no vehicle, no service, no mosaic.
+  const std::string outsider = fleet.lab().Capture(
+      "agv1", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
+                  FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml");
+  const nlohmann::json seen = nlohmann::json::parse(outsider, nullptr, false);
+  ASSERT_TRUE(seen.is_object()) << outsider;
+  EXPECT_TRUE(seen["vehicles"].empty()) << outsider;
+  EXPECT_TRUE(seen["services"].empty()) << outsider;
+  EXPECT_TRUE(seen["mosaics"].empty()) << outsider;
+  fleet.StopAll();
+  ExpectNoAcknowledgedPatchLost(fleet);
+}
+
 TEST(MultiHost, PacketLossAndDelayBetweenHosts) {
-  MultiHostFleet fleet("multihost_lossy", /*lossy=*/true);
+  MultiHostFleet fleet("multihost_lossy", MultiHostFleet::Mode::kLossy);
   if (!fleet.skip.empty()) GTEST_SKIP() << fleet.skip;
   std::printf("%s\n", fleet.impairment.c_str());
   RecordProperty("impairment", fleet.impairment);
