@@ -5,8 +5,11 @@
 # and three simulated vehicles driving forever over the floor, each with its own tracker agent.
 # Prints the dashboard URL and the maintainer token; Ctrl-C (or SIGTERM) stops everything cleanly.
 # Environment: FLEETLOC_DOMAIN (DDS domain, default 0), FLEETLOC_HTTP_PORT (default 8080),
-# FLEETLOC_VEHICLES (default 3); for tests: FLEETLOC_FLEET_DIR (default out/fleet) and
-# FLEETLOC_SKIP_SETUP=1 (use the existing build).
+# FLEETLOC_VEHICLES (default 3), FLEETLOC_SECURE=1 (DDS Security, the production setting: the
+# credentials are made once in out/fleet/security/ by deploy/security/make_security.sh, each
+# process runs as its own participant, and fleetctl needs the maintainer's configuration the
+# script prints); for tests: FLEETLOC_FLEET_DIR (default out/fleet) and FLEETLOC_SKIP_SETUP=1
+# (use the existing build).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 [ "${FLEETLOC_SKIP_SETUP:-0}" = 1 ] || tools/scripts/setup.sh
@@ -16,6 +19,7 @@ OUT="${FLEETLOC_FLEET_DIR:-out/fleet}"
 DOMAIN="${FLEETLOC_DOMAIN:-0}"
 PORT="${FLEETLOC_HTTP_PORT:-8080}"
 VEHICLES="${FLEETLOC_VEHICLES:-3}"
+SECURE="${FLEETLOC_SECURE:-0}"
 F=deploy/demo/floors
 mkdir -p "$OUT/logs"
 
@@ -27,6 +31,19 @@ if [ ! -f "$OUT/mosaic.db" ]; then
 fi
 [ -f "$OUT/maintainer.token" ] || head -c 18 /dev/urandom | base64 | tr '+/' '-_' > "$OUT/maintainer.token"
 chmod 600 "$OUT/maintainer.token"
+
+# The Cyclone configuration of one participant (role, id): the built-in loopback default, or
+# with FLEETLOC_SECURE=1 its own secured configuration.
+dds_config() {
+  if [ "$SECURE" = 1 ]; then
+    echo --dds-config "$OUT/security/participants/$1-$2/cyclonedds.xml"
+  fi
+}
+if [ "$SECURE" = 1 ]; then
+  vehicle_ids="$(seq -s, -f 'agv-%g' 1 "$VEHICLES")"
+  deploy/security/make_security.sh --out "$OUT/security" --domain "$DOMAIN" --servers map-1 \
+    --supervisors sup-1 --maintainers ops-1 --vehicles "$vehicle_ids" > "$OUT/make_security.log"
+fi
 
 PIDS=()
 stop_all() {
@@ -45,9 +62,11 @@ start() {  # name, then the command; output to out/fleet/logs/<name>.log
   PIDS+=("$!")
 }
 
-start map_server "$BIN/map_server" --mosaic "$OUT/mosaic.db" --domain "$DOMAIN"
+start map_server "$BIN/map_server" --mosaic "$OUT/mosaic.db" --domain "$DOMAIN" --server-id map-1 \
+  $(dds_config server map-1)
 start fleet_supervisor "$BIN/fleet_supervisor" --domain "$DOMAIN" --http-port "$PORT" \
-  --history "$OUT/fleet_history.db" --token-file "$OUT/maintainer.token"
+  --history "$OUT/fleet_history.db" --token-file "$OUT/maintainer.token" \
+  $(dds_config supervisor sup-1)
 for i in $(seq 1 "$VEHICLES"); do
   id="agv-$i"
   # Spread the vehicles along the route; each starts from its own simulated pose.
@@ -55,12 +74,15 @@ for i in $(seq 1 "$VEHICLES"); do
     "$id" "$OUT/floor.png" "$(awk -v i="$i" -v n="$VEHICLES" 'BEGIN { printf "%.3f", (i - 1) / n }')" "$i" \
     > "$OUT/$id.json"
   start "$id" "$BIN/tracker_agent" --config "$OUT/$id.json" --domain "$DOMAIN" \
-    --outbox "$OUT/outbox-$id.db"
+    --outbox "$OUT/outbox-$id.db" $(dds_config vehicle "$id")
 done
 
 echo "fleet: map server, supervisor and $VEHICLES vehicles running on DDS domain $DOMAIN" >&2
 echo "fleet: dashboard  http://127.0.0.1:$PORT/" >&2
 echo "fleet: maintainer token (for re-mapping from the dashboard) in $OUT/maintainer.token" >&2
+if [ "$SECURE" = 1 ]; then
+  echo "fleet: DDS Security on; as a maintainer: fleetctl status --domain $DOMAIN $(dds_config maintainer ops-1)" >&2
+fi
 echo "fleet: logs in $OUT/logs/; Ctrl-C stops everything" >&2
 # Any process that exits on its own is reported; the rest keep running until Ctrl-C.
 while true; do
