@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -61,10 +62,11 @@ class MultiHostFleet {
     for (const char* name : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(name);
   }
 
-  // A failed test keeps the processes' logs in build/test-artifacts/<name>/.
+  // A failed test keeps the processes' logs, configurations and agent summaries in
+  // build/test-artifacts/<name>/ (any test does with FLEETLOC_KEEP_TEST_LOGS=1).
   ~MultiHostFleet() {
     processes_.clear();
-    if (!::testing::Test::HasFailure() || !lab_) return;
+    if (!lab_ || !(::testing::Test::HasFailure() || std::getenv("FLEETLOC_KEEP_TEST_LOGS"))) return;
     const std::filesystem::path keep = std::filesystem::path(FLEETLOC_BINARY_DIR "/test-artifacts") / name_;
     std::filesystem::create_directories(keep);
     for (const auto& entry : std::filesystem::directory_iterator(dir_.path())) {
@@ -93,7 +95,8 @@ class MultiHostFleet {
       args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
     } else {
       host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
-      args = {"--config", AgentConfig(name), "--outbox", Outbox(name)};
+      args = {"--config", AgentConfig(name), "--outbox", Outbox(name), "--summary",
+              dir_ / (name + "_summary_" + std::to_string(starts_[name]) + ".json")};
     }
     args.insert(args.end(), dds.begin(), dds.end());
     processes_.erase(name);
@@ -112,6 +115,13 @@ class MultiHostFleet {
   }
 
   NetnsLab& lab() { return *lab_; }
+  // IP fragments the hosts created: DDS messages larger than the link MTU (the shipped
+  // configuration keeps them below it, so one lost packet costs one DDS fragment, not a sample).
+  long long IpFragmentsCreated() const {
+    long long total = 0;
+    for (const char* host : {"ms1", "sup", "ms2", "agv1", "agv2"}) total += lab_->IpCounter(host, "FragCreates");
+    return total;
+  }
   std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
   std::string Mosaic(const std::string& server) const { return dir_ / (server + ".db"); }
   const ScratchDir& dir() const { return dir_; }

@@ -85,6 +85,7 @@ TEST(MultiHost, TheFleetTracksAcrossHostsWithTheMosaicSplitBetweenTwoServers) {
     EXPECT_GT(services[id]["counters"].value("tiles_not_owned", 0), 0) << id << " saw no request for the other's tiles";
   }
   EXPECT_EQ(status["mosaics"].size(), 2u);
+  EXPECT_EQ(fleet.IpFragmentsCreated(), 0) << "DDS messages larger than the link MTU";
   for (const nlohmann::json& v : status["vehicles"]) {
     const auto issues = v["health"]["issues"].get<std::vector<std::string>>();
     EXPECT_EQ(std::count(issues.begin(), issues.end(), "tile_timeouts"), 0) << v.dump();

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,21 @@ class NetnsLab {
     size_t n = 0;
     while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), n);
     return ::pclose(pipe) == 0 ? out : std::string();
+  }
+  // The IP counter `name` of `host` (a column of the "Ip:" lines of its /proc/net/snmp, e.g.
+  // "FragCreates"); -1 when it cannot be read.
+  long long IpCounter(const std::string& host, const std::string& name) const {
+    std::istringstream snmp(Capture(host, "cat /proc/net/snmp"));
+    std::string header, values;
+    for (std::string line; std::getline(snmp, line);) {
+      if (line.rfind("Ip: ", 0) != 0) continue;
+      (header.empty() ? header : values) = line;
+    }
+    std::istringstream names(header), numbers(values);
+    for (std::string n, v; names >> n && numbers >> v;) {
+      if (n == name) return std::stoll(v);
+    }
+    return -1;
   }
   // Packet loss and delay on everything `host` sends (`spec`: tc netem parameters, e.g.
   // "delay 30ms 10ms loss 3%"); false where the kernel has no netem (see Shape).

@@ -205,6 +205,8 @@ void RegisterBenchTiles(CLI::App* bench, Status* result) {
                     "Cyclone DDS XML of the map server (default: built-in loopback)");
   tiles->add_option("--client-dds-config", s->client_dds_config,
                     "Cyclone DDS XML of the requesting participant (default: built-in loopback)");
+  tiles->add_option("--peer-dds-config", s->peer_dds_config,
+                    "Cyclone DDS XML of the ddsperf peer (default: built-in loopback)");
   tiles->callback([s, result] { *result = RunTileBench(*s); });
 }
 

@@ -20,11 +20,12 @@ struct TileBenchSettings {
   int batch_tiles = 32;               // tiles per request in the throughput phase
   int pipeline = 2;                   // requests in flight (2 × 32 tiles ≈ 3 MB: below rmem_max)
   std::string json;
-  // Cyclone configurations of the map server and of the benchmark's participant (empty: the
-  // built-in loopback one, also used by ddsperf); secured ones measure DDS Security's cost
-  // (docs/benchmarks.md).
+  // Cyclone configurations of the map server, of the benchmark's participant and of the ddsperf
+  // peer (empty: the built-in loopback one); secured ones measure DDS Security's cost, and a
+  // smaller message size its cost (docs/benchmarks.md).
   std::string server_dds_config;
   std::string client_dds_config;
+  std::string peer_dds_config;
 };
 
 Status RunTileBench(const TileBenchSettings& settings);
