@@ -2,7 +2,7 @@
 // (configured `owned_tiles`), and a tracker_agent replaying a drive that crosses the boundary
 // again and again. The vehicle must track every frame within millimetres of truth with its tiles
 // coming from the right server (each serves only its half; neither answers for the other's) and
-// never wait out a tile timeout at the crossing.
+// never wait out a tile timeout at the crossing. `fleetctl remap` follows both servers' jobs.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -134,6 +134,27 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
     EXPECT_GT(counters[id]["tiles_served"], 0u) << id;
     EXPECT_GT(counters[id]["tiles_not_owned"], 0u) << id;
   }
+}
+
+TEST(MapServerSplit, FleetctlRemapWaitsForEveryServerAndReportsEach) {
+  testing::ScratchDir dir("map_server_split_remap");
+  SplitServers servers(dir);
+  const std::string remap = "remap --domain " + std::to_string(kDomain) + " --timeout 60 --region ";
+  const testing::CommandResult done = testing::RunFleetctl(remap + "0.1,0.1,1.2,0.7");
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  const nlohmann::json outcome = nlohmann::json::parse(done.out);
+  ASSERT_EQ(outcome["servers"].size(), 2u) << done.out;
+  EXPECT_EQ(outcome["servers"][0]["server_id"], "ms-east");
+  EXPECT_EQ(outcome["servers"][1]["server_id"], "ms-west");
+  for (const nlohmann::json& server : outcome["servers"]) EXPECT_EQ(server["state"], "done") << done.out;
+  EXPECT_EQ(outcome["state"], "done");
+  // A region off the mosaic: both refuse it, and fleetctl says so with a non-zero exit.
+  const testing::CommandResult off = testing::RunFleetctl(remap + "5,5,6,6");
+  EXPECT_NE(off.exit_code, 0);
+  const nlohmann::json refused = nlohmann::json::parse(off.out);
+  ASSERT_EQ(refused["servers"].size(), 2u) << off.out;
+  for (const nlohmann::json& server : refused["servers"]) EXPECT_EQ(server["state"], "rejected") << off.out;
+  EXPECT_NE(off.err.find("outside the mosaic"), std::string::npos) << off.err;
 }
 
 }  // namespace

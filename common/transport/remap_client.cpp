@@ -56,7 +56,12 @@ Result<std::unique_ptr<RemapClient>> RemapClient::Create(const Participant& part
   if (!command_topic.ok()) return command_topic.status();
   if (!status_topic.ok()) return status_topic.status();
   auto writer = Writer<fleetloc_RemapCommand>::Create(participant.get(), *command_topic, CommandQos());
-  auto reader = Reader<fleetloc_RemapStatus>::Create(participant.get(), *status_topic, DurableStateQos());
+  // Every map server writes a command's statuses in the same instance (keyed by command_id), and
+  // split servers finish within moments of each other: a deep history keeps each server's final
+  // status until it is taken, where depth 1 would keep only the last server's.
+  constexpr int kStatusDepth = 64;
+  auto reader = Reader<fleetloc_RemapStatus>::Create(participant.get(), *status_topic,
+                                                     DurableStateQos(kStatusDepth));
   if (!writer.ok()) return writer.status();
   if (!reader.ok()) return reader.status();
   return std::unique_ptr<RemapClient>(new RemapClient(

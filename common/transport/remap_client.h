@@ -44,6 +44,8 @@ class RemapClient {
 
   // True when a map server reads our commands.
   bool ServerMatched() const { return commands_.MatchedReaders() > 0; }
+  // How many map servers read our commands (each runs every command on its own replica).
+  int MatchedServers() const { return commands_.MatchedReaders(); }
   // Sends the command with a fresh random id, which it returns. InvalidInput for an empty or
   // inverted region or non-finite numbers; Internal on a DDS failure.
   Result<uint64_t> Send(const RemapRequest& request);

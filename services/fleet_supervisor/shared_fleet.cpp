@@ -75,7 +75,7 @@ void SharedFleet::SetAlertId(const fleet::Alert& alert, long long id) {
 void SharedFleet::OnRemapStatus(const std::vector<transport::RemapProgress>& statuses) {
   std::lock_guard lock(mutex_);
   for (const transport::RemapProgress& s : statuses) {
-    auto [it, added] = jobs_.try_emplace(s.command_id, s);
+    auto [it, added] = jobs_.try_emplace({s.command_id, s.server_id}, s);
     if (!added && (s.t >= it->second.t || s.final())) it->second = s;
   }
   while (jobs_.size() > kMaxJobs) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fleet/fleet_state.h"
@@ -71,7 +72,8 @@ class SharedFleet {
   fleet::FleetState fleet_;
   double history_period_s_;
   std::map<std::string, double> last_stored_;  // per vehicle: receive time of the last stored pose
-  std::map<uint64_t, transport::RemapProgress> jobs_;
+  // Re-mapping jobs by command and server: with the mosaic split, every server runs each command.
+  std::map<std::pair<uint64_t, std::string>, transport::RemapProgress> jobs_;
   std::map<std::string, std::pair<ServiceReport, double>> services_;  // with the received time
   std::string last_rejection_;
   SupervisorCounters counters_;

@@ -212,8 +212,8 @@ function renderAlerts(alerts) {
 function renderJobs(jobs) {
   jobs.sort((a, b) => b.t - a.t);
   $('jobs').innerHTML = jobs.map((j) =>
-    `<li data-command="${esc(j.command_id)}" data-state="${esc(j.state)}">
-       <span class="state-${esc(j.state)}">${esc(j.state.toUpperCase())}</span> job …${esc(j.command_id.slice(-6))}
+    `<li data-command="${esc(j.command_id)}" data-server="${esc(j.server_id)}" data-state="${esc(j.state)}">
+       <span class="state-${esc(j.state)}">${esc(j.state.toUpperCase())}</span> job …${esc(j.command_id.slice(-6))} on ${esc(j.server_id)}
        ${j.state === 'running' || j.state === 'queued' ? `<progress max="1" value="${j.progress}"></progress> ${esc(j.phase)}` : ''}
        ${j.state === 'done' ? `version ${j.new_version}, ${j.tiles_changed} tiles, ${j.patches_folded} patches` : ''}
        ${j.message ? `<div class="info">${esc(j.message)}</div>` : ''}</li>`).join('');
