@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "map_server_fixture.h"
 #include "changed_floor_patches.h"
+#include "map_server_fixture.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "mosaic/tile_store.h"

@@ -146,14 +146,16 @@ TEST(MapServerSplit, FleetctlRemapWaitsForEveryServerAndReportsEach) {
   ASSERT_EQ(outcome["servers"].size(), 2u) << done.out;
   EXPECT_EQ(outcome["servers"][0]["server_id"], "ms-east");
   EXPECT_EQ(outcome["servers"][1]["server_id"], "ms-west");
-  for (const nlohmann::json& server : outcome["servers"]) EXPECT_EQ(server["state"], "done") << done.out;
+  for (const nlohmann::json& server : outcome["servers"])
+    EXPECT_EQ(server["state"], "done") << done.out;
   EXPECT_EQ(outcome["state"], "done");
   // A region off the mosaic: both refuse it, and fleetctl says so with a non-zero exit.
   const testing::CommandResult off = testing::RunFleetctl(remap + "5,5,6,6");
   EXPECT_NE(off.exit_code, 0);
   const nlohmann::json refused = nlohmann::json::parse(off.out);
   ASSERT_EQ(refused["servers"].size(), 2u) << off.out;
-  for (const nlohmann::json& server : refused["servers"]) EXPECT_EQ(server["state"], "rejected") << off.out;
+  for (const nlohmann::json& server : refused["servers"])
+    EXPECT_EQ(server["state"], "rejected") << off.out;
   EXPECT_NE(off.err.find("outside the mosaic"), std::string::npos) << off.err;
 }
 

@@ -95,8 +95,9 @@ class MultiHostFleet {
       args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
     } else {
       host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
-      args = {"--config", AgentConfig(name), "--outbox", Outbox(name), "--summary",
-              dir_ / (name + "_summary_" + std::to_string(starts_[name]) + ".json")};
+      args = {"--config",  AgentConfig(name),
+              "--outbox",  Outbox(name),
+              "--summary", dir_ / (name + "_summary_" + std::to_string(starts_[name]) + ".json")};
     }
     args.insert(args.end(), dds.begin(), dds.end());
     processes_.erase(name);
@@ -119,7 +120,8 @@ class MultiHostFleet {
   // configuration keeps them below it, so one lost packet costs one DDS fragment, not a sample).
   long long IpFragmentsCreated() const {
     long long total = 0;
-    for (const char* host : {"ms1", "sup", "ms2", "agv1", "agv2"}) total += lab_->IpCounter(host, "FragCreates");
+    for (const char* host : {"ms1", "sup", "ms2", "agv1", "agv2"})
+      total += lab_->IpCounter(host, "FragCreates");
     return total;
   }
   std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
@@ -135,8 +137,9 @@ class MultiHostFleet {
   // services with counters, mosaics.
   nlohmann::json Status() const {
     const std::string body = lab_->Capture(
-        "sup", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
-                   DdsConfig("ops-1"));
+        "sup",
+        std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
+            DdsConfig("ops-1"));
     return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
   }
   // The supervisor sees both vehicles tracking and every map server reachable from both.
@@ -163,9 +166,11 @@ class MultiHostFleet {
     const std::string sql =
         "WITH RECURSIVE queued(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM queued"
         " WHERE n < (SELECT value - 1 FROM meta WHERE name = 'next_sequence'))"
-        " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = 'next_sequence') > 0"
+        " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = "
+        "'next_sequence') > 0"
         " AND n NOT IN (SELECT sequence FROM outbox)"
-        " AND n NOT IN (SELECT sequence FROM server.patches WHERE vehicle_id = '" + vehicle + "')";
+        " AND n NOT IN (SELECT sequence FROM server.patches WHERE vehicle_id = '" +
+        vehicle + "')";
     return SqliteValue(Outbox(vehicle), sql.c_str(), {{"server", Mosaic(server)}});
   }
   long long Queued(const std::string& vehicle) const {
@@ -198,20 +203,21 @@ class MultiHostFleet {
     impairment = "no netem in this kernel: DDS drops 2 % of sent packets; 20 Mbit/s links, 20 ms queues";
   }
   void MakeCredentials() {
-    const std::string command = std::string(FLEETLOC_SOURCE_DIR "/deploy/security/make_security.sh") +
-                                " --out " + (dir_ / "security") +
-                                " --base-config " + dds_config_ +
-                                " --servers ms-west,ms-east --supervisors sup-1 --vehicles agv-1,agv-2"
-                                " --maintainers ops-1 >" + (dir_ / "make_security.log") + " 2>&1";
+    const std::string command =
+        std::string(FLEETLOC_SOURCE_DIR "/deploy/security/make_security.sh") + " --out " +
+        (dir_ / "security") + " --base-config " + dds_config_ +
+        " --servers ms-west,ms-east --supervisors sup-1 --vehicles agv-1,agv-2"
+        " --maintainers ops-1 >" +
+        (dir_ / "make_security.log") + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << ReadWhole(dir_ / "make_security.log");
   }
   // The Cyclone configuration process `name` runs with.
   std::string DdsConfig(const std::string& name) const {
     if (!secured_) return dds_config_;
     const std::string participant = name.rfind("ms-", 0) == 0 ? "server-" + name
-                                    : name == "sup"             ? "supervisor-sup-1"
-                                    : name == "ops-1"           ? "maintainer-ops-1"
-                                                                : "vehicle-" + name;
+                                    : name == "sup"           ? "supervisor-sup-1"
+                                    : name == "ops-1"         ? "maintainer-ops-1"
+                                                              : "vehicle-" + name;
     return dir_ / ("security/participants/" + participant + "/cyclonedds.xml");
   }
   std::string LossyDdsConfig(int loss_per_mille) const {

@@ -97,10 +97,12 @@ TEST(MultiHost, TheFleetTracksAcrossHostsWithTheMosaicSplitBetweenTwoServers) {
 TEST(MultiHost, SecuredFleetTracksAcrossHostsAndAnOutsiderSeesNothing) {
   MultiHostFleet fleet("multihost_secured", MultiHostFleet::Mode::kSecured);
   if (!fleet.skip.empty()) GTEST_SKIP() << fleet.skip;
-  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 90)) << "the secured fleet did not come up";
+  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 90))
+      << "the secured fleet did not come up";
   const double from = WallNow();
   Drive(20);
-  EXPECT_GE(ExpectTrackingSince(fleet, from), 1) << "no vehicle crossed between the servers' regions";
+  EXPECT_GE(ExpectTrackingSince(fleet, from), 1)
+      << "no vehicle crossed between the servers' regions";
   // A maintainer sees the whole fleet.
   const nlohmann::json status = fleet.Status();
   EXPECT_EQ(status["vehicles"].size(), 2u) << status.dump(1);
@@ -108,8 +110,9 @@ TEST(MultiHost, SecuredFleetTracksAcrossHostsAndAnOutsiderSeesNothing) {
   // A participant without the site's credentials, on a vehicle's host with the same peers, sees
   // nothing: no vehicle, no service, no mosaic.
   const std::string outsider = fleet.lab().Capture(
-      "agv1", std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
-                  FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml");
+      "agv1",
+      std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
+          FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml");
   const nlohmann::json seen = nlohmann::json::parse(outsider, nullptr, false);
   ASSERT_TRUE(seen.is_object()) << outsider;
   EXPECT_TRUE(seen["vehicles"].empty()) << outsider;

@@ -26,7 +26,7 @@ struct DdsTileLoaderStats {
   long long invalidated = 0; // tiles named by TileUpdates (Invalidate)
   long long refreshed = 0;   // invalidated tiles received again at the announced version or newer
   long long stale = 0;       // answers older than an announced version, refused and asked again
-  long long reasked = 0;     // requests presumed lost (unanswered for half a timeout) and sent again
+  long long reasked = 0;  // requests presumed lost (unanswered for half a timeout) and sent again
 };
 
 class DdsTileLoader {

@@ -63,12 +63,13 @@ Status PatchClient::SendRaw(const fleetloc_PatchObservation& sample) { return pa
 Result<std::vector<ReceivedAck>> PatchClient::TakeAcks() {
   std::vector<ReceivedAck> acks;
   ack_writers_.LearnNew();
-  Result<int> taken = ack_reader_.TakeAll([&](const fleetloc_PatchAck& a, const dds_sample_info_t& info) {
-    const WriterFacts* writer = ack_writers_.Find(info.publication_handle);
-    acks.push_back({a.sequence_number,
-                    writer ? topics::ServerIdFromUserData(writer->user_data) : std::string(),
-                    a.status, GetBounded(a.reason)});
-  });
+  Result<int> taken =
+      ack_reader_.TakeAll([&](const fleetloc_PatchAck& a, const dds_sample_info_t& info) {
+        const WriterFacts* writer = ack_writers_.Find(info.publication_handle);
+        acks.push_back({a.sequence_number,
+                        writer ? topics::ServerIdFromUserData(writer->user_data) : std::string(),
+                        a.status, GetBounded(a.reason)});
+      });
   if (!taken.ok()) return taken.status();
   return acks;
 }

@@ -7,7 +7,8 @@
 namespace fleetloc::fleet_supervisor {
 namespace {
 
-transport::RemapProgress Status(uint64_t command, const std::string& server, fleetloc_RemapState state, double t) {
+transport::RemapProgress Status(uint64_t command, const std::string& server,
+                                fleetloc_RemapState state, double t) {
   transport::RemapProgress p;
   p.command_id = command;
   p.server_id = server;

@@ -94,8 +94,9 @@ Status MapServer::OpenTopics() {
 }
 
 Status MapServer::OpenServices() {
-  channels_ = std::make_unique<VehicleChannels>(*participant_, config_.server_id, *tile_topic_, *ack_topic_,
-                                                static_cast<size_t>(config_.max_vehicles));
+  channels_ =
+      std::make_unique<VehicleChannels>(*participant_, config_.server_id, *tile_topic_, *ack_topic_,
+                                        static_cast<size_t>(config_.max_vehicles));
   tiles_ = std::make_unique<TileService>(store_.get(), owned_, channels_.get(), &counters_,
                                          config_.max_tiles_per_request,
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);

@@ -112,17 +112,18 @@ Status PatchOutbox::MarkSent(uint64_t sequence, double now_s) {
 }
 
 Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& server_id,
-                                       const std::vector<std::string>& required) {
+                                      const std::vector<std::string>& required) {
   std::lock_guard lock(mutex_);
-  auto insert = mosaic::sqlite::Prepare(
-      db_.get(),
-      "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
-      " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
+  auto insert =
+      mosaic::sqlite::Prepare(db_.get(),
+                              "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
+                              " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
   if (!insert.ok()) return Internal(path_ + ": " + insert.status().message());
   sqlite3_bind_int64(insert->get(), 1, static_cast<sqlite3_int64>(sequence));
   sqlite3_bind_text(insert->get(), 2, server_id.c_str(), -1, SQLITE_TRANSIENT);
   if (sqlite3_step(insert->get()) != SQLITE_DONE) {
-    return Internal(path_ + ": recording an acknowledgement: " + mosaic::sqlite::ErrorMessage(db_.get()));
+    return Internal(path_ +
+                    ": recording an acknowledgement: " + mosaic::sqlite::ErrorMessage(db_.get()));
   }
   Result<std::vector<std::string>> acked = AckedByLocked(sequence);
   if (!acked.ok()) return acked.status();
@@ -134,7 +135,8 @@ Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& serv
 }
 
 Result<std::vector<std::string>> PatchOutbox::AckedByLocked(uint64_t sequence) {
-  auto select = mosaic::sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
+  auto select =
+      mosaic::sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
   if (!select.ok()) return Internal(path_ + ": " + select.status().message());
   sqlite3_bind_int64(select->get(), 1, static_cast<sqlite3_int64>(sequence));
   std::vector<std::string> servers;
@@ -151,7 +153,8 @@ Status PatchOutbox::Remove(uint64_t sequence) {
 
 Status PatchOutbox::RemoveLocked(uint64_t sequence) {
   // Acks first: interrupted in between, the patch is only sent again (servers are idempotent).
-  for (const char* sql : {"DELETE FROM acks WHERE sequence = ?1", "DELETE FROM outbox WHERE sequence = ?1"}) {
+  for (const char* sql :
+       {"DELETE FROM acks WHERE sequence = ?1", "DELETE FROM outbox WHERE sequence = ?1"}) {
     auto remove = mosaic::sqlite::Prepare(db_.get(), sql);
     if (!remove.ok()) return Internal(path_ + ": " + remove.status().message());
     sqlite3_bind_int64(remove->get(), 1, static_cast<sqlite3_int64>(sequence));

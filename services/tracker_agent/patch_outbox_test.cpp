@@ -21,8 +21,9 @@ transport::PatchToSend Patch(double x) {
 }
 
 std::string ScratchOutbox(const std::string& name) {
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            (name + "_" + std::to_string(::getpid()) + ".db")).string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".db"))
+          .string();
   std::filesystem::remove(path);
   return path;
 }

@@ -46,11 +46,13 @@ void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
 void TrackerAgent::TakeAck(const transport::ReceivedAck& ack) {
   if (ack.status == fleetloc_PATCH_REJECTED) {
     spdlog::warn("patch {} rejected by '{}': {}", ack.sequence, ack.server_id, ack.reason);
-    if (Status removed = outbox_->Remove(ack.sequence); !removed.ok()) health_.RecordError(removed.message());
+    if (Status removed = outbox_->Remove(ack.sequence); !removed.ok())
+      health_.RecordError(removed.message());
     return;
   }
   if (ack.server_id.empty()) {  // its writer is gone or does not name its server: resent later
-    spdlog::warn("patch {} acknowledged by a writer that names no map server; it stays queued", ack.sequence);
+    spdlog::warn("patch {} acknowledged by a writer that names no map server; it stays queued",
+                 ack.sequence);
     return;
   }
   Result<bool> done = outbox_->Acknowledge(ack.sequence, ack.server_id, map_servers_->servers());

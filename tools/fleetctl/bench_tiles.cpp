@@ -212,7 +212,8 @@ Status RunTileBench(const TileBenchSettings& s) {
   if (!mosaic.ok()) return mosaic.status();
   const std::string config = work + "/cyclonedds.xml";
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config, transport::DefaultLoopbackXml()));
-  const std::string uri = "file://" + (s.peer_dds_config.empty() ? config : fs::absolute(s.peer_dds_config).string());
+  const std::string uri =
+      "file://" + (s.peer_dds_config.empty() ? config : fs::absolute(s.peer_dds_config).string());
   auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
                                         {"--mosaic", *mosaic, "--domain", std::to_string(s.domain),
                                          "--server-id", "bench", "--dds-config",

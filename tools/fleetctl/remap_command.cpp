@@ -34,19 +34,23 @@ Result<int> WaitForServers(const transport::RemapClient& client, const RemapArgs
                            Clock::time_point deadline) {
   constexpr auto kSettle = std::chrono::milliseconds(700);
   while (client.MatchedServers() == 0) {
-    if (Clock::now() > deadline) return Internal("no map server on domain " + std::to_string(a.domain));
+    if (Clock::now() > deadline)
+      return Internal("no map server on domain " + std::to_string(a.domain));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   int servers = client.MatchedServers();
-  for (auto steady_since = Clock::now(); Clock::now() - steady_since < kSettle && Clock::now() < deadline;) {
+  for (auto steady_since = Clock::now();
+       Clock::now() - steady_since < kSettle && Clock::now() < deadline;) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (client.MatchedServers() != servers) servers = client.MatchedServers(), steady_since = Clock::now();
+    if (client.MatchedServers() != servers)
+      servers = client.MatchedServers(), steady_since = Clock::now();
   }
   return servers;
 }
 
 // Rejected is worse than failed, failed worse than done.
-const transport::RemapProgress& Worst(const std::map<std::string, transport::RemapProgress>& finals) {
+const transport::RemapProgress& Worst(
+    const std::map<std::string, transport::RemapProgress>& finals) {
   const transport::RemapProgress* worst = &finals.begin()->second;
   for (const auto& [server, s] : finals) {
     if (s.state > worst->state) worst = &s;
@@ -69,8 +73,8 @@ Status RunRemap(const RemapArgs& a) {
   if (!participant.ok()) return participant.status();
   auto client = RemapClient::Create(*participant);
   if (!client.ok()) return client.status();
-  const auto deadline =
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(a.timeout_s));
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(a.timeout_s));
   Result<int> servers = WaitForServers(**client, a, deadline);
   if (!servers.ok()) return servers.status();
   const RemapRequest request{a.region[0], a.region[1], a.region[2], a.region[3],
@@ -84,22 +88,26 @@ Status RunRemap(const RemapArgs& a) {
     if (!statuses.ok()) return statuses.status();
     for (const RemapProgress& s : *statuses) {
       if (s.command_id != *id) continue;
-      spdlog::info("remap: {} {} {} {:.0f}%", s.server_id, RemapStateName(s.state), s.phase, 100 * s.progress);
+      spdlog::info("remap: {} {} {} {:.0f}%", s.server_id, RemapStateName(s.state), s.phase,
+                   100 * s.progress);
       if (s.final()) finals.emplace(s.server_id, s);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   if (static_cast<int>(finals.size()) < *servers) {
     return Internal("remap: " + std::to_string(finals.size()) + " of " + std::to_string(*servers) +
-                    " map servers gave a final status within " + std::to_string(a.timeout_s) + " s");
+                    " map servers gave a final status within " + std::to_string(a.timeout_s) +
+                    " s");
   }
   const RemapProgress& worst = Worst(finals);
   nlohmann::json out = Outcome(worst);
   out["servers"] = nlohmann::json::array();
   for (const auto& [server, s] : finals) out["servers"].push_back(Outcome(s));
   std::cout << out.dump(2) << "\n";
-  if (worst.state == fleetloc_REMAP_REJECTED) return InvalidInput("remap rejected by " + worst.server_id + ": " + worst.message);
-  if (worst.state == fleetloc_REMAP_FAILED) return Internal("remap failed on " + worst.server_id + ": " + worst.message);
+  if (worst.state == fleetloc_REMAP_REJECTED)
+    return InvalidInput("remap rejected by " + worst.server_id + ": " + worst.message);
+  if (worst.state == fleetloc_REMAP_FAILED)
+    return Internal("remap failed on " + worst.server_id + ": " + worst.message);
   return Status::Ok();
 }
 
