@@ -37,11 +37,10 @@ class MultiHostFleet {
 
   // Builds the network and starts the fleet; `skip` set (and nothing started) where this machine
   // cannot have network namespaces.
-  // kLossy: packet loss and delay between the hosts from the start — with netem, every host's
-  // link loses 2 % of what it sends and delays the rest by 20 ± 5 ms. A kernel without netem
-  // (some container kernels) gets the same loss from DDS itself (Cyclone's
-  // Internal/Test/XmitLossiness drops 2 % of the packets each process sends) and a token-bucket
-  // link of 20 Mbit/s whose queue adds up to 20 ms and drops what overflows it.
+  // kLossy: packet loss and delay between the hosts from the start — every frame from one host
+  // to another is lost with probability 2 % and the rest arrive 20 ± 5 ms late: netem on every
+  // host's link, or, on a kernel without netem (some container kernels), netns_switch in place of
+  // the bridge doing the same in userspace.
   // kSecured: DDS Security, the recommended production setting — deploy/security/make_security.sh
   // makes the site's credentials over the multi-host configuration, and every process runs as
   // its own participant (server-ms-west, server-ms-east, supervisor-sup-1, vehicle-agv-1,
@@ -59,7 +58,7 @@ class MultiHostFleet {
     if (mode == Mode::kLossy) Impair();
     if (secured_) MakeCredentials();
     MakeFloors();
-    for (const char* name : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(name);
+    for (const char* process : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(process);
   }
 
   // A failed test keeps the processes' logs, configurations and agent summaries in
@@ -95,9 +94,8 @@ class MultiHostFleet {
       args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
     } else {
       host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
-      args = {"--config",  AgentConfig(name),
-              "--outbox",  Outbox(name),
-              "--summary", dir_ / (name + "_summary_" + std::to_string(starts_[name]) + ".json")};
+      args = {"--config", AgentConfig(name), "--outbox", Outbox(name), "--summary",
+              Summary(name, starts_[name])};
     }
     args.insert(args.end(), dds.begin(), dds.end());
     processes_.erase(name);
@@ -124,9 +122,22 @@ class MultiHostFleet {
       total += lab_->IpCounter(host, "FragCreates");
     return total;
   }
+  // The summary agent `vehicle` wrote when its `start`-th run stopped (null before).
+  nlohmann::json AgentSummary(const std::string& vehicle, int start = 1) const {
+    const std::string text = ReadWhole(Summary(vehicle, start));
+    return nlohmann::json::parse(text, nullptr, false).is_discarded() ? nlohmann::json()
+                                                                      : nlohmann::json::parse(text);
+  }
   std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
   std::string Mosaic(const std::string& server) const { return dir_ / (server + ".db"); }
   const ScratchDir& dir() const { return dir_; }
+  // What netns_switch did (kLossy without netem): frames forwarded, lost, their mean delay...;
+  // null when it did not run.
+  nlohmann::json SwitchCounts() const {
+    const std::string text = ReadWhole(SwitchStats());
+    return nlohmann::json::parse(text, nullptr, false).is_discarded() ? nlohmann::json()
+                                                                      : nlohmann::json::parse(text);
+  }
 
   // GET `path` from the supervisor's API (inside its host); null when it does not answer.
   nlohmann::json Api(const std::string& path) const {
@@ -192,15 +203,15 @@ class MultiHostFleet {
     EXPECT_TRUE(cv::imwrite(dir_ / "changed_floor.png", changed));
   }
   void Impair() {
-    const char* hosts[] = {"ms1", "sup", "ms2", "agv1", "agv2"};
     if (lab_->NetemAvailable()) {
-      for (const char* host : hosts) EXPECT_TRUE(lab_->Netem(host, "delay 20ms 5ms loss 2%")) << host;
+      for (const char* host : {"ms1", "sup", "ms2", "agv1", "agv2"}) {
+        EXPECT_TRUE(lab_->Netem(host, "delay 20ms 5ms loss 2%")) << host;
+      }
       impairment = "netem: 2 % loss, 20 +- 5 ms delay on every link";
       return;
     }
-    for (const char* host : hosts) EXPECT_TRUE(lab_->Shape(host, "tbf rate 20mbit burst 32kb latency 20ms")) << host;
-    dds_config_ = LossyDdsConfig(20);
-    impairment = "no netem in this kernel: DDS drops 2 % of sent packets; 20 Mbit/s links, 20 ms queues";
+    EXPECT_TRUE(lab_->ImpairWithSwitch(20, 5, 0.02, SwitchStats(), dir_ / "netns_switch.log"));
+    impairment = "no netem in this kernel; netns_switch: 2 % loss, 20 +- 5 ms delay between hosts";
   }
   void MakeCredentials() {
     const std::string command =
@@ -220,15 +231,10 @@ class MultiHostFleet {
                                                               : "vehicle-" + name;
     return dir_ / ("security/participants/" + participant + "/cyclonedds.xml");
   }
-  std::string LossyDdsConfig(int loss_per_mille) const {
-    std::ifstream in(dds_config_);
-    std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string test = "<Internal><Test><XmitLossiness>" + std::to_string(loss_per_mille) +
-                             "</XmitLossiness></Test>";
-    xml.replace(xml.find("<Internal>"), std::string("<Internal>").size(), test);
-    std::ofstream(dir_ / "lossy.xml") << xml;
-    return dir_ / "lossy.xml";
+  std::string Summary(const std::string& vehicle, int start) const {
+    return dir_ / (vehicle + "_summary_" + std::to_string(start) + ".json");
   }
+  std::string SwitchStats() const { return dir_ / "netns_switch.json"; }
   std::string ServerConfig(const std::string& id) const {
     const bool west = id == "ms-west";
     const nlohmann::json config{{"server_id", id}, {"mosaic", Mosaic(id)},
@@ -254,7 +260,7 @@ class MultiHostFleet {
   std::string name_;
   ScratchDir dir_;
   bool secured_;
-  std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
+  const std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
   std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
   std::map<std::string, io::ChildProcess> processes_;  // they stop before the network goes
   std::map<std::string, int> starts_;

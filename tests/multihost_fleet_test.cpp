@@ -131,19 +131,32 @@ TEST(MultiHost, PacketLossAndDelayBetweenHosts) {
   const double from = WallNow();
   Drive(40);
   EXPECT_GE(ExpectTrackingSince(fleet, from), 1) << "no vehicle crossed between the servers' regions";
-  const nlohmann::json status = fleet.Status();
-  for (const nlohmann::json& v : status["vehicles"]) {
-    const auto issues = v["health"]["issues"].get<std::vector<std::string>>();
-    EXPECT_EQ(std::count(issues.begin(), issues.end(), "tile_timeouts"), 0) << v.dump();
-  }
   fleet.StopAll();
   ExpectNoAcknowledgedPatchLost(fleet);
+  // DDS repairs what is lost: a tile wait may rarely run out (its tile is asked again and the
+  // vehicle tracks on), but not one tile in a hundred.
+  for (const char* vehicle : MultiHostFleet::kVehicles) {
+    const nlohmann::json tiles = fleet.AgentSummary(vehicle)["tiles"];
+    std::printf("%s tiles: %s\n", vehicle, tiles.dump().c_str());
+    ASSERT_TRUE(tiles.is_object()) << vehicle << " wrote no summary";
+    EXPECT_GT(tiles.value("received", 0), 200) << vehicle;
+    EXPECT_LE(100 * tiles.value("timeouts", 0), tiles.value("received", 0)) << vehicle;
+  }
+  // Without netem the userspace switch impaired the links: it really lost and delayed frames.
+  if (const nlohmann::json counts = fleet.SwitchCounts(); !counts.is_null()) {
+    std::printf("netns_switch: %s\n", counts.dump().c_str());
+    RecordProperty("netns_switch", counts.dump());
+    EXPECT_GT(counts.value("forwarded", 0), 10000);
+    EXPECT_NEAR(counts.value("loss_fraction", 0.0), 0.02, 0.005);
+    EXPECT_NEAR(counts.value("mean_delay_ms", 0.0), 20.0, 2.0);
+  }
 }
 
-// Disabled: across hosts, the restarted map server answers few tile requests for about 25 s after
-// it is back (14 tiles in 30 s; the agents stall on 2 s tile waits and publish few poses) while
-// the same restart on one host recovers at once (MapServerFault, AgentPatchFault). Under
-// investigation; the logs of a run are kept in build/test-artifacts/multihost_server_kill/.
+// A map server killed while both vehicles stream tiles from it: the vehicles name the dead
+// server, drive on with the other server's tiles and their caches, and return to tracking once it
+// is back. The requests the dead server never saw are sent again after half a tile timeout
+// (DdsTileLoader), not waited out tile by tile; the logs of a run are kept in
+// build/test-artifacts/multihost_server_kill/.
 TEST(MultiHost, MapServerKilledAndRestartedWhileStreaming) {
   MultiHostFleet fleet("multihost_server_kill");
   if (!fleet.skip.empty()) GTEST_SKIP() << fleet.skip;

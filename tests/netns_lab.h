@@ -1,7 +1,9 @@
 // A small network of "hosts" on this machine for multi-host tests: one network namespace per
 // host, each with an `eth0` (veth) at its own 10.10.0.x/24 address on a bridge that lives in a
 // namespace of its own (the machine's own networking is never touched), programs started inside
-// a host, and `tc netem` packet loss and delay on a host's link. Needs root (CAP_NET_ADMIN);
+// a host, and packet loss and delay between the hosts: `tc netem` on a host's link where the
+// kernel has netem, else netns_switch (a userspace switch doing what netem does) in place of the
+// bridge. Needs root (CAP_NET_ADMIN);
 // Create() answers NotFound when this machine cannot have namespaces (a test skips then) and
 // Internal when building the network failed.
 #pragma once
@@ -38,6 +40,7 @@ class NetnsLab {
   }
   // Programs started in the lab must be stopped before it goes (declare the lab first).
   ~NetnsLab() {
+    if (switch_) switch_->Stop(SIGTERM);
     for (const std::string& ns : namespaces_) Run("ip netns del " + ns);
   }
 
@@ -86,6 +89,26 @@ class NetnsLab {
   bool Shape(const std::string& host, const std::string& qdisc) {
     return Run("ip netns exec " + Namespace(host) + " tc qdisc replace dev eth0 root " + qdisc);
   }
+  // Replaces the bridge with build/bin/netns_switch, which forwards every frame between two hosts
+  // `delay_ms` ± `jitter_ms` late and loses it with probability `loss`, as netem on each link
+  // would; it writes its counts (netns_switch.cpp) to `stats` every second. For a kernel without
+  // netem.
+  bool ImpairWithSwitch(double delay_ms, double jitter_ms, double loss, const std::string& stats,
+                        const std::string& log) {
+    const std::string net = Namespace("net");
+    std::vector<std::string> args{"netns", "exec", net, FLEETLOC_BINARY_DIR "/bin/netns_switch",
+                                  "--delay-ms", std::to_string(delay_ms), "--jitter-ms",
+                                  std::to_string(jitter_ms), "--loss", std::to_string(loss),
+                                  "--stats", stats};
+    for (const std::string& peer : peers_) {
+      if (!Run("ip netns exec " + net + " ip link set " + peer + " nomaster")) return false;
+      args.push_back(peer);
+    }
+    auto child = io::ChildProcess::Start(kIp, args, log);
+    if (!child.ok()) return false;
+    switch_.emplace(std::move(child).value());
+    return true;
+  }
   // Whether this kernel has the netem qdisc (some container kernels ship without it).
   bool NetemAvailable() {
     const std::string host = hosts_.front();
@@ -110,6 +133,7 @@ class NetnsLab {
     if (!Run("ip netns add " + ns)) return false;
     namespaces_.push_back(ns);
     hosts_.push_back(name);
+    peers_.push_back(peer);
     return Run("ip link add eth0 netns " + ns + " type veth peer name " + peer + " netns " + net) &&
            Run("ip netns exec " + net + " ip link set " + peer + " master br0 up") &&
            Run(in + "ip addr add " + address + "/24 dev eth0") && Run(in + "ip link set eth0 up") &&
@@ -119,6 +143,8 @@ class NetnsLab {
   std::string prefix_;
   std::vector<std::string> namespaces_;
   std::vector<std::string> hosts_;
+  std::vector<std::string> peers_;  // each host link's end in the "net" namespace
+  std::optional<io::ChildProcess> switch_;
 };
 
 }  // namespace fleetloc::testing
