@@ -28,6 +28,12 @@
 
 namespace fleetloc::testing {
 
+// `text` parsed, or null when it is not JSON (a process that did not answer or write).
+inline nlohmann::json JsonOrNull(const std::string& text) {
+  nlohmann::json parsed = nlohmann::json::parse(text, nullptr, false);
+  return parsed.is_discarded() ? nlohmann::json() : parsed;
+}
+
 class MultiHostFleet {
  public:
   static constexpr double kBoundaryX = 0.64;  // map x of tile column 5
@@ -125,8 +131,7 @@ class MultiHostFleet {
   // The summary agent `vehicle` wrote when its `start`-th run stopped (null before).
   nlohmann::json AgentSummary(const std::string& vehicle, int start = 1) const {
     const std::string text = ReadWhole(Summary(vehicle, start));
-    return nlohmann::json::parse(text, nullptr, false).is_discarded() ? nlohmann::json()
-                                                                      : nlohmann::json::parse(text);
+    return JsonOrNull(text);
   }
   std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
   std::string Mosaic(const std::string& server) const { return dir_ / (server + ".db"); }
@@ -135,14 +140,13 @@ class MultiHostFleet {
   // null when it did not run.
   nlohmann::json SwitchCounts() const {
     const std::string text = ReadWhole(SwitchStats());
-    return nlohmann::json::parse(text, nullptr, false).is_discarded() ? nlohmann::json()
-                                                                      : nlohmann::json::parse(text);
+    return JsonOrNull(text);
   }
 
   // GET `path` from the supervisor's API (inside its host); null when it does not answer.
   nlohmann::json Api(const std::string& path) const {
     const std::string body = lab_->Capture("sup", "curl -sf --max-time 5 'http://127.0.0.1:8080" + path + "'");
-    return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
+    return JsonOrNull(body);
   }
   // `fleetctl status --json` run on the supervisor's host (secured: as maintainer ops-1): vehicles,
   // services with counters, mosaics.
@@ -151,7 +155,7 @@ class MultiHostFleet {
         "sup",
         std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl status --json --wait 3 --dds-config ") +
             DdsConfig("ops-1"));
-    return nlohmann::json::parse(body, nullptr, false).is_discarded() ? nlohmann::json() : nlohmann::json::parse(body);
+    return JsonOrNull(body);
   }
   // The supervisor sees both vehicles tracking and every map server reachable from both.
   bool AllTracking() const {
