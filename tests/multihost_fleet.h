@@ -100,8 +100,8 @@ class MultiHostFleet {
       args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
     } else {
       host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
-      args = {"--config", AgentConfig(name), "--outbox", Outbox(name), "--summary",
-              Summary(name, starts_[name])};
+      args = {"--config",   AgentConfig(name), "--outbox",
+              Outbox(name), "--summary",       Summary(name, starts_[name])};
     }
     args.insert(args.end(), dds.begin(), dds.end());
     processes_.erase(name);

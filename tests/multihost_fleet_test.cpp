@@ -130,7 +130,8 @@ TEST(MultiHost, PacketLossAndDelayBetweenHosts) {
   ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 120)) << "the fleet did not come up";
   const double from = WallNow();
   Drive(40);
-  EXPECT_GE(ExpectTrackingSince(fleet, from), 1) << "no vehicle crossed between the servers' regions";
+  EXPECT_GE(ExpectTrackingSince(fleet, from), 1)
+      << "no vehicle crossed between the servers' regions";
   fleet.StopAll();
   ExpectNoAcknowledgedPatchLost(fleet);
   // DDS repairs what is lost: a tile wait may rarely run out (its tile is asked again and the

@@ -96,10 +96,12 @@ class NetnsLab {
   bool ImpairWithSwitch(double delay_ms, double jitter_ms, double loss, const std::string& stats,
                         const std::string& log) {
     const std::string net = Namespace("net");
-    std::vector<std::string> args{"netns", "exec", net, FLEETLOC_BINARY_DIR "/bin/netns_switch",
-                                  "--delay-ms", std::to_string(delay_ms), "--jitter-ms",
-                                  std::to_string(jitter_ms), "--loss", std::to_string(loss),
-                                  "--stats", stats};
+    std::vector<std::string> args{"netns",       "exec",
+                                  net,           FLEETLOC_BINARY_DIR "/bin/netns_switch",
+                                  "--delay-ms",  std::to_string(delay_ms),
+                                  "--jitter-ms", std::to_string(jitter_ms),
+                                  "--loss",      std::to_string(loss),
+                                  "--stats",     stats};
     for (const std::string& peer : peers_) {
       if (!Run("ip netns exec " + net + " ip link set " + peer + " nomaster")) return false;
       args.push_back(peer);

@@ -46,19 +46,22 @@ struct Impairment {
 };
 
 struct Counts {
-  long long received = 0;          // frames the hosts sent into the switch
-  long long forwarded = 0;         // copies delivered to a link
-  long long lost = 0;              // copies dropped by --loss
-  long long overflowed = 0;        // copies dropped because a link's queue was full
-  long long send_errors = 0;       // copies the kernel refused (e.g. larger than the link MTU)
-  double delay_ms_total = 0;       // time forwarded copies spent in the switch, for the mean
+  long long received = 0;     // frames the hosts sent into the switch
+  long long forwarded = 0;    // copies delivered to a link
+  long long lost = 0;         // copies dropped by --loss
+  long long overflowed = 0;   // copies dropped because a link's queue was full
+  long long send_errors = 0;  // copies the kernel refused (e.g. larger than the link MTU)
+  double delay_ms_total = 0;  // time forwarded copies spent in the switch, for the mean
 
   nlohmann::json ToJson() const {
-    return {{"received", received},       {"forwarded", forwarded},
-            {"lost", lost},               {"overflowed", overflowed},
-            {"send_errors", send_errors},
-            {"mean_delay_ms", forwarded > 0 ? delay_ms_total / forwarded : 0.0},
-            {"loss_fraction", forwarded + lost > 0 ? double(lost) / double(forwarded + lost) : 0.0}};
+    return {
+        {"received", received},
+        {"forwarded", forwarded},
+        {"lost", lost},
+        {"overflowed", overflowed},
+        {"send_errors", send_errors},
+        {"mean_delay_ms", forwarded > 0 ? delay_ms_total / forwarded : 0.0},
+        {"loss_fraction", forwarded + lost > 0 ? double(lost) / double(forwarded + lost) : 0.0}};
   }
 };
 
@@ -109,7 +112,10 @@ int OpenLink(const std::string& name) {
 class Switch {
  public:
   Switch(std::vector<int> links, Impairment impairment, uint64_t seed)
-      : links_(std::move(links)), impairment_(impairment), queued_(links_.size(), 0), random_(seed) {}
+      : links_(std::move(links)),
+        impairment_(impairment),
+        queued_(links_.size(), 0),
+        random_(seed) {}
 
   void Run(const std::atomic<bool>& stop, const std::string& stats_path) {
     std::vector<pollfd> polls;
@@ -136,7 +142,8 @@ class Switch {
   int WaitMs() const {
     if (pending_.empty()) return 200;
     const auto left = pending_.top().due - Clock::now();
-    return std::max(0, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(left).count()));
+    return std::max(0,
+                    static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(left).count()));
   }
 
   void Receive(size_t from) {
@@ -167,8 +174,8 @@ class Switch {
       ++counts_.overflowed;
       return;
     }
-    const double delay_ms = std::max(
-        0.0, impairment_.delay_ms + impairment_.jitter_ms * (2 * uniform_(random_) - 1));
+    const double delay_ms =
+        std::max(0.0, impairment_.delay_ms + impairment_.jitter_ms * (2 * uniform_(random_) - 1));
     ++queued_[link];
     const auto now = Clock::now();
     pending_.push({now + std::chrono::duration_cast<Clock::duration>(
