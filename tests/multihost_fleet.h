@@ -62,8 +62,10 @@ class MultiHostFleet {
     }
     lab_ = std::move(lab).value();
     if (mode == Mode::kLossy) Impair();
-    if (secured_) MakeCredentials();
-    MakeFloors();
+    if ((secured_ && !MakeCredentials()) || !MakeFloors()) {
+      skip = "the fleet's files could not be made (see the failures above)";
+      return;  // nothing started: the test stops at its skip check, failed
+    }
     for (const char* process : {"ms-west", "ms-east", "sup", "agv-1", "agv-2"}) Start(process);
   }
 
@@ -85,6 +87,7 @@ class MultiHostFleet {
 
   std::string skip;
   std::string impairment;  // what `lossy` put between the hosts
+  bool switched = false;   // kLossy on a kernel without netem: netns_switch impairs the links
 
   // Starts (or restarts) one of the fleet's processes.
   void Start(const std::string& name) {
@@ -193,18 +196,22 @@ class MultiHostFleet {
   }
 
  private:
-  void MakeFloors() {
+  bool MakeFloors() {
     const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg", cv::IMREAD_GRAYSCALE);
     EXPECT_TRUE(cv::imwrite(dir_ / "floor.png", floor));
     mosaic::ImportOptions options;
     options.resolution_m = 0.0005;
     auto imported = mosaic::ImportImage(dir_ / "floor.png", options, Mosaic("ms-west"));
-    ASSERT_TRUE(imported.ok()) << imported.status().message();
+    if (!imported.ok()) {
+      ADD_FAILURE() << imported.status().message();
+      return false;
+    }
     std::filesystem::copy_file(Mosaic("ms-west"), Mosaic("ms-east"));
     cv::Mat changed = floor.clone();
     const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
     brick(cv::Rect(0, 0, 256, 256)).copyTo(changed(cv::Rect(1152, 672, 256, 256)));
     EXPECT_TRUE(cv::imwrite(dir_ / "changed_floor.png", changed));
+    return true;
   }
   void Impair() {
     if (lab_->NetemAvailable()) {
@@ -214,17 +221,20 @@ class MultiHostFleet {
       impairment = "netem: 2 % loss, 20 +- 5 ms delay on every link";
       return;
     }
-    EXPECT_TRUE(lab_->ImpairWithSwitch(20, 5, 0.02, SwitchStats(), dir_ / "netns_switch.log"));
+    switched = lab_->ImpairWithSwitch(20, 5, 0.02, SwitchStats(), dir_ / "netns_switch.log");
+    EXPECT_TRUE(switched) << "netns_switch did not start";
     impairment = "no netem in this kernel; netns_switch: 2 % loss, 20 +- 5 ms delay between hosts";
   }
-  void MakeCredentials() {
+  bool MakeCredentials() {
     const std::string command =
         std::string(FLEETLOC_SOURCE_DIR "/deploy/security/make_security.sh") + " --out " +
         (dir_ / "security") + " --base-config " + dds_config_ +
         " --servers ms-west,ms-east --supervisors sup-1 --vehicles agv-1,agv-2"
         " --maintainers ops-1 >" +
         (dir_ / "make_security.log") + " 2>&1";
-    ASSERT_EQ(std::system(command.c_str()), 0) << ReadWhole(dir_ / "make_security.log");
+    if (std::system(command.c_str()) == 0) return true;
+    ADD_FAILURE() << "make_security.sh failed: " << ReadWhole(dir_ / "make_security.log");
+    return false;
   }
   // The Cyclone configuration process `name` runs with.
   std::string DdsConfig(const std::string& name) const {

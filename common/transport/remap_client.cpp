@@ -62,11 +62,27 @@ Result<std::unique_ptr<RemapClient>> RemapClient::Create(const Participant& part
   constexpr int kStatusDepth = 64;
   auto reader = Reader<fleetloc_RemapStatus>::Create(participant.get(), *status_topic,
                                                      DurableStateQos(kStatusDepth));
+  auto info_topic = Topic<fleetloc_MosaicInfo>::Create(participant, topics::kMosaicInfo);
   if (!writer.ok()) return writer.status();
   if (!reader.ok()) return reader.status();
+  if (!info_topic.ok()) return info_topic.status();
+  auto infos =
+      Reader<fleetloc_MosaicInfo>::Create(participant.get(), *info_topic, DurableStateQos());
+  if (!infos.ok()) return infos.status();
   return std::unique_ptr<RemapClient>(new RemapClient(
       std::move(command_topic).value(), std::move(status_topic).value(), std::move(writer).value(),
-      std::move(reader).value()));
+      std::move(reader).value(), std::move(info_topic).value(), std::move(infos).value()));
+}
+
+std::vector<std::string> RemapClient::ServersOf(const std::string& mosaic_id) {
+  (void)infos_.TakeAll([&](const fleetloc_MosaicInfo& info, const dds_sample_info_t&) {
+    mosaic_of_server_[GetBounded(info.server_id)] = GetBounded(info.mosaic_id);
+  });
+  std::vector<std::string> servers;
+  for (const auto& [server, mosaic] : mosaic_of_server_) {
+    if (mosaic_id.empty() || mosaic == mosaic_id) servers.push_back(server);
+  }
+  return servers;
 }
 
 Result<uint64_t> RemapClient::Send(const RemapRequest& r) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -53,19 +54,28 @@ class RemapClient {
   Status SendRaw(const fleetloc_RemapCommand& command);
   // The statuses received since the last call (of every job, also other requesters').
   Result<std::vector<RemapProgress>> TakeStatuses();
+  // Ids of the live map servers announcing (MosaicInfo) mosaic `mosaic_id`, or any mosaic when
+  // empty: those a command for it runs on, each on its own replica. Sorted.
+  std::vector<std::string> ServersOf(const std::string& mosaic_id);
 
  private:
   RemapClient(Topic<fleetloc_RemapCommand> command_topic, Topic<fleetloc_RemapStatus> status_topic,
-              Writer<fleetloc_RemapCommand> commands, Reader<fleetloc_RemapStatus> statuses)
+              Writer<fleetloc_RemapCommand> commands, Reader<fleetloc_RemapStatus> statuses,
+              Topic<fleetloc_MosaicInfo> info_topic, Reader<fleetloc_MosaicInfo> infos)
       : command_topic_(std::move(command_topic)),
         status_topic_(std::move(status_topic)),
         commands_(std::move(commands)),
-        statuses_(std::move(statuses)) {}
+        statuses_(std::move(statuses)),
+        info_topic_(std::move(info_topic)),
+        infos_(std::move(infos)) {}
 
   Topic<fleetloc_RemapCommand> command_topic_;
   Topic<fleetloc_RemapStatus> status_topic_;
   Writer<fleetloc_RemapCommand> commands_;
   Reader<fleetloc_RemapStatus> statuses_;
+  Topic<fleetloc_MosaicInfo> info_topic_;
+  Reader<fleetloc_MosaicInfo> infos_;
+  std::map<std::string, std::string> mosaic_of_server_;  // announced: server id -> mosaic id
 };
 
 }  // namespace fleetloc::transport

@@ -14,8 +14,8 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 [ "${FLEETLOC_SKIP_SETUP:-0}" = 1 ] || tools/scripts/setup.sh
 
-BIN=build/bin
-OUT="${FLEETLOC_FLEET_DIR:-out/fleet}"
+BIN="$PWD/build/bin"  # absolute, as OUT: the printed commands work from any directory
+OUT="$(realpath -m "${FLEETLOC_FLEET_DIR:-out/fleet}")"
 DOMAIN="${FLEETLOC_DOMAIN:-0}"
 PORT="${FLEETLOC_HTTP_PORT:-8080}"
 VEHICLES="${FLEETLOC_VEHICLES:-3}"
@@ -81,7 +81,7 @@ echo "fleet: map server, supervisor and $VEHICLES vehicles running on DDS domain
 echo "fleet: dashboard  http://127.0.0.1:$PORT/" >&2
 echo "fleet: maintainer token (for re-mapping from the dashboard) in $OUT/maintainer.token" >&2
 if [ "$SECURE" = 1 ]; then
-  echo "fleet: DDS Security on; as a maintainer: fleetctl status --domain $DOMAIN $(dds_config maintainer ops-1)" >&2
+  echo "fleet: DDS Security on; as a maintainer: $BIN/fleetctl status --domain $DOMAIN $(dds_config maintainer ops-1)" >&2
 fi
 echo "fleet: logs in $OUT/logs/; Ctrl-C stops everything" >&2
 # Any process that exits on its own is reported; the rest keep running until Ctrl-C.

@@ -288,6 +288,13 @@ void TrackerAgent::WaitForTileCoverage(std::chrono::steady_clock::time_point dea
 void TrackerAgent::UpdateMapServerReachability() {
   map_servers_->Poll();
   map_server_reachable_ = map_servers_->AllReachable();
+  // Owners are only added, so once covered the mosaic stays covered; until then it is checked
+  // once a second (a count over every tile of the pyramid).
+  const auto now = std::chrono::steady_clock::now();
+  if (!replicas_known_ && now >= next_coverage_check_) {
+    replicas_known_ = map_servers_->owners().UncoveredTiles(layout_) == 0;
+    next_coverage_check_ = now + std::chrono::seconds(1);
+  }
 }
 
 void TrackerAgent::PublishHealth() {

@@ -82,13 +82,15 @@ class TrackerAgent {
   void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
   // A map server is reachable when it reads our tile requests (DDS match) and was heard from
   // (ServiceHealth) within map_server_timeout_s; the tile loader stops waiting for the tiles of
-  // one that is not. map_server_reachable_: every owning server is.
+  // one that is not. map_server_reachable_: every owning server is; replicas_known_: the owners
+  // announced cover the whole mosaic.
   void UpdateMapServerReachability();
   void PublishHealth();
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
   void MaybeCollectPatch(double t, const cv::Mat& frame, const tracking::FrameResult& result);
-  // Takes acknowledgements and (re)sends what is due.
+  // One acknowledgement (DecideAck): counts it for its replica, or drops a rejected patch.
   void TakeAck(const transport::ReceivedAck& ack);
+  // Takes acknowledgements and (re)sends what is due.
   void PumpPatches();
   // At the end of the input: keeps pumping until the outbox is empty or drain_s passed.
   void DrainPatches(const std::atomic<bool>& stop);
@@ -131,6 +133,8 @@ class TrackerAgent {
   double latest_odometry_t_ = -1e300;
   bool started_ = false;
   bool map_server_reachable_ = true;
+  bool replicas_known_ = false;  // every tile has an announced owner: every replica is known
+  std::chrono::steady_clock::time_point next_coverage_check_;
   AgentHealth health_;
 };
 

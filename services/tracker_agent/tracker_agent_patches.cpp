@@ -7,6 +7,7 @@
 
 #include "mapping/change_detection.h"
 #include "mosaic/tile_codec.h"
+#include "tracker_agent/patch_acks.h"
 #include "tracker_agent/tracker_agent.h"
 #include "tracking/predicted_view.h"
 
@@ -41,22 +42,25 @@ void TrackerAgent::MaybeCollectPatch(double t, const cv::Mat& frame,
                *added, change.blocks, change.changed, change.unmapped);
 }
 
-// A rejection ends the patch (resending cannot help); a stored or duplicate answer counts for its
-// server, and the patch leaves the outbox once every map server keeping a replica has it.
 void TrackerAgent::TakeAck(const transport::ReceivedAck& ack) {
-  if (ack.status == fleetloc_PATCH_REJECTED) {
-    spdlog::warn("patch {} rejected by '{}': {}", ack.sequence, ack.server_id, ack.reason);
-    if (Status removed = outbox_->Remove(ack.sequence); !removed.ok())
-      health_.RecordError(removed.message());
-    return;
+  const AckDecision decision = DecideAck(ack, map_servers_->servers());
+  switch (decision.action) {
+    case AckAction::kIgnore:
+      spdlog::debug("patch {}: answer from '{}' ignored (not a replica of mosaic {})", ack.sequence,
+                    ack.server_id, layout_.mosaic_id);
+      return;
+    case AckAction::kDrop:
+      spdlog::warn("patch {} rejected by '{}': {}", ack.sequence, decision.server, ack.reason);
+      if (Status removed = outbox_->Remove(ack.sequence); !removed.ok())
+        health_.RecordError(removed.message());
+      return;
+    case AckAction::kCount: {
+      Result<bool> done =
+          outbox_->Acknowledge(ack.sequence, decision.server, map_servers_->servers());
+      if (!done.ok()) health_.RecordError(done.status().message());
+      return;
+    }
   }
-  if (ack.server_id.empty()) {  // its writer is gone or does not name its server: resent later
-    spdlog::warn("patch {} acknowledged by a writer that names no map server; it stays queued",
-                 ack.sequence);
-    return;
-  }
-  Result<bool> done = outbox_->Acknowledge(ack.sequence, ack.server_id, map_servers_->servers());
-  if (!done.ok()) health_.RecordError(done.status().message());
 }
 
 void TrackerAgent::PumpPatches() {
@@ -64,8 +68,10 @@ void TrackerAgent::PumpPatches() {
   if (acks.ok()) {
     for (const transport::ReceivedAck& ack : *acks) TakeAck(ack);
   }
-  // Keep them for when the server is back (a dead server stays matched until its lease ends).
-  if (!patches_->ServerMatched() || !map_server_reachable_) return;
+  // Keep them for when the server is back (a dead server stays matched until its lease ends),
+  // and until every replica is known: sent while a server that was down at our start is not yet
+  // announced, a patch would leave the outbox with that replica never having it.
+  if (!patches_->ServerMatched() || !map_server_reachable_ || !replicas_known_) return;
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
   if (!due.ok()) return health_.RecordError(due.status().message());

@@ -1,10 +1,12 @@
 // fleetctl remap: asks the running map servers (over DDS) to fold the stored patches of a map
-// region into a new mosaic version, follows the job's RemapStatus from every server reading the
-// command (each keeps its own replica when the mosaic is split across servers) and prints the
-// outcome as JSON: the worst server's outcome at the top (a single server's, as before), and every
-// server's under "servers".
+// region into a new mosaic version, follows the job's RemapStatus from every server announcing the
+// mosaic (each keeps its own replica when the mosaic is split across servers) and prints the
+// outcome as JSON: the worst server's outcome at the top (a single server's, as before), every
+// server's under "servers", and under "missing" those with no final status by the time-out.
+#include <spdlog/fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <map>
@@ -28,24 +30,30 @@ struct RemapArgs {
 
 using Clock = std::chrono::steady_clock;
 
-// How many map servers read our commands: waits for the first, then until the count has held
-// for `settle` (the others are discovered within moments of the first), bounded by `deadline`.
-Result<int> WaitForServers(const transport::RemapClient& client, const RemapArgs& a,
-                           Clock::time_point deadline) {
+// The map servers the command runs on: those announcing the mosaic (MosaicInfo; any mosaic
+// without --mosaic-id, or when none announces it: each of them then says it does not know that
+// mosaic, as a single server always did). Waits until at least one announces and as many read our
+// commands, and the announced set has then held for a moment (servers are discovered within moments
+// of each other), bounded by `deadline`.
+Result<std::vector<std::string>> WaitForServers(transport::RemapClient* client, const RemapArgs& a,
+                                                Clock::time_point deadline) {
   constexpr auto kSettle = std::chrono::milliseconds(700);
-  while (client.MatchedServers() == 0) {
-    if (Clock::now() > deadline)
-      return Internal("no map server on domain " + std::to_string(a.domain));
+  std::vector<std::string> servers;
+  auto steady_since = Clock::now();
+  for (;;) {
+    std::vector<std::string> now = client->ServersOf(a.mosaic_id);
+    if (now.empty()) now = client->ServersOf("");  // they will reject an unknown mosaic id
+    if (now != servers) servers = std::move(now), steady_since = Clock::now();
+    const bool listening =
+        !servers.empty() && client->MatchedServers() >= static_cast<int>(servers.size());
+    if (listening && Clock::now() - steady_since >= kSettle) return servers;
+    if (Clock::now() > deadline) {
+      return Internal(servers.empty() ? "no map server on domain " + std::to_string(a.domain)
+                                      : "the map servers announcing the mosaic do not all read "
+                                        "remap commands");
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  int servers = client.MatchedServers();
-  for (auto steady_since = Clock::now();
-       Clock::now() - steady_since < kSettle && Clock::now() < deadline;) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (client.MatchedServers() != servers)
-      servers = client.MatchedServers(), steady_since = Clock::now();
-  }
-  return servers;
 }
 
 // Rejected is worse than failed, failed worse than done.
@@ -75,35 +83,48 @@ Status RunRemap(const RemapArgs& a) {
   if (!client.ok()) return client.status();
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(a.timeout_s));
-  Result<int> servers = WaitForServers(**client, a, deadline);
+  Result<std::vector<std::string>> servers = WaitForServers(client->get(), a, deadline);
   if (!servers.ok()) return servers.status();
   const RemapRequest request{a.region[0], a.region[1], a.region[2], a.region[3],
                              a.mode == "replace", a.mosaic_id, "fleetctl"};
   Result<uint64_t> id = (*client)->Send(request);
   if (!id.ok()) return id.status();
-  spdlog::info("remap: command {} sent to {} map server(s)", *id, *servers);
-  std::map<std::string, RemapProgress> finals;  // by server id
-  while (static_cast<int>(finals.size()) < *servers && Clock::now() < deadline) {
+  spdlog::info("remap: command {} sent to {} map server(s): {}", *id, servers->size(),
+               fmt::join(*servers, ", "));
+  std::map<std::string, RemapProgress> finals;  // by server id, of the expected servers
+  const auto expected = [&](const std::string& server) {
+    return std::find(servers->begin(), servers->end(), server) != servers->end();
+  };
+  while (finals.size() < servers->size() && Clock::now() < deadline) {
     Result<std::vector<RemapProgress>> statuses = (*client)->TakeStatuses();
     if (!statuses.ok()) return statuses.status();
     for (const RemapProgress& s : *statuses) {
-      if (s.command_id != *id) continue;
+      if (s.command_id != *id || !expected(s.server_id)) continue;  // another job, or mosaic
       spdlog::info("remap: {} {} {} {:.0f}%", s.server_id, RemapStateName(s.state), s.phase,
                    100 * s.progress);
       if (s.final()) finals.emplace(s.server_id, s);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  if (static_cast<int>(finals.size()) < *servers) {
-    return Internal("remap: " + std::to_string(finals.size()) + " of " + std::to_string(*servers) +
-                    " map servers gave a final status within " + std::to_string(a.timeout_s) +
-                    " s");
+  std::vector<std::string> missing;
+  for (const std::string& server : *servers) {
+    if (!finals.count(server)) missing.push_back(server);
+  }
+  if (finals.empty()) {
+    return Internal("remap: no map server gave a final status within " +
+                    std::to_string(a.timeout_s) + " s");
   }
   const RemapProgress& worst = Worst(finals);
   nlohmann::json out = Outcome(worst);
   out["servers"] = nlohmann::json::array();
   for (const auto& [server, s] : finals) out["servers"].push_back(Outcome(s));
+  out["missing"] = missing;  // servers with no final status by the time-out
   std::cout << out.dump(2) << "\n";
+  if (!missing.empty()) {
+    return Internal("remap: no final status within " + std::to_string(a.timeout_s) + " s from " +
+                    fmt::format("{}", fmt::join(missing, ", ")) +
+                    " (the servers' replicas may now differ)");
+  }
   if (worst.state == fleetloc_REMAP_REJECTED)
     return InvalidInput("remap rejected by " + worst.server_id + ": " + worst.message);
   if (worst.state == fleetloc_REMAP_FAILED)
