@@ -2,17 +2,20 @@
 // (configured `owned_tiles`), and a tracker_agent replaying a drive that crosses the boundary
 // again and again. The vehicle must track every frame within millimetres of truth with its tiles
 // coming from the right server (each serves only its half; neither answers for the other's) and
-// never wait out a tile timeout at the crossing. `fleetctl remap` follows both servers' jobs.
+// never wait out a tile timeout at the crossing. `fleetctl remap` follows both servers' jobs. A
+// vehicle started while one server is down keeps its patches until that replica is there too.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "sqlite_value.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc {
@@ -42,7 +45,8 @@ std::map<std::string, std::map<std::string, uint64_t>> ServerCounters(transport:
 
 class SplitServers {
  public:
-  explicit SplitServers(const testing::ScratchDir& dir) : dir_(dir) {
+  // `start_east` false: only ms-west runs until StartEast().
+  explicit SplitServers(const testing::ScratchDir& dir, bool start_east = true) : dir_(dir) {
     const std::string image = dir / "floor.png";
     EXPECT_TRUE(cv::imwrite(image, cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
                                               cv::IMREAD_GRAYSCALE)));
@@ -54,11 +58,13 @@ class SplitServers {
     // Each server keeps its own replica of the one mosaic (same id and version).
     std::filesystem::copy_file(dir / "west.db", dir / "east.db");
     Start("ms-west", 0, 5);
-    Start("ms-east", 5, 10);
+    if (start_east) StartEast();
   }
   ~SplitServers() {
     for (auto& [id, server] : servers_) EXPECT_EQ(server.Stop(SIGTERM), 0) << id << " did not stop cleanly";
   }
+
+  void StartEast() { Start("ms-east", 5, 10); }
 
   mosaic::MosaicLayout layout;
 
@@ -157,6 +163,50 @@ TEST(MapServerSplit, FleetctlRemapWaitsForEveryServerAndReportsEach) {
   for (const nlohmann::json& server : refused["servers"])
     EXPECT_EQ(server["state"], "rejected") << off.out;
   EXPECT_NE(off.err.find("outside the mosaic"), std::string::npos) << off.err;
+}
+
+// Started while ms-east is down, a vehicle knows only ms-west: it must not let ms-west's
+// acknowledgement alone take a patch out of its outbox (ms-east's replica would never get it).
+// Its patches wait until the servers announced cover the mosaic; once ms-east is up, both
+// replicas store every patch that left the outbox.
+TEST(MapServerSplit, PatchesWaitForAServerThatWasDownAtTheVehiclesStart) {
+  testing::ScratchDir dir("map_server_split_late");
+  SplitServers servers(dir, /*start_east=*/false);
+  // The vehicle drives over the floor with a new brick marking across the boundary.
+  cv::Mat floor = cv::imread(dir / "floor.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat brick =
+      cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+  brick(cv::Rect(0, 0, 256, 256)).copyTo(floor(cv::Rect(1152, 672, 256, 256)));
+  ASSERT_TRUE(cv::imwrite(dir / "changed_floor.png", floor));
+  const nlohmann::json config{{"vehicle_id", "agv-9"},
+                              {"domain", kDomain},
+                              {"source", "sim"},
+                              {"sim_floor", dir / "changed_floor.png"},
+                              {"mosaic_wait_s", 3}};
+  std::ofstream(dir / "agv-9.json") << config.dump(2);
+  const std::string outbox = dir / "outbox.db";
+  io::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent", {"--config", dir / "agv-9.json", "--outbox", outbox}, dir / "agent.log");
+
+  ASSERT_TRUE(Eventually([&] { return testing::QueuedPatches(outbox) >= 2; }, 90))
+      << "no patch queued";
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // time to send them, were it allowed
+  EXPECT_EQ(testing::SqliteValue(dir / "west.db", "SELECT COUNT(*) FROM patches"), 0)
+      << "patches went out while a replica was unknown";
+
+  servers.StartEast();
+  const long long queued = testing::QueuedPatches(outbox);
+  EXPECT_TRUE(Eventually(
+      [&] {
+        return testing::SqliteValue(dir / "west.db", "SELECT COUNT(*) FROM patches") >= queued &&
+               testing::SqliteValue(dir / "east.db", "SELECT COUNT(*) FROM patches") >= queued;
+      },
+      60))
+      << "the queued patches did not reach both replicas";
+  EXPECT_EQ(agent.Stop(SIGTERM, std::chrono::seconds(30)), 0);
+  for (const char* replica : {"west.db", "east.db"}) {
+    EXPECT_EQ(testing::AcknowledgedButMissing(outbox, "agv-9", dir / replica), 0) << replica;
+  }
 }
 
 }  // namespace

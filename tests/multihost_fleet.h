@@ -178,22 +178,11 @@ class MultiHostFleet {
   long long StoredPatches(const std::string& server) const {
     return SqliteValue(Mosaic(server), "SELECT COUNT(*) FROM patches");
   }
-  // How many of the patches `vehicle` queued were acknowledged (gone from its outbox) but are
-  // not stored by `server`.
+  // How many of the patches `vehicle` queued were acknowledged but are not stored by `server`.
   long long AcknowledgedButMissing(const std::string& vehicle, const std::string& server) const {
-    const std::string sql =
-        "WITH RECURSIVE queued(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM queued"
-        " WHERE n < (SELECT value - 1 FROM meta WHERE name = 'next_sequence'))"
-        " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = "
-        "'next_sequence') > 0"
-        " AND n NOT IN (SELECT sequence FROM outbox)"
-        " AND n NOT IN (SELECT sequence FROM server.patches WHERE vehicle_id = '" +
-        vehicle + "')";
-    return SqliteValue(Outbox(vehicle), sql.c_str(), {{"server", Mosaic(server)}});
+    return testing::AcknowledgedButMissing(Outbox(vehicle), vehicle, Mosaic(server));
   }
-  long long Queued(const std::string& vehicle) const {
-    return SqliteValue(Outbox(vehicle), "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
-  }
+  long long Queued(const std::string& vehicle) const { return QueuedPatches(Outbox(vehicle)); }
 
  private:
   bool MakeFloors() {

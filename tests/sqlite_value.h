@@ -31,4 +31,24 @@ inline long long SqliteValue(const std::string& path, const char* sql,
   return value;
 }
 
+// How many patches the agent's outbox at `outbox` ever queued (its sequence numbers so far).
+inline long long QueuedPatches(const std::string& outbox) {
+  return SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+}
+
+// How many of the patches `vehicle` queued in `outbox` were acknowledged (gone from it; what is
+// left there is sent again at the next start) but are not stored in the mosaic file `mosaic`.
+inline long long AcknowledgedButMissing(const std::string& outbox, const std::string& vehicle,
+                                        const std::string& mosaic) {
+  const std::string sql =
+      "WITH RECURSIVE queued(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM queued"
+      " WHERE n < (SELECT value - 1 FROM meta WHERE name = 'next_sequence'))"
+      " SELECT COUNT(*) FROM queued WHERE (SELECT value - 1 FROM meta WHERE name = "
+      "'next_sequence') > 0"
+      " AND n NOT IN (SELECT sequence FROM outbox)"
+      " AND n NOT IN (SELECT sequence FROM server.patches WHERE vehicle_id = '" +
+      vehicle + "')";
+  return SqliteValue(outbox, sql.c_str(), {{"server", mosaic}});
+}
+
 }  // namespace fleetloc::testing
