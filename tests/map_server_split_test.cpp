@@ -16,6 +16,7 @@
 #include "map_server_fixture.h"
 #include "published_poses.h"
 #include "sqlite_value.h"
+#include "transport/mosaic_messages.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc {
@@ -163,6 +164,38 @@ TEST(MapServerSplit, FleetctlRemapWaitsForEveryServerAndReportsEach) {
   for (const nlohmann::json& server : refused["servers"])
     EXPECT_EQ(server["state"], "rejected") << off.out;
   EXPECT_NE(off.err.find("outside the mosaic"), std::string::npos) << off.err;
+}
+
+// A third "server" announcing the mosaic that reads remap commands but never answers (hung): the
+// command is expected from it, and at the time-out fleetctl prints the two outcomes it has, names
+// the silent one under "missing" and exits non-zero.
+TEST(MapServerSplit, FleetctlRemapNamesAServerThatNeverAnswered) {
+  testing::ScratchDir dir("map_server_split_mute");
+  SplitServers servers(dir);
+  auto p = transport::Participant::Create(kDomain);
+  ASSERT_TRUE(p.ok()) << p.status().message();
+  auto info_topic =
+      transport::Topic<fleetloc_MosaicInfo>::Create(*p, transport::topics::kMosaicInfo);
+  auto command_topic =
+      transport::Topic<fleetloc_RemapCommand>::Create(*p, transport::topics::kRemapCommand);
+  ASSERT_TRUE(info_topic.ok() && command_topic.ok());
+  auto announce = transport::Writer<fleetloc_MosaicInfo>::Create(p->get(), *info_topic,
+                                                                 transport::DurableStateQos());
+  auto commands = transport::Reader<fleetloc_RemapCommand>::Create(p->get(), *command_topic,
+                                                                   transport::CommandQos());
+  ASSERT_TRUE(announce.ok() && commands.ok());
+  ASSERT_TRUE(
+      announce->Write(transport::ToIdl(servers.layout, "ms-mute", mosaic::TileOwnership{})).ok());
+
+  const testing::CommandResult r = testing::RunFleetctl(
+      "remap --domain " + std::to_string(kDomain) + " --timeout 8 --region 0.1,0.1,1.2,0.7");
+  EXPECT_NE(r.exit_code, 0);
+  const nlohmann::json outcome = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(outcome.is_object()) << r.out << r.err;
+  EXPECT_EQ(outcome["missing"], nlohmann::json::array({"ms-mute"})) << r.out;
+  ASSERT_EQ(outcome["servers"].size(), 2u) << r.out;
+  for (const nlohmann::json& server : outcome["servers"]) EXPECT_EQ(server["state"], "done");
+  EXPECT_NE(r.err.find("ms-mute"), std::string::npos) << r.err;
 }
 
 // Started while ms-east is down, a vehicle knows only ms-west: it must not let ms-west's
