@@ -20,6 +20,7 @@ struct TileOwnership {
     return col0 >= col_begin && col0 < col_end && row0 >= row_begin && row0 < row_end;
   }
   bool empty() const { return col_begin >= col_end || row_begin >= row_end; }
+  bool operator==(const TileOwnership&) const = default;
 };
 
 }  // namespace fleetloc::mosaic

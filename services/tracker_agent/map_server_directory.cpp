@@ -11,28 +11,30 @@
 namespace fleetloc::tracker_agent {
 
 Result<std::unique_ptr<MapServerDirectory>> MapServerDirectory::Create(
-    const transport::Participant& participant, transport::TileClient* tiles, std::string mosaic_id,
+    const transport::Participant& participant, transport::TileClient* tiles, const mosaic::MosaicLayout& layout,
     std::chrono::duration<double> timeout) {
   auto watch = transport::ServiceWatch::Create(participant, "map_server");
   if (!watch.ok()) return watch.status();
   auto directory = std::unique_ptr<MapServerDirectory>(new MapServerDirectory(
-      tiles, std::move(watch).value(), std::move(mosaic_id),
+      tiles, std::move(watch).value(), layout,
       std::chrono::duration_cast<transport::ServiceWatch::Clock::duration>(timeout)));
   directory->Poll();
   return directory;
 }
 
 void MapServerDirectory::Poll() {
+  bool ranges_changed = false;
   for (const auto& [server, info] : tiles_->MosaicInfos()) {
-    if (transport::GetBounded(info.mosaic_id) != mosaic_id_) continue;
+    if (transport::GetBounded(info.mosaic_id) != layout_.mosaic_id) continue;
     const mosaic::TileOwnership owned = transport::OwnershipFromIdl(info);
     const auto known = owners_.ranges().find(server);
-    if (known == owners_.ranges().end()) {
-      spdlog::info("map server '{}' serves tile columns [{}, {}) rows [{}, {})", server,
-                   owned.col_begin, owned.col_end, owned.row_begin, owned.row_end);
-    }
+    if (known != owners_.ranges().end() && known->second == owned) continue;
+    spdlog::info("map server '{}' serves tile columns [{}, {}) rows [{}, {})", server,
+                 owned.col_begin, owned.col_end, owned.row_begin, owned.row_end);
     owners_.Set(server, owned);
+    ranges_changed = true;
   }
+  if (ranges_changed || owners_.ranges().empty()) uncovered_ = owners_.UncoveredTiles(layout_);
   watch_->Poll();
   servers_.clear();
   std::vector<std::string> unreachable;

@@ -18,10 +18,10 @@ namespace fleetloc::tracker_agent {
 
 class MapServerDirectory {
  public:
-  // `tiles` must outlive the directory; only servers announcing `mosaic_id` count.
+  // `tiles` must outlive the directory; only servers announcing the mosaic of `layout` count.
   static Result<std::unique_ptr<MapServerDirectory>> Create(const transport::Participant& participant,
                                                             transport::TileClient* tiles,
-                                                            std::string mosaic_id,
+                                                            const mosaic::MosaicLayout& layout,
                                                             std::chrono::duration<double> timeout);
 
   // Takes new MosaicInfos and health reports; logs servers appearing and reachability changes.
@@ -37,17 +37,22 @@ class MapServerDirectory {
   // Ids of the owning servers now unreachable, comma-separated (empty when none).
   std::string UnreachableNames() const;
   const mosaic::TileOwners& owners() const { return owners_; }
+  // Level-0 tiles of the mosaic no announced server owns (recounted when a range changes). Zero:
+  // every server keeping a replica of the patches is known.
+  long long UncoveredTiles() const { return uncovered_; }
 
  private:
   MapServerDirectory(transport::TileClient* tiles, std::unique_ptr<transport::ServiceWatch> watch,
-                     std::string mosaic_id, transport::ServiceWatch::Clock::duration timeout)
-      : tiles_(tiles), watch_(std::move(watch)), mosaic_id_(std::move(mosaic_id)), timeout_(timeout) {}
+                     const mosaic::MosaicLayout& layout,
+                     transport::ServiceWatch::Clock::duration timeout)
+      : tiles_(tiles), watch_(std::move(watch)), layout_(layout), timeout_(timeout) {}
 
   transport::TileClient* tiles_;
   std::unique_ptr<transport::ServiceWatch> watch_;
-  std::string mosaic_id_;
+  mosaic::MosaicLayout layout_;  // the grid coverage is counted on
   transport::ServiceWatch::Clock::duration timeout_;
   mosaic::TileOwners owners_;
+  long long uncovered_ = 0;
   std::vector<std::string> servers_;      // owning servers of our mosaic, by id
   std::vector<std::string> unreachable_;  // of servers_, as of the last Poll
 };

@@ -65,7 +65,7 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   spdlog::info("mosaic {} version {} from '{}'", layout_.mosaic_id, layout_.version,
                transport::GetBounded(info->server_id));
   auto directory = MapServerDirectory::Create(
-      p, tiles_.get(), layout_.mosaic_id, std::chrono::duration<double>(config_.map_server_timeout_s));
+      p, tiles_.get(), layout_, std::chrono::duration<double>(config_.map_server_timeout_s));
   if (!directory.ok()) return directory.status();
   map_servers_ = std::move(directory).value();
   WaitForTileCoverage(deadline);
@@ -274,7 +274,7 @@ void TrackerAgent::WaitForTileCoverage(std::chrono::steady_clock::time_point dea
   // With the mosaic split across map servers, the other servers' MosaicInfos may come a moment
   // after the first: wait for them (bounded) so no region starts out unreachable.
   long long uncovered = 0;
-  while ((uncovered = map_servers_->owners().UncoveredTiles(layout_)) > 0 &&
+  while ((uncovered = map_servers_->UncoveredTiles()) > 0 &&
          std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     map_servers_->Poll();
@@ -288,13 +288,6 @@ void TrackerAgent::WaitForTileCoverage(std::chrono::steady_clock::time_point dea
 void TrackerAgent::UpdateMapServerReachability() {
   map_servers_->Poll();
   map_server_reachable_ = map_servers_->AllReachable();
-  // Owners are only added, so once covered the mosaic stays covered; until then it is checked
-  // once a second (a count over every tile of the pyramid).
-  const auto now = std::chrono::steady_clock::now();
-  if (!replicas_known_ && now >= next_coverage_check_) {
-    replicas_known_ = map_servers_->owners().UncoveredTiles(layout_) == 0;
-    next_coverage_check_ = now + std::chrono::seconds(1);
-  }
 }
 
 void TrackerAgent::PublishHealth() {

@@ -82,8 +82,7 @@ class TrackerAgent {
   void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
   // A map server is reachable when it reads our tile requests (DDS match) and was heard from
   // (ServiceHealth) within map_server_timeout_s; the tile loader stops waiting for the tiles of
-  // one that is not. map_server_reachable_: every owning server is; replicas_known_: the owners
-  // announced cover the whole mosaic.
+  // one that is not. map_server_reachable_: every owning server is.
   void UpdateMapServerReachability();
   void PublishHealth();
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
@@ -133,8 +132,6 @@ class TrackerAgent {
   double latest_odometry_t_ = -1e300;
   bool started_ = false;
   bool map_server_reachable_ = true;
-  bool replicas_known_ = false;  // every tile has an announced owner: every replica is known
-  std::chrono::steady_clock::time_point next_coverage_check_;
   AgentHealth health_;
 };
 

@@ -71,7 +71,8 @@ void TrackerAgent::PumpPatches() {
   // Keep them for when the server is back (a dead server stays matched until its lease ends),
   // and until every replica is known: sent while a server that was down at our start is not yet
   // announced, a patch would leave the outbox with that replica never having it.
-  if (!patches_->ServerMatched() || !map_server_reachable_ || !replicas_known_) return;
+  if (!patches_->ServerMatched() || !map_server_reachable_ || map_servers_->UncoveredTiles() > 0)
+    return;
   const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
   if (!due.ok()) return health_.RecordError(due.status().message());
