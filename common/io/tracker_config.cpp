@@ -10,7 +10,7 @@
 namespace fleetloc::io {
 namespace {
 
-using Field = std::variant<int*, double*>;
+using Field = std::variant<int*, double*, bool*>;
 using FieldTable = std::vector<std::pair<const char*, Field>>;
 
 FieldTable TrackerFields(tracking::TrackerOptions& o) {
@@ -38,7 +38,28 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"outlier_ratio", &o.outlier_ratio},
           {"min_outlier_residual_px", &o.min_outlier_residual_px},
           {"max_coasting_frames", &o.max_coasting_frames},
-          {"normalized_cache_mb", &o.normalized_cache_mb}};
+          {"normalized_cache_mb", &o.normalized_cache_mb},
+          {"direct_refine", &o.direct_refine},
+          {"retry_templates_frames", &o.retry_templates_frames},
+          {"max_disagreement_chi2", &o.max_disagreement_chi2}};
+}
+
+FieldTable DirectFields(tracking::DirectAlignOptions& d) {
+  return {{"coarsest_side_px", &d.coarsest_side_px},
+          {"finest_level", &d.finest_level},
+          {"max_points", &d.max_points},
+          {"max_iterations", &d.max_iterations},
+          {"converged_px", &d.converged_px},
+          {"tukey_c", &d.tukey_c},
+          {"correlation_factor", &d.correlation_factor},
+          {"search_above_px", &d.search_above_px},
+          {"max_search_px", &d.max_search_px},
+          {"max_peak_ratio", &d.max_peak_ratio},
+          {"peak_exclusion_px", &d.peak_exclusion_px},
+          {"min_correlation", &d.min_correlation},
+          {"min_inlier_fraction", &d.min_inlier_fraction},
+          {"max_sigma_px", &d.max_sigma_px},
+          {"max_prior_chi2", &d.max_prior_chi2}};
 }
 
 FieldTable OdometryFields(tracking::OdometryNoiseOptions& n) {
@@ -54,12 +75,15 @@ Status ReadFields(const nlohmann::json& object, const FieldTable& table, const s
                   const std::string& prefix) {
   if (!object.is_object()) return InvalidInput(where + ": '" + prefix + "' must be an object");
   for (const auto& [key, value] : object.items()) {
-    if (prefix.empty() && key == "odometry") continue;
+    if (prefix.empty() && (key == "odometry" || key == "direct")) continue;
     const auto it = std::find_if(table.begin(), table.end(),
                                  [&key = key](const auto& f) { return key == f.first; });
     const std::string name = prefix + key;
     if (it == table.end()) return InvalidInput(where + ": field '" + name + "': unknown option");
-    if (const auto* i = std::get_if<int*>(&it->second)) {
+    if (const auto* b = std::get_if<bool*>(&it->second)) {
+      if (!value.is_boolean()) return InvalidInput(where + ": field '" + name + "': must be true or false");
+      **b = value.get<bool>();
+    } else if (const auto* i = std::get_if<int*>(&it->second)) {
       if (!value.is_number_integer()) {
         return InvalidInput(where + ": field '" + name + "': must be an integer");
       }
@@ -92,6 +116,10 @@ Result<tracking::TrackerOptions> TrackerOptionsFromJson(const nlohmann::json& ob
     FLEETLOC_RETURN_IF_ERROR(
         ReadFields(object["odometry"], OdometryFields(options.odometry), where, "odometry."));
   }
+  if (object.contains("direct")) {
+    FLEETLOC_RETURN_IF_ERROR(
+        ReadFields(object["direct"], DirectFields(options.direct), where, "direct."));
+  }
   const Status valid = tracking::Validate(options);
   if (!valid.ok()) return InvalidInput(where + ": " + valid.message());
   return options;
@@ -107,6 +135,7 @@ nlohmann::json TrackerOptionsToJson(const tracking::TrackerOptions& options) {
   tracking::TrackerOptions copy = options;
   nlohmann::json j = WriteFields(TrackerFields(copy));
   j["odometry"] = WriteFields(OdometryFields(copy.odometry));
+  j["direct"] = WriteFields(DirectFields(copy.direct));
   return j;
 }
 

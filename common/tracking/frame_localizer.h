@@ -11,6 +11,9 @@
 namespace fleetloc::tracking {
 
 enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
+
+// What became of a frame's dense alignment (tracking/direct_aligner.h).
+enum class DirectUse { kNotRun, kUsed, kRefused, kDisagreed };
 const char* LockStateName(LockState state);
 
 struct FrameResult {
@@ -24,6 +27,9 @@ struct FrameResult {
   // Where the cycle's time went (ms): choosing sites (texture, overlap, selection), the coarse
   // search and the full-resolution search with the pose updates.
   double select_ms = 0, coarse_ms = 0, fine_ms = 0;
+  double direct_ms = 0;            // the dense alignment
+  DirectUse direct = DirectUse::kNotRun;
+  const char* direct_reason = "";  // why it was refused (static text)
 };
 
 class FrameLocalizer {

@@ -13,6 +13,13 @@
 #include "tracking/motion_model.h"
 
 namespace fleetloc::tracking {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
 
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
@@ -35,12 +42,14 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
       normalized_(mosaic, options.normalize_window_px,
                   static_cast<size_t>(options.normalized_cache_mb) << 20),
       matcher_(options, &normalized_),
+      direct_(options.direct, camera, &normalized_),
       estimate_(camera.mount, options.odometry) {}
 
 void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
   estimate_.Reset(base_in_map, odom);
   coasting_frames_ = 0;
   state_ = LockState::kTracking;
+  direct_first_ = false;
 }
 
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
@@ -53,6 +62,13 @@ int MosaicTracker::SearchRadius(const PoseWithCovariance& camera, const Eigen::V
       camera_.resolution_m;
   const double r = std::ceil(options_.search_sigma_multiple * sigma_px) + 1.0;
   return static_cast<int>(std::clamp(r, double(options_.min_search_radius_px), 1e6));
+}
+
+// The widest prediction error a frame can still be found from: the template search's, or the dense
+// alignment's coarse search (max_search_px at its coarsest level).
+int MosaicTracker::MaxSearchRadius() const {
+  return std::max(options_.max_search_radius_px,
+                  options_.direct.max_search_px << (direct_.levels() - 1));
 }
 
 // Steps 3–5: texture score, overlap polygon, greedy selection.
@@ -134,41 +150,37 @@ FrameResult MosaicTracker::Coast(double t, const Pose2& odom) {
   const PoseWithCovariance& predicted = estimate_.Predict(t, odom);
   ++coasting_frames_;
   const bool lost = coasting_frames_ > options_.max_coasting_frames ||
-                    SearchRadius(predicted, {camera_.cx_px, camera_.cy_px}) >
-                        options_.max_search_radius_px;
+                    SearchRadius(predicted, {camera_.cx_px, camera_.cy_px}) > MaxSearchRadius();
   return Finish(t, lost ? LockState::kLost : LockState::kCoasting);
 }
 
-FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom) {
-  FLEETLOC_CHECK(estimate_.initialized());
-  FLEETLOC_CHECK(frame.type() == CV_8UC1);
-  // Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
-  // last estimate (never the external absolute pose), with covariance growth.
-  const PoseWithCovariance prior = estimate_.Predict(t, odom);
-  int frame_radius = 0;
-  for (const auto& corner : geometry::Rectangle(0, 0, frame.cols, frame.rows)) {
-    frame_radius = std::max(frame_radius, SearchRadius(prior, corner));
+// The frame's search radius (level-0 px): the largest 3-sigma of the prediction at its corners.
+int MosaicTracker::FrameSearchRadius(const PoseWithCovariance& prior) const {
+  int radius = 0;
+  for (const auto& corner : geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px)) {
+    radius = std::max(radius, SearchRadius(prior, corner));
   }
-  // Beyond the largest search the prediction may still be good (3 sigma is conservative):
-  // search the largest window anyway, and call the vehicle lost only if that fails.
-  const bool beyond_search = frame_radius > options_.max_search_radius_px;
-  frame_radius = std::min(frame_radius, options_.max_search_radius_px);
+  return radius;
+}
+
+// Steps 3–7 with templates: selection, coarse-to-fine matching and the Kalman update. The fit when
+// at least min_inliers templates were kept.
+std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& frame,
+                                                                const PoseWithCovariance& prior,
+                                                                int frame_radius,
+                                                                FrameResult* stats) const {
+  using Clock = std::chrono::steady_clock;
   cv::Mat half;
   cv::resize(frame, half, {frame.cols / 2, frame.rows / 2}, 0, 0, cv::INTER_AREA);
-  using Clock = std::chrono::steady_clock;
-  auto ms_since = [](Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  };
   const auto t_start = Clock::now();
   const std::vector<TemplateSite> sites = ChooseSites(half, prior.pose, frame_radius);
-  const double select_ms = ms_since(t_start);
+  stats->select_ms = MsSince(t_start);
   const auto t_coarse = Clock::now();
   // Coarse to fine when the window is large: search the frame pyramid from the coarsest level
   // whose window is small, refine ±refine radius at each finer level; the full-resolution search
   // then only needs ±refine radius around a pose already good to a fraction of a pixel.
   PoseWithCovariance center = prior;
   int fine_radius = 0;  // 0: each site's own 3-sigma radius
-  int templates = 0;
   bool coarse_failed = false;
   // A small mosaic may have fewer pyramid levels than the coarse search would use.
   const int coarse_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
@@ -188,18 +200,18 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
           MatchSites(Prepare(pyramid[level], coarse_sites, options_.coarse_template_size_px, level),
                      center, first ? 0 : options_.refine_search_radius_px, level);
       const PoseUpdate coarse_update = Update(prior, coarse, level);
-      templates = std::max(templates, static_cast<int>(coarse.matches.size()));
+      stats->templates = std::max(stats->templates, static_cast<int>(coarse.matches.size()));
       coarse_failed = coarse_update.inliers < options_.min_inliers;
       center = coarse_update.posterior;
     }
     fine_radius = options_.refine_search_radius_px;
   }
-  const double coarse_ms = ms_since(t_coarse);
+  stats->coarse_ms = MsSince(t_coarse);
   const auto t_fine = Clock::now();
   std::vector<PreparedSite> fine_sites = Prepare(frame, sites, options_.template_size_px, 0);
   if (coarse_failed) fine_sites.clear();
   Measured measured = MatchSites(fine_sites, center, fine_radius, 0);
-  templates = std::max(templates, static_cast<int>(measured.matches.size()));
+  stats->templates = std::max(stats->templates, static_cast<int>(measured.matches.size()));
   PoseUpdate update = Update(prior, measured, 0);
   // Further passes: resample the mosaic at the refined pose and re-match the inliers in a small
   // window, so the sub-pixel fit works near zero shift where its bias vanishes.
@@ -209,9 +221,60 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
                           options_.refine_search_radius_px, 0);
     update = Update(prior, measured, 0);
   }
+  stats->fine_ms = MsSince(t_fine);
+  stats->inliers = update.inliers;
+  stats->rms_residual_px = update.rms_residual_m / camera_.resolution_m;
+  if (update.inliers < options_.min_inliers) return std::nullopt;
+  return update.posterior;
+}
+
+// The dense alignment from `start`: its posterior when it validates.
+std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& frame,
+                                                             const PoseWithCovariance& prior,
+                                                             const Pose2& start,
+                                                             FrameResult* stats) const {
+  const auto t_direct = std::chrono::steady_clock::now();
+  const DirectAlignment dense = direct_.Align(frame, prior, start);
+  stats->direct_ms += MsSince(t_direct);
+  stats->direct = dense.valid ? DirectUse::kUsed : DirectUse::kRefused;
+  stats->direct_reason = dense.reason;
+  if (!dense.valid) return std::nullopt;
+  return dense.posterior;
+}
+
+FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom) {
+  FLEETLOC_CHECK(estimate_.initialized());
+  FLEETLOC_CHECK(frame.type() == CV_8UC1);
+  // Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
+  // last estimate (never the external absolute pose), with covariance growth.
+  const PoseWithCovariance prior = estimate_.Predict(t, odom);
+  const int full_radius = FrameSearchRadius(prior);
+  // Beyond the largest search the prediction may still be good (3 sigma is conservative):
+  // search the largest window anyway, and call the vehicle lost only if that fails.
+  const bool beyond_search = full_radius > MaxSearchRadius();
+  const int frame_radius = std::min(full_radius, options_.max_search_radius_px);
+  FrameResult stats;
+  std::optional<PoseWithCovariance> posterior;
+  // Where the templates failed on the last frame and the dense alignment did not (a weak floor),
+  // start with the dense alignment; every retry_templates_frames frames the templates get
+  // another chance.
+  const bool direct_first =
+      direct_first_ && frames_since_templates_ < options_.retry_templates_frames;
+  if (direct_first) posterior = AlignDirect(frame, prior, prior.pose, &stats);
+  bool templates_locked = false;
+  if (posterior) {
+    ++frames_since_templates_;
+  } else {
+    frames_since_templates_ = 0;
+    const std::optional<PoseWithCovariance> template_fit =
+        MatchTemplates(frame, prior, frame_radius, &stats);
+    templates_locked = template_fit.has_value();
+    posterior = Decide(frame, prior, template_fit, direct_first, &stats);
+    direct_first_ = !templates_locked && stats.direct == DirectUse::kUsed;
+  }
   LockState state = LockState::kCoasting;
-  if (update.inliers >= options_.min_inliers) {
-    estimate_.Correct(update.posterior);
+  if (posterior) {
+    estimate_.Correct(*posterior);
     state = state_ == LockState::kLost ? LockState::kRelocalized : LockState::kTracking;
     coasting_frames_ = 0;
   } else {
@@ -219,14 +282,40 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
     if (beyond_search || coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
   }
   FrameResult result = Finish(t, state);
-  result.templates = templates;
-  result.inliers = state == LockState::kCoasting || state == LockState::kLost ? 0 : update.inliers;
-  result.rms_residual_px = update.rms_residual_m / camera_.resolution_m;
+  result.templates = stats.templates;
+  result.inliers = posterior && templates_locked ? stats.inliers : 0;
+  result.rms_residual_px = stats.rms_residual_px;
   result.search_radius_px = frame_radius;
-  result.select_ms = select_ms;
-  result.coarse_ms = coarse_ms;
-  result.fine_ms = ms_since(t_fine);
+  result.select_ms = stats.select_ms;
+  result.coarse_ms = stats.coarse_ms;
+  result.fine_ms = stats.fine_ms;
+  result.direct_ms = stats.direct_ms;
+  result.direct = stats.direct;
+  result.direct_reason = stats.direct_reason;
   return result;
+}
+
+// The templates' fit and the dense alignment combined: the posterior to take, or nothing (coast).
+// `direct_tried`: the dense alignment already ran from the prediction and was refused.
+std::optional<PoseWithCovariance> MosaicTracker::Decide(
+    const cv::Mat& frame, const PoseWithCovariance& prior,
+    const std::optional<PoseWithCovariance>& templates, bool direct_tried,
+    FrameResult* stats) const {
+  if (templates && !options_.direct_refine) return templates;
+  if (!templates && direct_tried) return std::nullopt;
+  const std::optional<PoseWithCovariance> dense =
+      AlignDirect(frame, prior, templates ? templates->pose : prior.pose, stats);
+  if (!dense) return templates;
+  if (!templates) return dense;
+  // Both fits: they must agree, or the frame coasts.
+  const Eigen::Vector3d d(dense->pose.x - templates->pose.x, dense->pose.y - templates->pose.y,
+                          geometry::WrapAngle(dense->pose.theta - templates->pose.theta));
+  const Eigen::Matrix3d both = dense->covariance + templates->covariance;
+  if (d.dot(both.ldlt().solve(d)) > options_.max_disagreement_chi2) {
+    stats->direct = DirectUse::kDisagreed;
+    return std::nullopt;
+  }
+  return dense;
 }
 
 void MosaicTracker::DropTiles(const std::vector<mosaic::TileKey>& changed) {

@@ -7,6 +7,7 @@
 
 #include "geometry/camera_model.h"
 #include "mosaic/raster_source.h"
+#include "tracking/direct_aligner.h"
 #include "tracking/feature_selection.h"
 #include "tracking/frame_localizer.h"
 #include "tracking/internal_estimate.h"
@@ -50,6 +51,7 @@ class MosaicTracker : public FrameLocalizer {
     std::vector<PreparedSite> sites;
     std::vector<Correspondence> matches;
   };
+  int MaxSearchRadius() const;
   int SearchRadius(const geometry::PoseWithCovariance& camera, const Eigen::Vector2d& px) const;
   std::vector<TemplateSite> ChooseSites(const cv::Mat& half_frame, const geometry::Pose2& camera,
                                         int radius_px) const;
@@ -65,6 +67,17 @@ class MosaicTracker : public FrameLocalizer {
                     int level) const;
   // Keeps the sites the update kept.
   static std::vector<PreparedSite> Inliers(const Measured& measured, const PoseUpdate& update);
+  int FrameSearchRadius(const geometry::PoseWithCovariance& prior) const;
+  std::optional<geometry::PoseWithCovariance> MatchTemplates(
+      const cv::Mat& frame, const geometry::PoseWithCovariance& prior, int frame_radius,
+      FrameResult* stats) const;
+  std::optional<geometry::PoseWithCovariance> AlignDirect(
+      const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
+      const geometry::Pose2& start, FrameResult* stats) const;
+  std::optional<geometry::PoseWithCovariance> Decide(
+      const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
+      const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,
+      FrameResult* stats) const;
   FrameResult Finish(double t, LockState state);
 
   TrackerOptions options_;
@@ -72,8 +85,11 @@ class MosaicTracker : public FrameLocalizer {
   mosaic::RasterSource* mosaic_;
   NormalizedMosaic normalized_;
   TemplateMatcher matcher_;
+  DirectAligner direct_;
   InternalEstimate estimate_;  // camera_ground in map: the tracker's own estimate
   int coasting_frames_ = 0;
+  bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
+  int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran
   LockState state_ = LockState::kLost;
 };
 

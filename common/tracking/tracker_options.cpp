@@ -13,6 +13,32 @@ Status Check(bool ok, const char* field, const char* rule) {
 
 }  // namespace
 
+Status Validate(const DirectAlignOptions& d) {
+  FLEETLOC_RETURN_IF_ERROR(Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.finest_level >= 0 && d.finest_level <= 3, "direct.finest_level",
+                                 "must be in [0, 3]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_points >= 100 && d.max_points <= 1000000,
+                                 "direct.max_points", "must be in [100, 1000000]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_iterations >= 1 && d.max_iterations <= 100,
+                                 "direct.max_iterations", "must be in [1, 100]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.correlation_factor >= 1, "direct.correlation_factor", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.search_above_px >= 0, "direct.search_above_px", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_search_px >= 1 && d.max_search_px <= 128,
+                                 "direct.max_search_px", "must be in [1, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_peak_ratio > 0 && d.max_peak_ratio <= 1,
+                                 "direct.max_peak_ratio", "must be in (0, 1]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.min_correlation > -1 && d.min_correlation < 1,
+                                 "direct.min_correlation", "must be in (-1, 1)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.min_inlier_fraction >= 0 && d.min_inlier_fraction <= 1,
+                                 "direct.min_inlier_fraction", "must be in [0, 1]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0, "direct.max_prior_chi2", "must be > 0"));
+  return Status::Ok();
+}
+
 Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.template_size_px >= 8 && o.template_size_px <= 128 &&
                                      o.template_size_px % 4 == 0,
@@ -58,6 +84,9 @@ Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.outlier_ratio > 1, "outlier_ratio", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.normalized_cache_mb >= 1, "normalized_cache_mb", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_coasting_frames >= 0, "max_coasting_frames", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.retry_templates_frames >= 0, "retry_templates_frames", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
   const auto& n = o.odometry;
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&
                                      n.heading_sigma_per_rad >= 0 && n.heading_sigma_per_m >= 0 &&

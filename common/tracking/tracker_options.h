@@ -16,6 +16,30 @@ struct OdometryNoiseOptions {
   double floor_sigma_m = 1e-5;            // keeps the increment covariance positive definite
 };
 
+// Dense direct alignment of the whole frame (tracking/direct_aligner.h).
+struct DirectAlignOptions {
+  int coarsest_side_px = 40;       // the coarsest level keeps the frame's shorter side ≥ this
+  int finest_level = 0;            // pyramid level the alignment ends at (0: full resolution)
+  int max_points = 12000;          // pixels used per level: the strongest gradient of each cell
+  int max_iterations = 10;         // Gauss–Newton iterations per level
+  double converged_px = 0.01;      // a level stops when its step moves no pixel more (level px)
+  double tukey_c = 4.685;          // Tukey biweight cut-off in robust sigmas (MAD)
+  // Neighbouring pixel residuals are not independent (blur, normalization window): the image
+  // information is divided by this factor so the covariance is honest (see direct_aligner_test).
+  double correlation_factor = 4.0;
+  // Exhaustive search at the coarsest level when the prediction's 3-sigma exceeds this many
+  // coarsest-level pixels; at most max_search_px of them.
+  double search_above_px = 1.0;
+  int max_search_px = 24;
+  double max_peak_ratio = 0.85;     // second-best correlation peak / best: above → ambiguous
+  int peak_exclusion_px = 3;        // the second peak lies outside this radius of the best
+  // Validation of the final fit (all must hold):
+  double min_correlation = 0.15;    // weighted NCC of frame and mosaic over the finest level
+  double min_inlier_fraction = 0.5;  // share of pixels with Tukey weight > 0.5
+  double max_sigma_px = 0.5;        // image-only 1-sigma position (level-0 px), worst direction
+  double max_prior_chi2 = 21.1;     // fit vs prediction, 3 dof (p = 1e-4)
+};
+
 struct TrackerOptions {
   int template_size_px = 48;              // side of a square template (multiple of 4)
   int max_templates = 28;
@@ -46,10 +70,21 @@ struct TrackerOptions {
   double min_outlier_residual_px = 0.6;   // … and above this
   int max_coasting_frames = 50;           // after this many frames without a fix: lost
   int normalized_cache_mb = 128;          // normalized mosaic tiles (floats) kept in memory
+  // The dense alignment runs when the templates do not lock, and after they do when
+  // direct_refine is set (it then gives the final pose when it agrees with the templates).
+  bool direct_refine = false;
+  // After a frame the templates failed on and the dense alignment locked, the next frames start
+  // with the dense alignment; the templates are tried again after this many frames.
+  int retry_templates_frames = 10;
+  // Template and dense fits disagreeing by more than this (chi², 3 dof, on the sum of their
+  // covariances) make the frame coast: one of them is wrong and nothing says which.
+  double max_disagreement_chi2 = 21.1;
   OdometryNoiseOptions odometry;
+  DirectAlignOptions direct;
 };
 
-// Flat list of range checks; the message names the offending field.
+// Flat lists of range checks; the message names the offending field.
+Status Validate(const DirectAlignOptions& options);
 Status Validate(const TrackerOptions& options);
 
 }  // namespace fleetloc::tracking

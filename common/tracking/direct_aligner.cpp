@@ -1,0 +1,326 @@
+// Robust coarse-to-fine inverse-compositional alignment of the whole frame (see direct_aligner.h).
+//
+// Parametrization: the warp increment q = (qx, qy, qθ) acts on camera_ground points, g ↦ q ⊕ g,
+// and is carried in level-0 pixels and radians. With frame pixel u ↔ ground g (CONTRACT §3), the
+// inverse-compositional step (Baker & Matthews 2004) minimizes Σ ρ(T(W(u; q)) − I(A(u))) where T
+// is the normalized frame, I the normalized mosaic and A the current frame → mosaic warp; the
+// Jacobian of T(W(u; q)) at q = 0 is fixed per pixel, and the update is pose ← pose ⊕ q⁻¹.
+#include "tracking/direct_aligner.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "imaging/fast_patch.h"
+#include "tracking/frame_mosaic_warp.h"
+#include "tracking/predicted_view.h"
+
+namespace fleetloc::tracking {
+
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
+
+namespace {
+
+// One selected frame pixel: its level coordinates, normalized value and the Jacobian of the
+// normalized frame at it with respect to q (level-0 px, px, rad).
+struct PixelPoint {
+  float u = 0, v = 0;
+  float value = 0;
+  Eigen::Vector3f jacobian;
+};
+
+// The normalized mosaic block a level reads, and how continuous mosaic coordinates index it.
+struct MosaicBlock {
+  cv::Mat block;  // CV_32F
+  cv::Rect rect;  // level pixels
+  cv::Size level_size;
+
+  // Bilinear value at continuous level coordinates; false outside the block or the mosaic.
+  bool Sample(double x, double y, float* out) const {
+    if (x < 0.5 || y < 0.5 || x > level_size.width - 0.5 || y > level_size.height - 0.5) {
+      return false;
+    }
+    const double bx = x - 0.5 - rect.x, by = y - 0.5 - rect.y;
+    const int x0 = static_cast<int>(std::floor(bx)), y0 = static_cast<int>(std::floor(by));
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= block.cols || y0 + 1 >= block.rows) return false;
+    const float fx = static_cast<float>(bx - x0), fy = static_cast<float>(by - y0);
+    const float* r0 = block.ptr<float>(y0) + x0;
+    const float* r1 = block.ptr<float>(y0 + 1) + x0;
+    const float top = r0[0] + fx * (r0[1] - r0[0]);
+    const float bottom = r1[0] + fx * (r1[1] - r1[0]);
+    *out = top + fy * (bottom - top);
+    return true;
+  }
+};
+
+double TukeyWeight(double r, double cutoff) {
+  const double x = r / cutoff;
+  return std::abs(x) >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
+}
+
+double Median(std::vector<float> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+Eigen::Matrix3d RotationBlock(const Pose2& pose) { return geometry::ComposeJacobianB(pose); }
+
+// pose ⊕ q⁻¹ with q in (level-0 px, px, rad).
+Pose2 ApplyStep(const Pose2& pose, const Eigen::Vector3d& q_px, double resolution_m) {
+  const Pose2 q{q_px.x() * resolution_m, q_px.y() * resolution_m, q_px.z()};
+  return pose * q.Inverse();
+}
+
+Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
+  return {a.x - b.x, a.y - b.y, geometry::WrapAngle(a.theta - b.theta)};
+}
+
+// Largest 1-sigma displacement (level-0 px) over the frame corners under `covariance`.
+double CornerSigmaPx(const geometry::CameraModel& camera, const PoseWithCovariance& pose) {
+  double worst = 0.0;
+  for (int corner = 0; corner < 4; ++corner) {
+    const Eigen::Vector2d px((corner & 1) * camera.width_px, (corner >> 1) * camera.height_px);
+    const Eigen::Matrix<double, 2, 3> j =
+        geometry::PointJacobian(pose.pose, camera.PixelToGround(px));
+    const Eigen::Matrix2d cov = j * pose.covariance * j.transpose();
+    worst = std::max(worst, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff());
+  }
+  return std::sqrt(worst) / camera.resolution_m;
+}
+
+}  // namespace
+
+struct DirectAligner::Level {
+  int level = 0;
+  cv::Mat normalized;  // CV_32F, the frame at this level, locally normalized
+  int border = 0;      // pixels whose normalization window was clipped
+  std::vector<PixelPoint> points;
+};
+
+DirectAligner::DirectAligner(const DirectAlignOptions& options,
+                             const geometry::CameraModel& camera, NormalizedMosaic* mosaic)
+    : options_(options), camera_(camera), mosaic_(mosaic) {
+  const int shorter = std::min(camera.width_px, camera.height_px);
+  while (levels_ < mosaic->layout().levels && (shorter >> levels_) >= options.coarsest_side_px) {
+    ++levels_;
+  }
+}
+
+// The pyramid, normalized like the mosaic, and at each level the strongest-gradient pixel of
+// every cell (cells sized so that at most max_points are kept), away from the clipped border.
+std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame) const {
+  std::vector<Level> levels(levels_);
+  cv::Mat image = frame;
+  for (int l = 0; l < levels_; ++l) {
+    if (l > 0) cv::resize(image, image, {image.cols / 2, image.rows / 2}, 0, 0, cv::INTER_AREA);
+    Level& level = levels[l];
+    level.level = l;
+    if (l < options_.finest_level) continue;
+    const int window = mosaic_->WindowAt(l);
+    level.normalized = imaging::NormalizePatch(image, window);
+    level.border = window / 2 + 1;
+    const cv::Mat& t = level.normalized;
+    const int b = level.border, w = t.cols - 2 * b, h = t.rows - 2 * b;
+    if (w <= 0 || h <= 0) continue;
+    const int cell = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / options_.max_points))));
+    const double scale = 1.0 / (1 << l);
+    for (int cy = b; cy < b + h; cy += cell) {
+      for (int cx = b; cx < b + w; cx += cell) {
+        float best = 1e-4f;
+        PixelPoint point;
+        for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
+          const float* row = t.ptr<float>(y);
+          for (int x = cx; x < std::min(cx + cell, b + w); ++x) {
+            const float gx = 0.5f * (row[x + 1] - row[x - 1]);
+            const float gy = 0.5f * (t.ptr<float>(y + 1)[x] - t.ptr<float>(y - 1)[x]);
+            const float g2 = gx * gx + gy * gy;
+            if (g2 <= best) continue;
+            best = g2;
+            const double u0 = (x + 0.5) * (1 << l), v0 = (y + 0.5) * (1 << l);
+            point.u = x + 0.5f, point.v = y + 0.5f, point.value = row[x];
+            point.jacobian = Eigen::Vector3f(
+                static_cast<float>(-gy * scale), static_cast<float>(-gx * scale),
+                static_cast<float>((gx * (v0 - camera_.cy_px) - gy * (u0 - camera_.cx_px)) * scale));
+          }
+        }
+        if (best > 1e-4f) level.points.push_back(point);
+      }
+    }
+  }
+  return levels;
+}
+
+// Exhaustive normalized correlation of the coarsest level over the prediction's 3-sigma window:
+// the start of the Gauss–Newton descent when the prediction is outside its basin.
+Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& prior,
+                                  const Pose2& start, DirectAlignment* out) const {
+  const double radius = 3.0 * CornerSigmaPx(camera_, prior) / (1 << level.level);
+  if (radius <= options_.search_above_px) return start;
+  const int r = std::min(options_.max_search_px, static_cast<int>(std::ceil(radius)) + 1);
+  out->searched = true;
+  const int b = level.border;
+  const cv::Rect inner(b, b, level.normalized.cols - 2 * b, level.normalized.rows - 2 * b);
+  const FrameMosaicWarp warp =
+      FrameMosaicWarp::For(start, camera_, mosaic_->layout().geo).AtLevel(level.level);
+  const cv::Mat view = RenderNormalizedView(
+      mosaic_, {inner.x - r, inner.y - r, inner.width + 2 * r, inner.height + 2 * r}, warp,
+      level.level);
+  cv::Mat surface;
+  cv::matchTemplate(view, level.normalized(inner), surface, cv::TM_CCOEFF_NORMED);
+  double best = 0.0;
+  cv::Point best_at;
+  cv::minMaxLoc(surface, nullptr, &best, nullptr, &best_at);
+  cv::Mat masked = surface.clone();
+  cv::circle(masked, best_at, options_.peak_exclusion_px, cv::Scalar(-1.0), cv::FILLED);
+  double second = 0.0;
+  cv::minMaxLoc(masked, nullptr, &second);
+  out->peak_ratio = best > 0.0 ? std::max(0.0, second) / best : 1.0;
+  // The frame's content sits at +shift in the view: the camera moved by shift (level px), which
+  // is −shift_y, −shift_x in camera_ground axes.
+  const double step_m = camera_.resolution_m * (1 << level.level);
+  const Eigen::Vector2d shift(best_at.x - r, best_at.y - r);
+  return start * Pose2{-shift.y() * step_m, -shift.x() * step_m, 0.0};
+}
+
+DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovariance& prior,
+                                     const Pose2& start) const {
+  DirectAlignment out;
+  const std::vector<Level> levels = BuildLevels(frame);
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const double res = camera_.resolution_m;
+  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
+  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
+  const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
+  Pose2 pose = CoarseSearch(levels.back(), prior, start, &out);
+  Eigen::Matrix3d image_information = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d total_information = prior_information;
+  for (int l = levels_ - 1; l >= options_.finest_level; --l) {
+    const Level& level = levels[l];
+    if (level.points.size() < 3) continue;
+    // One block covers every warp the level's iterations may reach.
+    const FrameMosaicWarp warp0 = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
+    const cv::Rect frame_rect(0, 0, level.normalized.cols, level.normalized.rows);
+    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+    for (int c = 0; c < 4; ++c) {
+      const Eigen::Vector2d m = warp0(Eigen::Vector2d((c & 1) * frame_rect.width, (c >> 1) * frame_rect.height));
+      min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
+      min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
+    }
+    const int margin = 8;
+    MosaicBlock source;
+    source.rect = cv::Rect(static_cast<int>(std::floor(min_x)) - margin,
+                           static_cast<int>(std::floor(min_y)) - margin,
+                           static_cast<int>(std::ceil(max_x - min_x)) + 2 * margin + 1,
+                           static_cast<int>(std::ceil(max_y - min_y)) + 2 * margin + 1);
+    source.level_size = {std::max(1, (layout.width_px + (1 << l) - 1) >> l),
+                         std::max(1, (layout.height_px + (1 << l) - 1) >> l)};
+    source.block = mosaic_->ReadBlock(l, source.rect);
+    double sigma = 0.0;
+    std::vector<float> residuals(level.points.size());
+    std::vector<char> valid(level.points.size());
+    for (int it = 0; it < options_.max_iterations; ++it) {
+      ++out.iterations;
+      const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
+      std::vector<float> magnitudes;
+      magnitudes.reserve(level.points.size());
+      for (size_t i = 0; i < level.points.size(); ++i) {
+        const PixelPoint& p = level.points[i];
+        const Eigen::Vector2d m = warp(Eigen::Vector2d(p.u, p.v));
+        float value = 0.0f;
+        valid[i] = source.Sample(m.x(), m.y(), &value);
+        residuals[i] = p.value - value;
+        if (valid[i]) magnitudes.push_back(std::abs(residuals[i]));
+      }
+      if (magnitudes.size() < 3) break;
+      if (it == 0) sigma = std::max(1e-3, 1.4826 * Median(magnitudes));
+      const double cutoff = options_.tukey_c * sigma;
+      const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
+      Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();
+      for (size_t i = 0; i < level.points.size(); ++i) {
+        if (!valid[i]) continue;
+        const double w = TukeyWeight(residuals[i], cutoff);
+        if (w <= 0.0) continue;
+        const Eigen::Vector3d j = level.points[i].jacobian.cast<double>();
+        h.noalias() += w * j * j.transpose();
+        g.noalias() += (w * residuals[i]) * j;
+      }
+      h *= inv_var;
+      g *= inv_var;
+      // The prior in q: map delta of the new pose ≈ −B·S·q.
+      const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
+      const Eigen::Vector3d d0 = Difference(pose, prior.pose);
+      const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
+      const Eigen::Vector3d q = (h + hp).ldlt().solve(-g + bs.transpose() * prior_information * d0);
+      pose = ApplyStep(pose, q, res);
+      image_information = bs.transpose().inverse() * h * bs.inverse();
+      total_information = image_information + prior_information;
+      const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << l);
+      if (!q.allFinite()) break;
+      if (moved_px < options_.converged_px) break;
+    }
+    // Quality at this level (kept for the finest one).
+    const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
+    double sw = 0, st = 0, si = 0, stt = 0, sii = 0, sti = 0;
+    int used = 0, inliers = 0;
+    const double cutoff = options_.tukey_c * sigma;
+    for (const PixelPoint& p : level.points) {
+      const Eigen::Vector2d m = warp(Eigen::Vector2d(p.u, p.v));
+      float value = 0.0f;
+      if (!source.Sample(m.x(), m.y(), &value)) continue;
+      ++used;
+      const double w = TukeyWeight(p.value - value, cutoff);
+      if (w > 0.5) ++inliers;
+      sw += w, st += w * p.value, si += w * value;
+      stt += w * p.value * p.value, sii += w * value * value, sti += w * p.value * value;
+    }
+    out.points = used;
+    out.inlier_fraction = used > 0 ? double(inliers) / used : 0.0;
+    const double var_t = stt - st * st / std::max(sw, 1e-12);
+    const double var_i = sii - si * si / std::max(sw, 1e-12);
+    out.correlation = var_t > 0 && var_i > 0 ? (sti - st * si / sw) / std::sqrt(var_t * var_i) : 0.0;
+  }
+  out.posterior = {pose, total_information.inverse()};
+  // Image-only worst-direction position sigma, in level-0 px.
+  const Eigen::Matrix3d image_px = to_px.transpose() * image_information * to_px;
+  Eigen::LDLT<Eigen::Matrix3d> image_ldlt(image_px);
+  const Eigen::Matrix3d image_cov_px =
+      image_ldlt.info() == Eigen::Success ? Eigen::Matrix3d(image_ldlt.solve(Eigen::Matrix3d::Identity()))
+                                          : Eigen::Matrix3d::Identity() * 1e12;
+  out.sigma_px = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                                              image_cov_px.topLeftCorner<2, 2>())
+                                              .eigenvalues()
+                                              .maxCoeff()));
+  out.measurement = {pose, image_information.inverse()};
+  // Innovation test: the image-only fit against the prediction. With a = Σpost⁻¹ Δ (Δ = posterior
+  // − prior), the image-only estimate differs from the prior by R·a (R = image covariance), whose
+  // covariance is Σprior + R; aᵀ R (Σprior + R)⁻¹ R a = aᵀ (H + H Σprior H)⁻¹ a with H = R⁻¹.
+  const Eigen::Vector3d a = total_information * Difference(pose, prior.pose);
+  const Eigen::Matrix3d m = image_information + image_information * prior.covariance * image_information +
+                            1e-9 * Eigen::Matrix3d::Identity();
+  out.prior_chi2 = a.dot(m.ldlt().solve(a));
+  if (!pose.ToVector().allFinite()) {
+    out.reason = "diverged";
+  } else if (out.searched && out.peak_ratio > options_.max_peak_ratio) {
+    out.reason = "ambiguous coarse peak";
+  } else if (out.correlation < options_.min_correlation) {
+    out.reason = "low correlation";
+  } else if (out.inlier_fraction < options_.min_inlier_fraction) {
+    out.reason = "too few inliers";
+  } else if (out.sigma_px > options_.max_sigma_px) {
+    out.reason = "weakly constrained";
+  } else if (out.prior_chi2 > options_.max_prior_chi2) {
+    out.reason = "inconsistent with the prediction";
+  } else {
+    out.valid = true;
+  }
+  return out;
+}
+
+}  // namespace fleetloc::tracking

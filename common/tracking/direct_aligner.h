@@ -1,0 +1,63 @@
+// Dense direct alignment of a whole camera frame against the normalized mosaic (issue 15): the
+// frame's pyramid, locally normalized like the mosaic, is registered to the mosaic by robust
+// inverse-compositional Gauss–Newton over the camera pose (SE(2)), coarse to fine, with the
+// odometry prediction as a prior (a maximum a posteriori fit: an iterated Kalman update whose
+// measurement is every selected pixel). Tukey weights drop the pixels the mosaic does not explain
+// (dust, debris, tyre marks, shadows); local normalization removes gain, bias, vignetting and
+// uneven light. When the prediction is poor, an exhaustive correlation of the whole frame at the
+// coarsest level finds the basin first. The result says whether it can be trusted, and why not.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "geometry/camera_model.h"
+#include "geometry/pose2.h"
+#include "tracking/normalized_mosaic.h"
+#include "tracking/tracker_options.h"
+
+namespace fleetloc::tracking {
+
+
+struct DirectAlignment {
+  bool valid = false;
+  const char* reason = "";                  // why not valid ("" when valid)
+  geometry::PoseWithCovariance posterior;   // camera_ground in map: prior and image combined
+  geometry::PoseWithCovariance measurement;  // the image alone (covariance of the image term)
+  double correlation = 0.0;      // weighted NCC at the finest level
+  double inlier_fraction = 0.0;  // at the finest level
+  double peak_ratio = 0.0;       // of the coarse search (0 when none ran)
+  double prior_chi2 = 0.0;
+  double sigma_px = 0.0;         // image-only worst-direction position sigma, level-0 px
+  int points = 0;                // pixels used at the finest level
+  int iterations = 0;            // Gauss–Newton iterations over all levels
+  bool searched = false;         // the coarse exhaustive search ran
+};
+
+class DirectAligner {
+ public:
+  // `mosaic` must outlive the aligner.
+  DirectAligner(const DirectAlignOptions& options, const geometry::CameraModel& camera,
+                NormalizedMosaic* mosaic);
+
+  // Aligns `frame` (CV_8UC1, camera size) given the prediction `prior` (camera_ground in map)
+  // starting from `start` (the prior's pose, or a better guess such as a template fit).
+  DirectAlignment Align(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
+                        const geometry::Pose2& start) const;
+
+  // Levels of the frame pyramid this camera uses (coarsest = count − 1).
+  int levels() const { return levels_; }
+
+ private:
+  struct Level;
+  std::vector<Level> BuildLevels(const cv::Mat& frame) const;
+  geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
+                               const geometry::Pose2& start, DirectAlignment* out) const;
+
+  DirectAlignOptions options_;
+  geometry::CameraModel camera_;
+  NormalizedMosaic* mosaic_;
+  int levels_ = 1;
+};
+
+}  // namespace fleetloc::tracking

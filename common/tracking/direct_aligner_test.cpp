@@ -1,0 +1,169 @@
+// Dense alignment against ground truth on a real photo (tracking/test_scene.h): small and large
+// prediction errors, occluders the mosaic lacks with vignetting and uneven light, a low-contrast
+// floor, a frame of another floor (must be refused), and the honesty of the covariance.
+#include "tracking/direct_aligner.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+
+#include "mosaic/raster_source.h"
+#include "tracking/test_scene.h"
+
+namespace fleetloc::tracking {
+namespace {
+
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
+
+constexpr double kRes = 0.0005;
+
+struct Fixture {
+  TestScene scene;
+  mosaic::ImageRasterSource source{scene.floor, scene.geo};
+  NormalizedMosaic normalized{&source, 7, 16 << 20};
+  DirectAligner aligner{DirectAlignOptions{}, scene.camera, &normalized};
+};
+
+Pose2 TrueBase() { return Pose2{0.12, 0.13, 0.4} * Pose2{0.1, 0, 0}.Inverse(); }
+
+// Camera-centre error in pixels between the fitted camera pose and the true one.
+double CentreErrorPx(const TestScene& scene, const Pose2& camera, const Pose2& base) {
+  const Pose2 truth = base * scene.camera.mount;
+  return std::hypot(camera.x - truth.x, camera.y - truth.y) / kRes;
+}
+
+PoseWithCovariance Prior(const TestScene& scene, const Pose2& base, const Eigen::Vector3d& error,
+                         const Eigen::Vector3d& sigma) {
+  const Pose2 truth = base * scene.camera.mount;
+  return {{truth.x + error.x(), truth.y + error.y(), truth.theta + error.z()},
+          sigma.cwiseAbs2().asDiagonal()};
+}
+
+// Paints opaque blobs (bright and dark) over about `fraction` of the frame.
+void Occlude(cv::Mat* frame, double fraction, cv::RNG& rng) {
+  cv::Mat mask = cv::Mat::zeros(frame->size(), CV_8U);
+  while (cv::countNonZero(mask) < fraction * frame->total()) {
+    const cv::Point c(rng.uniform(0, frame->cols), rng.uniform(0, frame->rows));
+    const cv::Size axes(rng.uniform(3, 14), rng.uniform(2, 8));
+    const double angle = rng.uniform(0.0, 180.0);
+    const int level = rng.uniform(0, 2) ? 235 : 25;
+    cv::ellipse(*frame, c, axes, angle, 0, 360, cv::Scalar(level), cv::FILLED);
+    cv::ellipse(mask, c, axes, angle, 0, 360, cv::Scalar(255), cv::FILLED);
+  }
+}
+
+// Multiplies by a strong vignetting and a left-to-right light gradient.
+void Shade(cv::Mat* frame) {
+  cv::Mat f;
+  frame->convertTo(f, CV_32F);
+  for (int y = 0; y < f.rows; ++y) {
+    for (int x = 0; x < f.cols; ++x) {
+      const double r2 = (std::pow(x - f.cols / 2.0, 2) + std::pow(y - f.rows / 2.0, 2)) /
+                        (std::pow(f.cols / 2.0, 2) + std::pow(f.rows / 2.0, 2));
+      f.at<float>(y, x) *= static_cast<float>((1.0 - 0.5 * r2) * (0.7 + 0.6 * x / f.cols));
+    }
+  }
+  f.convertTo(*frame, CV_8U);
+}
+
+TEST(DirectAligner, RecoversASmallPredictionErrorToAFractionOfAPixel) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 0.9, 5.0);
+  const PoseWithCovariance prior = Prior(f.scene, base, {0.0012, -0.0009, 0.008}, {0.002, 0.002, 0.01});
+  const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.05);
+  EXPECT_NEAR(fit.posterior.pose.theta, (base * f.scene.camera.mount).theta, 0.002);
+  EXPECT_GT(fit.correlation, 0.5);
+}
+
+TEST(DirectAligner, FindsTheBasinFromAPoorPredictionByCoarseSearch) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.1, -5.0);
+  // 20 px off (well outside any gradient basin), prediction sigma 8 px.
+  const PoseWithCovariance prior = Prior(f.scene, base, {0.006, 0.008, 0.01}, {0.004, 0.004, 0.02});
+  const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_TRUE(fit.searched);
+  EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+}
+
+TEST(DirectAligner, IgnoresOccludersVignettingAndUnevenLight) {
+  Fixture f;
+  cv::RNG rng(3);
+  const Pose2 base = TrueBase();
+  cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  Occlude(&frame, 0.3, rng);
+  Shade(&frame);
+  const PoseWithCovariance prior = Prior(f.scene, base, {-0.001, 0.0015, -0.01}, {0.002, 0.002, 0.01});
+  const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+  EXPECT_LT(fit.inlier_fraction, 0.95);  // the occluders were recognised as outliers
+}
+
+TEST(DirectAligner, AlignsALowContrastFloor) {
+  Fixture f;
+  // The gravel photo at 12 % of its contrast and smoothed: a plain, nearly uniform floor whose
+  // remaining texture is at the noise level of a single pixel.
+  cv::Mat plain;
+  cv::GaussianBlur(f.scene.floor, plain, {0, 0}, 1.5);
+  plain.convertTo(plain, CV_8U, 0.12, 128 - 0.12 * cv::mean(plain)[0]);
+  f.scene.floor = plain;
+  mosaic::ImageRasterSource source(plain, f.scene.geo);
+  NormalizedMosaic normalized(&source, 7, 16 << 20);
+  DirectAligner aligner(DirectAlignOptions{}, f.scene.camera, &normalized);
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  const PoseWithCovariance prior = Prior(f.scene, base, {0.001, 0.001, 0.005}, {0.002, 0.002, 0.01});
+  const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.15);
+}
+
+TEST(DirectAligner, RefusesAFrameOfAnotherFloor) {
+  Fixture f;
+  TestScene other;
+  other.floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(other.floor.empty());
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = other.Render(base, 1.0, 0.0);
+  for (const double sigma_m : {0.002, 0.006}) {
+    const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {sigma_m, sigma_m, 0.01});
+    const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+    EXPECT_FALSE(fit.valid) << "sigma " << sigma_m << ": correlation " << fit.correlation;
+  }
+}
+
+TEST(DirectAligner, CovarianceCoversTheError) {
+  Fixture f;
+  cv::RNG rng(11);
+  double nees_sum = 0.0;
+  const int trials = 20;
+  for (int k = 0; k < trials; ++k) {
+    const Pose2 base = Pose2{0.1 + 0.002 * k, 0.12 + 0.0015 * k, 0.3 * k} * Pose2{0.1, 0, 0}.Inverse();
+    cv::Mat frame = f.scene.Render(base, rng.uniform(0.8, 1.2), rng.uniform(-10.0, 10.0));
+    Occlude(&frame, 0.1, rng);
+    const Eigen::Vector3d error(rng.gaussian(0.001), rng.gaussian(0.001), rng.gaussian(0.005));
+    const PoseWithCovariance prior = Prior(f.scene, base, error, {0.001, 0.001, 0.005});
+    const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+    ASSERT_TRUE(fit.valid) << "trial " << k << ": " << fit.reason;
+    const Pose2 truth = base * f.scene.camera.mount;
+    const Eigen::Vector3d d(fit.posterior.pose.x - truth.x, fit.posterior.pose.y - truth.y,
+                            geometry::WrapAngle(fit.posterior.pose.theta - truth.theta));
+    nees_sum += d.dot(fit.posterior.covariance.inverse() * d);
+  }
+  // Mean normalized error squared is 3 for an honest 3-dof covariance; allow a factor of 2 for
+  // over-confidence and require it not to be grossly pessimistic either.
+  const double nees = nees_sum / trials;
+  EXPECT_LT(nees, 6.0);
+  EXPECT_GT(nees, 0.3);
+}
+
+}  // namespace
+}  // namespace fleetloc::tracking
