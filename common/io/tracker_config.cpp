@@ -46,7 +46,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
 
 FieldTable DirectFields(tracking::DirectAlignOptions& d) {
   return {{"coarsest_side_px", &d.coarsest_side_px},
-          {"finest_level", &d.finest_level},
+          {"finest_level_pixels", &d.finest_level_pixels},
           {"max_points", &d.max_points},
           {"max_iterations", &d.max_iterations},
           {"converged_px", &d.converged_px},
@@ -54,11 +54,14 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"correlation_factor", &d.correlation_factor},
           {"search_above_px", &d.search_above_px},
           {"max_search_px", &d.max_search_px},
-          {"max_peak_ratio", &d.max_peak_ratio},
           {"peak_exclusion_px", &d.peak_exclusion_px},
-          {"min_correlation", &d.min_correlation},
-          {"min_inlier_fraction", &d.min_inlier_fraction},
           {"max_sigma_px", &d.max_sigma_px},
+          {"min_correlation", &d.min_correlation},
+          {"min_strong_correlation", &d.min_strong_correlation},
+          {"max_strong_peak_ratio", &d.max_strong_peak_ratio},
+          {"min_weak_correlation", &d.min_weak_correlation},
+          {"max_weak_peak_ratio", &d.max_weak_peak_ratio},
+          {"max_weak_prior_chi2", &d.max_weak_prior_chi2},
           {"max_prior_chi2", &d.max_prior_chi2}};
 }
 

@@ -24,7 +24,8 @@ struct DirectAlignment {
   const char* reason = "";                  // why not valid ("" when valid)
   geometry::PoseWithCovariance posterior;   // camera_ground in map: prior and image combined
   geometry::PoseWithCovariance measurement;  // the image alone (covariance of the image term)
-  double correlation = 0.0;      // weighted NCC at the finest level
+  double correlation = 0.0;         // weighted NCC at the finest level
+  double coarse_correlation = 0.0;  // weighted NCC at the coarsest level
   double inlier_fraction = 0.0;  // at the finest level
   double peak_ratio = 0.0;       // of the coarse search (0 when none ran)
   double prior_chi2 = 0.0;
@@ -51,6 +52,7 @@ class DirectAligner {
  private:
   struct Level;
   std::vector<Level> BuildLevels(const cv::Mat& frame) const;
+  const char* Verdict(const DirectAlignment& fit) const;
   geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                                const geometry::Pose2& start, DirectAlignment* out) const;
 
@@ -58,6 +60,7 @@ class DirectAligner {
   geometry::CameraModel camera_;
   NormalizedMosaic* mosaic_;
   int levels_ = 1;
+  int finest_level_ = 0;  // where the alignment ends
 };
 
 }  // namespace fleetloc::tracking

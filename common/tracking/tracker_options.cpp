@@ -15,8 +15,8 @@ Status Check(bool ok, const char* field, const char* rule) {
 
 Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.finest_level >= 0 && d.finest_level <= 3, "direct.finest_level",
-                                 "must be in [0, 3]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.finest_level_pixels >= 1000, "direct.finest_level_pixels",
+                                 "must be ≥ 1000"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_points >= 100 && d.max_points <= 1000000,
                                  "direct.max_points", "must be in [100, 1000000]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_iterations >= 1 && d.max_iterations <= 100,
@@ -27,15 +27,19 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_above_px >= 0, "direct.search_above_px", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_search_px >= 1 && d.max_search_px <= 128,
                                  "direct.max_search_px", "must be in [1, 128]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.max_peak_ratio > 0 && d.max_peak_ratio <= 1,
-                                 "direct.max_peak_ratio", "must be in (0, 1]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.min_correlation > -1 && d.min_correlation < 1,
-                                 "direct.min_correlation", "must be in (-1, 1)"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.min_inlier_fraction >= 0 && d.min_inlier_fraction <= 1,
-                                 "direct.min_inlier_fraction", "must be in [0, 1]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0, "direct.max_prior_chi2", "must be > 0"));
+  for (const auto& [value, name] : {std::pair{d.min_correlation, "direct.min_correlation"},
+                                    {d.min_strong_correlation, "direct.min_strong_correlation"},
+                                    {d.min_weak_correlation, "direct.min_weak_correlation"}}) {
+    FLEETLOC_RETURN_IF_ERROR(Check(value > -1 && value < 1, name, "must be in (-1, 1)"));
+  }
+  for (const auto& [value, name] : {std::pair{d.max_strong_peak_ratio, "direct.max_strong_peak_ratio"},
+                                    {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"}}) {
+    FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
+  }
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
+                                 "direct.max_prior_chi2", "and max_weak_prior_chi2 must be > 0"));
   return Status::Ok();
 }
 
