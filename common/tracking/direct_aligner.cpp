@@ -12,8 +12,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
 #include "imaging/fast_patch.h"
@@ -33,38 +31,6 @@ struct PixelPoint {
   float u = 0, v = 0;
   float value = 0;
   float du0 = 0, dv0 = 0;
-};
-
-// The normalized mosaic block a level reads, and how continuous mosaic coordinates index it.
-struct MosaicBlock {
-  cv::Mat block;  // CV_32F
-  cv::Rect rect;  // level pixels
-  cv::Size level_size;
-
-  cv::Mat grad_x, grad_y;  // central differences of block, per level pixel
-
-  // Bilinear value and gradient at continuous level coordinates; false outside the block or the
-  // mosaic.
-  bool Sample(double x, double y, float* value, Eigen::Vector2f* gradient) const {
-    if (x < 0.5 || y < 0.5 || x > level_size.width - 0.5 || y > level_size.height - 0.5) {
-      return false;
-    }
-    const double bx = x - 0.5 - rect.x, by = y - 0.5 - rect.y;
-    const int x0 = static_cast<int>(std::floor(bx)), y0 = static_cast<int>(std::floor(by));
-    if (x0 < 1 || y0 < 1 || x0 + 2 >= block.cols || y0 + 2 >= block.rows) return false;
-    const float fx = static_cast<float>(bx - x0), fy = static_cast<float>(by - y0);
-    *value = Bilinear(block, x0, y0, fx, fy);
-    if (gradient) *gradient = {Bilinear(grad_x, x0, y0, fx, fy), Bilinear(grad_y, x0, y0, fx, fy)};
-    return true;
-  }
-
-  static float Bilinear(const cv::Mat& m, int x0, int y0, float fx, float fy) {
-    const float* r0 = m.ptr<float>(y0) + x0;
-    const float* r1 = m.ptr<float>(y0 + 1) + x0;
-    const float top = r0[0] + fx * (r0[1] - r0[0]);
-    const float bottom = r1[0] + fx * (r1[1] - r1[0]);
-    return top + fy * (bottom - top);
-  }
 };
 
 double TukeyWeight(double r, double cutoff) {
@@ -105,6 +71,38 @@ double CornerSigmaPx(const geometry::CameraModel& camera, const PoseWithCovarian
 }
 
 }  // namespace
+
+// The normalized mosaic block a level reads, and how continuous mosaic coordinates index it.
+struct DirectAligner::MosaicBlock {
+  cv::Mat block;  // CV_32F
+  cv::Rect rect;  // level pixels
+  cv::Size level_size;
+
+  cv::Mat grad_x, grad_y;  // central differences of block, per level pixel
+
+  // Bilinear value and gradient at continuous level coordinates; false outside the block or the
+  // mosaic.
+  bool Sample(double x, double y, float* value, Eigen::Vector2f* gradient) const {
+    if (x < 0.5 || y < 0.5 || x > level_size.width - 0.5 || y > level_size.height - 0.5) {
+      return false;
+    }
+    const double bx = x - 0.5 - rect.x, by = y - 0.5 - rect.y;
+    const int x0 = static_cast<int>(std::floor(bx)), y0 = static_cast<int>(std::floor(by));
+    if (x0 < 1 || y0 < 1 || x0 + 2 >= block.cols || y0 + 2 >= block.rows) return false;
+    const float fx = static_cast<float>(bx - x0), fy = static_cast<float>(by - y0);
+    *value = Bilinear(block, x0, y0, fx, fy);
+    if (gradient) *gradient = {Bilinear(grad_x, x0, y0, fx, fy), Bilinear(grad_y, x0, y0, fx, fy)};
+    return true;
+  }
+
+  static float Bilinear(const cv::Mat& m, int x0, int y0, float fx, float fy) {
+    const float* r0 = m.ptr<float>(y0) + x0;
+    const float* r1 = m.ptr<float>(y0 + 1) + x0;
+    const float top = r0[0] + fx * (r0[1] - r0[0]);
+    const float bottom = r1[0] + fx * (r1[1] - r1[0]);
+    return top + fy * (bottom - top);
+  }
+};
 
 struct DirectAligner::Level {
   int level = 0;
@@ -202,6 +200,7 @@ Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& 
 // Why a fit cannot be trusted, or "" (see DirectAlignOptions' validation).
 const char* DirectAligner::Verdict(const DirectAlignment& fit) const {
   const DirectAlignOptions& o = options_;
+  if (fit.reason[0] != '\0') return fit.reason;
   if (fit.sigma_px > o.max_sigma_px) return "weakly constrained";
   if (fit.correlation < o.min_correlation) return "no correlation at the finest level";
   if (fit.prior_chi2 > o.max_prior_chi2) return "inconsistent with the prediction";
@@ -216,141 +215,188 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit) const {
                                                          : "weak fit the prediction does not confirm";
 }
 
+// The normalized mosaic block under `level` at `pose`, with room for the level's iterations.
+DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2& pose) const {
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const int l = level.level;
+  const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
+  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2d m = warp(Eigen::Vector2d((c & 1) * level.normalized.cols,
+                                                   (c >> 1) * level.normalized.rows));
+    min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
+    min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
+  }
+  constexpr int kMargin = 8;
+  MosaicBlock source;
+  source.rect = cv::Rect(static_cast<int>(std::floor(min_x)) - kMargin,
+                         static_cast<int>(std::floor(min_y)) - kMargin,
+                         static_cast<int>(std::ceil(max_x - min_x)) + 2 * kMargin + 1,
+                         static_cast<int>(std::ceil(max_y - min_y)) + 2 * kMargin + 1);
+  source.level_size = {std::max(1, (layout.width_px + (1 << l) - 1) >> l),
+                       std::max(1, (layout.height_px + (1 << l) - 1) >> l)};
+  source.block = mosaic_->ReadBlock(l, source.rect);
+  cv::Sobel(source.block, source.grad_x, CV_32F, 1, 0, 1, 0.5);
+  cv::Sobel(source.block, source.grad_y, CV_32F, 0, 1, 1, 0.5);
+  return std::make_unique<MosaicBlock>(std::move(source));
+}
+
+// Residuals, robust weights and the weighted normal equations of `level` at `pose` (sigma ≤ 0:
+// estimated from the residuals' MAD), with the fit's quality and the per-block scores the
+// sandwich covariance needs.
+DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
+                                                      const Pose2& pose, double sigma) const {
+  const FrameMosaicWarp warp =
+      FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level);
+  // The Jacobian takes the gradient of the warped mosaic (clean, noise-free) in frame axes rather
+  // than the frame's own: the noisy frame gradient overstates the curvature and makes the
+  // inverse-compositional steps too short (measured: linear convergence at ratio 0.75 on a plain
+  // floor; with the mosaic's gradient, 2–4 iterations per level).
+  const Eigen::Matrix2f to_frame = warp.linear.transpose().cast<float>();
+  const float scale = 1.0f / (1 << level.level);
+  const size_t n = level.points.size();
+  std::vector<float> residuals(n);
+  std::vector<Eigen::Vector3f> jacobians(n);
+  std::vector<char> valid(n);
+  std::vector<float> magnitudes;
+  magnitudes.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    const PixelPoint& p = level.points[i];
+    const Eigen::Vector2d m = warp(Eigen::Vector2d(p.u, p.v));
+    float value = 0.0f;
+    Eigen::Vector2f gradient;
+    valid[i] = source.Sample(m.x(), m.y(), &value, &gradient);
+    if (!valid[i]) continue;
+    residuals[i] = p.value - value;
+    const Eigen::Vector2f g = to_frame * gradient;
+    jacobians[i] = Eigen::Vector3f(-g.y() * scale, -g.x() * scale,
+                                   (g.x() * p.dv0 - g.y() * p.du0) * scale);
+    magnitudes.push_back(std::abs(residuals[i]));
+  }
+  Linearization lin;
+  lin.points = static_cast<int>(magnitudes.size());
+  if (lin.points < 3) return lin;
+  lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(magnitudes));
+  const double cutoff = options_.tukey_c * lin.sigma;
+  constexpr int kBlocks = 8;  // per side: residuals correlated within a block, not across
+  std::vector<Eigen::Vector3d> block_scores(kBlocks * kBlocks, Eigen::Vector3d::Zero());
+  std::vector<int> block_counts(kBlocks * kBlocks, 0);
+  double sw = 0, st = 0, si = 0, stt = 0, sii = 0, sti = 0;
+  int inliers = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    const double w = TukeyWeight(residuals[i], cutoff);
+    const PixelPoint& p = level.points[i];
+    const double t = p.value, v = p.value - residuals[i];
+    sw += w, st += w * t, si += w * v, stt += w * t * t, sii += w * v * v, sti += w * t * v;
+    if (w > 0.5) ++inliers;
+    if (w <= 0.0) continue;
+    const Eigen::Vector3d j = jacobians[i].cast<double>();
+    lin.h.noalias() += w * j * j.transpose();
+    lin.g.noalias() += (w * residuals[i]) * j;
+    const int bx = std::min(kBlocks - 1, static_cast<int>(p.u * kBlocks / level.normalized.cols));
+    const int by = std::min(kBlocks - 1, static_cast<int>(p.v * kBlocks / level.normalized.rows));
+    block_scores[by * kBlocks + bx] += (w * residuals[i]) * j;
+    ++block_counts[by * kBlocks + bx];
+  }
+  lin.inlier_fraction = double(inliers) / lin.points;
+  const double var_t = stt - st * st / std::max(sw, 1e-12);
+  const double var_i = sii - si * si / std::max(sw, 1e-12);
+  lin.correlation = var_t > 0 && var_i > 0 ? (sti - st * si / sw) / std::sqrt(var_t * var_i) : 0.0;
+  // Spread of the block scores about their share of the total (the total need not vanish at a
+  // maximum a posteriori pose).
+  int total = 0, used_blocks = 0;
+  for (int c : block_counts) total += c, used_blocks += c > 0;
+  for (size_t b = 0; b < block_scores.size(); ++b) {
+    if (block_counts[b] == 0) continue;
+    const Eigen::Vector3d d = block_scores[b] - lin.g * (double(block_counts[b]) / total);
+    lin.score_spread.noalias() += d * d.transpose();
+  }
+  if (used_blocks > 1) lin.score_spread *= double(used_blocks) / (used_blocks - 1);
+  return lin;
+}
+
 DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovariance& prior,
                                      const Pose2& start) const {
   DirectAlignment out;
   const std::vector<Level> levels = BuildLevels(frame);
-  const mosaic::MosaicLayout& layout = mosaic_->layout();
   const double res = camera_.resolution_m;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
   const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
   const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
   Pose2 pose = CoarseSearch(levels.back(), prior, start, &out);
-  Eigen::Matrix3d image_information = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d total_information = prior_information;
+  Linearization final_fit;
   for (int l = levels_ - 1; l >= finest_level_; --l) {
     const Level& level = levels[l];
     if (level.points.size() < 3) continue;
-    // One block covers every warp the level's iterations may reach.
-    const FrameMosaicWarp warp0 = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
-    const cv::Rect frame_rect(0, 0, level.normalized.cols, level.normalized.rows);
-    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
-    for (int c = 0; c < 4; ++c) {
-      const Eigen::Vector2d m = warp0(Eigen::Vector2d((c & 1) * frame_rect.width, (c >> 1) * frame_rect.height));
-      min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
-      min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
-    }
-    const int margin = 8;
-    MosaicBlock source;
-    source.rect = cv::Rect(static_cast<int>(std::floor(min_x)) - margin,
-                           static_cast<int>(std::floor(min_y)) - margin,
-                           static_cast<int>(std::ceil(max_x - min_x)) + 2 * margin + 1,
-                           static_cast<int>(std::ceil(max_y - min_y)) + 2 * margin + 1);
-    source.level_size = {std::max(1, (layout.width_px + (1 << l) - 1) >> l),
-                         std::max(1, (layout.height_px + (1 << l) - 1) >> l)};
-    source.block = mosaic_->ReadBlock(l, source.rect);
-    cv::Sobel(source.block, source.grad_x, CV_32F, 1, 0, 1, 0.5);
-    cv::Sobel(source.block, source.grad_y, CV_32F, 0, 1, 1, 0.5);
-    double sigma = 0.0;
-    std::vector<float> residuals(level.points.size());
-    std::vector<char> valid(level.points.size());
-    std::vector<Eigen::Vector3f> jacobians(level.points.size());
+    const Source source = ReadSource(level, pose);
+    double sigma = 0.0;  // estimated at the level's first iteration, then kept
     for (int it = 0; it < options_.max_iterations; ++it) {
       ++out.iterations;
-      const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
-      // The Jacobian takes the gradient of the warped mosaic (clean, noise-free) in frame axes
-      // rather than the frame's own: the noisy frame gradient overstates the curvature and makes
-      // the inverse-compositional steps too short (measured: linear convergence at ratio 0.75 on
-      // a plain floor; with the mosaic's gradient, 2–3 iterations per level).
-      const Eigen::Matrix2f to_frame = warp.linear.transpose().cast<float>();
-      const float scale = 1.0f / (1 << l);
-      std::vector<float> magnitudes;
-      magnitudes.reserve(level.points.size());
-      for (size_t i = 0; i < level.points.size(); ++i) {
-        const PixelPoint& p = level.points[i];
-        const Eigen::Vector2d m = warp(Eigen::Vector2d(p.u, p.v));
-        float value = 0.0f;
-        Eigen::Vector2f gradient;
-        valid[i] = source.Sample(m.x(), m.y(), &value, &gradient);
-        residuals[i] = p.value - value;
-        const Eigen::Vector2f g = to_frame * gradient;
-        jacobians[i] = Eigen::Vector3f(-g.y() * scale, -g.x() * scale,
-                                       (g.x() * p.dv0 - g.y() * p.du0) * scale);
-        if (valid[i]) magnitudes.push_back(std::abs(residuals[i]));
-      }
-      if (magnitudes.size() < 3) break;
-      if (it == 0) sigma = std::max(1e-3, 1.4826 * Median(magnitudes));
-      const double cutoff = options_.tukey_c * sigma;
+      const Linearization lin = Linearize(level, *source, pose, sigma);
+      if (lin.points < 3) break;
+      sigma = lin.sigma;
+      // Maximum a posteriori step: image term (its information scaled by the residual variance and
+      // the correlation factor) and the prior, whose map delta is ≈ −B·S·q.
       const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
-      Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d g = Eigen::Vector3d::Zero();
-      for (size_t i = 0; i < level.points.size(); ++i) {
-        if (!valid[i]) continue;
-        const double w = TukeyWeight(residuals[i], cutoff);
-        if (w <= 0.0) continue;
-        const Eigen::Vector3d j = jacobians[i].cast<double>();
-        h.noalias() += w * j * j.transpose();
-        g.noalias() += (w * residuals[i]) * j;
-      }
-      h *= inv_var;
-      g *= inv_var;
-      // The prior in q: map delta of the new pose ≈ −B·S·q.
       const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
-      const Eigen::Vector3d d0 = Difference(pose, prior.pose);
       const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
-      const Eigen::Vector3d q = (h + hp).ldlt().solve(-g + bs.transpose() * prior_information * d0);
-      pose = ApplyStep(pose, q, res);
-      image_information = bs.transpose().inverse() * h * bs.inverse();
-      total_information = image_information + prior_information;
-      const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << l);
+      const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
+      const Eigen::Vector3d q = (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
       if (!q.allFinite()) break;
+      pose = ApplyStep(pose, q, res);
+      const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << l);
       if (moved_px < options_.converged_px) break;
     }
-    // Quality at this level (kept for the finest one).
-    const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
-    double sw = 0, st = 0, si = 0, stt = 0, sii = 0, sti = 0;
-    int used = 0, inliers = 0;
-    const double cutoff = options_.tukey_c * sigma;
-    for (const PixelPoint& p : level.points) {
-      const Eigen::Vector2d m = warp(Eigen::Vector2d(p.u, p.v));
-      float value = 0.0f;
-      if (!source.Sample(m.x(), m.y(), &value, nullptr)) continue;
-      ++used;
-      const double w = TukeyWeight(p.value - value, cutoff);
-      if (w > 0.5) ++inliers;
-      sw += w, st += w * p.value, si += w * value;
-      stt += w * p.value * p.value, sii += w * value * value, sti += w * p.value * value;
-    }
-    out.points = used;
-    out.inlier_fraction = used > 0 ? double(inliers) / used : 0.0;
-    const double var_t = stt - st * st / std::max(sw, 1e-12);
-    const double var_i = sii - si * si / std::max(sw, 1e-12);
-    out.correlation = var_t > 0 && var_i > 0 ? (sti - st * si / sw) / std::sqrt(var_t * var_i) : 0.0;
-    if (l == levels_ - 1) out.coarse_correlation = out.correlation;
+    final_fit = Linearize(level, *source, pose, sigma);
+    out.points = final_fit.points;
+    out.inlier_fraction = final_fit.inlier_fraction;
+    out.correlation = final_fit.correlation;
+    if (l == levels_ - 1) out.coarse_correlation = final_fit.correlation;
   }
-  out.posterior = {pose, total_information.inverse()};
-  // Image-only worst-direction position sigma, in level-0 px.
-  const Eigen::Matrix3d image_px = to_px.transpose() * image_information * to_px;
-  Eigen::LDLT<Eigen::Matrix3d> image_ldlt(image_px);
-  const Eigen::Matrix3d image_cov_px =
-      image_ldlt.info() == Eigen::Success ? Eigen::Matrix3d(image_ldlt.solve(Eigen::Matrix3d::Identity()))
-                                          : Eigen::Matrix3d::Identity() * 1e12;
-  out.sigma_px = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
-                                              image_cov_px.topLeftCorner<2, 2>())
-                                              .eigenvalues()
-                                              .maxCoeff()));
-  out.measurement = {pose, image_information.inverse()};
-  // Innovation test: the image-only fit against the prediction. With a = Σpost⁻¹ Δ (Δ = posterior
-  // − prior), the image-only estimate differs from the prior by R·a (R = image covariance), whose
-  // covariance is Σprior + R; aᵀ R (Σprior + R)⁻¹ R a = aᵀ (H + H Σprior H)⁻¹ a with H = R⁻¹.
-  const Eigen::Vector3d a = total_information * Difference(pose, prior.pose);
-  const Eigen::Matrix3d m = image_information + image_information * prior.covariance * image_information +
-                            1e-9 * Eigen::Matrix3d::Identity();
-  out.prior_chi2 = a.dot(m.ldlt().solve(a));
+  Combine(final_fit, prior, pose, &out);
   out.reason = Verdict(out);
-  out.valid = out.reason[0] == '\0' && pose.ToVector().allFinite();
-  if (!pose.ToVector().allFinite()) out.reason = "diverged";
+  out.valid = out.reason[0] == '\0';
   return out;
+}
+
+// The image's own estimate and honest covariance from the finest level's linearization, fused
+// with the prediction. The covariance is the sandwich H⁻¹·M·H⁻¹ over blocks of the frame (M: the
+// spread of the blocks' score sums), which stays honest when residuals are correlated over
+// occluders, blur or normalization windows, plus the independent-residual term σ²·H⁻¹.
+void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& prior,
+                            const Pose2& pose, DirectAlignment* out) const {
+  const double res = camera_.resolution_m;
+  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
+  Eigen::LDLT<Eigen::Matrix3d> h(fit.h);
+  if (fit.points < 3 || h.info() != Eigen::Success || !(h.vectorD().array() > 0).all()) {
+    out->reason = "no image information";
+    out->posterior = prior;
+    out->sigma_px = 1e9;
+    return;
+  }
+  const Eigen::Matrix3d h_inv = h.solve(Eigen::Matrix3d::Identity());
+  const Eigen::Vector3d q_image = -h_inv * fit.g;  // image-only optimum, from `pose`
+  const Eigen::Matrix3d cov_q = h_inv * fit.score_spread * h_inv + fit.sigma * fit.sigma * h_inv;
+  const Eigen::Matrix3d info_q = cov_q.inverse();
+  const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
+  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
+  const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
+  const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
+  const Eigen::Vector3d q = (info_q + hp).ldlt().solve(info_q * q_image + gp);
+  // Map covariance of the image estimate: map delta = −B·S·q.
+  const Eigen::Matrix3d image_cov = bs * cov_q * bs.transpose();
+  out->measurement = {ApplyStep(pose, q_image, res), image_cov};
+  out->posterior = {ApplyStep(pose, q, res), (image_cov.inverse() + prior_information).inverse()};
+  out->sigma_px = std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov_q.topLeftCorner<2, 2>())
+               .eigenvalues()
+               .maxCoeff()));
+  const Eigen::Vector3d innovation = Difference(out->measurement.pose, prior.pose);
+  out->prior_chi2 = innovation.dot((prior.covariance + image_cov).ldlt().solve(innovation));
+  if (!out->posterior.pose.ToVector().allFinite() || !out->posterior.covariance.allFinite()) {
+    out->reason = "diverged";
+  }
 }
 
 }  // namespace fleetloc::tracking

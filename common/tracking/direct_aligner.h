@@ -8,6 +8,7 @@
 // coarsest level finds the basin first. The result says whether it can be trusted, and why not.
 #pragma once
 
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -51,7 +52,23 @@ class DirectAligner {
 
  private:
   struct Level;
+  struct MosaicBlock;
+  using Source = std::unique_ptr<MosaicBlock>;
+  // Sums over a level's pixels at one pose (q in level-0 px, px, rad; unscaled by the variance).
+  struct Linearization {
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();             // Σ w·J·Jᵀ
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();             // Σ w·J·r
+    Eigen::Matrix3d score_spread = Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
+    double sigma = 0.0;                                      // robust residual scale
+    double correlation = 0.0, inlier_fraction = 0.0;
+    int points = 0;
+  };
   std::vector<Level> BuildLevels(const cv::Mat& frame) const;
+  Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
+  Linearization Linearize(const Level& level, const MosaicBlock& source,
+                          const geometry::Pose2& pose, double sigma) const;
+  void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
+               const geometry::Pose2& pose, DirectAlignment* out) const;
   const char* Verdict(const DirectAlignment& fit) const;
   geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                                const geometry::Pose2& start, DirectAlignment* out) const;

@@ -5,8 +5,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
