@@ -51,6 +51,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"max_iterations", &d.max_iterations},
           {"converged_px", &d.converged_px},
           {"tukey_c", &d.tukey_c},
+          {"occluder_contrast_ratio", &d.occluder_contrast_ratio},
           {"correlation_factor", &d.correlation_factor},
           {"search_above_px", &d.search_above_px},
           {"max_search_px", &d.max_search_px},

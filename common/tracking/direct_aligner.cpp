@@ -33,17 +33,40 @@ struct PixelPoint {
   float du0 = 0, dv0 = 0;
 };
 
-double TukeyWeight(double r, double cutoff) {
-  const double x = r / cutoff;
-  return std::abs(x) >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
-}
-
 double Median(std::vector<float> values) {
   if (values.empty()) return 0.0;
   const auto mid = values.begin() + values.size() / 2;
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
 }
+
+// Pixels near something the mosaic cannot have: where the frame's local contrast is far above
+// the floor's typical one (debris, tyre marks, dust edges, shadow edges). Local normalization
+// would squash such an occluder to the floor's range, where no robust weight could tell it from
+// texture, so it is masked before it is normalized. `ratio` is relative to the frame's median
+// local standard deviation, so the rule holds on plain and rich floors alike. Returns CV_8U,
+// non-zero where pixels must not be used.
+cv::Mat OccluderMask(const cv::Mat& image, int window, double ratio) {
+  cv::Mat f, mean, mean_sq;
+  image.convertTo(f, CV_32F);
+  cv::boxFilter(f, mean, CV_32F, {window, window});
+  cv::boxFilter(f.mul(f), mean_sq, CV_32F, {window, window});
+  cv::Mat variance = mean_sq - mean.mul(mean);
+  std::vector<float> samples;
+  for (int y = 0; y < variance.rows; y += 4) {
+    for (int x = 0; x < variance.cols; x += 4) samples.push_back(variance.at<float>(y, x));
+  }
+  const double median_variance = std::max(1e-3, Median(samples));
+  cv::Mat mask = variance > ratio * ratio * median_variance;
+  cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, {window, window}));
+  return mask;
+}
+
+double TukeyWeight(double r, double cutoff) {
+  const double x = r / cutoff;
+  return std::abs(x) >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
+}
+
 
 Eigen::Matrix3d RotationBlock(const Pose2& pose) { return geometry::ComposeJacobianB(pose); }
 
@@ -137,6 +160,7 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
     const int window = mosaic_->WindowAt(l);
     level.normalized = imaging::NormalizePatch(image, window);
     level.border = window / 2 + 1;
+    const cv::Mat occluded = OccluderMask(image, window, options_.occluder_contrast_ratio);
     const cv::Mat& t = level.normalized;
     const int b = level.border, w = t.cols - 2 * b, h = t.rows - 2 * b;
     if (w <= 0 || h <= 0) continue;
@@ -147,7 +171,9 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
         PixelPoint point;
         for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
           const float* row = t.ptr<float>(y);
+          const uchar* masked = occluded.ptr<uchar>(y);
           for (int x = cx; x < std::min(cx + cell, b + w); ++x) {
+            if (masked[x]) continue;
             const float gx = 0.5f * (row[x + 1] - row[x - 1]);
             const float gy = 0.5f * (t.ptr<float>(y + 1)[x] - t.ptr<float>(y - 1)[x]);
             const float g2 = gx * gx + gy * gy;

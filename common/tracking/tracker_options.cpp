@@ -23,6 +23,8 @@ Status Validate(const DirectAlignOptions& d) {
                                  "direct.max_iterations", "must be in [1, 100]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio",
+                                 "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.correlation_factor >= 1, "direct.correlation_factor", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_above_px >= 0, "direct.search_above_px", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_search_px >= 1 && d.max_search_px <= 128,

@@ -26,6 +26,9 @@ struct DirectAlignOptions {
   int max_iterations = 10;         // Gauss–Newton iterations per level
   double converged_px = 0.01;      // a level stops when its step moves no pixel more (level px)
   double tukey_c = 4.685;          // Tukey biweight cut-off in robust sigmas (MAD)
+  // Pixels whose local contrast exceeds this multiple of the frame's median local contrast (and
+  // their normalization window) are occluders the mosaic lacks and are not used.
+  double occluder_contrast_ratio = 3.0;
   // Neighbouring pixel residuals are not independent (blur, normalization window): the image
   // information is divided by this factor so the covariance is honest (see direct_aligner_test).
   double correlation_factor = 4.0;
