@@ -47,6 +47,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
 FieldTable DirectFields(tracking::DirectAlignOptions& d) {
   return {{"coarsest_side_px", &d.coarsest_side_px},
           {"finest_level_pixels", &d.finest_level_pixels},
+          {"min_finest_level", &d.min_finest_level},
           {"max_points", &d.max_points},
           {"max_iterations", &d.max_iterations},
           {"converged_px", &d.converged_px},

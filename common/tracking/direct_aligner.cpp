@@ -142,6 +142,7 @@ DirectAligner::DirectAligner(const DirectAlignOptions& options,
     ++levels_;
   }
   const long long pixels = static_cast<long long>(camera.width_px) * camera.height_px;
+  finest_level_ = std::min(options.min_finest_level, levels_ - 1);
   while (finest_level_ + 1 < levels_ && (pixels >> (2 * (finest_level_ + 1))) >= options.finest_level_pixels) {
     ++finest_level_;
   }
@@ -224,7 +225,7 @@ Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& 
 }
 
 // Why a fit cannot be trusted, or "" (see DirectAlignOptions' validation).
-const char* DirectAligner::Verdict(const DirectAlignment& fit) const {
+const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_confirms) const {
   const DirectAlignOptions& o = options_;
   if (fit.reason[0] != '\0') return fit.reason;
   if (fit.sigma_px > o.max_sigma_px) return "weakly constrained";
@@ -233,7 +234,7 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit) const {
   const double ratio = fit.searched ? fit.peak_ratio : 0.0;
   const bool strong = fit.coarse_correlation >= o.min_strong_correlation &&
                       ratio <= o.max_strong_peak_ratio;
-  const bool weak = fit.coarse_correlation >= o.min_weak_correlation &&
+  const bool weak = prediction_confirms && fit.coarse_correlation >= o.min_weak_correlation &&
                     ratio <= o.max_weak_peak_ratio && fit.prior_chi2 <= o.max_weak_prior_chi2;
   if (strong || weak) return "";
   if (ratio > o.max_weak_peak_ratio) return "ambiguous coarse peak";
@@ -343,7 +344,7 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
 }
 
 DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovariance& prior,
-                                     const Pose2& start) const {
+                                     const Pose2& start, bool prediction_confirms) const {
   DirectAlignment out;
   const std::vector<Level> levels = BuildLevels(frame);
   const double res = camera_.resolution_m;
@@ -381,7 +382,7 @@ DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovaria
     if (l == levels_ - 1) out.coarse_correlation = final_fit.correlation;
   }
   Combine(final_fit, prior, pose, &out);
-  out.reason = Verdict(out);
+  out.reason = Verdict(out, prediction_confirms);
   out.valid = out.reason[0] == '\0';
   return out;
 }

@@ -44,8 +44,10 @@ class DirectAligner {
 
   // Aligns `frame` (CV_8UC1, camera size) given the prediction `prior` (camera_ground in map)
   // starting from `start` (the prior's pose, or a better guess such as a template fit).
+  // `prediction_confirms`: the prediction comes from a frame that was itself located, so a weak
+  // fit close to it may be trusted; false after coasting or a loss, where only a strong fit is.
   DirectAlignment Align(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-                        const geometry::Pose2& start) const;
+                        const geometry::Pose2& start, bool prediction_confirms = true) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
@@ -69,7 +71,7 @@ class DirectAligner {
                           const geometry::Pose2& pose, double sigma) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
-  const char* Verdict(const DirectAlignment& fit) const;
+  const char* Verdict(const DirectAlignment& fit, bool prediction_confirms) const;
   geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                                const geometry::Pose2& start, DirectAlignment* out) const;
 

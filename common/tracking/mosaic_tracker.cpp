@@ -234,7 +234,8 @@ std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& fram
                                                              const Pose2& start,
                                                              FrameResult* stats) const {
   const auto t_direct = std::chrono::steady_clock::now();
-  const DirectAlignment dense = direct_.Align(frame, prior, start);
+  const bool located_last = coasting_frames_ == 0 && state_ != LockState::kLost;
+  const DirectAlignment dense = direct_.Align(frame, prior, start, located_last);
   stats->direct_ms += MsSince(t_direct);
   stats->direct = dense.valid ? DirectUse::kUsed : DirectUse::kRefused;
   stats->direct_reason = dense.reason;

@@ -17,6 +17,8 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.finest_level_pixels >= 1000, "direct.finest_level_pixels",
                                  "must be ≥ 1000"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.min_finest_level >= 0 && d.min_finest_level <= 3,
+                                 "direct.min_finest_level", "must be in [0, 3]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_points >= 100 && d.max_points <= 1000000,
                                  "direct.max_points", "must be in [100, 1000000]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_iterations >= 1 && d.max_iterations <= 100,
