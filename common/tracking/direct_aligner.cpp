@@ -192,6 +192,21 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
   return levels;
 }
 
+// The level the search starts at: at least one above the finest (a wider window at a finer level
+// holds more chance peaks: measured at 320×240 on a plain dusty floor, searching at 160×120 left
+// 15 % of the frames ambiguous, at 80×60 3 %), and the finest of those whose image has at most
+// search_level_pixels (the search is then cheap, and every coarser level holds less of a weak
+// floor's texture), or coarser while the prediction's 3-sigma would exceed max_search_px there.
+int DirectAligner::SearchLevel(double sigma_px) const {
+  const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
+  int level = std::min(finest_level_ + 1, levels_ - 1);
+  while (level + 1 < levels_ && ((pixels >> (2 * level)) > options_.search_level_pixels ||
+                                 3.0 * sigma_px / (1 << level) > options_.max_search_px)) {
+    ++level;
+  }
+  return level;
+}
+
 // Exhaustive normalized correlation of the coarsest level over the prediction's 3-sigma window:
 // the start of the Gauss–Newton descent when the prediction is outside its basin.
 Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& prior,
@@ -351,9 +366,10 @@ DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovaria
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
   const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
   const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
-  Pose2 pose = CoarseSearch(levels.back(), prior, start, &out);
+  const int search_level = SearchLevel(CornerSigmaPx(camera_, prior));
+  Pose2 pose = CoarseSearch(levels[search_level], prior, start, &out);
   Linearization final_fit;
-  for (int l = levels_ - 1; l >= finest_level_; --l) {
+  for (int l = search_level; l >= finest_level_; --l) {
     const Level& level = levels[l];
     if (level.points.size() < 3) continue;
     const Source source = ReadSource(level, pose);
@@ -379,7 +395,7 @@ DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovaria
     out.points = final_fit.points;
     out.inlier_fraction = final_fit.inlier_fraction;
     out.correlation = final_fit.correlation;
-    if (l == levels_ - 1) out.coarse_correlation = final_fit.correlation;
+    if (l == search_level) out.coarse_correlation = final_fit.correlation;
   }
   Combine(final_fit, prior, pose, &out);
   out.reason = Verdict(out, prediction_confirms);

@@ -71,6 +71,7 @@ class DirectAligner {
                           const geometry::Pose2& pose, double sigma) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
+  int SearchLevel(double sigma_px) const;
   const char* Verdict(const DirectAlignment& fit, bool prediction_confirms) const;
   geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                                const geometry::Pose2& start, DirectAlignment* out) const;

@@ -36,10 +36,13 @@ struct DirectAlignOptions {
   // Neighbouring pixel residuals are not independent (blur, normalization window): the image
   // information is divided by this factor so the covariance is honest (see direct_aligner_test).
   double correlation_factor = 4.0;
-  // Exhaustive search at the coarsest level when the prediction's 3-sigma exceeds this many
-  // coarsest-level pixels; at most max_search_px of them.
+  // Exhaustive search at the finest level with at most search_level_pixels pixels (coarser while
+  // the prediction's 3-sigma exceeds max_search_px there), when that 3-sigma exceeds
+  // search_above_px pixels of the level. Measured on a plain dusty floor at 640×480: searching at
+  // 80×60 left 16 % of the frames ambiguous, at 160×120 none.
   double search_above_px = 0.0;
   int max_search_px = 24;
+  int search_level_pixels = 25000;
   int peak_exclusion_px = 3;        // the second peak lies outside this radius of the best
   // Validation of the final fit. Always: the image pins the position (max_sigma_px) and the
   // finest level correlates at all. Then either a strong fit (a distinct coarse peak, a clear
