@@ -146,10 +146,11 @@ DirectAligner::DirectAligner(const DirectAlignOptions& options,
 
 // The pyramid, normalized like the mosaic, and at each level the strongest-gradient pixel of
 // every cell (cells sized so that at most max_points are kept), away from the clipped border.
-std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame) const {
-  std::vector<Level> levels(levels_);
+std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame,
+                                                            int coarsest) const {
+  std::vector<Level> levels(coarsest + 1);
   cv::Mat image = frame;
-  for (int l = 0; l < levels_; ++l) {
+  for (int l = 0; l <= coarsest; ++l) {
     if (l > 0) cv::resize(image, image, {image.cols / 2, image.rows / 2}, 0, 0, cv::INTER_AREA);
     Level& level = levels[l];
     level.level = l;
@@ -359,15 +360,18 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
 }
 
 DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovariance& prior,
-                                     const Pose2& start, bool prediction_confirms) const {
+                                     const Pose2& start, bool prediction_confirms,
+                                     bool refine_only) const {
   DirectAlignment out;
-  const std::vector<Level> levels = BuildLevels(frame);
+  // A refinement starts inside the finest level's basin: no search, no coarser level.
+  const int search_level =
+      refine_only ? finest_level_ : SearchLevel(CornerSigmaPx(camera_, prior));
+  const std::vector<Level> levels = BuildLevels(frame, search_level);
   const double res = camera_.resolution_m;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
   const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
   const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
-  const int search_level = SearchLevel(CornerSigmaPx(camera_, prior));
-  Pose2 pose = CoarseSearch(levels[search_level], prior, start, &out);
+  Pose2 pose = refine_only ? start : CoarseSearch(levels[search_level], prior, start, &out);
   Linearization final_fit;
   for (int l = search_level; l >= finest_level_; --l) {
     const Level& level = levels[l];

@@ -46,8 +46,11 @@ class DirectAligner {
   // starting from `start` (the prior's pose, or a better guess such as a template fit).
   // `prediction_confirms`: the prediction comes from a frame that was itself located, so a weak
   // fit close to it may be trusted; false after coasting or a loss, where only a strong fit is.
+  // `refine_only`: `start` is already within a fraction of a pixel (a template fit): only the
+  // finest level is aligned, with no search.
   DirectAlignment Align(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-                        const geometry::Pose2& start, bool prediction_confirms = true) const;
+                        const geometry::Pose2& start, bool prediction_confirms = true,
+                        bool refine_only = false) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
@@ -65,7 +68,8 @@ class DirectAligner {
     double correlation = 0.0, inlier_fraction = 0.0;
     int points = 0;
   };
-  std::vector<Level> BuildLevels(const cv::Mat& frame) const;
+  // The frame pyramid up to `coarsest`, normalized and with pixels chosen from finest_level_ up.
+  std::vector<Level> BuildLevels(const cv::Mat& frame, int coarsest) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
                           const geometry::Pose2& pose, double sigma) const;

@@ -231,11 +231,11 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
 // The dense alignment from `start`: its posterior when it validates.
 std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& frame,
                                                              const PoseWithCovariance& prior,
-                                                             const Pose2& start,
+                                                             const Pose2& start, bool refine_only,
                                                              FrameResult* stats) const {
   const auto t_direct = std::chrono::steady_clock::now();
   const bool located_last = coasting_frames_ == 0 && state_ != LockState::kLost;
-  const DirectAlignment dense = direct_.Align(frame, prior, start, located_last);
+  const DirectAlignment dense = direct_.Align(frame, prior, start, located_last, refine_only);
   stats->direct_ms += MsSince(t_direct);
   stats->direct = dense.valid ? DirectUse::kUsed : DirectUse::kRefused;
   stats->direct_reason = dense.reason;
@@ -261,7 +261,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   // another chance.
   const bool direct_first =
       direct_first_ && frames_since_templates_ < options_.retry_templates_frames;
-  if (direct_first) posterior = AlignDirect(frame, prior, prior.pose, &stats);
+  if (direct_first) posterior = AlignDirect(frame, prior, prior.pose, false, &stats);
   bool templates_locked = false;
   if (posterior) {
     ++frames_since_templates_;
@@ -305,7 +305,7 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
   if (templates && !options_.direct_refine) return templates;
   if (!templates && direct_tried) return std::nullopt;
   const std::optional<PoseWithCovariance> dense =
-      AlignDirect(frame, prior, templates ? templates->pose : prior.pose, stats);
+      AlignDirect(frame, prior, templates ? templates->pose : prior.pose, templates.has_value(), stats);
   if (!dense) return templates;
   if (!templates) return dense;
   // Both fits: they must agree, or the frame coasts.

@@ -73,7 +73,7 @@ class MosaicTracker : public FrameLocalizer {
       FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> AlignDirect(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-      const geometry::Pose2& start, FrameResult* stats) const;
+      const geometry::Pose2& start, bool refine_only, FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> Decide(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,
