@@ -96,6 +96,7 @@ Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
     position.push_back(std::hypot(estimate.x - true_pose.x, estimate.y - true_pose.y));
     const Pose2 ce = estimate * camera.mount, ct = true_pose * camera.mount;
     camera_position.push_back(std::hypot(ce.x - ct.x, ce.y - ct.y));
+    if (camera_position.back() > kFalseLockPx * camera.resolution_m) ++a.false_locks;
     heading.push_back(std::abs(geometry::WrapAngle(estimate.theta - true_pose.theta)));
   }
   a.lock_rate = poses.empty() ? 0.0 : static_cast<double>(locked) / poses.size();
@@ -104,6 +105,8 @@ Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
   a.position_max_m = position.empty() ? 0 : *std::max_element(position.begin(), position.end());
   a.camera_position_rms_m = Rms(camera_position);
   a.camera_position_p95_m = Percentile(camera_position, 95);
+  a.camera_position_max_m =
+      camera_position.empty() ? 0 : *std::max_element(camera_position.begin(), camera_position.end());
   a.heading_rms_rad = Rms(heading);
   a.heading_max_rad = heading.empty() ? 0 : *std::max_element(heading.begin(), heading.end());
   return a;

@@ -39,7 +39,13 @@ struct Accuracy {
   double lock_rate = 0;            // fraction of frames tracking or relocalized
   size_t lost_frames = 0;
   size_t longest_unlocked_run = 0;  // consecutive frames not tracking
+  // Locked frames whose camera footprint centre (what the tracker measures) is more than
+  // kFalseLockPx camera pixels from the truth: the frame claimed a pose it did not have.
+  size_t false_locks = 0;
+  double camera_position_max_m = 0;
 };
+
+inline constexpr double kFalseLockPx = 1.0;
 
 // Requires truth with one row per pose (same order). Errors are taken over the locked frames
 // (tracking/relocalized); the lock rate and unlocked runs say how many those are.

@@ -241,6 +241,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchMosaicDistortion(*bench, result);
   RegisterBenchMapFit(*bench, result);
   RegisterBenchReloc(*bench, result);
+  RegisterBenchStress(*bench, result);
   RegisterBenchSupervisor(*bench, result);
 }
 

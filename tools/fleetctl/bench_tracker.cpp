@@ -89,6 +89,7 @@ sim::SimOptions SimOptionsFor(const BenchSettings& settings) {
   options.timing.frame_rate_hz = settings.rate_hz;
   options.route.speed_px_s = settings.speed_px_s;
   options.seed = settings.seed;
+  options.render = settings.render;
   return options;
 }
 
@@ -97,7 +98,8 @@ Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& se
                             const fs::path& run_dir, sim::SimSummary* summary) {
   const sim::SimOptions options = SimOptionsFor(settings);
   FLEETLOC_RETURN_IF_ERROR(sim::Validate(options));
-  const io::CameraFile camera = DefaultSimCamera(640, 480, floor->layout().geo.resolution);
+  const io::CameraFile camera =
+      DefaultSimCamera(settings.width_px, settings.height_px, floor->layout().geo.resolution);
   Result<std::unique_ptr<sim::RunSimulator>> simulator =
       sim::RunSimulator::Create(floor, camera.model, options);
   if (!simulator.ok()) return simulator.status();

@@ -27,6 +27,8 @@ struct BenchSettings {
   std::uint64_t seed = 1;
   std::vector<std::string> methods;  // each one of BenchMethodNames()
   int peer_frames = 0;               // peers replay only the first peer_frames frames; 0: all
+  int width_px = 640, height_px = 480;  // the simulated camera's frames
+  sim::RenderOptions render;            // camera effects (default: `fleetctl sim`'s)
 };
 
 // One method's replay of (the first frames of) a run. `run` holds exactly the frames and truth

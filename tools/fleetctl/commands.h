@@ -24,6 +24,7 @@ void RegisterStatusCommand(CLI::App& app, Status* result);
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
 // `bench reloc` (bench_reloc_command.cpp).
 void RegisterBenchReloc(CLI::App& bench, Status* result);
+void RegisterBenchStress(CLI::App& bench, Status* result);
 // `bench supervisor` (bench_supervisor.cpp).
 void RegisterBenchSupervisor(CLI::App& bench, Status* result);
 

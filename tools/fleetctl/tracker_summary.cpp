@@ -29,6 +29,8 @@ nlohmann::json TrackSummary(const io::Run& run, const replay::ReplayResult& repl
                   {"position_max_px", a.position_max_m / px},
                   {"camera_position_rms_px", a.camera_position_rms_m / px},
                   {"camera_position_p95_px", a.camera_position_p95_m / px},
+                  {"camera_position_max_px", a.camera_position_max_m / px},
+                  {"false_locks", a.false_locks},
                   {"heading_rms_deg", a.heading_rms_rad * 180.0 / M_PI},
                   {"heading_max_deg", a.heading_max_rad * 180.0 / M_PI},
                   {"lost_frames", a.lost_frames},
