@@ -57,6 +57,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"search_above_px", &d.search_above_px},
           {"max_search_px", &d.max_search_px},
           {"search_level_pixels", &d.search_level_pixels},
+          {"search_sigma_multiple", &d.search_sigma_multiple},
           {"peak_exclusion_px", &d.peak_exclusion_px},
           {"max_sigma_px", &d.max_sigma_px},
           {"min_correlation", &d.min_correlation},

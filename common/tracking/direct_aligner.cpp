@@ -198,7 +198,7 @@ int DirectAligner::SearchLevel(double sigma_px) const {
   const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
   int level = std::min(finest_level_ + 1, levels_ - 1);
   while (level + 1 < levels_ && ((pixels >> (2 * level)) > options_.search_level_pixels ||
-                                 3.0 * sigma_px / (1 << level) > options_.max_search_px)) {
+                                 options_.search_sigma_multiple * sigma_px / (1 << level) > options_.max_search_px)) {
     ++level;
   }
   return level;
@@ -208,7 +208,8 @@ int DirectAligner::SearchLevel(double sigma_px) const {
 // the start of the Gauss–Newton descent when the prediction is outside its basin.
 Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& prior,
                                   const Pose2& start, DirectAlignment* out) const {
-  const double radius = 3.0 * CornerSigmaPx(camera_, prior) / (1 << level.level);
+  const double radius =
+      options_.search_sigma_multiple * CornerSigmaPx(camera_, prior) / (1 << level.level);
   if (radius <= options_.search_above_px) return start;
   const int r = std::min(options_.max_search_px, static_cast<int>(std::ceil(radius)) + 1);
   out->searched = true;
@@ -242,13 +243,13 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   if (fit.reason[0] != '\0') return fit.reason;
   if (fit.sigma_px > o.max_sigma_px) return "weakly constrained";
   if (fit.correlation < o.min_correlation) return "no correlation at the finest level";
-  if (fit.prior_chi2 > o.max_prior_chi2) return "inconsistent with the prediction";
   const double ratio = fit.searched ? fit.peak_ratio : 0.0;
   const bool strong = fit.coarse_correlation >= o.min_strong_correlation &&
-                      ratio <= o.max_strong_peak_ratio;
+                      ratio <= o.max_strong_peak_ratio && fit.prior_chi2 <= o.max_prior_chi2;
   const bool weak = prediction_confirms && fit.coarse_correlation >= o.min_weak_correlation &&
                     ratio <= o.max_weak_peak_ratio && fit.prior_chi2 <= o.max_weak_prior_chi2;
   if (strong || weak) return "";
+  if (fit.prior_chi2 > o.max_prior_chi2) return "inconsistent with the prediction";
   if (ratio > o.max_weak_peak_ratio) return "ambiguous coarse peak";
   return fit.coarse_correlation < o.min_weak_correlation ? "low correlation"
                                                          : "weak fit the prediction does not confirm";

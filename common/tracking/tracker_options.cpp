@@ -31,6 +31,8 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_above_px >= 0, "direct.search_above_px", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_search_px >= 1 && d.max_search_px <= 128,
                                  "direct.max_search_px", "must be in [1, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.search_sigma_multiple >= 1 && d.search_sigma_multiple <= 10,
+                                 "direct.search_sigma_multiple", "must be in [1, 10]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_level_pixels >= 1000, "direct.search_level_pixels",
                                  "must be ≥ 1000"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
