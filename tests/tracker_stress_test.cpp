@@ -1,8 +1,9 @@
 // Regression test per stress floor class (issue 15), through `fleetctl bench tracker-stress`:
 // short runs over the real photographs of data/stress_floors at 640×480, in the dusty and the
-// fast conditions (each alone), checked against ground truth (lock rate, no false lock, camera-centre
-// RMS). The thresholds are looser than the benchmark's targets only where a 30-frame run cannot
-// resolve them (lock rate); a false lock is never tolerated. Also the command's bad input.
+// fast conditions (each alone), checked against ground truth (lock rate, no false lock,
+// camera-centre RMS). The thresholds are looser than the benchmark's targets only where a 30-frame
+// run cannot resolve them (lock rate); a false lock is never tolerated. Also the command's bad
+// input.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -29,10 +30,10 @@ nlohmann::json RunCells(const std::string& floor_class, const std::string& split
   const fs::path work = fs::temp_directory_path() / ("stress_test_" + floor_class + "_" + split);
   const fs::path json = work / "cells.json";
   fs::create_directories(work);
-  const CommandResult r = RunFleetctl(
-      "bench tracker-stress --classes " + floor_class + " --split " + split +
-      " --sizes 640x480 --conditions " + conditions + " --frames 30 --methods fleetloc --work-dir " +
-      Quote(work.string()) + " --json " + Quote(json.string()));
+  const CommandResult r = RunFleetctl("bench tracker-stress --classes " + floor_class +
+                                      " --split " + split + " --sizes 640x480 --conditions " +
+                                      conditions + " --frames 30 --methods fleetloc --work-dir " +
+                                      Quote(work.string()) + " --json " + Quote(json.string()));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json cells = nlohmann::json::parse(ReadWhole(json), nullptr, false);
   fs::remove_all(work);
@@ -43,8 +44,8 @@ void CheckCells(const nlohmann::json& cells, double max_camera_rms_px) {
   ASSERT_FALSE(cells.empty());
   for (const nlohmann::json& cell : cells) {
     const nlohmann::json& f = cell["methods"]["fleetloc"];
-    const std::string where = cell["floor"].get<std::string>() + " " +
-                              cell["condition"].get<std::string>();
+    const std::string where =
+        cell["floor"].get<std::string>() + " " + cell["condition"].get<std::string>();
     EXPECT_GE(f["lock_rate"].get<double>(), 0.9) << where;
     EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0) << where;
     EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), max_camera_rms_px) << where;
@@ -52,7 +53,8 @@ void CheckCells(const nlohmann::json& cells, double max_camera_rms_px) {
 }
 
 TEST_P(TrackerStress, TuningFloorsTrackThroughDustAndThroughFastMotion) {
-  CheckCells(RunCells(GetParam().floor_class, "tuning", "dusty,fast"), GetParam().max_camera_rms_px);
+  CheckCells(RunCells(GetParam().floor_class, "tuning", "dusty,fast"),
+             GetParam().max_camera_rms_px);
 }
 
 TEST_P(TrackerStress, HoldoutFloorTracksThroughDust) {

@@ -88,7 +88,8 @@ Status ReadFields(const nlohmann::json& object, const FieldTable& table, const s
     const std::string name = prefix + key;
     if (it == table.end()) return InvalidInput(where + ": field '" + name + "': unknown option");
     if (const auto* b = std::get_if<bool*>(&it->second)) {
-      if (!value.is_boolean()) return InvalidInput(where + ": field '" + name + "': must be true or false");
+      if (!value.is_boolean())
+        return InvalidInput(where + ": field '" + name + "': must be true or false");
       **b = value.get<bool>();
     } else if (const auto* i = std::get_if<int*>(&it->second)) {
       if (!value.is_number_integer()) {

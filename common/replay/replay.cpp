@@ -39,7 +39,8 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
   for (size_t i = 0; i < run.frames.size(); ++i) {
     const io::FrameRef& ref = run.frames[i];
     Result<Pose2> odom = odometry.At(ref.t);
-    if (!odom.ok()) return InvalidInput(run.dir.string() + "/odometry.csv: " + odom.status().message());
+    if (!odom.ok())
+      return InvalidInput(run.dir.string() + "/odometry.csv: " + odom.status().message());
     Result<cv::Mat> frame = ReadRunFrame(ref, run, rectifier);
     if (!frame.ok()) return frame.status();
     if (i == 0) {
@@ -105,8 +106,9 @@ Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
   a.position_max_m = position.empty() ? 0 : *std::max_element(position.begin(), position.end());
   a.camera_position_rms_m = Rms(camera_position);
   a.camera_position_p95_m = Percentile(camera_position, 95);
-  a.camera_position_max_m =
-      camera_position.empty() ? 0 : *std::max_element(camera_position.begin(), camera_position.end());
+  a.camera_position_max_m = camera_position.empty()
+                                ? 0
+                                : *std::max_element(camera_position.begin(), camera_position.end());
   a.heading_rms_rad = Rms(heading);
   a.heading_max_rad = heading.empty() ? 0 : *std::max_element(heading.begin(), heading.end());
   return a;

@@ -4,9 +4,8 @@
 #pragma once
 
 #include <functional>
-#include <vector>
-
 #include <optional>
+#include <vector>
 
 #include "calibration/rectifier.h"
 #include "io/run.h"
@@ -25,8 +24,9 @@ using Progress = std::function<void(size_t done, size_t total)>;
 // by the offline replay and the agent, so both rectify frames the same way.
 std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera);
 
-// Replays every frame (rectified first when the camera is raw). A frame image that cannot be read or has the wrong size is bad input:
-// the run is rejected with that file's error (exit status 2), nothing is half-reported.
+// Replays every frame (rectified first when the camera is raw). A frame image that cannot be read
+// or has the wrong size is bad input: the run is rejected with that file's error (exit status 2),
+// nothing is half-reported.
 Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
                                const Progress& progress = {});
 
@@ -36,7 +36,7 @@ struct Accuracy {
   double position_rms_m = 0, position_p95_m = 0, position_max_m = 0;
   double camera_position_rms_m = 0, camera_position_p95_m = 0;
   double heading_rms_rad = 0, heading_max_rad = 0;
-  double lock_rate = 0;            // fraction of frames tracking or relocalized
+  double lock_rate = 0;  // fraction of frames tracking or relocalized
   size_t lost_frames = 0;
   size_t longest_unlocked_run = 0;  // consecutive frames not tracking
   // Locked frames whose camera footprint centre (what the tracker measures) is more than

@@ -67,7 +67,6 @@ double TukeyWeight(double r, double cutoff) {
   return std::abs(x) >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
 }
 
-
 Eigen::Matrix3d RotationBlock(const Pose2& pose) { return geometry::ComposeJacobianB(pose); }
 
 // pose ⊕ q⁻¹ with q in (level-0 px, px, rad).
@@ -88,7 +87,8 @@ double CornerSigmaPx(const geometry::CameraModel& camera, const PoseWithCovarian
     const Eigen::Matrix<double, 2, 3> j =
         geometry::PointJacobian(pose.pose, camera.PixelToGround(px));
     const Eigen::Matrix2d cov = j * pose.covariance * j.transpose();
-    worst = std::max(worst, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff());
+    worst = std::max(worst,
+                     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff());
   }
   return std::sqrt(worst) / camera.resolution_m;
 }
@@ -130,8 +130,8 @@ struct DirectAligner::Level {
   std::vector<PixelPoint> points;
 };
 
-DirectAligner::DirectAligner(const DirectAlignOptions& options,
-                             const geometry::CameraModel& camera, NormalizedMosaic* mosaic)
+DirectAligner::DirectAligner(const DirectAlignOptions& options, const geometry::CameraModel& camera,
+                             NormalizedMosaic* mosaic)
     : options_(options), camera_(camera), mosaic_(mosaic) {
   const int shorter = std::min(camera.width_px, camera.height_px);
   while (levels_ < mosaic->layout().levels && (shorter >> levels_) >= options.coarsest_side_px) {
@@ -139,7 +139,8 @@ DirectAligner::DirectAligner(const DirectAlignOptions& options,
   }
   const long long pixels = static_cast<long long>(camera.width_px) * camera.height_px;
   finest_level_ = std::min(options.min_finest_level, levels_ - 1);
-  while (finest_level_ + 1 < levels_ && (pixels >> (2 * (finest_level_ + 1))) >= options.finest_level_pixels) {
+  while (finest_level_ + 1 < levels_ &&
+         (pixels >> (2 * (finest_level_ + 1))) >= options.finest_level_pixels) {
     ++finest_level_;
   }
 }
@@ -147,7 +148,7 @@ DirectAligner::DirectAligner(const DirectAlignOptions& options,
 // The pyramid, normalized like the mosaic, and at each level the strongest-gradient pixel of
 // every cell (cells sized so that at most max_points are kept), away from the clipped border.
 std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame,
-                                                            int coarsest) const {
+                                                             int coarsest) const {
   std::vector<Level> levels(coarsest + 1);
   cv::Mat image = frame;
   for (int l = 0; l <= coarsest; ++l) {
@@ -162,7 +163,8 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
     const cv::Mat& t = level.normalized;
     const int b = level.border, w = t.cols - 2 * b, h = t.rows - 2 * b;
     if (w <= 0 || h <= 0) continue;
-    const int cell = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / options_.max_points))));
+    const int cell =
+        std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / options_.max_points))));
     for (int cy = b; cy < b + h; cy += cell) {
       for (int cx = b; cx < b + w; cx += cell) {
         float best = 1e-4f;
@@ -197,8 +199,9 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
 int DirectAligner::SearchLevel(double sigma_px) const {
   const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
   int level = std::min(finest_level_ + 1, levels_ - 1);
-  while (level + 1 < levels_ && ((pixels >> (2 * level)) > options_.search_level_pixels ||
-                                 options_.search_sigma_multiple * sigma_px / (1 << level) > options_.max_search_px)) {
+  while (level + 1 < levels_ &&
+         ((pixels >> (2 * level)) > options_.search_level_pixels ||
+          options_.search_sigma_multiple * sigma_px / (1 << level) > options_.max_search_px)) {
     ++level;
   }
   return level;
@@ -251,8 +254,9 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   if (strong || weak) return "";
   if (fit.prior_chi2 > o.max_prior_chi2) return "inconsistent with the prediction";
   if (ratio > o.max_weak_peak_ratio) return "ambiguous coarse peak";
-  return fit.coarse_correlation < o.min_weak_correlation ? "low correlation"
-                                                         : "weak fit the prediction does not confirm";
+  return fit.coarse_correlation < o.min_weak_correlation
+             ? "low correlation"
+             : "weak fit the prediction does not confirm";
 }
 
 // The normalized mosaic block under `level` at `pose`, with room for the level's iterations.
@@ -262,8 +266,8 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
   const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(l);
   double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
   for (int c = 0; c < 4; ++c) {
-    const Eigen::Vector2d m = warp(Eigen::Vector2d((c & 1) * level.normalized.cols,
-                                                   (c >> 1) * level.normalized.rows));
+    const Eigen::Vector2d m =
+        warp(Eigen::Vector2d((c & 1) * level.normalized.cols, (c >> 1) * level.normalized.rows));
     min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
     min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
   }
@@ -313,8 +317,8 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
     if (!valid[i]) continue;
     residuals[i] = p.value - sample[0];
     const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
-    jacobians[i] = Eigen::Vector3f(-g.y() * scale, -g.x() * scale,
-                                   (g.x() * p.dv0 - g.y() * p.du0) * scale);
+    jacobians[i] =
+        Eigen::Vector3f(-g.y() * scale, -g.x() * scale, (g.x() * p.dv0 - g.y() * p.du0) * scale);
     magnitudes.push_back(std::abs(residuals[i]));
   }
   Linearization lin;
@@ -365,8 +369,7 @@ DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovaria
                                      bool refine_only) const {
   DirectAlignment out;
   // A refinement starts inside the finest level's basin: no search, no coarser level.
-  const int search_level =
-      refine_only ? finest_level_ : SearchLevel(CornerSigmaPx(camera_, prior));
+  const int search_level = refine_only ? finest_level_ : SearchLevel(CornerSigmaPx(camera_, prior));
   const std::vector<Level> levels = BuildLevels(frame, search_level);
   const double res = camera_.resolution_m;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
@@ -438,10 +441,10 @@ void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& 
   const Eigen::Matrix3d image_cov = bs * cov_q * bs.transpose();
   out->measurement = {ApplyStep(pose, q_image, res), image_cov};
   out->posterior = {ApplyStep(pose, q, res), (image_cov.inverse() + prior_information).inverse()};
-  out->sigma_px = std::sqrt(std::max(
-      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov_q.topLeftCorner<2, 2>())
-               .eigenvalues()
-               .maxCoeff()));
+  out->sigma_px = std::sqrt(
+      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov_q.topLeftCorner<2, 2>())
+                        .eigenvalues()
+                        .maxCoeff()));
   const Eigen::Vector3d innovation = Difference(out->measurement.pose, prior.pose);
   out->prior_chi2 = innovation.dot((prior.covariance + image_cov).ldlt().solve(innovation));
   if (!out->posterior.pose.ToVector().allFinite() || !out->posterior.covariance.allFinite()) {

@@ -19,21 +19,20 @@
 
 namespace fleetloc::tracking {
 
-
 struct DirectAlignment {
   bool valid = false;
-  const char* reason = "";                  // why not valid ("" when valid)
-  geometry::PoseWithCovariance posterior;   // camera_ground in map: prior and image combined
+  const char* reason = "";                   // why not valid ("" when valid)
+  geometry::PoseWithCovariance posterior;    // camera_ground in map: prior and image combined
   geometry::PoseWithCovariance measurement;  // the image alone (covariance of the image term)
-  double correlation = 0.0;         // weighted NCC at the finest level
-  double coarse_correlation = 0.0;  // weighted NCC at the coarsest level
-  double inlier_fraction = 0.0;  // at the finest level
-  double peak_ratio = 0.0;       // of the coarse search (0 when none ran)
+  double correlation = 0.0;                  // weighted NCC at the finest level
+  double coarse_correlation = 0.0;           // weighted NCC at the coarsest level
+  double inlier_fraction = 0.0;              // at the finest level
+  double peak_ratio = 0.0;                   // of the coarse search (0 when none ran)
   double prior_chi2 = 0.0;
-  double sigma_px = 0.0;         // image-only worst-direction position sigma, level-0 px
-  int points = 0;                // pixels used at the finest level
-  int iterations = 0;            // Gauss–Newton iterations over all levels
-  bool searched = false;         // the coarse exhaustive search ran
+  double sigma_px = 0.0;  // image-only worst-direction position sigma, level-0 px
+  int points = 0;         // pixels used at the finest level
+  int iterations = 0;     // Gauss–Newton iterations over all levels
+  bool searched = false;  // the coarse exhaustive search ran
 };
 
 class DirectAligner {
@@ -61,10 +60,11 @@ class DirectAligner {
   using Source = std::unique_ptr<MosaicBlock>;
   // Sums over a level's pixels at one pose (q in level-0 px, px, rad; unscaled by the variance).
   struct Linearization {
-    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();             // Σ w·J·Jᵀ
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();             // Σ w·J·r
-    Eigen::Matrix3d score_spread = Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
-    double sigma = 0.0;                                      // robust residual scale
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // Σ w·J·Jᵀ
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();  // Σ w·J·r
+    Eigen::Matrix3d score_spread =
+        Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
+    double sigma = 0.0;           // robust residual scale
     double correlation = 0.0, inlier_fraction = 0.0;
     int points = 0;
   };

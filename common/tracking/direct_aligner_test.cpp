@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
-
 #include <cmath>
 
 #include "mosaic/raster_source.h"
@@ -80,7 +79,8 @@ TEST(DirectAligner, RecoversASmallPredictionErrorToAFractionOfAPixel) {
   Fixture f;
   const Pose2 base = TrueBase();
   const cv::Mat frame = f.scene.Render(base, 0.9, 5.0);
-  const PoseWithCovariance prior = Prior(f.scene, base, {0.0012, -0.0009, 0.008}, {0.002, 0.002, 0.01});
+  const PoseWithCovariance prior =
+      Prior(f.scene, base, {0.0012, -0.0009, 0.008}, {0.002, 0.002, 0.01});
   const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
   ASSERT_TRUE(fit.valid) << fit.reason;
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.05);
@@ -107,7 +107,8 @@ TEST(DirectAligner, IgnoresOccludersVignettingAndUnevenLight) {
   cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
   Occlude(&frame, 0.3, rng);
   Shade(&frame);
-  const PoseWithCovariance prior = Prior(f.scene, base, {-0.001, 0.0015, -0.01}, {0.002, 0.002, 0.01});
+  const PoseWithCovariance prior =
+      Prior(f.scene, base, {-0.001, 0.0015, -0.01}, {0.002, 0.002, 0.01});
   const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
   ASSERT_TRUE(fit.valid) << fit.reason;
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
@@ -126,7 +127,8 @@ TEST(DirectAligner, AlignsALowContrastFloor) {
   DirectAligner aligner(SmallCameraOptions(), f.scene.camera, &normalized);
   const Pose2 base = TrueBase();
   const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
-  const PoseWithCovariance prior = Prior(f.scene, base, {0.001, 0.001, 0.005}, {0.002, 0.002, 0.01});
+  const PoseWithCovariance prior =
+      Prior(f.scene, base, {0.001, 0.001, 0.005}, {0.002, 0.002, 0.01});
   const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
   ASSERT_TRUE(fit.valid) << fit.reason;
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.15);
@@ -152,7 +154,8 @@ TEST(DirectAligner, CovarianceCoversTheError) {
   double nees_sum = 0.0;
   const int trials = 20;
   for (int k = 0; k < trials; ++k) {
-    const Pose2 base = Pose2{0.1 + 0.002 * k, 0.12 + 0.0015 * k, 0.3 * k} * Pose2{0.1, 0, 0}.Inverse();
+    const Pose2 base =
+        Pose2{0.1 + 0.002 * k, 0.12 + 0.0015 * k, 0.3 * k} * Pose2{0.1, 0, 0}.Inverse();
     cv::Mat frame = f.scene.Render(base, rng.uniform(0.8, 1.2), rng.uniform(-10.0, 10.0));
     Occlude(&frame, 0.1, rng);
     const Eigen::Vector3d error(rng.gaussian(0.001), rng.gaussian(0.001), rng.gaussian(0.005));

@@ -26,10 +26,14 @@ using geometry::PoseWithCovariance;
 
 const char* LockStateName(LockState state) {  // declared in frame_localizer.h
   switch (state) {
-    case LockState::kTracking: return "tracking";
-    case LockState::kCoasting: return "coasting";
-    case LockState::kLost: return "lost";
-    case LockState::kRelocalized: return "relocalized";
+    case LockState::kTracking:
+      return "tracking";
+    case LockState::kCoasting:
+      return "coasting";
+    case LockState::kLost:
+      return "lost";
+    case LockState::kRelocalized:
+      return "relocalized";
   }
   return "lost";
 }
@@ -84,11 +88,10 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const 
       geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px), mosaic_in_frame);
   // Texture on the half-resolution frame, at the candidate grid only.
   const int half_step = std::max(1, options_.candidate_step_px / 2);
-  const cv::Mat texture =
-      imaging::TextureScoreGrid(half, half_step, options_.texture_window_px);
+  const cv::Mat texture = imaging::TextureScoreGrid(half, half_step, options_.texture_window_px);
   const double half_extent = options_.template_size_px / 2.0 + radius_px + matcher_.margin_px();
-  const std::vector<TemplateSite> candidates = CandidateSites(
-      texture, 2 * half_step, overlap, half_extent, options_.min_texture);
+  const std::vector<TemplateSite> candidates =
+      CandidateSites(texture, 2 * half_step, overlap, half_extent, options_.min_texture);
   return SelectSites(candidates, options_.max_templates, options_.spread_sigma_px,
                      options_.template_size_px);
 }
@@ -304,8 +307,8 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
     FrameResult* stats) const {
   if (templates && !options_.direct_refine) return templates;
   if (!templates && direct_tried) return std::nullopt;
-  const std::optional<PoseWithCovariance> dense =
-      AlignDirect(frame, prior, templates ? templates->pose : prior.pose, templates.has_value(), stats);
+  const std::optional<PoseWithCovariance> dense = AlignDirect(
+      frame, prior, templates ? templates->pose : prior.pose, templates.has_value(), stats);
   if (!dense) return templates;
   if (!templates) return dense;
   // Both fits: they must agree, or the frame coasts.
@@ -322,7 +325,8 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
 void MosaicTracker::DropTiles(const std::vector<mosaic::TileKey>& changed) {
   for (const mosaic::TileKey& key : changed) {
     for (int dr = -1; dr <= 1; ++dr) {
-      for (int dc = -1; dc <= 1; ++dc) normalized_.cache().Erase({key.level, key.col + dc, key.row + dr});
+      for (int dc = -1; dc <= 1; ++dc)
+        normalized_.cache().Erase({key.level, key.col + dc, key.row + dr});
     }
   }
 }

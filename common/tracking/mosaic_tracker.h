@@ -27,8 +27,7 @@ class MosaicTracker : public FrameLocalizer {
   // Starts tracking from base_link's pose in map (with covariance) at the time whose odometry
   // pose is `odom`.
   std::string name() const override { return "fleetloc"; }
-  void Reset(const geometry::PoseWithCovariance& base_in_map,
-             const geometry::Pose2& odom) override;
+  void Reset(const geometry::PoseWithCovariance& base_in_map, const geometry::Pose2& odom) override;
 
   // One cycle. `frame` is the rectified CV_8UC1 image (camera size), `odom` base_link in odom
   // at time t (interpolated by the caller). Reset() must have been called.
@@ -71,9 +70,11 @@ class MosaicTracker : public FrameLocalizer {
   std::optional<geometry::PoseWithCovariance> MatchTemplates(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior, int frame_radius,
       FrameResult* stats) const;
-  std::optional<geometry::PoseWithCovariance> AlignDirect(
-      const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-      const geometry::Pose2& start, bool refine_only, FrameResult* stats) const;
+  std::optional<geometry::PoseWithCovariance> AlignDirect(const cv::Mat& frame,
+                                                          const geometry::PoseWithCovariance& prior,
+                                                          const geometry::Pose2& start,
+                                                          bool refine_only,
+                                                          FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> Decide(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,

@@ -14,9 +14,10 @@ Status Check(bool ok, const char* field, const char* rule) {
 }  // namespace
 
 Status Validate(const DirectAlignOptions& d) {
-  FLEETLOC_RETURN_IF_ERROR(Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.finest_level_pixels >= 1000, "direct.finest_level_pixels",
-                                 "must be ≥ 1000"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.finest_level_pixels >= 1000, "direct.finest_level_pixels", "must be ≥ 1000"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_finest_level >= 0 && d.min_finest_level <= 3,
                                  "direct.min_finest_level", "must be in [0, 3]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_points >= 100 && d.max_points <= 1000000,
@@ -25,25 +26,28 @@ Status Validate(const DirectAlignOptions& d) {
                                  "direct.max_iterations", "must be in [1, 100]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio",
-                                 "must be > 1"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.correlation_factor >= 1, "direct.correlation_factor", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio", "must be > 1"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.correlation_factor >= 1, "direct.correlation_factor", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_above_px >= 0, "direct.search_above_px", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_search_px >= 1 && d.max_search_px <= 128,
                                  "direct.max_search_px", "must be in [1, 128]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.search_sigma_multiple >= 1 && d.search_sigma_multiple <= 10,
                                  "direct.search_sigma_multiple", "must be in [1, 10]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.search_level_pixels >= 1000, "direct.search_level_pixels",
-                                 "must be ≥ 1000"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.search_level_pixels >= 1000, "direct.search_level_pixels", "must be ≥ 1000"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
   for (const auto& [value, name] : {std::pair{d.min_correlation, "direct.min_correlation"},
                                     {d.min_strong_correlation, "direct.min_strong_correlation"},
                                     {d.min_weak_correlation, "direct.min_weak_correlation"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > -1 && value < 1, name, "must be in (-1, 1)"));
   }
-  for (const auto& [value, name] : {std::pair{d.max_strong_peak_ratio, "direct.max_strong_peak_ratio"},
-                                    {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"}}) {
+  for (const auto& [value, name] :
+       {std::pair{d.max_strong_peak_ratio, "direct.max_strong_peak_ratio"},
+        {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
   }
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
@@ -52,14 +56,13 @@ Status Validate(const DirectAlignOptions& d) {
 }
 
 Status Validate(const TrackerOptions& o) {
-  FLEETLOC_RETURN_IF_ERROR(Check(o.template_size_px >= 8 && o.template_size_px <= 128 &&
-                                     o.template_size_px % 4 == 0,
-                                 "template_size_px", "must be a multiple of 4, in [8, 128]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_template_size_px >= 8 &&
-                                     o.coarse_template_size_px <= o.template_size_px &&
-                                     o.coarse_template_size_px % 8 == 0,
-                                 "coarse_template_size_px",
-                                 "must be a multiple of 8, in [8, template_size_px]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.template_size_px >= 8 && o.template_size_px <= 128 && o.template_size_px % 4 == 0,
+            "template_size_px", "must be a multiple of 4, in [8, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.coarse_template_size_px >= 8 && o.coarse_template_size_px <= o.template_size_px &&
+                o.coarse_template_size_px % 8 == 0,
+            "coarse_template_size_px", "must be a multiple of 8, in [8, template_size_px]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_templates >= 2 && o.max_templates <= 256, "max_templates",
                                  "must be in [2, 256]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_inliers >= 2 && o.min_inliers <= o.max_templates,
@@ -75,29 +78,33 @@ Status Validate(const TrackerOptions& o) {
                                  "min_peak_correlation", "must be in (-1, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_ambiguity_ratio > 0 && o.max_ambiguity_ratio <= 1,
                                  "max_ambiguity_ratio", "must be in (0, 1]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.search_sigma_multiple > 0, "search_sigma_multiple", "must be > 0"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.min_search_radius_px >= 1 &&
-                                     o.min_search_radius_px <= o.max_search_radius_px,
-                                 "min_search_radius_px", "must be in [1, max_search_radius_px]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.refine_search_radius_px >= 1, "refine_search_radius_px",
-                                 "must be ≥ 1"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes",
-                                 "must be in [0, 5]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.search_sigma_multiple > 0, "search_sigma_multiple", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.min_search_radius_px >= 1 && o.min_search_radius_px <= o.max_search_radius_px,
+            "min_search_radius_px", "must be in [1, max_search_radius_px]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.refine_search_radius_px >= 1, "refine_search_radius_px", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes", "must be in [0, 5]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_above_radius_px >= o.refine_search_radius_px,
                                  "coarse_above_radius_px", "must be ≥ refine_search_radius_px"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_levels >= 1 && o.coarse_levels <= 3, "coarse_levels",
-                                 "must be in [1, 3]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.coarse_levels >= 1 && o.coarse_levels <= 3, "coarse_levels", "must be in [1, 3]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_template_size_px >> o.coarse_levels >= 8,
                                  "coarse_template_size_px",
                                  "must keep ≥ 8 px at the coarsest level (coarse_levels)"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_templates >= o.min_inliers, "coarse_templates",
-                                 "must be ≥ min_inliers"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.measurement_sigma_px > 0, "measurement_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.coarse_templates >= o.min_inliers, "coarse_templates", "must be ≥ min_inliers"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.measurement_sigma_px > 0, "measurement_sigma_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.outlier_ratio > 1, "outlier_ratio", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.normalized_cache_mb >= 1, "normalized_cache_mb", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_coasting_frames >= 0, "max_coasting_frames", "must be ≥ 0"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.retry_templates_frames >= 0, "retry_templates_frames", "must be ≥ 0"));
-  FLEETLOC_RETURN_IF_ERROR(Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.retry_templates_frames >= 0, "retry_templates_frames", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
   const auto& n = o.odometry;
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&

@@ -8,17 +8,17 @@ namespace fleetloc::tracking {
 // Odometry noise model: the 1-sigma error of an odometry increment grows with the distance
 // driven, the angle turned and the time elapsed.
 struct OdometryNoiseOptions {
-  double along_sigma_per_m = 0.012;       // distance scale error, metres per metre
-  double lateral_sigma_per_m = 0.005;     // sideways slip, metres per metre
-  double heading_sigma_per_rad = 0.012;   // turn scale error, radians per radian turned
-  double heading_sigma_per_m = 0.003;     // heading error per metre driven
-  double heading_sigma_per_s = 0.002;     // gyro-like drift, radians per second
-  double floor_sigma_m = 1e-5;            // keeps the increment covariance positive definite
+  double along_sigma_per_m = 0.012;      // distance scale error, metres per metre
+  double lateral_sigma_per_m = 0.005;    // sideways slip, metres per metre
+  double heading_sigma_per_rad = 0.012;  // turn scale error, radians per radian turned
+  double heading_sigma_per_m = 0.003;    // heading error per metre driven
+  double heading_sigma_per_s = 0.002;    // gyro-like drift, radians per second
+  double floor_sigma_m = 1e-5;           // keeps the increment covariance positive definite
 };
 
 // Dense direct alignment of the whole frame (tracking/direct_aligner.h).
 struct DirectAlignOptions {
-  int coarsest_side_px = 40;       // the coarsest level keeps the frame's shorter side ≥ this
+  int coarsest_side_px = 40;  // the coarsest level keeps the frame's shorter side ≥ this
   // The alignment ends at the finest pyramid level that still has this many pixels, but not
   // below min_finest_level: as accurate as full resolution, several times cheaper on large
   // frames. Level 0 is avoided by default: there the frame's lens blur and sensor noise differ
@@ -26,10 +26,10 @@ struct DirectAlignOptions {
   // level 0, 0.17 px ending at level 1).
   int finest_level_pixels = 60000;
   int min_finest_level = 1;
-  int max_points = 12000;          // pixels used per level: the strongest gradient of each cell
-  int max_iterations = 10;         // Gauss–Newton iterations per level
-  double converged_px = 0.01;      // a level stops when its step moves no pixel more (level px)
-  double tukey_c = 4.685;          // Tukey biweight cut-off in robust sigmas (MAD)
+  int max_points = 12000;      // pixels used per level: the strongest gradient of each cell
+  int max_iterations = 10;     // Gauss–Newton iterations per level
+  double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
+  double tukey_c = 4.685;      // Tukey biweight cut-off in robust sigmas (MAD)
   // Pixels whose local contrast exceeds this multiple of the frame's median local contrast (and
   // their normalization window) are occluders the mosaic lacks and are not used.
   double occluder_contrast_ratio = 3.0;
@@ -47,15 +47,15 @@ struct DirectAlignOptions {
   // off a prediction whose 3-sigma was ~15 px, every few frames).
   double search_sigma_multiple = 5.0;
   int search_level_pixels = 25000;
-  int peak_exclusion_px = 3;        // the second peak lies outside this radius of the best
+  int peak_exclusion_px = 3;  // the second peak lies outside this radius of the best
   // Validation of the final fit. Always: the image pins the position (max_sigma_px) and the
   // finest level correlates at all. Then either a strong fit (a distinct coarse peak, a clear
   // coarse correlation, an innovation up to max_prior_chi2) or a weak one that the prediction
   // confirms (a less distinct peak, a weaker correlation, a small innovation). Measured on
   // low-contrast floors at 320×240 and 640×480 with 30 % occluders and on kidnapped runs: wrong
   // basins correlate ≤ 0.25 at the coarsest level with peak ratio ≥ 0.4; right ones 0.3–0.9.
-  double max_sigma_px = 0.5;           // image-only 1-sigma position (level-0 px), worst direction
-  double min_correlation = 0.05;       // weighted NCC at the finest level
+  double max_sigma_px = 0.5;            // image-only 1-sigma position (level-0 px), worst direction
+  double min_correlation = 0.05;        // weighted NCC at the finest level
   double min_strong_correlation = 0.3;  // weighted NCC at the coarsest level
   double max_strong_peak_ratio = 0.6;   // second-best coarse peak / best
   // Innovation (fit vs prediction, χ² with 3 dof) a strong fit may have: loose, because the
@@ -71,22 +71,22 @@ struct DirectAlignOptions {
 };
 
 struct TrackerOptions {
-  int template_size_px = 48;              // side of a square template (multiple of 4)
+  int template_size_px = 48;  // side of a square template (multiple of 4)
   int max_templates = 28;
-  int min_inliers = 4;                    // fewer kept matches than this → coasting
-  int candidate_step_px = 16;             // grid of template candidates in the frame
-  int texture_window_px = 5;              // at half resolution
-  double min_texture = 2.0;               // smallest eigenvalue, (grey levels/px)²
-  double spread_sigma_px = 120.0;         // feature selection: distance scale of the spread bonus
+  int min_inliers = 4;             // fewer kept matches than this → coasting
+  int candidate_step_px = 16;      // grid of template candidates in the frame
+  int texture_window_px = 5;       // at half resolution
+  double min_texture = 2.0;        // smallest eigenvalue, (grey levels/px)²
+  double spread_sigma_px = 120.0;  // feature selection: distance scale of the spread bonus
   int normalize_window_px = 7;
   double min_peak_correlation = 0.4;
-  double max_ambiguity_ratio = 0.92;      // second peak / best peak
-  double min_peak_curvature = 0.005;      // NCC per px² at the peak; flatter peaks are rejected
-  double search_sigma_multiple = 3.0;     // search window half-size = this × prediction sigma
+  double max_ambiguity_ratio = 0.92;   // second peak / best peak
+  double min_peak_curvature = 0.005;   // NCC per px² at the peak; flatter peaks are rejected
+  double search_sigma_multiple = 3.0;  // search window half-size = this × prediction sigma
   int min_search_radius_px = 3;
-  int max_search_radius_px = 48;          // beyond this the prediction is too poor: lost
-  int refine_search_radius_px = 2;        // fine passes around the previous solution
-  int refine_passes = 0;                  // extra fine passes after the first
+  int max_search_radius_px = 48;    // beyond this the prediction is too poor: lost
+  int refine_search_radius_px = 2;  // fine passes around the previous solution
+  int refine_passes = 0;            // extra fine passes after the first
   // Coarse-to-fine: when the search radius exceeds coarse_above_radius_px, the first search runs
   // at pyramid level coarse_levels (each level halves the resolution and the radius) on the first
   // coarse_templates sites, each finer level refines ±refine radius, and the full-resolution
@@ -94,12 +94,12 @@ struct TrackerOptions {
   int coarse_above_radius_px = 4;
   int coarse_levels = 2;
   int coarse_templates = 12;
-  int coarse_template_size_px = 48;       // level-0 pixels (halved per level)
-  double measurement_sigma_px = 0.15;     // 1-sigma of one template correspondence
-  double outlier_ratio = 3.0;             // reject residual > ratio × median of the rest …
-  double min_outlier_residual_px = 0.6;   // … and above this
-  int max_coasting_frames = 50;           // after this many frames without a fix: lost
-  int normalized_cache_mb = 128;          // normalized mosaic tiles (floats) kept in memory
+  int coarse_template_size_px = 48;      // level-0 pixels (halved per level)
+  double measurement_sigma_px = 0.15;    // 1-sigma of one template correspondence
+  double outlier_ratio = 3.0;            // reject residual > ratio × median of the rest …
+  double min_outlier_residual_px = 0.6;  // … and above this
+  int max_coasting_frames = 50;          // after this many frames without a fix: lost
+  int normalized_cache_mb = 128;         // normalized mosaic tiles (floats) kept in memory
   // The dense alignment runs when the templates do not lock, and after they do when
   // direct_refine is set (it then gives the final pose when it agrees with the templates).
   bool direct_refine = false;

@@ -116,8 +116,8 @@ Result<fs::path> FloorForFrame(const StressFloor& floor, int width_px, int heigh
                                const fs::path& dir) {
   Result<cv::Mat> image = io::ReadGrayImage(floor.image);
   if (!image.ok()) return image.status();
-  const double need = std::max(kFloorOverFrame * width_px / image->cols,
-                               kFloorOverFrame * height_px / image->rows);
+  const double need =
+      std::max(kFloorOverFrame * width_px / image->cols, kFloorOverFrame * height_px / image->rows);
   const int factor = std::max(1, static_cast<int>(std::ceil(need - 1e-9)));
   if (factor == 1) return floor.image;
   const fs::path scaled =

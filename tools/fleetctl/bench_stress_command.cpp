@@ -1,9 +1,9 @@
 // fleetctl bench tracker-stress: every floor of the stress manifest × frame size × condition, each
 // cell a `bench tracker` run (same simulator, scoring and peers); one line per method and cell,
 // the cell's verdict against issue 15's targets, tuning and holdout floors in separate tables.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -144,7 +144,8 @@ Status RunStress(StressArgs& args) {
     sizes.push_back(*size);
   }
   BenchSettings probe = args.settings;
-  for (const std::string& c : args.conditions) FLEETLOC_RETURN_IF_ERROR(ApplyStressCondition(c, &probe));
+  for (const std::string& c : args.conditions)
+    FLEETLOC_RETURN_IF_ERROR(ApplyStressCondition(c, &probe));
   cv::setNumThreads(1);  // every method on one core
   nlohmann::json cells = nlohmann::json::array();
   for (const char* split : {"tuning", "holdout"}) {
@@ -183,16 +184,20 @@ void RegisterBenchStress(CLI::App& bench, Status* result) {
   s.frames = 150;
   s.peer_frames = 20;
   s.methods = {"fleetloc", "ecc", "orb", "sift"};
-  stress->add_option("--manifest", args->manifest, "Floors manifest (default: data/stress_floors/floors.json)");
+  stress->add_option("--manifest", args->manifest,
+                     "Floors manifest (default: data/stress_floors/floors.json)");
   stress->add_option("--split", args->split, "tuning, holdout or all")
       ->check(CLI::IsMember({"tuning", "holdout", "all"}));
-  stress->add_option("--classes", args->classes, "Floor classes to run (default: all)")->delimiter(',');
+  stress->add_option("--classes", args->classes, "Floor classes to run (default: all)")
+      ->delimiter(',');
   stress->add_option("--sizes", args->sizes, "Frame sizes WIDTHxHEIGHT")->delimiter(',');
   stress->add_option("--conditions", args->conditions, "clean, fast, dusty, all")->delimiter(',');
   stress->add_option("--frames", s.frames, "Frames per cell")->check(CLI::Range(1, 1000000));
-  stress->add_option("--peer-frames", s.peer_frames, "Peers replay only the first N frames (0: all)")
+  stress
+      ->add_option("--peer-frames", s.peer_frames, "Peers replay only the first N frames (0: all)")
       ->check(CLI::Range(0, 1000000));
-  stress->add_option("--methods", s.methods, "fleetloc and peers (ecc, orb, sift, phase)")->delimiter(',');
+  stress->add_option("--methods", s.methods, "fleetloc and peers (ecc, orb, sift, phase)")
+      ->delimiter(',');
   stress->add_option("--seed", s.seed, "Simulation seed");
   stress->add_option("--work-dir", args->work_dir, "Scaled floors, mosaics and runs");
   stress->add_option("--json", args->json, "Write every number to this JSON file");

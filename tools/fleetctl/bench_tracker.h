@@ -25,8 +25,8 @@ struct BenchSettings {
   double rate_hz = 5.0;
   double speed_px_s = 3000.0;
   std::uint64_t seed = 1;
-  std::vector<std::string> methods;  // each one of BenchMethodNames()
-  int peer_frames = 0;               // peers replay only the first peer_frames frames; 0: all
+  std::vector<std::string> methods;     // each one of BenchMethodNames()
+  int peer_frames = 0;                  // peers replay only the first peer_frames frames; 0: all
   int width_px = 640, height_px = 480;  // the simulated camera's frames
   sim::RenderOptions render;            // camera effects (default: `fleetctl sim`'s)
 };
