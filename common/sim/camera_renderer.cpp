@@ -13,7 +13,8 @@
 namespace fleetloc::sim {
 namespace {
 
-constexpr std::uint64_t kFrameStream = 0x6672616d;  // "fram"
+constexpr std::uint64_t kFrameStream = 0x6672616d;   // "fram"
+constexpr std::uint64_t kShadowStream = 0x73686477;  // "shdw"
 
 using Affine = Eigen::Matrix<double, 2, 3>;
 
@@ -50,6 +51,7 @@ CameraRenderer::CameraRenderer(mosaic::RasterSource* floor, geometry::CameraMode
       seed_(seed),
       grain_(options.floor_grain_dn, seed),
       dust_(options, camera.resolution_m, seed),
+      marks_(options, camera.resolution_m, seed),
       vignetting_(VignettingField(camera, options.vignetting_corner_loss)) {}
 
 Affine CameraRenderer::ImageToMap(const geometry::Pose2& camera_in_map) const {
@@ -102,6 +104,17 @@ cv::Mat CameraRenderer::RenderFloor(const geometry::Pose2& camera_in_map, int ma
   return sampler.Sample(block, block_rect, size);
 }
 
+// The vehicle's shadow: its side of the frame is fixed by the run's seed; the edge wavers a
+// little from frame to frame (the vehicle sways, the light source is not a point).
+cv::Mat CameraRenderer::Shadow(cv::Size size, std::uint64_t frame_index) const {
+  if (options_.shadow_fraction <= 0) return {};
+  const double run_angle = cv::RNG(MixSeed(seed_, kShadowStream)).uniform(0.0, 2 * M_PI);
+  cv::RNG rng(MixSeed(MixSeed(seed_, kShadowStream), frame_index));
+  const double fraction = std::min(0.9, options_.shadow_fraction * rng.uniform(0.85, 1.15));
+  return ShadowField(size, fraction, options_.shadow_depth, run_angle + rng.uniform(-0.05, 0.05),
+                     options_.shadow_edge_px);
+}
+
 RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,
                                      const Eigen::Vector2d& image_velocity_px_s,
                                      std::uint64_t frame_index) {
@@ -112,13 +125,20 @@ RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,
   const cv::Rect frame_rect(margin, margin, camera_.width_px, camera_.height_px);
   RenderedFrame frame;
   frame.dust_coverage = dust_.Apply(Shifted(ImageToMap(camera_in_map), margin), frame_rect, &floor);
+  frame.marks_coverage =
+      marks_.Apply(Shifted(ImageToMap(camera_in_map), margin), frame_rect, &floor);
   ApplyBlur(options_.blur_sigma_px, motion_px, &floor);
   cv::RNG rng(MixSeed(MixSeed(seed_, kFrameStream), frame_index));
   cv::Mat shading = LightingField(frame_rect.size(), options_.lighting_amplitude, rng);
-  if (shading.empty()) {
-    shading = vignetting_;
-  } else if (!vignetting_.empty()) {
-    cv::multiply(shading, vignetting_, shading);
+  for (const cv::Mat& field : {vignetting_, Shadow(frame_rect.size(), frame_index)}) {
+    if (field.empty()) continue;
+    if (shading.empty()) {
+      shading = field;
+    } else {
+      cv::Mat product;  // never in place: `shading` may share the vignetting field's data
+      cv::multiply(shading, field, product);
+      shading = product;
+    }
   }
   const SensorDraw draw = DrawSensor(options_, rng);
   frame.image = ApplySensor(floor(frame_rect), shading, draw, options_, rng);

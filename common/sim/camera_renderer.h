@@ -1,6 +1,6 @@
 // Renders the rectified top view a real downward camera would capture at a given base_link pose
-// over a mosaic floor: area-sensor sampling of the floor (with grain the mosaic lacks), dust on
-// the floor, uneven lighting, lens
+// over a mosaic floor: area-sensor sampling of the floor (with grain the mosaic lacks), dust, tyre
+// marks and debris on the floor, the vehicle's shadow, uneven lighting, lens
 // and motion blur, vignetting, sensor noise, response curve, gain and bias, 8-bit output.
 //
 // Image pixel convention (the same as the mosaic's, CONTRACT section 2): pixel (i, j) covers
@@ -15,6 +15,7 @@
 #include "mosaic/raster_source.h"
 #include "sim/floor_dust.h"
 #include "sim/floor_grain.h"
+#include "sim/floor_marks.h"
 #include "sim/sim_options.h"
 
 namespace fleetloc::sim {
@@ -23,7 +24,8 @@ struct RenderedFrame {
   cv::Mat image;      // CV_8UC1, camera width × height
   double gain = 1.0;  // this frame's sensor draw
   double bias_dn = 0.0;
-  double dust_coverage = 0.0;  // share of pixels inside a dust blob
+  double dust_coverage = 0.0;   // share of pixels inside a dust blob
+  double marks_coverage = 0.0;  // share of pixels under a tyre mark or debris
 };
 
 class CameraRenderer {
@@ -55,6 +57,8 @@ class CameraRenderer {
   Eigen::Matrix<double, 2, 3> ImageToMap(const geometry::Pose2& camera_in_map) const;
   // Level-0 pixels of `rect`, the floor mirrored at its edges where rect leaves it.
   cv::Mat ReadMirrored(const cv::Rect& rect);
+  // The vehicle's shadow on frame `frame_index` (empty when off).
+  cv::Mat Shadow(cv::Size size, std::uint64_t frame_index) const;
 
   mosaic::RasterSource* floor_;
   geometry::CameraModel camera_;
@@ -62,6 +66,7 @@ class CameraRenderer {
   std::uint64_t seed_;
   FloorGrain grain_;
   FloorDust dust_;
+  FloorMarks marks_;
   cv::Mat vignetting_;
 };
 

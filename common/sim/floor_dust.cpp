@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/cell_field.h"
 #include "sim/random.h"
 
 namespace fleetloc::sim {
@@ -18,20 +19,6 @@ constexpr double kMinStreakWidthPx = 0.75;
 constexpr int kAreaSamples = 4096;  // Monte Carlo draws for the mean blob area
 
 constexpr std::uint64_t kDustStream = 0x64757374;  // "dust"
-
-std::uint64_t CellSeed(std::uint64_t seed, long long ix, long long iy) {
-  return MixSeed(MixSeed(seed, kDustStream),
-                 SplitMix64(static_cast<std::uint64_t>(ix)) ^ static_cast<std::uint64_t>(iy));
-}
-
-int Poisson(double mean, cv::RNG& rng) {
-  if (mean > 50.0)
-    return std::max(0, static_cast<int>(std::lround(mean + rng.gaussian(std::sqrt(mean)))));
-  const double limit = std::exp(-mean);
-  int k = 0;
-  for (double p = rng.uniform(0.0, 1.0); p > limit; p *= rng.uniform(0.0, 1.0)) ++k;
-  return k;
-}
 
 }  // namespace
 
@@ -76,51 +63,24 @@ DustBlob FloorDust::DrawBlob(cv::RNG& rng, const Eigen::Vector2d& cell_origin_m)
 
 std::vector<DustBlob> FloorDust::BlobsNear(const Eigen::Vector2d& min_m,
                                            const Eigen::Vector2d& max_m) const {
-  std::vector<DustBlob> blobs;
-  if (density_per_m2_ <= 0) return blobs;
   const Eigen::Vector2d lo = min_m.array() - max_extent_m_, hi = max_m.array() + max_extent_m_;
-  const double mean_count = density_per_m2_ * cell_m_ * cell_m_;
-  for (auto iy = static_cast<long long>(std::floor(lo.y() / cell_m_));
-       iy <= static_cast<long long>(std::floor(hi.y() / cell_m_)); ++iy) {
-    for (auto ix = static_cast<long long>(std::floor(lo.x() / cell_m_));
-         ix <= static_cast<long long>(std::floor(hi.x() / cell_m_)); ++ix) {
-      cv::RNG rng(CellSeed(seed_, ix, iy));
-      const Eigen::Vector2d origin(ix * cell_m_, iy * cell_m_);
-      for (int n = Poisson(mean_count, rng); n > 0; --n) {
-        const DustBlob blob = DrawBlob(rng, origin);
-        if ((blob.centre_m.array() >= lo.array()).all() &&
-            (blob.centre_m.array() <= hi.array()).all()) {
-          blobs.push_back(blob);
-        }
-      }
-    }
-  }
-  return blobs;
+  return ItemsInBox<DustBlob>(
+      seed_, kDustStream, cell_m_, density_per_m2_ * cell_m_ * cell_m_, lo, hi,
+      [this](cv::RNG& rng, const Eigen::Vector2d& origin) { return DrawBlob(rng, origin); });
 }
 
 double FloorDust::Apply(const Eigen::Matrix<double, 2, 3>& pixel_to_map,
                         const cv::Rect& count_region, cv::Mat* image) const {
   CV_Assert(image->type() == CV_32FC1);
   if (density_per_m2_ <= 0) return 0.0;
-  const Eigen::Matrix2d linear = pixel_to_map.leftCols<2>();
-  Eigen::Matrix<double, 2, 3> map_to_pixel;
-  map_to_pixel.leftCols<2>() = linear.inverse();
-  map_to_pixel.col(2) = -linear.inverse() * pixel_to_map.col(2);
-  Eigen::Vector2d min_m(INFINITY, INFINITY), max_m(-INFINITY, -INFINITY);
-  for (const Eigen::Vector2d& uv :
-       {Eigen::Vector2d(0, 0), Eigen::Vector2d(image->cols, 0), Eigen::Vector2d(0, image->rows),
-        Eigen::Vector2d(image->cols, image->rows)}) {
-    const Eigen::Vector2d xy = pixel_to_map * uv.homogeneous();
-    min_m = min_m.cwiseMin(xy);
-    max_m = max_m.cwiseMax(xy);
-  }
+  const Affine2 map_to_pixel = InvertAffine(pixel_to_map);
+  Eigen::Vector2d min_m, max_m;
+  ImageFootprint(pixel_to_map, image->size(), &min_m, &max_m);
   cv::Mat covered = cv::Mat::zeros(image->size(), CV_8UC1);
   for (const DustBlob& blob : BlobsNear(min_m, max_m)) {
     Composite(blob, map_to_pixel, image, &covered);
   }
-  const cv::Rect region = count_region & cv::Rect(0, 0, image->cols, image->rows);
-  if (region.area() == 0) return 0.0;
-  return static_cast<double>(cv::countNonZero(covered(region))) / region.area();
+  return CoveredShare(covered, count_region);
 }
 
 void FloorDust::Composite(const DustBlob& blob, const Eigen::Matrix<double, 2, 3>& map_to_pixel,

@@ -82,6 +82,11 @@ void CheckRender(const RenderOptions& r, Checker* c) {
              r.dust_max_radius_px);
   c->Range("dust_streak_fraction", r.dust_streak_fraction, 0.0, 1.0);
   c->Range("dust_max_opacity", r.dust_max_opacity, 0.2, 1.0);
+  c->Range("tyre_mark_fraction", r.tyre_mark_fraction, 0.0, 0.9);
+  c->Range("debris_fraction", r.debris_fraction, 0.0, 0.9);
+  c->Range("shadow_fraction", r.shadow_fraction, 0.0, 0.9);
+  c->Range("shadow_depth", r.shadow_depth, 0.0, 0.95);
+  c->Range("shadow_edge_px", r.shadow_edge_px, 0.0, 1000.0);
   c->Range("lighting_amplitude", r.lighting_amplitude, 0.0, 0.9);
   c->Range("blur_sigma_px", r.blur_sigma_px, 0.0, 20.0);
   c->Range("exposure_s", r.exposure_s, 0.0, 1.0);
@@ -113,6 +118,9 @@ Status Validate(const SimOptions& options) {
 RenderOptions CleanRenderOptions(RenderOptions o) {
   o.floor_grain_dn = 0.0;
   o.dust_fraction = 0.0;
+  o.tyre_mark_fraction = 0.0;
+  o.debris_fraction = 0.0;
+  o.shadow_fraction = 0.0;
   o.lighting_amplitude = 0.0;
   o.blur_sigma_px = 0.0;
   o.exposure_s = 0.0;

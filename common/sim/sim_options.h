@@ -66,8 +66,17 @@ struct RenderOptions {
   double dust_fraction = 0.08;  // share of the floor covered by dust and grime blobs
   double dust_min_radius_px = 2.0;  // blob semi-major axis, log-uniform in [min, max]
   double dust_max_radius_px = 20.0;
-  double dust_streak_fraction = 0.3;    // share of blobs that are thin streaks
-  double dust_max_opacity = 0.7;        // opacity drawn uniformly in [0.2, max]
+  double dust_streak_fraction = 0.3;  // share of blobs that are thin streaks
+  double dust_max_opacity = 0.7;      // opacity drawn uniformly in [0.2, max]
+  // Other occluders (off by default): tyre marks (curved bands with a tread) and hard-edged
+  // debris on the floor, each as a share of the floor covered; the vehicle's own shadow over a
+  // share of the frame beyond a straight soft edge (its direction fixed per run), darkening by
+  // shadow_depth.
+  double tyre_mark_fraction = 0.0;
+  double debris_fraction = 0.0;
+  double shadow_fraction = 0.0;
+  double shadow_depth = 0.5;
+  double shadow_edge_px = 6.0;          // penumbra width
   double lighting_amplitude = 0.15;     // relative amplitude of the low-frequency light field
   double blur_sigma_px = 0.7;           // lens blur (Gaussian)
   double exposure_s = 0.0;              // motion blur along travel; 0 = none
@@ -86,8 +95,8 @@ struct RenderOptions {
 // a lap further along the route. The frames show the new place from then on; the wheels never
 // turned, so the odometry continues smoothly through the jump (it cannot see it).
 struct KidnapOptions {
-  double at_s = -1.0;           // elapsed time of the jump; negative: never
-  double jump_fraction = 0.5;   // how far along the route, as a fraction of its length
+  double at_s = -1.0;          // elapsed time of the jump; negative: never
+  double jump_fraction = 0.5;  // how far along the route, as a fraction of its length
   bool enabled() const { return at_s >= 0.0; }
 };
 

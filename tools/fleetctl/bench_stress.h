@@ -1,6 +1,6 @@
 // `fleetctl bench tracker-stress` (issue 15): the tracker and its peers on floors the project was
-// not tuned on (data/stress_floors/floors.json), at three frame sizes, under four camera
-// conditions, with the holdout floors reported apart from the tuning ones.
+// not tuned on (data/stress_floors/floors.json), at three frame sizes, under five camera
+// conditions (one held out of tuning), with the holdout floors reported apart from the tuning ones.
 #pragma once
 
 #include <filesystem>
@@ -24,7 +24,7 @@ Result<std::vector<StressFloor>> ReadStressManifest(const std::filesystem::path&
 // data/stress_floors/floors.json of the source tree (beside the build, else the compiled-in one).
 std::filesystem::path DefaultStressManifest();
 
-// "clean", "fast", "dusty", "all".
+// "clean", "fast", "dusty", "all", "marks".
 const std::vector<std::string>& StressConditionNames();
 
 // The run settings of a condition for frames of width × height (speed scales with the frame):
@@ -33,7 +33,10 @@ const std::vector<std::string>& StressConditionNames();
 //         and shot noise, gain jitter ±25 %, a little motion blur;
 //  dusty: dust and grime over 30 % of the floor, strong vignetting (50 % at the corners), gain
 //         jitter ±25 %, bias ±20 DN, uneven light (±40 %), lens blur σ 1.5 px;
-//  all:   fast and dusty at once.
+//  all:   fast and dusty at once;
+//  marks: held out of tuning — other occluders: tyre marks over 12 % of the floor, hard-edged
+//         debris over 5 %, the vehicle's shadow over 30 % of the frame (60 % darker), vignetting
+//         30 %, uneven light ±20 %, gain jitter ±20 %.
 // InvalidInput for an unknown name.
 Status ApplyStressCondition(const std::string& name, BenchSettings* settings);
 
