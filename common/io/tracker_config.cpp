@@ -22,6 +22,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"min_texture", &o.min_texture},
           {"spread_sigma_px", &o.spread_sigma_px},
           {"normalize_window_px", &o.normalize_window_px},
+          {"match_smoothing_sigma_px", &o.match_smoothing_sigma_px},
           {"min_peak_correlation", &o.min_peak_correlation},
           {"max_ambiguity_ratio", &o.max_ambiguity_ratio},
           {"min_peak_curvature", &o.min_peak_curvature},

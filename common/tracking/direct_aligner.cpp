@@ -157,8 +157,8 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
     level.level = l;
     if (l < finest_level_) continue;
     const int window = mosaic_->WindowAt(l);
-    level.normalized = imaging::NormalizePatch(image, window);
-    level.border = window / 2 + 1;
+    level.normalized = mosaic_->Normalize(image, l);
+    level.border = mosaic_->MarginAt(l);
     const cv::Mat occluded = OccluderMask(image, window, options_.occluder_contrast_ratio);
     const cv::Mat& t = level.normalized;
     const int b = level.border, w = t.cols - 2 * b, h = t.rows - 2 * b;

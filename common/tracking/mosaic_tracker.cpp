@@ -44,7 +44,8 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
       camera_(camera),
       mosaic_(mosaic),
       normalized_(mosaic, options.normalize_window_px,
-                  static_cast<size_t>(options.normalized_cache_mb) << 20),
+                  static_cast<size_t>(options.normalized_cache_mb) << 20,
+                  options.match_smoothing_sigma_px),
       matcher_(options, &normalized_),
       direct_(options.direct, camera, &normalized_),
       estimate_(camera.mount, options.odometry) {}

@@ -1,25 +1,47 @@
 // Normalized mosaic tiles, computed once per tile with a margin from the neighbouring tiles.
 #include "tracking/normalized_mosaic.h"
 
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
 #include "imaging/fast_patch.h"
 #include "mosaic/mosaic_view.h"
 
 namespace fleetloc::tracking {
 
+namespace {
+
+int SmoothingRadius(double sigma_px) { return static_cast<int>(std::ceil(2.0 * sigma_px)); }
+
+}  // namespace
+
 NormalizedMosaic::NormalizedMosaic(mosaic::RasterSource* mosaic, int window_level0_px,
-                                   size_t cache_bytes)
+                                   size_t cache_bytes, double level0_sigma_px)
     : mosaic_(mosaic),
       window_level0_px_(window_level0_px),
+      level0_sigma_px_(level0_sigma_px),
       cache_(std::make_unique<mosaic::TileCache>(cache_bytes)) {}
+
+cv::Mat NormalizedMosaic::Normalize(const cv::Mat& image, int level) const {
+  cv::Mat normalized = imaging::NormalizePatch(image, WindowAt(level));
+  if (level == 0 && level0_sigma_px_ > 0) {
+    const int k = 2 * SmoothingRadius(level0_sigma_px_) + 1;
+    cv::GaussianBlur(normalized, normalized, {k, k}, level0_sigma_px_);
+  }
+  return normalized;
+}
+
+int NormalizedMosaic::MarginAt(int level) const {
+  return WindowAt(level) / 2 + 1 + (level == 0 ? SmoothingRadius(level0_sigma_px_) : 0);
+}
 
 mosaic::TilePtr NormalizedMosaic::NormalizedTile(const mosaic::TileKey& key) {
   if (mosaic::TilePtr cached = cache_->Get(key)) return cached;
-  const int margin = WindowAt(key.level) / 2 + 1;
+  const int margin = MarginAt(key.level);
   const cv::Rect tile = mosaic::TilePixelRect(layout(), key);
   const cv::Rect padded(tile.x - margin, tile.y - margin, tile.width + 2 * margin,
                         tile.height + 2 * margin);
-  const cv::Mat normalized = imaging::NormalizePatch(mosaic_->ReadBlock(key.level, padded),
-                                                     WindowAt(key.level));
+  const cv::Mat normalized = Normalize(mosaic_->ReadBlock(key.level, padded), key.level);
   auto result = std::make_shared<const cv::Mat>(
       normalized(cv::Rect(margin, margin, tile.width, tile.height)).clone());
   cache_->Put(key, result);
@@ -27,9 +49,8 @@ mosaic::TilePtr NormalizedMosaic::NormalizedTile(const mosaic::TileKey& key) {
 }
 
 cv::Mat NormalizedMosaic::ReadBlock(int level, const cv::Rect& rect) {
-  return mosaic::AssembleBlock(layout(), level, rect, CV_32F, [this](const mosaic::TileKey& k) {
-    return NormalizedTile(k);
-  });
+  return mosaic::AssembleBlock(layout(), level, rect, CV_32F,
+                               [this](const mosaic::TileKey& k) { return NormalizedTile(k); });
 }
 
 }  // namespace fleetloc::tracking

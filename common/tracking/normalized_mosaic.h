@@ -1,6 +1,8 @@
 // The locally normalized mosaic (paper 000 §2.4: "and optionally mosaic images"): each tile of a
 // pyramid level is normalized once, with the margin its neighbours provide, and kept as floats in
-// a byte-bounded LRU cache, so the hot loop only resamples already normalized pixels.
+// a byte-bounded LRU cache, so the hot loop only resamples already normalized pixels. At full
+// resolution the normalized pixels are also smoothed (TrackerOptions::match_smoothing_sigma_px);
+// Normalize() treats frame images the same way, so both sides of every match agree.
 #pragma once
 
 #include <memory>
@@ -13,8 +15,15 @@ namespace fleetloc::tracking {
 
 class NormalizedMosaic {
  public:
-  // `mosaic` must outlive this. window_px(level) is the normalization window at each level.
-  NormalizedMosaic(mosaic::RasterSource* mosaic, int window_level0_px, size_t cache_bytes);
+  // `mosaic` must outlive this. window_px(level) is the normalization window at each level;
+  // level 0 is then smoothed with a Gaussian of `level0_sigma_px` (0: not).
+  NormalizedMosaic(mosaic::RasterSource* mosaic, int window_level0_px, size_t cache_bytes,
+                   double level0_sigma_px = 0.0);
+
+  // `image` (a frame or part of one, at `level`) normalized exactly as the mosaic is. Pixels
+  // within MarginAt(level) of its border see only part of their neighbourhood.
+  cv::Mat Normalize(const cv::Mat& image, int level) const;
+  int MarginAt(int level) const;
 
   // CV_32F normalized pixels of `rect` at `level`; outside the mosaic 0.
   cv::Mat ReadBlock(int level, const cv::Rect& rect);
@@ -27,6 +36,7 @@ class NormalizedMosaic {
 
   mosaic::RasterSource* mosaic_;
   int window_level0_px_;
+  double level0_sigma_px_;
   std::unique_ptr<mosaic::TileCache> cache_;
 };
 

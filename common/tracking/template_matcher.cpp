@@ -22,12 +22,12 @@ cv::Point TemplateMatcher::TopLeft(const Eigen::Vector2d& center_px, int t, int 
 
 cv::Mat TemplateMatcher::Template(const cv::Mat& frame, const Eigen::Vector2d& center_px,
                                   int size_px, int level) const {
-  const int t = size_px >> level, w = mosaic_->WindowAt(level), m = w / 2 + 1;
+  const int t = size_px >> level, m = mosaic_->MarginAt(level);
   const cv::Point top_left = TopLeft(center_px, t, level);
   const cv::Rect padded(top_left.x - m, top_left.y - m, t + 2 * m, t + 2 * m);
   if ((padded & cv::Rect(0, 0, frame.cols, frame.rows)) != padded) return {};
   // Normalize with a margin, then crop, so every template pixel sees its whole neighbourhood.
-  return imaging::NormalizePatch(frame(padded), w)(cv::Rect(m, m, t, t)).clone();
+  return mosaic_->Normalize(frame(padded), level)(cv::Rect(m, m, t, t)).clone();
 }
 
 std::optional<SiteMatch> TemplateMatcher::Match(const cv::Mat& templ,
@@ -35,10 +35,11 @@ std::optional<SiteMatch> TemplateMatcher::Match(const cv::Mat& templ,
                                                 const FrameMosaicWarp& warp, int level) const {
   if (templ.empty()) return {};
   const int view_size = templ.cols + 2 * radius_px;
-  const cv::Mat view = RenderNormalizedView(
-      mosaic_,
-      {TopLeft(center_px, templ.cols, level) - cv::Point(radius_px, radius_px), cv::Size(view_size, view_size)},
-      warp.AtLevel(level), level);
+  const cv::Mat view =
+      RenderNormalizedView(mosaic_,
+                           {TopLeft(center_px, templ.cols, level) - cv::Point(radius_px, radius_px),
+                            cv::Size(view_size, view_size)},
+                           warp.AtLevel(level), level);
   const imaging::Match match = imaging::MatchTemplate(view, templ);
   if (!PassesGates(match)) return {};
   const double scale = 1 << level;

@@ -72,6 +72,8 @@ Status Validate(const TrackerOptions& o) {
                                  "texture_window_px", "must be odd, ≥ 3"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.normalize_window_px >= 3 && o.normalize_window_px % 2 == 1,
                                  "normalize_window_px", "must be odd, ≥ 3"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.match_smoothing_sigma_px >= 0 && o.match_smoothing_sigma_px <= 4,
+                                 "match_smoothing_sigma_px", "must be in [0, 4]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_texture >= 0, "min_texture", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.spread_sigma_px > 0, "spread_sigma_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_peak_correlation > -1 && o.min_peak_correlation < 1,

@@ -79,6 +79,13 @@ struct TrackerOptions {
   double min_texture = 2.0;        // smallest eigenvalue, (grey levels/px)²
   double spread_sigma_px = 120.0;  // feature selection: distance scale of the spread bonus
   int normalize_window_px = 7;
+  // Gaussian smoothing of the normalized frame and mosaic at full resolution before they are
+  // correlated (0: none). The frame is an area-sampled, blurred view of the floor, the mosaic its
+  // sharp photograph resampled bilinearly at a varying sub-pixel phase: smoothing both alike takes
+  // out the difference in their finest detail, which otherwise biases each template's sub-pixel
+  // peak (measured on the stress suite's clean 640×480 runs: camera RMS 0.057 → 0.018 px on a fine
+  // aggregate, 0.019 → 0.008 px on plain concrete, 0.012 → 0.007 px on coarse asphalt with σ 1.5).
+  double match_smoothing_sigma_px = 1.5;
   double min_peak_correlation = 0.4;
   double max_ambiguity_ratio = 0.92;   // second peak / best peak
   double min_peak_curvature = 0.005;   // NCC per px² at the peak; flatter peaks are rejected
