@@ -42,6 +42,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"normalized_cache_mb", &o.normalized_cache_mb},
           {"direct_refine", &o.direct_refine},
           {"retry_templates_frames", &o.retry_templates_frames},
+          {"direct_first_after_failures", &o.direct_first_after_failures},
           {"max_disagreement_chi2", &o.max_disagreement_chi2}};
 }
 
@@ -60,6 +61,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"search_level_pixels", &d.search_level_pixels},
           {"search_sigma_multiple", &d.search_sigma_multiple},
           {"peak_exclusion_px", &d.peak_exclusion_px},
+          {"max_heading_steps", &d.max_heading_steps},
           {"max_sigma_px", &d.max_sigma_px},
           {"min_correlation", &d.min_correlation},
           {"min_strong_correlation", &d.min_strong_correlation},

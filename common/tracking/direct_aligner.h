@@ -79,6 +79,11 @@ class DirectAligner {
   const char* Verdict(const DirectAlignment& fit, bool prediction_confirms) const;
   geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                                const geometry::Pose2& start, DirectAlignment* out) const;
+  struct SearchHit {
+    geometry::Pose2 pose;
+    double correlation = 0.0, peak_ratio = 1.0;
+  };
+  SearchHit SearchAt(const Level& level, const geometry::Pose2& pose, int r) const;
 
   DirectAlignOptions options_;
   geometry::CameraModel camera_;

@@ -40,10 +40,9 @@ std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_p
     }
   }
   if (sites.size() > max_sites) {
-    std::nth_element(sites.begin(), sites.begin() + max_sites, sites.end(),
-                     [](const TemplateSite& a, const TemplateSite& b) {
-                       return a.texture > b.texture;
-                     });
+    std::nth_element(
+        sites.begin(), sites.begin() + max_sites, sites.end(),
+        [](const TemplateSite& a, const TemplateSite& b) { return a.texture > b.texture; });
     sites.resize(max_sites);
   }
   return sites;
@@ -63,8 +62,7 @@ std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidate
     double best_score = 0.0;
     for (size_t i = 0; i < candidates.size(); ++i) {
       if (nearest_sq[i] < min_sep_sq) continue;
-      const double spread =
-          chosen.empty() ? 1.0 : nearest_sq[i] / (nearest_sq[i] + two_sigma_sq);
+      const double spread = chosen.empty() ? 1.0 : nearest_sq[i] / (nearest_sq[i] + two_sigma_sq);
       const double score = candidates[i].texture * spread;
       if (score > best_score) {
         best_score = score;
@@ -74,8 +72,8 @@ std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidate
     if (best < 0) break;
     chosen.push_back(candidates[best]);
     for (size_t i = 0; i < candidates.size(); ++i) {
-      nearest_sq[i] = std::min(nearest_sq[i],
-                               (candidates[i].center_px - candidates[best].center_px).squaredNorm());
+      nearest_sq[i] = std::min(
+          nearest_sq[i], (candidates[i].center_px - candidates[best].center_px).squaredNorm());
     }
   }
   return chosen;

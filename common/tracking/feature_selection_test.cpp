@@ -8,7 +8,7 @@ namespace {
 
 TEST(CandidateSites, KeepOnlySitesWhoseSquareFitsTheOverlap) {
   const cv::Mat texture(59, 79, CV_32F, cv::Scalar(10.0f));  // grid of a 640×480 frame
-  const auto region = geometry::Rectangle(0, 0, 300, 480);  // mosaic ends at u = 300
+  const auto region = geometry::Rectangle(0, 0, 300, 480);   // mosaic ends at u = 300
   const auto sites = CandidateSites(texture, 8, region, 40.0, 1.0, 10000);
   ASSERT_FALSE(sites.empty());
   for (const auto& s : sites) {
@@ -30,7 +30,7 @@ TEST(CandidateSites, KeepsTheBestTexturedWhenThereAreTooMany) {
 TEST(SelectSites, SpreadsPicksAcrossTheFrameInsteadOfClusteringOnTheBest) {
   std::vector<TemplateSite> c;
   for (int i = 0; i < 10; ++i) c.push_back({{100.0 + 8 * i, 100.0}, 100.0 - i});  // a hot spot
-  c.push_back({{500.0, 400.0}, 50.0});                                           // far, weaker
+  c.push_back({{500.0, 400.0}, 50.0});                                            // far, weaker
   const auto chosen = SelectSites(c, 2, 120.0, 32.0);
   ASSERT_EQ(chosen.size(), 2u);
   EXPECT_EQ(chosen[0].center_px.x(), 100.0);

@@ -20,14 +20,14 @@ struct FrameResult {
   double t = 0.0;
   geometry::PoseWithCovariance base_in_map;  // at the frame's time
   LockState state = LockState::kLost;
-  int templates = 0;              // correspondences measured (before outlier rejection)
-  int inliers = 0;                // correspondences kept by the pose update
+  int templates = 0;  // correspondences measured (before outlier rejection)
+  int inliers = 0;    // correspondences kept by the pose update
   double rms_residual_px = 0.0;
   int search_radius_px = 0;
   // Where the cycle's time went (ms): choosing sites (texture, overlap, selection), the coarse
   // search and the full-resolution search with the pose updates.
   double select_ms = 0, coarse_ms = 0, fine_ms = 0;
-  double direct_ms = 0;            // the dense alignment
+  double direct_ms = 0;  // the dense alignment
   DirectUse direct = DirectUse::kNotRun;
   const char* direct_reason = "";  // why it was refused (static text)
 };

@@ -55,6 +55,7 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   coasting_frames_ = 0;
   state_ = LockState::kTracking;
   direct_first_ = false;
+  template_failures_ = 0;
 }
 
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
@@ -275,7 +276,9 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
         MatchTemplates(frame, prior, frame_radius, &stats);
     templates_locked = template_fit.has_value();
     posterior = Decide(frame, prior, template_fit, direct_first, &stats);
-    direct_first_ = !templates_locked && stats.direct == DirectUse::kUsed;
+    template_failures_ = templates_locked ? 0 : template_failures_ + 1;
+    direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
+                    stats.direct == DirectUse::kUsed;
   }
   LockState state = LockState::kCoasting;
   if (posterior) {

@@ -91,6 +91,7 @@ class MosaicTracker : public FrameLocalizer {
   int coasting_frames_ = 0;
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
   int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran
+  int template_failures_ = 0;       // frames in a row the templates were tried on and failed
   LockState state_ = LockState::kLost;
 };
 

@@ -78,8 +78,9 @@ TEST(MosaicTracker, MosaicWithFewerPyramidLevelsThanTheCoarseSearchStillTracks) 
   ASSERT_TRUE(Validate(options).ok());
   MosaicTracker tracker(options, scene.camera, &source);
   const Pose2 start = CircleBase(0);
-  tracker.Reset({{start.x + 0.002, start.y, start.theta}, Eigen::Vector3d(4e-6, 4e-6, 1e-4).asDiagonal()},
-                {0, 0, 0});
+  tracker.Reset(
+      {{start.x + 0.002, start.y, start.theta}, Eigen::Vector3d(4e-6, 4e-6, 1e-4).asDiagonal()},
+      {0, 0, 0});
   const Pose2 next = CircleBase(0.1);
   const FrameResult r =
       tracker.Track(scene.Render(next, 1.0, 0.0), 0.1, geometry::Between(start, next));

@@ -19,9 +19,9 @@ Eigen::Matrix3d IncrementCovariance(const geometry::Pose2& increment, double dt_
   Eigen::Matrix2d rotation;
   rotation << c, -s, s, c;
   Eigen::Matrix3d q = Eigen::Matrix3d::Zero();
-  q.topLeftCorner<2, 2>() =
-      rotation * Eigen::Vector2d(along * along, lateral * lateral).asDiagonal() *
-      rotation.transpose();
+  q.topLeftCorner<2, 2>() = rotation *
+                            Eigen::Vector2d(along * along, lateral * lateral).asDiagonal() *
+                            rotation.transpose();
   q(2, 2) = heading * heading;
   return q;
 }

@@ -18,14 +18,14 @@ struct Correspondence {
 };
 
 struct OutlierOptions {
-  double ratio = 3.0;          // reject max residual > ratio × median of the others …
+  double ratio = 3.0;            // reject max residual > ratio × median of the others …
   double min_residual_m = 3e-4;  // … and > this
-  int min_inliers = 3;         // never go below this many
+  int min_inliers = 3;           // never go below this many
 };
 
 struct PoseUpdate {
   geometry::PoseWithCovariance posterior;
-  std::vector<bool> inlier;     // per correspondence
+  std::vector<bool> inlier;  // per correspondence
   int inliers = 0;
   double rms_residual_m = 0.0;  // over inliers, after the update
 };

@@ -38,7 +38,7 @@ TEST(KalmanPoseUpdate, RecoversPoseFromNoisyCorrespondences) {
 TEST(KalmanPoseUpdate, RemovesGrossOutliersOneByOne) {
   const Pose2 truth{0.5, 0.5, -1.0};
   std::vector<Correspondence> m = Observe(truth, 16, 3e-5, 2);
-  m[3].observed += Eigen::Vector2d(0.004, 0.0);   // 8 px at 0.5 mm/px
+  m[3].observed += Eigen::Vector2d(0.004, 0.0);  // 8 px at 0.5 mm/px
   m[9].observed += Eigen::Vector2d(-0.002, 0.003);
   const geometry::PoseWithCovariance prior{{0.502, 0.499, -1.01},
                                            Eigen::Vector3d(1e-5, 1e-5, 1e-3).asDiagonal()};

@@ -39,18 +39,17 @@ ViewSource CoveringBlock(const BlockReader& read, const cv::Rect& frame_rect,
   // warp(frame point) − 0.5 − block origin.
   const Eigen::Vector2d origin = warp(Eigen::Vector2d(frame_rect.x + 0.5, frame_rect.y + 0.5)) -
                                  Eigen::Vector2d(0.5 + block_rect.x, 0.5 + block_rect.y);
-  return {read(level, block_rect),
-          cv::Matx23d(warp.linear(0, 0), warp.linear(0, 1), origin.x(), warp.linear(1, 0),
-                      warp.linear(1, 1), origin.y())};
+  return {read(level, block_rect), cv::Matx23d(warp.linear(0, 0), warp.linear(0, 1), origin.x(),
+                                               warp.linear(1, 0), warp.linear(1, 1), origin.y())};
 }
 
 }  // namespace
 
 cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                             const FrameMosaicWarp& warp, int level) {
-  const ViewSource source = CoveringBlock(
-      [mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); }, frame_rect, warp,
-      level);
+  const ViewSource source =
+      CoveringBlock([mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); },
+                    frame_rect, warp, level);
   cv::Mat view;
   cv::warpAffine(source.block, view, source.view_to_block, frame_rect.size(),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT);
@@ -59,9 +58,9 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
 
 cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,
                              const FrameMosaicWarp& warp, int level) {
-  const ViewSource source = CoveringBlock(
-      [mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); }, frame_rect, warp,
-      level);
+  const ViewSource source =
+      CoveringBlock([mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); },
+                    frame_rect, warp, level);
   return imaging::ResampleAffine(source.block, source.view_to_block, frame_rect.size());
 }
 

@@ -39,6 +39,8 @@ Status Validate(const DirectAlignOptions& d) {
       Check(d.search_level_pixels >= 1000, "direct.search_level_pixels", "must be ≥ 1000"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_heading_steps >= 0 && d.max_heading_steps <= 10,
+                                 "direct.max_heading_steps", "must be in [0, 10]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
   for (const auto& [value, name] : {std::pair{d.min_correlation, "direct.min_correlation"},
                                     {d.min_strong_correlation, "direct.min_strong_correlation"},
@@ -105,6 +107,8 @@ Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_coasting_frames >= 0, "max_coasting_frames", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.retry_templates_frames >= 0, "retry_templates_frames", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.direct_first_after_failures >= 1, "direct_first_after_failures", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
