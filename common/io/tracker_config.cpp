@@ -69,7 +69,10 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"min_weak_correlation", &d.min_weak_correlation},
           {"max_weak_peak_ratio", &d.max_weak_peak_ratio},
           {"max_weak_prior_chi2", &d.max_weak_prior_chi2},
-          {"max_prior_chi2", &d.max_prior_chi2}};
+          {"max_prior_chi2", &d.max_prior_chi2},
+          {"min_distinct_correlation", &d.min_distinct_correlation},
+          {"max_distinct_peak_ratio", &d.max_distinct_peak_ratio},
+          {"max_distinct_prior_chi2", &d.max_distinct_prior_chi2}};
 }
 
 FieldTable OdometryFields(tracking::OdometryNoiseOptions& n) {

@@ -42,18 +42,23 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_heading_steps >= 0 && d.max_heading_steps <= 10,
                                  "direct.max_heading_steps", "must be in [0, 10]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
-  for (const auto& [value, name] : {std::pair{d.min_correlation, "direct.min_correlation"},
-                                    {d.min_strong_correlation, "direct.min_strong_correlation"},
-                                    {d.min_weak_correlation, "direct.min_weak_correlation"}}) {
+  for (const auto& [value, name] :
+       {std::pair{d.min_correlation, "direct.min_correlation"},
+        {d.min_strong_correlation, "direct.min_strong_correlation"},
+        {d.min_weak_correlation, "direct.min_weak_correlation"},
+        {d.min_distinct_correlation, "direct.min_distinct_correlation"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > -1 && value < 1, name, "must be in (-1, 1)"));
   }
   for (const auto& [value, name] :
        {std::pair{d.max_strong_peak_ratio, "direct.max_strong_peak_ratio"},
-        {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"}}) {
+        {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"},
+        {d.max_distinct_peak_ratio, "direct.max_distinct_peak_ratio"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
   }
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
                                  "direct.max_prior_chi2", "and max_weak_prior_chi2 must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_distinct_prior_chi2 >= d.max_prior_chi2,
+                                 "direct.max_distinct_prior_chi2", "must be ≥ max_prior_chi2"));
   return Status::Ok();
 }
 

@@ -66,6 +66,13 @@ struct DirectAlignOptions {
   // odometry model's covariance is itself only a model (measured: fast runs over real concrete
   // photos put right fits at χ² 20–40 every few frames; wrong ones are told by their peak).
   double max_prior_chi2 = 100.0;
+  // A distinct fit (a high coarse correlation and a clear peak, far from anything a wrong basin
+  // has shown) may disagree with the prediction more: fast turning runs put right fits at χ²
+  // 110–140 (correlation 0.84, peak ratio ≤ 0.08) where the odometry model's covariance was too
+  // small, and those frames coasted.
+  double min_distinct_correlation = 0.6;
+  double max_distinct_peak_ratio = 0.2;
+  double max_distinct_prior_chi2 = 400.0;
   // The weak rule was 0.2 / 0.65 when tuned on proxy floors; the first holdout run of the stress
   // suite found two false locks through it (3.2 and 5.7 px off at correlation 0.28 and 0.24,
   // peak ratio 0.35 and 0.51), so it now needs a distinct peak as well.
