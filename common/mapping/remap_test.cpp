@@ -36,7 +36,7 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
     EXPECT_LT((Eigen::Vector2d(r.pose.x, r.pose.y) - truth).norm() / kRes, 0.1) << "patch " << i;
     // 0.02° (the tracker's heading target): these patches are exact crops of the floor image,
     // sharper than any camera frame, and the matcher smooths both sides before correlating,
-    // which costs an exact crop a little heading (0.017° here) and a camera frame none (see
+    // which costs an exact crop a little heading (0.017° here at σ 1.5) and a camera frame none (see
     // TrackerOptions::match_smoothing_sigma_px).
     EXPECT_LT(std::abs(r.pose.theta - M_PI / 2), 0.02 * M_PI / 180) << "patch " << i;
   }
