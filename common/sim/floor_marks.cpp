@@ -67,10 +67,11 @@ double TyreAlpha(const TyreMark& mark, const Eigen::Vector2d& p, double edge_m) 
   return mark.opacity * band * fade * (stripe ? 1.0 : 0.6);
 }
 
-void CompositeTyreMark(const TyreMark& mark, const Affine2& pixel_to_map, double reach_m,
-                       double edge_m, cv::Mat* image, cv::Mat* covered) {
-  const cv::Rect box = PixelBox(InvertAffine(pixel_to_map), mark.centre_m, reach_m) &
-                       cv::Rect(0, 0, image->cols, image->rows);
+void CompositeTyreMark(const TyreMark& mark, const Affine2& pixel_to_map,
+                       const Affine2& map_to_pixel, double reach_m, double edge_m, cv::Mat* image,
+                       cv::Mat* covered) {
+  const cv::Rect box =
+      PixelBox(map_to_pixel, mark.centre_m, reach_m) & cv::Rect(0, 0, image->cols, image->rows);
   for (int v = box.y; v < box.y + box.height; ++v) {
     auto* row = image->ptr<float>(v);
     auto* cover = covered->ptr<std::uint8_t>(v);
@@ -84,9 +85,8 @@ void CompositeTyreMark(const TyreMark& mark, const Affine2& pixel_to_map, double
   }
 }
 
-void CompositeDebris(const Debris& debris, const Affine2& pixel_to_map, double reach_m,
-                     cv::Mat* image, cv::Mat* covered) {
-  const Affine2 map_to_pixel = InvertAffine(pixel_to_map);
+void CompositeDebris(const Debris& debris, const Affine2& pixel_to_map, const Affine2& map_to_pixel,
+                     double reach_m, cv::Mat* image, cv::Mat* covered) {
   // The polygon is filled over its whole box, then clipped: anti-aliasing clipped at the image
   // edge would differ from one view to the next.
   const cv::Rect box = PixelBox(map_to_pixel, debris.centre_m, reach_m);
@@ -198,13 +198,14 @@ double FloorMarks::Apply(const Eigen::Matrix<double, 2, 3>& pixel_to_map,
   if (tyre_marks_per_cell_ <= 0 && debris_per_cell_ <= 0) return 0.0;
   Eigen::Vector2d min_m, max_m;
   ImageFootprint(pixel_to_map, image->size(), &min_m, &max_m);
+  const Affine2 map_to_pixel = InvertAffine(pixel_to_map);
   cv::Mat covered = cv::Mat::zeros(image->size(), CV_8UC1);
   for (const TyreMark& mark : TyreMarksNear(min_m, max_m)) {
-    CompositeTyreMark(mark, pixel_to_map, tyre_reach_m_, kTyreEdgePx * pixel_size_m_, image,
-                      &covered);
+    CompositeTyreMark(mark, pixel_to_map, map_to_pixel, tyre_reach_m_, kTyreEdgePx * pixel_size_m_,
+                      image, &covered);
   }
   for (const Debris& debris : DebrisNear(min_m, max_m)) {
-    CompositeDebris(debris, pixel_to_map, debris_reach_m_, image, &covered);
+    CompositeDebris(debris, pixel_to_map, map_to_pixel, debris_reach_m_, image, &covered);
   }
   return CoveredShare(covered, count_region);
 }
