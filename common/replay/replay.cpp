@@ -52,6 +52,7 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
     result.cycle_ms.push_back(std::chrono::duration<double, std::milli>(stop - start).count());
     result.poses.push_back({ref.t, r.base_in_map.pose, r.base_in_map.covariance,
                             tracking::LockStateName(r.state), r.inliers});
+    result.frames.push_back(r);
     if (progress) progress(i + 1, run.frames.size());
   }
   return result;

@@ -14,8 +14,9 @@
 namespace fleetloc::replay {
 
 struct ReplayResult {
-  std::vector<io::PoseRecord> poses;  // one per frame, in frame order
-  std::vector<double> cycle_ms;       // time inside the localizer per frame
+  std::vector<io::PoseRecord> poses;          // one per frame, in frame order
+  std::vector<double> cycle_ms;               // time inside the localizer per frame
+  std::vector<tracking::FrameResult> frames;  // the localizer's own account of each frame
 };
 
 using Progress = std::function<void(size_t done, size_t total)>;

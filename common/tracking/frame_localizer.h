@@ -15,6 +15,7 @@ enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
 // What became of a frame's dense alignment (tracking/direct_aligner.h).
 enum class DirectUse { kNotRun, kUsed, kRefused, kDisagreed };
 const char* LockStateName(LockState state);
+const char* DirectUseName(DirectUse use);  // "not_run", "used", "refused", "disagreed"
 
 struct FrameResult {
   double t = 0.0;
@@ -30,6 +31,10 @@ struct FrameResult {
   double direct_ms = 0;  // the dense alignment
   DirectUse direct = DirectUse::kNotRun;
   const char* direct_reason = "";  // why it was refused (static text)
+  // The dense fit's quality when it ran: finest and coarsest correlation, the coarse search's
+  // peak ratio, and its innovation against the prediction (χ², 3 dof).
+  double direct_correlation = 0, direct_coarse_correlation = 0, direct_peak_ratio = 0;
+  double direct_chi2 = 0;
 };
 
 class FrameLocalizer {

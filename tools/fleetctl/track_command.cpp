@@ -7,11 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "io/file_util.h"
 #include "io/tracker_config.h"
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
-#include "tracking/mosaic_tracker.h"
 #include "tracker_summary.h"
+#include "tracking/mosaic_tracker.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -21,6 +22,7 @@ struct TrackArgs {
   std::string run;
   std::string out;
   std::string config;
+  std::string frames_out;
   long long cache_mb = 256;
 };
 
@@ -43,6 +45,27 @@ Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const 
 
 namespace {
 
+// One line per frame: what the tracker did with it (lock state, templates, the dense alignment
+// and why it refused), for finding out why a run coasts.
+std::string FramesCsv(const replay::ReplayResult& replayed) {
+  std::string csv =
+      "t,status,templates,inliers,rms_residual_px,search_radius_px,select_ms,coarse_ms,fine_ms,"
+      "direct_ms,direct,direct_reason,direct_correlation,direct_coarse_correlation,direct_peak_"
+      "ratio,"
+      "direct_chi2,cycle_ms\n";
+  for (size_t i = 0; i < replayed.frames.size(); ++i) {
+    const tracking::FrameResult& f = replayed.frames[i];
+    csv += fmt::format(
+        "{:.6f},{},{},{},{:.4f},{},{:.3f},{:.3f},{:.3f},{:.3f},{},\"{}\",{:.3f},{:.3f},{:.3f},{:."
+        "2f},{:.3f}\n",
+        f.t, tracking::LockStateName(f.state), f.templates, f.inliers, f.rms_residual_px,
+        f.search_radius_px, f.select_ms, f.coarse_ms, f.fine_ms, f.direct_ms,
+        tracking::DirectUseName(f.direct), f.direct_reason, f.direct_correlation,
+        f.direct_coarse_correlation, f.direct_peak_ratio, f.direct_chi2, replayed.cycle_ms[i]);
+  }
+  return csv;
+}
+
 Status RunTrack(const TrackArgs& args) {
   Result<io::Run> run = io::ReadRun(args.run);
   if (!run.ok()) return run.status();
@@ -55,6 +78,9 @@ Status RunTrack(const TrackArgs& args) {
   Result<replay::ReplayResult> replayed = TrackOffline(args.mosaic, *run, options, args.cache_mb);
   if (!replayed.ok()) return replayed.status();
   FLEETLOC_RETURN_IF_ERROR(io::WritePosesCsv(args.out, replayed->poses));
+  if (!args.frames_out.empty()) {
+    FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(args.frames_out, FramesCsv(*replayed)));
+  }
   std::cout << TrackSummary(*run, *replayed).dump(2) << "\n";
   return Status::Ok();
 }
@@ -68,6 +94,9 @@ void RegisterTrackCommand(CLI::App& app, Status* result) {
   track->add_option("--run", args->run, "Run directory (CONTRACT §4)")->required();
   track->add_option("--out", args->out, "Output poses.csv")->required();
   track->add_option("--config", args->config, "Tracker options (JSON; defaults for absent keys)");
+  track->add_option("--frames-out", args->frames_out,
+                    "Also write each frame's tracker diagnostics (CSV: lock state, templates, "
+                    "inliers, timings, the dense alignment's use and refusal reason)");
   track->add_option("--cache-mb", args->cache_mb, "Tile cache bound in MiB")
       ->check(CLI::Range(1, 1 << 20));
   track->callback([args, result] { *result = RunTrack(*args); });
