@@ -20,6 +20,8 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"candidate_step_px", &o.candidate_step_px},
           {"texture_window_px", &o.texture_window_px},
           {"min_texture", &o.min_texture},
+          {"relative_texture", &o.relative_texture},
+          {"texture_quantile", &o.texture_quantile},
           {"spread_sigma_px", &o.spread_sigma_px},
           {"normalize_window_px", &o.normalize_window_px},
           {"match_smoothing_sigma_px", &o.match_smoothing_sigma_px},
@@ -33,6 +35,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"refine_passes", &o.refine_passes},
           {"coarse_above_radius_px", &o.coarse_above_radius_px},
           {"coarse_levels", &o.coarse_levels},
+          {"coarse_search_radius_px", &o.coarse_search_radius_px},
           {"coarse_templates", &o.coarse_templates},
           {"coarse_template_size_px", &o.coarse_template_size_px},
           {"measurement_sigma_px", &o.measurement_sigma_px},
@@ -72,6 +75,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"max_prior_chi2", &d.max_prior_chi2},
           {"min_distinct_correlation", &d.min_distinct_correlation},
           {"max_distinct_peak_ratio", &d.max_distinct_peak_ratio},
+          {"max_clear_peak_ratio", &d.max_clear_peak_ratio},
           {"max_distinct_prior_chi2", &d.max_distinct_prior_chi2}};
 }
 

@@ -273,8 +273,10 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   if (fit.sigma_px > o.max_sigma_px) return "weakly constrained";
   if (fit.correlation < o.min_correlation) return "no correlation at the finest level";
   const double ratio = fit.searched ? fit.peak_ratio : 0.0;
-  const bool distinct =
-      fit.coarse_correlation >= o.min_distinct_correlation && ratio <= o.max_distinct_peak_ratio;
+  const bool clear_peak = fit.searched && fit.coarse_correlation >= o.min_strong_correlation &&
+                          fit.peak_ratio <= o.max_clear_peak_ratio;
+  const bool distinct = clear_peak || (fit.coarse_correlation >= o.min_distinct_correlation &&
+                                       ratio <= o.max_distinct_peak_ratio);
   const double max_chi2 = distinct ? o.max_distinct_prior_chi2 : o.max_prior_chi2;
   const bool strong = fit.coarse_correlation >= o.min_strong_correlation &&
                       ratio <= o.max_strong_peak_ratio && fit.prior_chi2 <= max_chi2;

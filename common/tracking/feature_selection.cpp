@@ -25,18 +25,25 @@ bool SquareInside(const geometry::ConvexPolygon& ccw, const Eigen::Vector2d& c, 
 }  // namespace
 
 std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_px,
-                                         const geometry::ConvexPolygon& region,
-                                         double half_extent_px, double min_texture,
+                                         const std::vector<SiteBounds>& bounds, double min_texture,
                                          size_t max_sites) {
   std::vector<TemplateSite> sites;
-  if (region.size() < 3) return sites;
-  const geometry::ConvexPolygon ccw = geometry::CounterClockwise(region);
+  std::vector<SiteBounds> ccw;
+  for (const SiteBounds& b : bounds) {
+    if (b.region.size() < 3) return sites;
+    ccw.push_back({geometry::CounterClockwise(b.region), b.half_extent_px});
+  }
+  const auto inside = [&ccw](const Eigen::Vector2d& center) {
+    return std::all_of(ccw.begin(), ccw.end(), [&center](const SiteBounds& b) {
+      return SquareInside(b.region, center, b.half_extent_px);
+    });
+  };
   for (int r = 0; r < texture_grid.rows; ++r) {
     for (int c = 0; c < texture_grid.cols; ++c) {
       const float texture = texture_grid.at<float>(r, c);
       if (texture < min_texture) continue;
       const Eigen::Vector2d center((c + 1.0) * step_px, (r + 1.0) * step_px);
-      if (SquareInside(ccw, center, half_extent_px)) sites.push_back({center, texture});
+      if (inside(center)) sites.push_back({center, texture});
     }
   }
   if (sites.size() > max_sites) {
@@ -46,6 +53,22 @@ std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_p
     sites.resize(max_sites);
   }
   return sites;
+}
+
+double RelativeTextureThreshold(const cv::Mat& texture_grid, double quantile, double relative,
+                                double floor) {
+  std::vector<float> scores;
+  scores.reserve(texture_grid.total());
+  for (int r = 0; r < texture_grid.rows; ++r) {
+    const float* row = texture_grid.ptr<float>(r);
+    for (int c = 0; c < texture_grid.cols; ++c) {
+      if (row[c] > 0.0f) scores.push_back(row[c]);  // 0: the window left the image
+    }
+  }
+  if (scores.empty()) return floor;
+  const auto at = scores.begin() + static_cast<long>(quantile * (scores.size() - 1));
+  std::nth_element(scores.begin(), at, scores.end());
+  return std::max(floor, relative * *at);
 }
 
 std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidates, int max_sites,

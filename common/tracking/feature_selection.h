@@ -14,13 +14,23 @@ struct TemplateSite {
   double texture = 0.0;
 };
 
-// Grid sites whose square of half-size half_extent_px around the centre lies inside `region`
-// (frame pixels), with texture ≥ min_texture; at most max_sites, the best textured.
-// `texture_grid` element (r, c) scores frame point ((c + 1)·step_px, (r + 1)·step_px).
+// Where a site may lie: the square of half-size half_extent_px around its centre must be inside
+// `region` (frame pixels, convex).
+struct SiteBounds {
+  geometry::ConvexPolygon region;
+  double half_extent_px = 0.0;
+};
+
+// Grid sites inside every one of `bounds`, with texture ≥ min_texture; at most max_sites, the best
+// textured. `texture_grid` element (r, c) scores frame point ((c + 1)·step_px, (r + 1)·step_px).
 std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_px,
-                                         const geometry::ConvexPolygon& region,
-                                         double half_extent_px, double min_texture,
+                                         const std::vector<SiteBounds>& bounds, double min_texture,
                                          size_t max_sites = 600);
+
+// The texture a candidate needs on this frame: `relative` × the frame's `quantile` texture (so a
+// plain floor keeps its best sites and a rich one only its strong ones), at least `floor`.
+double RelativeTextureThreshold(const cv::Mat& texture_grid, double quantile, double relative,
+                                double floor);
 
 // Greedy selection: each pick maximizes texture × d² / (d² + 2σ²), d being the distance to
 // the nearest site already picked; sites closer than min_separation_px are never picked.

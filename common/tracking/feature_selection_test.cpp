@@ -9,7 +9,7 @@ namespace {
 TEST(CandidateSites, KeepOnlySitesWhoseSquareFitsTheOverlap) {
   const cv::Mat texture(59, 79, CV_32F, cv::Scalar(10.0f));  // grid of a 640×480 frame
   const auto region = geometry::Rectangle(0, 0, 300, 480);   // mosaic ends at u = 300
-  const auto sites = CandidateSites(texture, 8, region, 40.0, 1.0, 10000);
+  const auto sites = CandidateSites(texture, 8, {{region, 40.0}}, 1.0, 10000);
   ASSERT_FALSE(sites.empty());
   for (const auto& s : sites) {
     EXPECT_LE(s.center_px.x() + 40.0, 300.0);
@@ -22,9 +22,36 @@ TEST(CandidateSites, KeepOnlySitesWhoseSquareFitsTheOverlap) {
 TEST(CandidateSites, KeepsTheBestTexturedWhenThereAreTooMany) {
   cv::Mat texture(10, 10, CV_32F);
   for (int i = 0; i < 100; ++i) texture.at<float>(i / 10, i % 10) = static_cast<float>(i);
-  const auto sites = CandidateSites(texture, 8, geometry::Rectangle(0, 0, 100, 100), 0.0, 0.0, 5);
+  const auto sites =
+      CandidateSites(texture, 8, {{geometry::Rectangle(0, 0, 100, 100), 0.0}}, 0.0, 5);
   ASSERT_EQ(sites.size(), 5u);
   for (const auto& s : sites) EXPECT_GE(s.texture, 95.0);
+}
+
+TEST(CandidateSites, ASiteMustFitEveryBound) {
+  const cv::Mat texture(59, 79, CV_32F, cv::Scalar(10.0f));    // grid of a 640×480 frame
+  const auto frame = geometry::Rectangle(0, 0, 640, 480);      // the template inside the frame
+  const auto mosaic = geometry::Rectangle(-100, 0, 400, 480);  // its search window in the mosaic
+  const auto sites = CandidateSites(texture, 8, {{frame, 30.0}, {mosaic, 60.0}}, 1.0, 10000);
+  ASSERT_FALSE(sites.empty());
+  double min_u = 1e9, max_u = 0;
+  for (const auto& s : sites) {
+    min_u = std::min(min_u, s.center_px.x()), max_u = std::max(max_u, s.center_px.x());
+    EXPECT_GE(s.center_px.y(), 60.0);  // the window needs 60 px inside the mosaic's top edge
+  }
+  EXPECT_EQ(min_u, 32.0);   // the frame's bound, not the mosaic's (−40)
+  EXPECT_EQ(max_u, 336.0);  // the mosaic's bound (≤ 340)
+}
+
+TEST(RelativeTextureThreshold, FollowsTheFramesOwnTextureAboveTheFloor) {
+  cv::Mat texture(10, 10, CV_32F);
+  for (int i = 0; i < 100; ++i) texture.at<float>(i / 10, i % 10) = 0.01f * (i + 1);  // plain
+  EXPECT_NEAR(RelativeTextureThreshold(texture, 0.9, 0.5, 0.1), 0.5 * 0.9, 0.011);
+  EXPECT_DOUBLE_EQ(RelativeTextureThreshold(texture, 0.9, 0.5, 2.0), 2.0);
+  texture *= 100.0;  // the same floor, ten times the contrast: the threshold follows
+  EXPECT_NEAR(RelativeTextureThreshold(texture, 0.9, 0.5, 0.1), 50.0 * 0.9, 1.1);
+  EXPECT_DOUBLE_EQ(RelativeTextureThreshold(cv::Mat(3, 3, CV_32F, cv::Scalar(0)), 0.9, 0.5, 0.1),
+                   0.1);
 }
 
 TEST(SelectSites, SpreadsPicksAcrossTheFrameInsteadOfClusteringOnTheBest) {

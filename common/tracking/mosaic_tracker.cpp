@@ -38,6 +38,20 @@ const char* LockStateName(LockState state) {  // declared in frame_localizer.h
   return "lost";
 }
 
+const char* DirectUseName(DirectUse use) {  // declared in frame_localizer.h
+  switch (use) {
+    case DirectUse::kNotRun:
+      return "not_run";
+    case DirectUse::kUsed:
+      return "used";
+    case DirectUse::kRefused:
+      return "refused";
+    case DirectUse::kDisagreed:
+      return "disagreed";
+  }
+  return "not_run";
+}
+
 MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::CameraModel& camera,
                              mosaic::RasterSource* mosaic)
     : options_(options),
@@ -86,14 +100,20 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const 
   for (const auto& corner : geometry::Rectangle(0, 0, layout.width_px, layout.height_px)) {
     mosaic_in_frame.push_back(to_frame(corner));
   }
-  const geometry::ConvexPolygon overlap = geometry::ClipConvex(
-      geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px), mosaic_in_frame);
   // Texture on the half-resolution frame, at the candidate grid only.
   const int half_step = std::max(1, options_.candidate_step_px / 2);
   const cv::Mat texture = imaging::TextureScoreGrid(half, half_step, options_.texture_window_px);
-  const double half_extent = options_.template_size_px / 2.0 + radius_px + matcher_.margin_px();
+  // A template must lie in the frame; its search window only in the mosaic (the window is cut
+  // from the mosaic, not the frame), so sites near the frame's edges stay usable however wide the
+  // search: on small frames and fast runs that is most of the frame.
+  const double template_half = options_.template_size_px / 2.0 + matcher_.margin_px();
+  const std::vector<SiteBounds> bounds{
+      {geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px), template_half},
+      {mosaic_in_frame, template_half + radius_px}};
+  const double min_texture = RelativeTextureThreshold(
+      texture, options_.texture_quantile, options_.relative_texture, options_.min_texture);
   const std::vector<TemplateSite> candidates =
-      CandidateSites(texture, 2 * half_step, overlap, half_extent, options_.min_texture);
+      CandidateSites(texture, 2 * half_step, bounds, min_texture);
   return SelectSites(candidates, options_.max_templates, options_.spread_sigma_px,
                      options_.template_size_px);
 }
@@ -188,7 +208,14 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
   int fine_radius = 0;  // 0: each site's own 3-sigma radius
   bool coarse_failed = false;
   // A small mosaic may have fewer pyramid levels than the coarse search would use.
-  const int coarse_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
+  // The search starts at the finest level whose window is small enough (each level halves it):
+  // a template at a finer level keeps more of a weak floor's texture.
+  const int max_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
+  int coarse_levels = std::min(1, max_levels);
+  while (coarse_levels < max_levels &&
+         (frame_radius >> coarse_levels) > options_.coarse_search_radius_px) {
+    ++coarse_levels;
+  }
   if (frame_radius > options_.coarse_above_radius_px && coarse_levels >= 1) {
     const std::vector<TemplateSite> coarse_sites(
         sites.begin(), sites.begin() + std::min<size_t>(sites.size(), options_.coarse_templates));
@@ -244,6 +271,10 @@ std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& fram
   stats->direct_ms += MsSince(t_direct);
   stats->direct = dense.valid ? DirectUse::kUsed : DirectUse::kRefused;
   stats->direct_reason = dense.reason;
+  stats->direct_correlation = dense.correlation;
+  stats->direct_coarse_correlation = dense.coarse_correlation;
+  stats->direct_peak_ratio = dense.peak_ratio;
+  stats->direct_chi2 = dense.prior_chi2;
   if (!dense.valid) return std::nullopt;
   return dense.posterior;
 }
@@ -300,6 +331,10 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.direct_ms = stats.direct_ms;
   result.direct = stats.direct;
   result.direct_reason = stats.direct_reason;
+  result.direct_correlation = stats.direct_correlation;
+  result.direct_coarse_correlation = stats.direct_coarse_correlation;
+  result.direct_peak_ratio = stats.direct_peak_ratio;
+  result.direct_chi2 = stats.direct_chi2;
   return result;
 }
 

@@ -52,7 +52,8 @@ Status Validate(const DirectAlignOptions& d) {
   for (const auto& [value, name] :
        {std::pair{d.max_strong_peak_ratio, "direct.max_strong_peak_ratio"},
         {d.max_weak_peak_ratio, "direct.max_weak_peak_ratio"},
-        {d.max_distinct_peak_ratio, "direct.max_distinct_peak_ratio"}}) {
+        {d.max_distinct_peak_ratio, "direct.max_distinct_peak_ratio"},
+        {d.max_clear_peak_ratio, "direct.max_clear_peak_ratio"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
   }
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
@@ -82,6 +83,10 @@ Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.match_smoothing_sigma_px >= 0 && o.match_smoothing_sigma_px <= 4,
                                  "match_smoothing_sigma_px", "must be in [0, 4]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_texture >= 0, "min_texture", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.relative_texture >= 0 && o.relative_texture <= 1,
+                                 "relative_texture", "must be in [0, 1]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.texture_quantile >= 0 && o.texture_quantile <= 1,
+                                 "texture_quantile", "must be in [0, 1]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.spread_sigma_px > 0, "spread_sigma_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_peak_correlation > -1 && o.min_peak_correlation < 1,
                                  "min_peak_correlation", "must be in (-1, 1)"));
@@ -96,6 +101,8 @@ Status Validate(const TrackerOptions& o) {
       Check(o.refine_search_radius_px >= 1, "refine_search_radius_px", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes", "must be in [0, 5]"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.coarse_search_radius_px >= 1, "coarse_search_radius_px", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_above_radius_px >= o.refine_search_radius_px,
                                  "coarse_above_radius_px", "must be ≥ refine_search_radius_px"));
   FLEETLOC_RETURN_IF_ERROR(

@@ -72,6 +72,10 @@ struct DirectAlignOptions {
   // small, and those frames coasted.
   double min_distinct_correlation = 0.6;
   double max_distinct_peak_ratio = 0.2;
+  // A fit whose coarse search found one clear peak (second peak at most this share of it) is as
+  // distinct at a strong correlation: low-contrast frames under dust and fast turns put right
+  // fits at correlation 0.40–0.42, peak ratio 0.09, χ² 120–130 (stress suite, 320×240, `all`).
+  double max_clear_peak_ratio = 0.12;
   double max_distinct_prior_chi2 = 400.0;
   // The weak rule was 0.2 / 0.65 when tuned on proxy floors; the first holdout run of the stress
   // suite found two false locks through it (3.2 and 5.7 px off at correlation 0.28 and 0.24,
@@ -84,10 +88,15 @@ struct DirectAlignOptions {
 struct TrackerOptions {
   int template_size_px = 48;  // side of a square template (multiple of 4)
   int max_templates = 28;
-  int min_inliers = 4;             // fewer kept matches than this → coasting
-  int candidate_step_px = 16;      // grid of template candidates in the frame
-  int texture_window_px = 5;       // at half resolution
-  double min_texture = 2.0;        // smallest eigenvalue, (grey levels/px)²
+  int min_inliers = 4;         // fewer kept matches than this → coasting
+  int candidate_step_px = 16;  // grid of template candidates in the frame
+  int texture_window_px = 5;   // at half resolution
+  // A candidate site needs texture (the smallest eigenvalue of the structure matrix, (grey
+  // levels/px)², at half resolution) of at least relative_texture × the frame's texture_quantile
+  // score, and at least min_texture: relative, so a plain floor keeps its best sites.
+  double min_texture = 2.0;
+  double relative_texture = 0.0;
+  double texture_quantile = 0.9;
   double spread_sigma_px = 120.0;  // feature selection: distance scale of the spread bonus
   int normalize_window_px = 7;
   // Gaussian smoothing of the normalized frame and mosaic at full resolution before they are
@@ -116,7 +125,8 @@ struct TrackerOptions {
   // coarse_templates sites, each finer level refines ±refine radius, and the full-resolution
   // search only covers ±refine radius.
   int coarse_above_radius_px = 4;
-  int coarse_levels = 2;
+  int coarse_levels = 2;            // the coarsest level the search may start at
+  int coarse_search_radius_px = 8;  // it starts at the finest level whose radius is ≤ this
   int coarse_templates = 12;
   int coarse_template_size_px = 48;      // level-0 pixels (halved per level)
   double measurement_sigma_px = 0.15;    // 1-sigma of one template correspondence
