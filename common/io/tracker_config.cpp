@@ -15,6 +15,7 @@ using FieldTable = std::vector<std::pair<const char*, Field>>;
 
 FieldTable TrackerFields(tracking::TrackerOptions& o) {
   return {{"template_size_px", &o.template_size_px},
+          {"weak_template_size_px", &o.weak_template_size_px},
           {"max_templates", &o.max_templates},
           {"min_inliers", &o.min_inliers},
           {"candidate_step_px", &o.candidate_step_px},

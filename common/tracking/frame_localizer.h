@@ -21,8 +21,9 @@ struct FrameResult {
   double t = 0.0;
   geometry::PoseWithCovariance base_in_map;  // at the frame's time
   LockState state = LockState::kLost;
-  int templates = 0;  // correspondences measured (before outlier rejection)
-  int inliers = 0;    // correspondences kept by the pose update
+  int templates = 0;         // correspondences measured (before outlier rejection)
+  int inliers = 0;           // correspondences kept by the pose update
+  int template_size_px = 0;  // the template size that locked the frame (0: templates did not)
   double rms_residual_px = 0.0;
   int search_radius_px = 0;
   // Where the cycle's time went (ms): choosing sites (texture, overlap, selection), the coarse

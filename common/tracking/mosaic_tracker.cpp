@@ -70,6 +70,8 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   state_ = LockState::kTracking;
   direct_first_ = false;
   template_failures_ = 0;
+  weak_templates_first_ = false;
+  frames_on_weak_templates_ = 0;
 }
 
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
@@ -93,7 +95,7 @@ int MosaicTracker::MaxSearchRadius() const {
 
 // Steps 3–5: texture score, overlap polygon, greedy selection.
 std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const Pose2& camera,
-                                                     int radius_px) const {
+                                                     int radius_px, int template_size_px) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
   const FrameMosaicWarp to_frame = FrameMosaicWarp::For(camera, camera_, layout.geo).Inverse();
   geometry::ConvexPolygon mosaic_in_frame;
@@ -106,7 +108,7 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const 
   // A template must lie in the frame; its search window only in the mosaic (the window is cut
   // from the mosaic, not the frame), so sites near the frame's edges stay usable however wide the
   // search: on small frames and fast runs that is most of the frame.
-  const double template_half = options_.template_size_px / 2.0 + matcher_.margin_px();
+  const double template_half = template_size_px / 2.0 + matcher_.margin_px();
   const std::vector<SiteBounds> bounds{
       {geometry::Rectangle(0, 0, camera_.width_px, camera_.height_px), template_half},
       {mosaic_in_frame, template_half + radius_px}};
@@ -115,7 +117,7 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const 
   const std::vector<TemplateSite> candidates =
       CandidateSites(texture, 2 * half_step, bounds, min_texture);
   return SelectSites(candidates, options_.max_templates, options_.spread_sigma_px,
-                     options_.template_size_px);
+                     template_size_px);
 }
 
 // Step 3 (frame side): normalized templates, cut once per frame and level.
@@ -188,18 +190,52 @@ int MosaicTracker::FrameSearchRadius(const PoseWithCovariance& prior) const {
   return radius;
 }
 
-// Steps 3–7 with templates: selection, coarse-to-fine matching and the Kalman update. The fit when
-// at least min_inliers templates were kept.
+// Steps 3–7 with templates: the preferred template size first, the other when it fails (a floor
+// too weak for the standard templates often locks with larger ones, far cheaper than the dense
+// alignment). The fit when at least min_inliers templates were kept.
 std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& frame,
                                                                 const PoseWithCovariance& prior,
-                                                                int frame_radius,
+                                                                int frame_radius, bool weak_first,
                                                                 FrameResult* stats) const {
+  std::vector<TemplateScale> scales{{options_.template_size_px, options_.coarse_template_size_px}};
+  if (options_.weak_template_size_px > 0) {
+    const TemplateScale weak{options_.weak_template_size_px, options_.weak_template_size_px};
+    scales.insert(weak_first ? scales.begin() : scales.end(), weak);
+  }
+  std::vector<cv::Mat> pyramid{frame};
+  for (const TemplateScale& scale : scales) {
+    const std::optional<PoseWithCovariance> fit =
+        MatchTemplatesAt(&pyramid, prior, frame_radius, scale, stats);
+    if (fit) {
+      stats->template_size_px = scale.size_px;
+      return fit;
+    }
+  }
+  return std::nullopt;
+}
+
+// The frame pyramid up to `level` (each level half the last, area-averaged).
+static const cv::Mat& PyramidLevel(std::vector<cv::Mat>* pyramid, int level) {
+  while (static_cast<int>(pyramid->size()) <= level) {
+    const cv::Mat& last = pyramid->back();
+    cv::Mat next;
+    cv::resize(last, next, {last.cols / 2, last.rows / 2}, 0, 0, cv::INTER_AREA);
+    pyramid->push_back(next);
+  }
+  return (*pyramid)[level];
+}
+
+// One template size: selection, coarse-to-fine matching and the Kalman update.
+std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(std::vector<cv::Mat>* pyramid,
+                                                                  const PoseWithCovariance& prior,
+                                                                  int frame_radius,
+                                                                  const TemplateScale& scale,
+                                                                  FrameResult* stats) const {
   using Clock = std::chrono::steady_clock;
-  cv::Mat half;
-  cv::resize(frame, half, {frame.cols / 2, frame.rows / 2}, 0, 0, cv::INTER_AREA);
   const auto t_start = Clock::now();
-  const std::vector<TemplateSite> sites = ChooseSites(half, prior.pose, frame_radius);
-  stats->select_ms = MsSince(t_start);
+  const std::vector<TemplateSite> sites =
+      ChooseSites(PyramidLevel(pyramid, 1), prior.pose, frame_radius, scale.size_px);
+  stats->select_ms += MsSince(t_start);
   const auto t_coarse = Clock::now();
   // Coarse to fine when the window is large: search the frame pyramid from the coarsest level
   // whose window is small, refine ±refine radius at each finer level; the full-resolution search
@@ -207,30 +243,15 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
   PoseWithCovariance center = prior;
   int fine_radius = 0;  // 0: each site's own 3-sigma radius
   bool coarse_failed = false;
-  // A small mosaic may have fewer pyramid levels than the coarse search would use.
-  // The search starts at the finest level whose window is small enough (each level halves it):
-  // a template at a finer level keeps more of a weak floor's texture.
-  const int max_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
-  int coarse_levels = std::min(1, max_levels);
-  while (coarse_levels < max_levels &&
-         (frame_radius >> coarse_levels) > options_.coarse_search_radius_px) {
-    ++coarse_levels;
-  }
+  const int coarse_levels = CoarseLevels(frame_radius);
   if (frame_radius > options_.coarse_above_radius_px && coarse_levels >= 1) {
     const std::vector<TemplateSite> coarse_sites(
         sites.begin(), sites.begin() + std::min<size_t>(sites.size(), options_.coarse_templates));
-    std::vector<cv::Mat> pyramid{frame, half};
-    while (static_cast<int>(pyramid.size()) <= coarse_levels) {
-      cv::Mat next;
-      cv::resize(pyramid.back(), next, {pyramid.back().cols / 2, pyramid.back().rows / 2}, 0, 0,
-                 cv::INTER_AREA);
-      pyramid.push_back(next);
-    }
     for (int level = coarse_levels; level >= 1 && !coarse_failed; --level) {
       const bool first = level == coarse_levels;
-      const Measured coarse =
-          MatchSites(Prepare(pyramid[level], coarse_sites, options_.coarse_template_size_px, level),
-                     center, first ? 0 : options_.refine_search_radius_px, level);
+      const Measured coarse = MatchSites(
+          Prepare(PyramidLevel(pyramid, level), coarse_sites, scale.coarse_size_px, level), center,
+          first ? 0 : options_.refine_search_radius_px, level);
       const PoseUpdate coarse_update = Update(prior, coarse, level);
       stats->templates = std::max(stats->templates, static_cast<int>(coarse.matches.size()));
       coarse_failed = coarse_update.inliers < options_.min_inliers;
@@ -238,10 +259,10 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
     }
     fine_radius = options_.refine_search_radius_px;
   }
-  stats->coarse_ms = MsSince(t_coarse);
+  stats->coarse_ms += MsSince(t_coarse);
   const auto t_fine = Clock::now();
-  std::vector<PreparedSite> fine_sites = Prepare(frame, sites, options_.template_size_px, 0);
-  if (coarse_failed) fine_sites.clear();
+  std::vector<PreparedSite> fine_sites;
+  if (!coarse_failed) fine_sites = Prepare((*pyramid)[0], sites, scale.size_px, 0);
   Measured measured = MatchSites(fine_sites, center, fine_radius, 0);
   stats->templates = std::max(stats->templates, static_cast<int>(measured.matches.size()));
   PoseUpdate update = Update(prior, measured, 0);
@@ -253,11 +274,23 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
                           options_.refine_search_radius_px, 0);
     update = Update(prior, measured, 0);
   }
-  stats->fine_ms = MsSince(t_fine);
+  stats->fine_ms += MsSince(t_fine);
   stats->inliers = update.inliers;
   stats->rms_residual_px = update.rms_residual_m / camera_.resolution_m;
   if (update.inliers < options_.min_inliers) return std::nullopt;
   return update.posterior;
+}
+
+// The pyramid level the coarse template search starts at: the finest whose window is small
+// enough (each level halves it), as a template at a finer level keeps more of a weak floor's
+// texture; a small mosaic may have fewer levels.
+int MosaicTracker::CoarseLevels(int frame_radius) const {
+  const int max_levels = std::min(options_.coarse_levels, mosaic_->layout().levels - 1);
+  int levels = std::min(1, max_levels);
+  while (levels < max_levels && (frame_radius >> levels) > options_.coarse_search_radius_px) {
+    ++levels;
+  }
+  return levels;
 }
 
 // The dense alignment from `start`: its posterior when it validates.
@@ -304,8 +337,9 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   } else {
     frames_since_templates_ = 0;
     const std::optional<PoseWithCovariance> template_fit =
-        MatchTemplates(frame, prior, frame_radius, &stats);
+        MatchTemplates(frame, prior, frame_radius, weak_templates_first_, &stats);
     templates_locked = template_fit.has_value();
+    ChooseTemplateSizeAfter(template_fit ? stats.template_size_px : 0);
     posterior = Decide(frame, prior, template_fit, direct_first, &stats);
     template_failures_ = templates_locked ? 0 : template_failures_ + 1;
     direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
@@ -325,6 +359,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.inliers = posterior && templates_locked ? stats.inliers : 0;
   result.rms_residual_px = stats.rms_residual_px;
   result.search_radius_px = frame_radius;
+  result.template_size_px = stats.template_size_px;
   result.select_ms = stats.select_ms;
   result.coarse_ms = stats.coarse_ms;
   result.fine_ms = stats.fine_ms;
@@ -359,6 +394,17 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
     return std::nullopt;
   }
   return dense;
+}
+
+// The next frame starts with the template size that locked this one; after retry_templates_frames
+// frames on the weak-floor size the standard one is tried first again. `locked_size_px`: 0 when
+// no size locked.
+void MosaicTracker::ChooseTemplateSizeAfter(int locked_size_px) {
+  if (locked_size_px == 0) return;
+  const bool weak = locked_size_px != options_.template_size_px;
+  frames_on_weak_templates_ = weak ? frames_on_weak_templates_ + 1 : 0;
+  weak_templates_first_ = weak && frames_on_weak_templates_ < options_.retry_templates_frames;
+  if (!weak_templates_first_) frames_on_weak_templates_ = 0;
 }
 
 void MosaicTracker::DropTiles(const std::vector<mosaic::TileKey>& changed) {

@@ -52,8 +52,13 @@ class MosaicTracker : public FrameLocalizer {
   };
   int MaxSearchRadius() const;
   int SearchRadius(const geometry::PoseWithCovariance& camera, const Eigen::Vector2d& px) const;
+  // Template sizes (level-0 px) of one matching attempt: full resolution and coarse levels.
+  struct TemplateScale {
+    int size_px = 0;
+    int coarse_size_px = 0;
+  };
   std::vector<TemplateSite> ChooseSites(const cv::Mat& half_frame, const geometry::Pose2& camera,
-                                        int radius_px) const;
+                                        int radius_px, int template_size_px) const;
   std::vector<PreparedSite> Prepare(const cv::Mat& frame_at_level,
                                     const std::vector<TemplateSite>& sites, int size_px,
                                     int level) const;
@@ -69,7 +74,12 @@ class MosaicTracker : public FrameLocalizer {
   int FrameSearchRadius(const geometry::PoseWithCovariance& prior) const;
   std::optional<geometry::PoseWithCovariance> MatchTemplates(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior, int frame_radius,
-      FrameResult* stats) const;
+      bool weak_first, FrameResult* stats) const;
+  std::optional<geometry::PoseWithCovariance> MatchTemplatesAt(
+      std::vector<cv::Mat>* pyramid, const geometry::PoseWithCovariance& prior, int frame_radius,
+      const TemplateScale& scale, FrameResult* stats) const;
+  int CoarseLevels(int frame_radius) const;
+  void ChooseTemplateSizeAfter(int locked_size_px);
   std::optional<geometry::PoseWithCovariance> AlignDirect(const cv::Mat& frame,
                                                           const geometry::PoseWithCovariance& prior,
                                                           const geometry::Pose2& start,
@@ -92,6 +102,8 @@ class MosaicTracker : public FrameLocalizer {
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
   int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran
   int template_failures_ = 0;       // frames in a row the templates were tried on and failed
+  bool weak_templates_first_ = false;  // the weak-floor template size locked the last frame
+  int frames_on_weak_templates_ = 0;
   LockState state_ = LockState::kLost;
 };
 

@@ -67,6 +67,13 @@ Status Validate(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.template_size_px >= 8 && o.template_size_px <= 128 && o.template_size_px % 4 == 0,
             "template_size_px", "must be a multiple of 4, in [8, 128]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(
+      o.weak_template_size_px == 0 ||
+          (o.weak_template_size_px > o.template_size_px && o.weak_template_size_px <= 128 &&
+           o.weak_template_size_px % 8 == 0 && o.weak_template_size_px >> o.coarse_levels >= 8),
+      "weak_template_size_px",
+      "must be 0 or a multiple of 8 above template_size_px, at most 128, and at least 8 "
+      "pixels at the coarsest level"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.coarse_template_size_px >= 8 && o.coarse_template_size_px <= o.template_size_px &&
                 o.coarse_template_size_px % 8 == 0,

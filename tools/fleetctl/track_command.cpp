@@ -49,17 +49,19 @@ namespace {
 // and why it refused), for finding out why a run coasts.
 std::string FramesCsv(const replay::ReplayResult& replayed) {
   std::string csv =
-      "t,status,templates,inliers,rms_residual_px,search_radius_px,select_ms,coarse_ms,fine_ms,"
+      "t,status,templates,template_size_px,inliers,rms_residual_px,search_radius_px,select_ms,"
+      "coarse_ms,fine_ms,"
       "direct_ms,direct,direct_reason,direct_correlation,direct_coarse_correlation,direct_peak_"
       "ratio,"
       "direct_chi2,cycle_ms\n";
   for (size_t i = 0; i < replayed.frames.size(); ++i) {
     const tracking::FrameResult& f = replayed.frames[i];
     csv += fmt::format(
-        "{:.6f},{},{},{},{:.4f},{},{:.3f},{:.3f},{:.3f},{:.3f},{},\"{}\",{:.3f},{:.3f},{:.3f},{:."
+        "{:.6f},{},{},{},{},{:.4f},{},{:.3f},{:.3f},{:.3f},{:.3f},{},\"{}\",{:.3f},{:.3f},{:.3f},{:"
+        "."
         "2f},{:.3f}\n",
-        f.t, tracking::LockStateName(f.state), f.templates, f.inliers, f.rms_residual_px,
-        f.search_radius_px, f.select_ms, f.coarse_ms, f.fine_ms, f.direct_ms,
+        f.t, tracking::LockStateName(f.state), f.templates, f.template_size_px, f.inliers,
+        f.rms_residual_px, f.search_radius_px, f.select_ms, f.coarse_ms, f.fine_ms, f.direct_ms,
         tracking::DirectUseName(f.direct), f.direct_reason, f.direct_correlation,
         f.direct_coarse_correlation, f.direct_peak_ratio, f.direct_chi2, replayed.cycle_ms[i]);
   }
