@@ -100,6 +100,22 @@ TEST(DirectAligner, FindsTheBasinFromAPoorPredictionByCoarseSearch) {
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
 }
 
+TEST(DirectAligner, FindsAPredictionTurnedByTwiceItsHeadingSigma) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  // 12 px and 2.3° off, heading sigma 1.1°: the coarse search climbs over headings to the basin.
+  const PoseWithCovariance prior =
+      Prior(f.scene, base, {0.004, -0.004, 0.04}, {0.004, 0.004, 0.02});
+  const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
+  ASSERT_TRUE(fit.valid) << fit.reason;
+  EXPECT_TRUE(fit.searched);
+  EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+  EXPECT_LT(
+      std::abs(geometry::WrapAngle(fit.posterior.pose.theta - (base * f.scene.camera.mount).theta)),
+      0.001);
+}
+
 TEST(DirectAligner, IgnoresOccludersVignettingAndUnevenLight) {
   Fixture f;
   cv::RNG rng(3);

@@ -124,7 +124,11 @@ struct TrackerOptions {
   int min_search_radius_px = 3;
   int max_search_radius_px = 48;    // beyond this the prediction is too poor: lost
   int refine_search_radius_px = 2;  // fine passes around the previous solution
-  int refine_passes = 0;            // extra fine passes after the first
+  // Extra fine passes after the first: the mosaic is resampled at the refined pose and the inliers
+  // matched again within ±refine radius, where the quadratic peak fit's pixel-locking bias vanishes.
+  // One pass: camera RMS 0.009–0.014 → 0.003–0.005 px on the clean 640×480 stress floors (below
+  // ECC's 0.005–0.009), demo floors base_link 0.051 → 0.041 px, +0.45 ms per frame.
+  int refine_passes = 1;
   // Coarse-to-fine: when the search radius exceeds coarse_above_radius_px, the first search runs
   // at pyramid level coarse_levels (each level halves the resolution and the radius) on the first
   // coarse_templates sites, each finer level refines ±refine radius, and the full-resolution
