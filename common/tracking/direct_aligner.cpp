@@ -292,8 +292,12 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   const bool distinct = clear_peak || (fit.coarse_correlation >= o.min_distinct_correlation &&
                                        ratio <= o.max_distinct_peak_ratio);
   const double max_chi2 = distinct ? o.max_distinct_prior_chi2 : o.max_prior_chi2;
-  const bool strong = fit.coarse_correlation >= o.min_strong_correlation &&
-                      ratio <= o.max_strong_peak_ratio && fit.prior_chi2 <= max_chi2;
+  // Strong at the search level, or at the finest level where a weak floor's texture lives (a
+  // coarse search peak that is not ambiguous, then a high correlation once aligned).
+  const bool strong = (fit.coarse_correlation >= o.min_strong_correlation &&
+                       ratio <= o.max_strong_peak_ratio && fit.prior_chi2 <= max_chi2) ||
+                      (fit.correlation >= o.min_fine_strong_correlation &&
+                       ratio <= o.max_weak_peak_ratio && fit.prior_chi2 <= o.max_prior_chi2);
   const bool weak = prediction_confirms && fit.coarse_correlation >= o.min_weak_correlation &&
                     ratio <= o.max_weak_peak_ratio && fit.prior_chi2 <= o.max_weak_prior_chi2;
   if (strong || weak) return "";

@@ -46,7 +46,8 @@ Status Validate(const DirectAlignOptions& d) {
        {std::pair{d.min_correlation, "direct.min_correlation"},
         {d.min_strong_correlation, "direct.min_strong_correlation"},
         {d.min_weak_correlation, "direct.min_weak_correlation"},
-        {d.min_distinct_correlation, "direct.min_distinct_correlation"}}) {
+        {d.min_distinct_correlation, "direct.min_distinct_correlation"},
+        {d.min_fine_strong_correlation, "direct.min_fine_strong_correlation"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > -1 && value < 1, name, "must be in (-1, 1)"));
   }
   for (const auto& [value, name] :

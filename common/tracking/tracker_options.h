@@ -80,6 +80,13 @@ struct DirectAlignOptions {
   // The weak rule was 0.2 / 0.65 when tuned on proxy floors; the first holdout run of the stress
   // suite found two false locks through it (3.2 and 5.7 px off at correlation 0.28 and 0.24,
   // peak ratio 0.35 and 0.51), so it now needs a distinct peak as well.
+  // A fit is strong too when the finest level correlates this well after a coarse peak that is not
+  // ambiguous (second peak ≤ max_weak_peak_ratio): an upscaled plain floor has little texture left
+  // at the search level (polished concrete at 1280×1024 under dust: right fits at 0.49–0.53 here,
+  // 0.27–0.29 at the search level, peak ratio 0.23–0.29), while frames aligned to another floor's
+  // mosaic reach at most 0.27 here at peak ratios ≥ 0.75 (1200 such fits, every size and
+  // condition).
+  double min_fine_strong_correlation = 0.4;
   double min_weak_correlation = 0.25;
   double max_weak_peak_ratio = 0.3;
   double max_weak_prior_chi2 = 6.0;
@@ -125,9 +132,9 @@ struct TrackerOptions {
   int max_search_radius_px = 48;    // beyond this the prediction is too poor: lost
   int refine_search_radius_px = 2;  // fine passes around the previous solution
   // Extra fine passes after the first: the mosaic is resampled at the refined pose and the inliers
-  // matched again within ±refine radius, where the quadratic peak fit's pixel-locking bias vanishes.
-  // One pass: camera RMS 0.009–0.014 → 0.003–0.005 px on the clean 640×480 stress floors (below
-  // ECC's 0.005–0.009), demo floors base_link 0.051 → 0.041 px, +0.45 ms per frame.
+  // matched again within ±refine radius, where the quadratic peak fit's pixel-locking bias
+  // vanishes. One pass: camera RMS 0.009–0.014 → 0.003–0.005 px on the clean 640×480 stress floors
+  // (below ECC's 0.005–0.009), demo floors base_link 0.051 → 0.041 px, +0.45 ms per frame.
   int refine_passes = 1;
   // Coarse-to-fine: when the search radius exceeds coarse_above_radius_px, the first search runs
   // at pyramid level coarse_levels (each level halves the resolution and the radius) on the first
