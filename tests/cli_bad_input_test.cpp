@@ -177,6 +177,15 @@ TEST_F(CliBadInput, TrackConfigWithAnUnknownOption) {
                          {"tracker.json", "no_such_option"}));
 }
 
+TEST_F(CliBadInput, TrackFramesOutOntoADirectoryIsAnErrorNamingIt) {
+  const std::string target = dir_ / "frames_dir";
+  fs::create_directories(target);
+  const CommandResult r = Track(run_, mosaic_, " --frames-out " + Quote(target));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("frames_dir"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_directory(target));  // left as it was
+}
+
 TEST_F(CliBadInput, MosaicImportOfACorruptImage) {
   const std::string image = dir_ / "corrupt.png";
   WriteRandomBytes(image, 8192);
