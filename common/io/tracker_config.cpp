@@ -77,6 +77,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"min_distinct_correlation", &d.min_distinct_correlation},
           {"max_distinct_peak_ratio", &d.max_distinct_peak_ratio},
           {"max_clear_peak_ratio", &d.max_clear_peak_ratio},
+          {"full_resolution_below_pixels", &d.full_resolution_below_pixels},
           {"min_fine_strong_correlation", &d.min_fine_strong_correlation},
           {"max_distinct_prior_chi2", &d.max_distinct_prior_chi2}};
 }

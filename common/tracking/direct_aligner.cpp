@@ -148,7 +148,7 @@ DirectAligner::DirectAligner(const DirectAlignOptions& options, const geometry::
 
 // The pyramid, normalized like the mosaic, and at each level the strongest-gradient pixel of
 // every cell (cells sized so that at most max_points are kept), away from the clipped border.
-std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame,
+std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame, int finest,
                                                              int coarsest) const {
   std::vector<Level> levels(coarsest + 1);
   cv::Mat image = frame;
@@ -156,7 +156,7 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
     if (l > 0) cv::resize(image, image, {image.cols / 2, image.rows / 2}, 0, 0, cv::INTER_AREA);
     Level& level = levels[l];
     level.level = l;
-    if (l < finest_level_) continue;
+    if (l < finest) continue;
     const int window = mosaic_->WindowAt(l);
     level.normalized = mosaic_->Normalize(image, l);
     level.border = mosaic_->MarginAt(l);
@@ -413,44 +413,58 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
   return lin;
 }
 
+// Robust MAP Gauss–Newton at one level from `pose`: the level's final pose, its linearization
+// there in `final_fit`.
+Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& prior, Pose2 pose,
+                                double tolerance_px, int* iterations,
+                                Linearization* final_fit) const {
+  const double res = camera_.resolution_m;
+  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
+  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
+  const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
+  const Source source = ReadSource(level, pose);
+  double sigma = 0.0;  // estimated at the level's first iteration, then kept
+  for (int it = 0; it < options_.max_iterations; ++it) {
+    ++*iterations;
+    const Linearization lin = Linearize(level, *source, pose, sigma);
+    if (lin.points < 3) break;
+    sigma = lin.sigma;
+    // Maximum a posteriori step: image term (its information scaled by the residual variance and
+    // the correlation factor) and the prior, whose map delta is ≈ −B·S·q.
+    const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
+    const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
+    const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
+    const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
+    const Eigen::Vector3d q = (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
+    if (!q.allFinite()) break;
+    pose = ApplyStep(pose, q, res);
+    const double moved_px =
+        (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level.level);
+    if (moved_px < tolerance_px) break;
+  }
+  *final_fit = Linearize(level, *source, pose, sigma);
+  return pose;
+}
+
 DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovariance& prior,
                                      const Pose2& start, bool prediction_confirms,
                                      bool refine_only) const {
   DirectAlignment out;
   // A refinement starts inside the finest level's basin: no search, no coarser level.
   const int search_level = refine_only ? finest_level_ : SearchLevel(CornerSigmaPx(camera_, prior));
-  const std::vector<Level> levels = BuildLevels(frame, search_level);
-  const double res = camera_.resolution_m;
-  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
-  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
-  const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
+  const bool full_resolution =
+      finest_level_ > 0 && static_cast<long long>(camera_.width_px) * camera_.height_px <=
+                               options_.full_resolution_below_pixels;
+  const std::vector<Level> levels =
+      BuildLevels(frame, full_resolution ? 0 : finest_level_, search_level);
   Pose2 pose = refine_only ? start : CoarseSearch(levels[search_level], prior, start, &out);
   Linearization final_fit;
   for (int l = search_level; l >= finest_level_; --l) {
     const Level& level = levels[l];
     if (level.points.size() < 3) continue;
-    const Source source = ReadSource(level, pose);
-    double sigma = 0.0;  // estimated at the level's first iteration, then kept
-    for (int it = 0; it < options_.max_iterations; ++it) {
-      ++out.iterations;
-      const Linearization lin = Linearize(level, *source, pose, sigma);
-      if (lin.points < 3) break;
-      sigma = lin.sigma;
-      // Maximum a posteriori step: image term (its information scaled by the residual variance and
-      // the correlation factor) and the prior, whose map delta is ≈ −B·S·q.
-      const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
-      const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
-      const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
-      const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
-      const Eigen::Vector3d q = (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
-      if (!q.allFinite()) break;
-      pose = ApplyStep(pose, q, res);
-      const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << l);
-      // Coarser levels only need to hand the next level a start well inside its basin.
-      const double tolerance = options_.converged_px * (l == finest_level_ ? 1.0 : 5.0);
-      if (moved_px < tolerance) break;
-    }
-    final_fit = Linearize(level, *source, pose, sigma);
+    // Coarser levels only need to hand the next level a start well inside its basin.
+    const double tolerance = options_.converged_px * (l == finest_level_ ? 1.0 : 5.0);
+    pose = AlignLevel(level, prior, pose, tolerance, &out.iterations, &final_fit);
     out.points = final_fit.points;
     out.inlier_fraction = final_fit.inlier_fraction;
     out.correlation = final_fit.correlation;
@@ -459,7 +473,32 @@ DirectAlignment DirectAligner::Align(const cv::Mat& frame, const PoseWithCovaria
   Combine(final_fit, prior, pose, &out);
   out.reason = Verdict(out, prediction_confirms);
   out.valid = out.reason[0] == '\0';
+  if (out.valid && full_resolution && levels[0].points.size() >= 3) {
+    RefineAtFullResolution(levels[0], prior, pose, &out);
+  }
   return out;
+}
+
+// A validated fit of a small frame, refined at full resolution: kept when it converges within half
+// a pixel of the validated pose and its own correlation holds (the validation stays the coarser
+// level's, where lens blur and noise differ less from the mosaic).
+void DirectAligner::RefineAtFullResolution(const Level& level, const PoseWithCovariance& prior,
+                                           const Pose2& pose, DirectAlignment* out) const {
+  Linearization fit;
+  int iterations = 0;
+  const Pose2 refined = AlignLevel(level, prior, pose, options_.converged_px, &iterations, &fit);
+  DirectAlignment candidate = *out;
+  Combine(fit, prior, refined, &candidate);
+  const Eigen::Vector3d moved = Difference(candidate.posterior.pose, out->posterior.pose);
+  const double moved_px = moved.head<2>().norm() / camera_.resolution_m;
+  out->iterations += iterations;
+  if (candidate.reason[0] != '\0' || moved_px > 0.5 || fit.correlation < options_.min_correlation) {
+    return;
+  }
+  out->posterior = candidate.posterior;
+  out->measurement = candidate.measurement;
+  out->sigma_px = candidate.sigma_px;
+  out->prior_chi2 = candidate.prior_chi2;
 }
 
 // The image's own estimate and honest covariance from the finest level's linearization, fused

@@ -69,7 +69,12 @@ class DirectAligner {
     int points = 0;
   };
   // The frame pyramid up to `coarsest`, normalized and with pixels chosen from finest_level_ up.
-  std::vector<Level> BuildLevels(const cv::Mat& frame, int coarsest) const;
+  std::vector<Level> BuildLevels(const cv::Mat& frame, int finest, int coarsest) const;
+  geometry::Pose2 AlignLevel(const Level& level, const geometry::PoseWithCovariance& prior,
+                             geometry::Pose2 pose, double tolerance_px, int* iterations,
+                             Linearization* final_fit) const;
+  void RefineAtFullResolution(const Level& level, const geometry::PoseWithCovariance& prior,
+                              const geometry::Pose2& pose, DirectAlignment* out) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
                           const geometry::Pose2& pose, double sigma) const;

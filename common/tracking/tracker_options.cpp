@@ -42,6 +42,8 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_heading_steps >= 0 && d.max_heading_steps <= 10,
                                  "direct.max_heading_steps", "must be in [0, 10]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.full_resolution_below_pixels >= 0,
+                                 "direct.full_resolution_below_pixels", "must be ≥ 0"));
   for (const auto& [value, name] :
        {std::pair{d.min_correlation, "direct.min_correlation"},
         {d.min_strong_correlation, "direct.min_strong_correlation"},
