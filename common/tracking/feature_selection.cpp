@@ -57,6 +57,7 @@ std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_p
 
 double RelativeTextureThreshold(const cv::Mat& texture_grid, double quantile, double relative,
                                 double floor) {
+  if (relative <= 0.0) return floor;
   std::vector<float> scores;
   scores.reserve(texture_grid.total());
   for (int r = 0; r < texture_grid.rows; ++r) {

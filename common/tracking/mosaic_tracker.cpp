@@ -19,6 +19,17 @@ double MsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The frame pyramid up to `level` (each level half the last, area-averaged).
+const cv::Mat& PyramidLevel(std::vector<cv::Mat>* pyramid, int level) {
+  while (static_cast<int>(pyramid->size()) <= level) {
+    const cv::Mat& last = pyramid->back();
+    cv::Mat next;
+    cv::resize(last, next, {last.cols / 2, last.rows / 2}, 0, 0, cv::INTER_AREA);
+    pyramid->push_back(next);
+  }
+  return (*pyramid)[level];
+}
+
 }  // namespace
 
 using geometry::Pose2;
@@ -94,7 +105,7 @@ int MosaicTracker::MaxSearchRadius() const {
 }
 
 // Steps 3–5: texture score, overlap polygon, greedy selection.
-std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const Pose2& camera,
+std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& texture, const Pose2& camera,
                                                      int radius_px, int template_size_px) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
   const FrameMosaicWarp to_frame = FrameMosaicWarp::For(camera, camera_, layout.geo).Inverse();
@@ -102,9 +113,7 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& half, const 
   for (const auto& corner : geometry::Rectangle(0, 0, layout.width_px, layout.height_px)) {
     mosaic_in_frame.push_back(to_frame(corner));
   }
-  // Texture on the half-resolution frame, at the candidate grid only.
   const int half_step = std::max(1, options_.candidate_step_px / 2);
-  const cv::Mat texture = imaging::TextureScoreGrid(half, half_step, options_.texture_window_px);
   // A template must lie in the frame; its search window only in the mosaic (the window is cut
   // from the mosaic, not the frame), so sites near the frame's edges stay usable however wide the
   // search: on small frames and fast runs that is most of the frame.
@@ -203,9 +212,15 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
     scales.insert(weak_first ? scales.begin() : scales.end(), weak);
   }
   std::vector<cv::Mat> pyramid{frame};
+  // Texture on the half-resolution frame, at the candidate grid only; once for every size.
+  const auto t_texture = std::chrono::steady_clock::now();
+  const cv::Mat texture = imaging::TextureScoreGrid(PyramidLevel(&pyramid, 1),
+                                                    std::max(1, options_.candidate_step_px / 2),
+                                                    options_.texture_window_px);
+  stats->select_ms += MsSince(t_texture);
   for (const TemplateScale& scale : scales) {
     const std::optional<PoseWithCovariance> fit =
-        MatchTemplatesAt(&pyramid, prior, frame_radius, scale, stats);
+        MatchTemplatesAt(&pyramid, texture, prior, frame_radius, scale, stats);
     if (fit) {
       stats->template_size_px = scale.size_px;
       return fit;
@@ -214,27 +229,14 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
   return std::nullopt;
 }
 
-// The frame pyramid up to `level` (each level half the last, area-averaged).
-static const cv::Mat& PyramidLevel(std::vector<cv::Mat>* pyramid, int level) {
-  while (static_cast<int>(pyramid->size()) <= level) {
-    const cv::Mat& last = pyramid->back();
-    cv::Mat next;
-    cv::resize(last, next, {last.cols / 2, last.rows / 2}, 0, 0, cv::INTER_AREA);
-    pyramid->push_back(next);
-  }
-  return (*pyramid)[level];
-}
-
 // One template size: selection, coarse-to-fine matching and the Kalman update.
-std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(std::vector<cv::Mat>* pyramid,
-                                                                  const PoseWithCovariance& prior,
-                                                                  int frame_radius,
-                                                                  const TemplateScale& scale,
-                                                                  FrameResult* stats) const {
+std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
+    std::vector<cv::Mat>* pyramid, const cv::Mat& texture, const PoseWithCovariance& prior,
+    int frame_radius, const TemplateScale& scale, FrameResult* stats) const {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   const std::vector<TemplateSite> sites =
-      ChooseSites(PyramidLevel(pyramid, 1), prior.pose, frame_radius, scale.size_px);
+      ChooseSites(texture, prior.pose, frame_radius, scale.size_px);
   stats->select_ms += MsSince(t_start);
   const auto t_coarse = Clock::now();
   // Coarse to fine when the window is large: search the frame pyramid from the coarsest level

@@ -57,7 +57,8 @@ class MosaicTracker : public FrameLocalizer {
     int size_px = 0;
     int coarse_size_px = 0;
   };
-  std::vector<TemplateSite> ChooseSites(const cv::Mat& half_frame, const geometry::Pose2& camera,
+  // `texture`: the half-resolution frame's texture score at the candidate grid.
+  std::vector<TemplateSite> ChooseSites(const cv::Mat& texture, const geometry::Pose2& camera,
                                         int radius_px, int template_size_px) const;
   std::vector<PreparedSite> Prepare(const cv::Mat& frame_at_level,
                                     const std::vector<TemplateSite>& sites, int size_px,
@@ -76,8 +77,9 @@ class MosaicTracker : public FrameLocalizer {
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior, int frame_radius,
       bool weak_first, FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> MatchTemplatesAt(
-      std::vector<cv::Mat>* pyramid, const geometry::PoseWithCovariance& prior, int frame_radius,
-      const TemplateScale& scale, FrameResult* stats) const;
+      std::vector<cv::Mat>* pyramid, const cv::Mat& texture,
+      const geometry::PoseWithCovariance& prior, int frame_radius, const TemplateScale& scale,
+      FrameResult* stats) const;
   int CoarseLevels(int frame_radius) const;
   void ChooseTemplateSizeAfter(int locked_size_px);
   std::optional<geometry::PoseWithCovariance> AlignDirect(const cv::Mat& frame,
