@@ -68,4 +68,19 @@ bool Contains(const ConvexPolygon& polygon, const Eigen::Vector2d& point) {
   return true;
 }
 
+std::pair<double, double> SpanAtY(const ConvexPolygon& polygon, double y) {
+  double lo = 1e300, hi = -1e300;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    if ((a.y() - y) * (b.y() - y) > 0 || (a.y() == y && b.y() == y)) {
+      if (a.y() == y) lo = std::min(lo, a.x()), hi = std::max(hi, a.x());
+      continue;
+    }
+    const double x = a.x() + (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y());
+    lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  return {lo, hi};
+}
+
 }  // namespace fleetloc::geometry

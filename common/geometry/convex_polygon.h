@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 namespace fleetloc::geometry {
@@ -23,6 +24,10 @@ double Area(const ConvexPolygon& polygon);
 
 // True if the point lies inside or on the boundary of the convex polygon.
 bool Contains(const ConvexPolygon& polygon, const Eigen::Vector2d& point);
+
+// The x extent [lo, hi] of the polygon along the horizontal line at `y`; lo > hi when the line
+// misses it.
+std::pair<double, double> SpanAtY(const ConvexPolygon& polygon, double y);
 
 // Ensures counter-clockwise order (reverses a clockwise list).
 ConvexPolygon CounterClockwise(ConvexPolygon polygon);

@@ -46,4 +46,22 @@ TEST(Contains, InsideOutsideAndBoundary) {
 }
 
 }  // namespace
+TEST(SpanAtY, DiamondIsWidestAtItsMiddleAndMissedOutside) {
+  const ConvexPolygon diamond{{0, -2}, {2, 0}, {0, 2}, {-2, 0}};
+  const auto [lo, hi] = SpanAtY(diamond, 0.0);
+  EXPECT_DOUBLE_EQ(lo, -2.0);
+  EXPECT_DOUBLE_EQ(hi, 2.0);
+  const auto [lo1, hi1] = SpanAtY(diamond, 1.5);
+  EXPECT_DOUBLE_EQ(lo1, -0.5);
+  EXPECT_DOUBLE_EQ(hi1, 0.5);
+  const auto [lo2, hi2] = SpanAtY(diamond, 3.0);
+  EXPECT_GT(lo2, hi2);
+}
+
+TEST(SpanAtY, RectangleEdgeLineSpansTheWholeEdge) {
+  const auto [lo, hi] = SpanAtY(Rectangle(1, 2, 5, 4), 4.0);
+  EXPECT_DOUBLE_EQ(lo, 1.0);
+  EXPECT_DOUBLE_EQ(hi, 5.0);
+}
+
 }  // namespace fleetloc::geometry

@@ -45,6 +45,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"max_coasting_frames", &o.max_coasting_frames},
           {"normalized_cache_mb", &o.normalized_cache_mb},
           {"direct_refine", &o.direct_refine},
+          {"polish", &o.polish},
           {"retry_templates_frames", &o.retry_templates_frames},
           {"direct_first_after_failures", &o.direct_first_after_failures},
           {"max_disagreement_chi2", &o.max_disagreement_chi2}};
@@ -55,6 +56,9 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"finest_level_pixels", &d.finest_level_pixels},
           {"min_finest_level", &d.min_finest_level},
           {"max_points", &d.max_points},
+          {"polish_iterations", &d.polish_iterations},
+          {"max_polish_shift_px", &d.max_polish_shift_px},
+          {"min_polish_correlation", &d.min_polish_correlation},
           {"max_iterations", &d.max_iterations},
           {"converged_px", &d.converged_px},
           {"tukey_c", &d.tukey_c},

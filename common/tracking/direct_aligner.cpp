@@ -14,7 +14,9 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/convex_polygon.h"
 #include "imaging/fast_patch.h"
+#include "tracking/dense_linearization.h"
 #include "tracking/frame_mosaic_warp.h"
 #include "tracking/predicted_view.h"
 
@@ -60,11 +62,6 @@ cv::Mat OccluderMask(const cv::Mat& image, int window, double ratio) {
   cv::Mat mask = variance > ratio * ratio * median_variance;
   cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, {window, window}));
   return mask;
-}
-
-double TukeyWeight(double r, double cutoff) {
-  const double x = r / cutoff;
-  return std::abs(x) >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
 }
 
 Eigen::Matrix3d RotationBlock(const Pose2& pose) { return geometry::ComposeJacobianB(pose); }
@@ -340,7 +337,7 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
 // Residuals, robust weights and the weighted normal equations of `level` at `pose` (sigma ≤ 0:
 // estimated from the residuals' MAD), with the fit's quality and the per-block scores the
 // sandwich covariance needs.
-DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
+Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
                                                       const Pose2& pose, double sigma) const {
   const FrameMosaicWarp warp =
       FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level);
@@ -375,41 +372,32 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
   if (lin.points < 3) return lin;
   lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(magnitudes));
   const double cutoff = options_.tukey_c * lin.sigma;
-  constexpr int kBlocks = 8;  // per side: residuals correlated within a block, not across
-  std::vector<Eigen::Vector3d> block_scores(kBlocks * kBlocks, Eigen::Vector3d::Zero());
-  std::vector<int> block_counts(kBlocks * kBlocks, 0);
-  double sw = 0, st = 0, si = 0, stt = 0, sii = 0, sti = 0;
+  std::vector<Eigen::Vector3d> block_scores(kScoreBlocks * kScoreBlocks, Eigen::Vector3d::Zero());
+  std::vector<int> block_counts(kScoreBlocks * kScoreBlocks, 0);
+  CorrelationSums c;
   int inliers = 0;
   for (size_t i = 0; i < n; ++i) {
     if (!valid[i]) continue;
     const double w = TukeyWeight(residuals[i], cutoff);
     const PixelPoint& p = level.points[i];
     const double t = p.value, v = p.value - residuals[i];
-    sw += w, st += w * t, si += w * v, stt += w * t * t, sii += w * v * v, sti += w * t * v;
+    c.sw += w, c.st += w * t, c.sv += w * v, c.stt += w * t * t, c.svv += w * v * v;
+    c.stv += w * t * v;
     if (w > 0.5) ++inliers;
     if (w <= 0.0) continue;
     const Eigen::Vector3d j = jacobians[i].cast<double>();
     lin.h.noalias() += w * j * j.transpose();
     lin.g.noalias() += (w * residuals[i]) * j;
-    const int bx = std::min(kBlocks - 1, static_cast<int>(p.u * kBlocks / level.normalized.cols));
-    const int by = std::min(kBlocks - 1, static_cast<int>(p.v * kBlocks / level.normalized.rows));
-    block_scores[by * kBlocks + bx] += (w * residuals[i]) * j;
-    ++block_counts[by * kBlocks + bx];
+    const int bx =
+        std::min(kScoreBlocks - 1, static_cast<int>(p.u * kScoreBlocks / level.normalized.cols));
+    const int by =
+        std::min(kScoreBlocks - 1, static_cast<int>(p.v * kScoreBlocks / level.normalized.rows));
+    block_scores[by * kScoreBlocks + bx] += (w * residuals[i]) * j;
+    ++block_counts[by * kScoreBlocks + bx];
   }
   lin.inlier_fraction = double(inliers) / lin.points;
-  const double var_t = stt - st * st / std::max(sw, 1e-12);
-  const double var_i = sii - si * si / std::max(sw, 1e-12);
-  lin.correlation = var_t > 0 && var_i > 0 ? (sti - st * si / sw) / std::sqrt(var_t * var_i) : 0.0;
-  // Spread of the block scores about their share of the total (the total need not vanish at a
-  // maximum a posteriori pose).
-  int total = 0, used_blocks = 0;
-  for (int c : block_counts) total += c, used_blocks += c > 0;
-  for (size_t b = 0; b < block_scores.size(); ++b) {
-    if (block_counts[b] == 0) continue;
-    const Eigen::Vector3d d = block_scores[b] - lin.g * (double(block_counts[b]) / total);
-    lin.score_spread.noalias() += d * d.transpose();
-  }
-  if (used_blocks > 1) lin.score_spread *= double(used_blocks) / (used_blocks - 1);
+  lin.correlation = c.Correlation();
+  lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
   return lin;
 }
 
@@ -418,15 +406,26 @@ DirectAligner::Linearization DirectAligner::Linearize(const Level& level, const 
 Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& prior, Pose2 pose,
                                 double tolerance_px, int* iterations,
                                 Linearization* final_fit) const {
+  const Source source = ReadSource(level, pose);
+  return GaussNewton(
+      [&](const Pose2& at, double sigma) { return Linearize(level, *source, at, sigma); },
+      level.level, options_.max_iterations, prior, pose, tolerance_px, iterations, final_fit);
+}
+
+// Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the
+// current pose (the residual scale estimated at the first, then kept); stops once a step moves no
+// pixel of the level more than `tolerance_px`. The final linearization in `final_fit`.
+Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
+                                 const PoseWithCovariance& prior, Pose2 pose, double tolerance_px,
+                                 int* iterations, Linearization* final_fit) const {
   const double res = camera_.resolution_m;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
   const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
   const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
-  const Source source = ReadSource(level, pose);
-  double sigma = 0.0;  // estimated at the level's first iteration, then kept
-  for (int it = 0; it < options_.max_iterations; ++it) {
+  double sigma = 0.0;  // estimated at the first iteration, then kept
+  for (int it = 0; it < max_iterations; ++it) {
     ++*iterations;
-    const Linearization lin = Linearize(level, *source, pose, sigma);
+    const Linearization lin = linearize(pose, sigma);
     if (lin.points < 3) break;
     sigma = lin.sigma;
     // Maximum a posteriori step: image term (its information scaled by the residual variance and
@@ -438,11 +437,10 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
     const Eigen::Vector3d q = (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
     if (!q.allFinite()) break;
     pose = ApplyStep(pose, q, res);
-    const double moved_px =
-        (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level.level);
+    const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level);
     if (moved_px < tolerance_px) break;
   }
-  *final_fit = Linearize(level, *source, pose, sigma);
+  *final_fit = linearize(pose, sigma);
   return pose;
 }
 
@@ -499,6 +497,71 @@ void DirectAligner::RefineAtFullResolution(const Level& level, const PoseWithCov
   out->measurement = candidate.measurement;
   out->sigma_px = candidate.sigma_px;
   out->prior_chi2 = candidate.prior_chi2;
+}
+
+// Per row of `inner`, the columns (relative to inner.x) whose pixel and its gradient neighbours
+// fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
+std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner) const {
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const FrameMosaicWarp to_frame = FrameMosaicWarp::For(pose, camera_, layout.geo).Inverse();
+  constexpr double kSpare = 3.0;
+  geometry::ConvexPolygon mosaic_in_frame;
+  for (const auto& corner : geometry::Rectangle(kSpare, kSpare, layout.width_px - kSpare,
+                                                layout.height_px - kSpare)) {
+    mosaic_in_frame.push_back(to_frame(corner));
+  }
+  std::vector<cv::Range> spans(inner.height);
+  for (int y = 0; y < inner.height; ++y) {
+    const auto [lo, hi] = geometry::SpanAtY(mosaic_in_frame, inner.y + y + 0.5);
+    spans[y].start = lo > hi ? 0 : std::max(0, static_cast<int>(std::ceil(lo - 0.5)) - inner.x);
+    spans[y].end = lo > hi ? 0 : std::min(inner.width, static_cast<int>(std::floor(hi - 0.5)) + 1 - inner.x);
+  }
+  return spans;
+}
+
+// Every pixel of the frame at full resolution, from a pose already within a fraction of a pixel
+// (see DirectAligner::Polish).
+DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
+                                      const Pose2& start) const {
+  DirectAlignment out;
+  const int b = mosaic_->MarginAt(0);
+  const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const std::vector<cv::Range> spans = SpansInMosaic(start, inner);
+  int points = 0;
+  for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
+  if (points < inner.area() / 4) {
+    out.reason = "frame mostly outside the mosaic";
+    return out;
+  }
+  const cv::Mat normalized = mosaic_->Normalize(frame, 0);
+  const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
+  const Eigen::Vector2d principal(camera_.cx_px, camera_.cy_px);
+  const auto linearize = [&](const Pose2& pose, double sigma) {
+    const cv::Mat view = RenderNormalizedView(
+        mosaic_, view_rect, FrameMosaicWarp::For(pose, camera_, layout.geo), 0);
+    return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma);
+  };
+  Linearization fit;
+  const Pose2 pose = GaussNewton(linearize, 0, options_.polish_iterations, prior, start,
+                                 options_.converged_px, &out.iterations, &fit);
+  out.points = fit.points;
+  out.correlation = out.coarse_correlation = fit.correlation;
+  out.inlier_fraction = fit.inlier_fraction;
+  Combine(fit, prior, pose, &out);
+  const double moved_px =
+      Difference(out.posterior.pose, start).head<2>().norm() / camera_.resolution_m;
+  if (out.reason[0] == '\0') {
+    if (moved_px > options_.max_polish_shift_px) {
+      out.reason = "polish moved too far";
+    } else if (fit.correlation < options_.min_polish_correlation) {
+      out.reason = "polish does not correlate";
+    } else if (out.sigma_px > options_.max_sigma_px) {
+      out.reason = "weakly constrained";
+    }
+  }
+  out.valid = out.reason[0] == '\0';
+  return out;
 }
 
 // The image's own estimate and honest covariance from the finest level's linearization, fused

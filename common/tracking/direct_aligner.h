@@ -8,12 +8,14 @@
 // coarsest level finds the basin first. The result says whether it can be trusted, and why not.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
+#include "tracking/dense_linearization.h"
 #include "tracking/normalized_mosaic.h"
 #include "tracking/tracker_options.h"
 
@@ -51,6 +53,14 @@ class DirectAligner {
                         const geometry::Pose2& start, bool prediction_confirms = true,
                         bool refine_only = false) const;
 
+  // The final refinement of a fit already within a fraction of a pixel (a template fit, or a
+  // validated dense fit that ended above level 0): a few Gauss–Newton steps over every pixel of
+  // the frame at full resolution, with the same robust weights, prior and sandwich covariance.
+  // Valid when it moved at most max_polish_shift_px, still correlates and pins the position; the
+  // validation of the pose itself stays the caller's (the fit it starts from).
+  DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
+                         const geometry::Pose2& start) const;
+
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
 
@@ -58,16 +68,7 @@ class DirectAligner {
   struct Level;
   struct MosaicBlock;
   using Source = std::unique_ptr<MosaicBlock>;
-  // Sums over a level's pixels at one pose (q in level-0 px, px, rad; unscaled by the variance).
-  struct Linearization {
-    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();  // Σ w·J·Jᵀ
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();  // Σ w·J·r
-    Eigen::Matrix3d score_spread =
-        Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
-    double sigma = 0.0;           // robust residual scale
-    double correlation = 0.0, inlier_fraction = 0.0;
-    int points = 0;
-  };
+  using LinearizeAt = std::function<Linearization(const geometry::Pose2&, double sigma)>;
   // The frame pyramid up to `coarsest`, normalized and with pixels chosen from finest_level_ up.
   std::vector<Level> BuildLevels(const cv::Mat& frame, int finest, int coarsest) const;
   geometry::Pose2 AlignLevel(const Level& level, const geometry::PoseWithCovariance& prior,
@@ -75,6 +76,11 @@ class DirectAligner {
                              Linearization* final_fit) const;
   void RefineAtFullResolution(const Level& level, const geometry::PoseWithCovariance& prior,
                               const geometry::Pose2& pose, DirectAlignment* out) const;
+  geometry::Pose2 GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
+                              const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
+                              double tolerance_px, int* iterations,
+                              Linearization* final_fit) const;
+  std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
                           const geometry::Pose2& pose, double sigma) const;

@@ -190,5 +190,64 @@ TEST(DirectAligner, CovarianceCoversTheError) {
   EXPECT_GT(nees, 0.3);
 }
 
+// Sensor noise as a short exposure has it (read noise 4 DN).
+cv::Mat Noisy(const cv::Mat& frame, cv::RNG& rng) {
+  cv::Mat noise(frame.size(), CV_32F), f;
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 4.0);
+  frame.convertTo(f, CV_32F);
+  cv::Mat noisy;
+  cv::Mat(f + noise).convertTo(noisy, CV_8U);
+  return noisy;
+}
+
+TEST(DirectAligner, PolishTakesANearFitOfANoisyFrameCloserWithAnHonestCovariance) {
+  Fixture f;
+  cv::RNG rng(5);
+  double start_sq = 0.0, polished_sq = 0.0, nees_sum = 0.0;
+  const int trials = 12;
+  for (int k = 0; k < trials; ++k) {
+    const Pose2 base =
+        Pose2{0.1 + 0.002 * k, 0.12 + 0.0015 * k, 0.4 * k} * Pose2{0.1, 0, 0}.Inverse();
+    const cv::Mat frame = Noisy(f.scene.Render(base, rng.uniform(0.8, 1.2), 0.0), rng);
+    const Pose2 truth = base * f.scene.camera.mount;
+    // A template-like fit: 0.1–0.2 px off, under a loose odometry prior.
+    const Pose2 start{truth.x + rng.uniform(-1e-4, 1e-4), truth.y + rng.uniform(-1e-4, 1e-4),
+                      truth.theta + rng.uniform(-5e-4, 5e-4)};
+    const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+    const DirectAlignment fit = f.aligner.Polish(frame, prior, start);
+    ASSERT_TRUE(fit.valid) << "trial " << k << ": " << fit.reason;
+    start_sq += std::pow(CentreErrorPx(f.scene, start, base), 2);
+    polished_sq += std::pow(CentreErrorPx(f.scene, fit.posterior.pose, base), 2);
+    const Eigen::Vector3d d(fit.posterior.pose.x - truth.x, fit.posterior.pose.y - truth.y,
+                            geometry::WrapAngle(fit.posterior.pose.theta - truth.theta));
+    nees_sum += d.dot(fit.posterior.covariance.inverse() * d);
+  }
+  EXPECT_LT(std::sqrt(polished_sq / trials), 0.05);
+  EXPECT_LT(polished_sq, 0.2 * start_sq);
+  EXPECT_LT(nees_sum / trials, 6.0);
+}
+
+TEST(DirectAligner, PolishRefusesAStartItWouldHaveToMoveFar) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  const Pose2 truth = base * f.scene.camera.mount;
+  const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+  // 2 px off: a template fit that far is wrong, and the polish must not be the one to say so.
+  const DirectAlignment fit = f.aligner.Polish(frame, prior, {truth.x + 0.001, truth.y, truth.theta});
+  EXPECT_FALSE(fit.valid);
+}
+
+TEST(DirectAligner, PolishRefusesAFrameOfAnotherFloor) {
+  Fixture f;
+  TestScene other;
+  other.floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(other.floor.empty());
+  const Pose2 base = TrueBase();
+  const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+  const DirectAlignment fit = f.aligner.Polish(other.Render(base, 1.0, 0.0), prior, prior.pose);
+  EXPECT_FALSE(fit.valid) << "correlation " << fit.correlation;
+}
+
 }  // namespace
 }  // namespace fleetloc::tracking

@@ -30,6 +30,9 @@ struct FrameResult {
   // search and the full-resolution search with the pose updates.
   double select_ms = 0, coarse_ms = 0, fine_ms = 0;
   double direct_ms = 0;  // the dense alignment
+  // The full-resolution polish (TrackerOptions::polish): its time, and whether its fit was taken.
+  double polish_ms = 0;
+  bool polished = false;
   DirectUse direct = DirectUse::kNotRun;
   const char* direct_reason = "";  // why it was refused (static text)
   // The dense fit's quality when it ran: finest and coarsest correlation, the coarse search's

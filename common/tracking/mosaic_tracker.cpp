@@ -347,6 +347,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
     direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
                     stats.direct == DirectUse::kUsed;
   }
+  if (posterior && options_.polish) posterior = Polished(frame, prior, *posterior, &stats);
   LockState state = LockState::kCoasting;
   if (posterior) {
     estimate_.Correct(*posterior);
@@ -366,6 +367,8 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.coarse_ms = stats.coarse_ms;
   result.fine_ms = stats.fine_ms;
   result.direct_ms = stats.direct_ms;
+  result.polish_ms = stats.polish_ms;
+  result.polished = stats.polished;
   result.direct = stats.direct;
   result.direct_reason = stats.direct_reason;
   result.direct_correlation = stats.direct_correlation;
@@ -388,14 +391,33 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
   if (!dense) return templates;
   if (!templates) return dense;
   // Both fits: they must agree, or the frame coasts.
-  const Eigen::Vector3d d(dense->pose.x - templates->pose.x, dense->pose.y - templates->pose.y,
-                          geometry::WrapAngle(dense->pose.theta - templates->pose.theta));
-  const Eigen::Matrix3d both = dense->covariance + templates->covariance;
-  if (d.dot(both.ldlt().solve(d)) > options_.max_disagreement_chi2) {
+  if (!Agree(*dense, *templates)) {
     stats->direct = DirectUse::kDisagreed;
     return std::nullopt;
   }
   return dense;
+}
+
+// Two fits of the same frame agree when their difference is within max_disagreement_chi2 of
+// their combined covariance.
+bool MosaicTracker::Agree(const PoseWithCovariance& a, const PoseWithCovariance& b) const {
+  const Eigen::Vector3d d(a.pose.x - b.pose.x, a.pose.y - b.pose.y,
+                          geometry::WrapAngle(a.pose.theta - b.pose.theta));
+  const Eigen::Matrix3d both = a.covariance + b.covariance;
+  return d.dot(both.ldlt().solve(d)) <= options_.max_disagreement_chi2;
+}
+
+// The located frame's fit polished over every pixel at full resolution, when the polish
+// validates and agrees with it; else the fit as it was.
+PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithCovariance& prior,
+                                           const PoseWithCovariance& fit,
+                                           FrameResult* stats) const {
+  const auto t_polish = std::chrono::steady_clock::now();
+  const DirectAlignment polished = direct_.Polish(frame, prior, fit.pose);
+  stats->polish_ms += MsSince(t_polish);
+  if (!polished.valid || !Agree(polished.posterior, fit)) return fit;
+  stats->polished = true;
+  return polished.posterior;
 }
 
 // The next frame starts with the template size that locked this one; after retry_templates_frames

@@ -87,6 +87,11 @@ class MosaicTracker : public FrameLocalizer {
                                                           const geometry::Pose2& start,
                                                           bool refine_only,
                                                           FrameResult* stats) const;
+  bool Agree(const geometry::PoseWithCovariance& a, const geometry::PoseWithCovariance& b) const;
+  geometry::PoseWithCovariance Polished(const cv::Mat& frame,
+                                        const geometry::PoseWithCovariance& prior,
+                                        const geometry::PoseWithCovariance& fit,
+                                        FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> Decide(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,

@@ -24,6 +24,12 @@ Status Validate(const DirectAlignOptions& d) {
                                  "direct.max_points", "must be in [100, 1000000]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_iterations >= 1 && d.max_iterations <= 100,
                                  "direct.max_iterations", "must be in [1, 100]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.polish_iterations >= 0 && d.polish_iterations <= 10,
+                                 "direct.polish_iterations", "must be in [0, 10]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_polish_shift_px > 0, "direct.max_polish_shift_px",
+                                 "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.min_polish_correlation >= 0 && d.min_polish_correlation < 1,
+                                 "direct.min_polish_correlation", "must be in [0, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(

@@ -31,6 +31,15 @@ struct DirectAlignOptions {
   // concrete under the held-out marks 0.159 → 0.075 px, lock unchanged; 1–4 ms more per dense
   // frame). 640×480 and larger frames end at level 1 or coarser: there it would cost 4× as much.
   int full_resolution_below_pixels = 100000;
+  // The full-resolution polish (DirectAligner::Polish): Gauss–Newton steps over every pixel before
+  // the final linearization (0: one step, from the final linearization alone: measured on fast
+  // 640×480 frames, 0.010 px where one iteration gives 0.0085 and two 0.0082), how far it may
+  // move the fit it starts from, and the weighted correlation it must reach (right fits on the
+  // stress floors at 640×480: ≥ 0.48 on fast frames, ≥ 0.32 under dust; a frame of another floor
+  // 0.09).
+  int polish_iterations = 1;
+  double max_polish_shift_px = 0.5;
+  double min_polish_correlation = 0.2;
   int max_points = 12000;      // pixels used per level: the strongest gradient of each cell
   int max_iterations = 10;     // Gauss–Newton iterations per level
   double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
@@ -158,6 +167,9 @@ struct TrackerOptions {
   // The dense alignment runs when the templates do not lock, and after they do when
   // direct_refine is set (it then gives the final pose when it agrees with the templates).
   bool direct_refine = false;
+  // Every located frame's fit is polished over all its pixels at full resolution
+  // (DirectAligner::Polish) and the polished fit taken when it validates and agrees.
+  bool polish = false;
   // After direct_first_after_failures frames in a row that the templates failed on, the last of
   // them locked by the dense alignment (a weak floor, not a one-off bad prediction), the next
   // frames start with the dense alignment; the templates are tried again after

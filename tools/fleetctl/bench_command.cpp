@@ -35,6 +35,7 @@ struct BenchArgs {
   std::string floors_dir;
   std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench").string();
   std::string json;
+  std::string tracker_config;
   BenchSettings settings;
 };
 
@@ -126,6 +127,7 @@ long long PeakRssBytes() {
 
 Status RunBench(BenchArgs& args) {
   FLEETLOC_RETURN_IF_ERROR(ValidateMethods(args.settings.methods));
+  FLEETLOC_RETURN_IF_ERROR(LoadBenchTrackerOptions(args.tracker_config, &args.settings));
   Result<std::vector<fs::path>> floors = ResolveFloors(args);
   if (!floors.ok()) return floors.status();
   args.settings.work_dir = io::AbsoluteDir(args.work_dir);
@@ -174,6 +176,8 @@ void AddBenchTrackerOptions(CLI::App* tracker, BenchArgs* a) {
   tracker->add_option("--work-dir", a->work_dir, "Mosaics (reused) and simulated runs");
   tracker->add_option("--seed", s.seed, "Simulation seed");
   tracker->add_option("--json", a->json, "Write every number to this JSON file");
+  tracker->add_option("--tracker-config", a->tracker_config,
+                      "fleetloc's tracker options (JSON, as fleetctl track --config)");
   tracker
       ->add_option("--peer-frames", s.peer_frames,
                    "Peers replay only the first N frames (0: all; SIFT is slow)")

@@ -29,6 +29,7 @@ struct StressArgs {
   std::vector<std::string> conditions = StressConditionNames();
   std::string work_dir = (fs::temp_directory_path() / "fleetloc-stress").string();
   std::string json;
+  std::string tracker_config;
   BenchSettings settings;
 };
 
@@ -133,6 +134,7 @@ Result<nlohmann::json> RunCell(const StressFloor& floor, const FrameSize& size,
 }
 
 Status RunStress(StressArgs& args) {
+  FLEETLOC_RETURN_IF_ERROR(LoadBenchTrackerOptions(args.tracker_config, &args.settings));
   const fs::path manifest =
       args.manifest.empty() ? DefaultStressManifest() : fs::path(args.manifest);
   Result<std::vector<StressFloor>> floors = ReadStressManifest(manifest);
@@ -201,6 +203,8 @@ void RegisterBenchStress(CLI::App& bench, Status* result) {
   stress->add_option("--seed", s.seed, "Simulation seed");
   stress->add_option("--work-dir", args->work_dir, "Scaled floors, mosaics and runs");
   stress->add_option("--json", args->json, "Write every number to this JSON file");
+  stress->add_option("--tracker-config", args->tracker_config,
+                     "fleetloc's tracker options (JSON, as fleetctl track --config)");
   stress->callback([args, result] { *result = RunStress(*args); });
 }
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/file_util.h"
+#include "io/tracker_config.h"
 #include "mosaic/importer.h"
 #include "mosaic/tile_store.h"
 #include "peers/make_peer.h"
@@ -145,17 +146,19 @@ void WarmTileCache(mosaic::MosaicView& view) {
 
 std::unique_ptr<tracking::FrameLocalizer> MakeLocalizer(const std::string& method,
                                                         const geometry::CameraModel& camera,
-                                                        mosaic::RasterSource* view) {
+                                                        mosaic::RasterSource* view,
+                                                        const tracking::TrackerOptions& options) {
   if (method == "fleetloc") {
-    return std::make_unique<tracking::MosaicTracker>(tracking::TrackerOptions{}, camera, view);
+    return std::make_unique<tracking::MosaicTracker>(options, camera, view);
   }
   return peers::MakePeer(method, camera, view);
 }
 
 Result<MethodReplay> ReplayMethod(const std::string& method, io::Run run,
-                                  mosaic::RasterSource* view) {
+                                  mosaic::RasterSource* view,
+                                  const tracking::TrackerOptions& options) {
   std::unique_ptr<tracking::FrameLocalizer> localizer =
-      MakeLocalizer(method, run.camera.model, view);
+      MakeLocalizer(method, run.camera.model, view, options);
   if (!localizer) return InvalidInput("--methods: unknown method '" + method + "'");
   const auto progress = [&method](size_t done, size_t total) {
     if (done % kReplayProgressEvery == 0 || done == total) {
@@ -168,6 +171,14 @@ Result<MethodReplay> ReplayMethod(const std::string& method, io::Run run,
 }
 
 }  // namespace
+
+Status LoadBenchTrackerOptions(const std::string& path, BenchSettings* settings) {
+  if (path.empty()) return Status::Ok();
+  Result<tracking::TrackerOptions> options = io::ReadTrackerOptions(path);
+  if (!options.ok()) return options.status();
+  settings->tracker = *options;
+  return Status::Ok();
+}
 
 std::vector<std::string> BenchMethodNames() {
   std::vector<std::string> names{"fleetloc"};
@@ -207,7 +218,8 @@ Result<FloorBench> BenchFloor(const fs::path& image, const BenchSettings& settin
   for (const std::string& method : settings.methods) {
     const bool peer = method != "fleetloc";
     Result<MethodReplay> replayed =
-        ReplayMethod(method, peer ? FirstFrames(*run, bench.peer_frames) : *run, &view);
+        ReplayMethod(method, peer ? FirstFrames(*run, bench.peer_frames) : *run, &view,
+                     settings.tracker);
     if (!replayed.ok()) return replayed.status();
     bench.methods.push_back(std::move(*replayed));
   }

@@ -12,6 +12,7 @@
 #include "io/run.h"
 #include "replay/replay.h"
 #include "sim/run_simulator.h"
+#include "tracking/tracker_options.h"
 
 namespace fleetloc::fleetctl {
 
@@ -29,7 +30,12 @@ struct BenchSettings {
   int peer_frames = 0;                  // peers replay only the first peer_frames frames; 0: all
   int width_px = 640, height_px = 480;  // the simulated camera's frames
   sim::RenderOptions render;            // camera effects (default: `fleetctl sim`'s)
+  tracking::TrackerOptions tracker;     // fleetloc's options (`--tracker-config`; default: defaults)
 };
+
+// Reads `path` (tracker options JSON, as `fleetctl track --config`) into settings->tracker; an
+// empty path keeps the defaults.
+Status LoadBenchTrackerOptions(const std::string& path, BenchSettings* settings);
 
 // One method's replay of (the first frames of) a run. `run` holds exactly the frames and truth
 // rows that were replayed, so it scores the replay as `fleetctl track` would.

@@ -1,0 +1,183 @@
+// Robust normal equations over a whole frame (see dense_linearization.h).
+#include "tracking/dense_linearization.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fleetloc::tracking {
+
+double CorrelationSums::Correlation() const {
+  const double w = std::max(sw, 1e-12);
+  const double var_t = stt - st * st / w, var_v = svv - sv * sv / w;
+  return var_t > 0 && var_v > 0 ? (stv - st * sv / w) / std::sqrt(var_t * var_v) : 0.0;
+}
+
+Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
+                            const std::vector<int>& block_counts, const Eigen::Vector3d& total) {
+  int pixels = 0, used_blocks = 0;
+  for (int c : block_counts) pixels += c, used_blocks += c > 0;
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (size_t b = 0; b < block_scores.size(); ++b) {
+    if (block_counts[b] == 0) continue;
+    const Eigen::Vector3d d = block_scores[b] - total * (double(block_counts[b]) / pixels);
+    spread.noalias() += d * d.transpose();
+  }
+  if (used_blocks > 1) spread *= double(used_blocks) / (used_blocks - 1);
+  return spread;
+}
+
+namespace {
+
+// 1.4826 × the median absolute residual over a sparse grid of the pixels (every third of every
+// third row: the scale needs a few thousand samples, not all of them).
+double RobustScale(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                   const std::vector<cv::Range>& spans) {
+  std::vector<float> magnitudes;
+  magnitudes.reserve((inner.width / 3 + 1) * (inner.height / 3 + 1));
+  for (int y = 0; y < inner.height; y += 3) {
+    const float* t = frame.ptr<float>(inner.y + y) + inner.x;
+    const float* v = view.ptr<float>(y + 1) + 1;
+    for (int x = spans[y].start; x < spans[y].end; x += 3) magnitudes.push_back(std::abs(t[x] - v[x]));
+  }
+  if (magnitudes.empty()) return 1e-3;
+  const auto mid = magnitudes.begin() + magnitudes.size() / 2;
+  std::nth_element(magnitudes.begin(), mid, magnitudes.end());
+  return std::max(1e-3, 1.4826 * *mid);
+}
+
+// Sums over one row's span, in floats (a span is at most a frame row, so float sums keep ~6
+// digits). The per-pixel scores w·r·J go to `score0..2` for the block sums of the sandwich
+// covariance.
+struct RowSums {
+  float h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
+  float sw = 0, st = 0, sv = 0, stt = 0, svv = 0, stv = 0;
+  float inliers = 0;
+};
+
+enum RowSum { kH00, kH01, kH02, kH11, kH12, kH22, kSw, kSt, kSv, kStt, kSvv, kStv, kIn, kSums };
+
+// One pixel's terms added to lane sums `acc[sum]`.
+inline void AddPixel(const float* t, const float* up, const float* mid, const float* down, int x,
+                     float du, float dv, float inv_cutoff_sq, float* score0, float* score1,
+                     float* score2, float* acc, int stride) {
+  const float gx = 0.5f * (mid[x + 1] - mid[x - 1]);
+  const float gy = 0.5f * (down[x] - up[x]);
+  const float v = mid[x];
+  const float r = t[x] - v;
+  const float a = r * r * inv_cutoff_sq;
+  // Branch-free so the lanes vectorize: max(0, 1 − a)², and 1 when w > 0.5 (a < 1 − √½).
+  const float b = 0.5f * ((1.0f - a) + std::abs(1.0f - a));
+  const float w = b * b;
+  const float inlier = 0.5f + 0.5f * std::copysign(1.0f, 0.29289322f - a);
+  // J for q = (qx, qy, qθ) in camera_ground axes: frame x is ground −y, frame y is ground −x.
+  const float j0 = -gy, j1 = -gx, j2 = gx * dv - gy * du;
+  const float wj0 = w * j0, wj1 = w * j1, wj2 = w * j2;
+  acc[kH00 * stride] += wj0 * j0, acc[kH01 * stride] += wj0 * j1, acc[kH02 * stride] += wj0 * j2;
+  acc[kH11 * stride] += wj1 * j1, acc[kH12 * stride] += wj1 * j2, acc[kH22 * stride] += wj2 * j2;
+  score0[x] = wj0 * r, score1[x] = wj1 * r, score2[x] = wj2 * r;
+  acc[kSw * stride] += w, acc[kSt * stride] += w * t[x], acc[kSv * stride] += w * v;
+  acc[kStt * stride] += w * t[x] * t[x], acc[kSvv * stride] += w * v * v;
+  acc[kStv * stride] += w * t[x] * v;
+  acc[kIn * stride] += inlier;
+}
+
+// `t`: the frame row from the span's first pixel; `up`, `mid`, `down`: the view rows above, at
+// and below it, also from the span's first pixel (one pixel of view lies on either side of it).
+// `du0`: the first pixel's column offset from the principal point; `dv`: the row's. Eight lanes
+// of independent sums, so the compiler vectorizes the lanes (a plain reduction it may not
+// reorder); built for AVX2 as well as the baseline, the loader picks the best the CPU has.
+__attribute__((target_clones("avx2", "default"))) RowSums SumRow(
+    const float* __restrict t, const float* __restrict up, const float* __restrict mid,
+    const float* __restrict down, int n, float du0, float dv, float inv_cutoff_sq,
+    float* __restrict score0, float* __restrict score1, float* __restrict score2) {
+  constexpr int kLanes = 8;
+  alignas(32) float lanes[kSums][kLanes] = {};
+  int x = 0;
+  for (; x + kLanes <= n; x += kLanes) {
+    for (int k = 0; k < kLanes; ++k) {
+      AddPixel(t, up, mid, down, x + k, du0 + x + k, dv, inv_cutoff_sq, score0, score1, score2,
+               &lanes[0][k], kLanes);
+    }
+  }
+  float tail[kSums] = {};
+  for (; x < n; ++x) {
+    AddPixel(t, up, mid, down, x, du0 + x, dv, inv_cutoff_sq, score0, score1, score2, tail, 1);
+  }
+  float sums[kSums];
+  for (int s = 0; s < kSums; ++s) {
+    sums[s] = tail[s];
+    for (int k = 0; k < kLanes; ++k) sums[s] += lanes[s][k];
+  }
+  return {sums[kH00], sums[kH01], sums[kH02], sums[kH11], sums[kH12], sums[kH22], sums[kSw],
+          sums[kSt],  sums[kSv],  sums[kStt], sums[kSvv], sums[kStv], sums[kIn]};
+}
+
+float Sum(const float* values, int n) {
+  float sum = 0;
+#pragma omp simd reduction(+ : sum)
+  for (int i = 0; i < n; ++i) sum += values[i];
+  return sum;
+}
+
+}  // namespace
+
+Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                                  const std::vector<cv::Range>& spans_in,
+                                  const Eigen::Vector2d& principal_px, double tukey_c,
+                                  double sigma) {
+  CV_Assert(frame.type() == CV_32F && view.type() == CV_32F);
+  CV_Assert(view.cols == inner.width + 2 && view.rows == inner.height + 2);
+  CV_Assert((cv::Rect(0, 0, frame.cols, frame.rows) & inner) == inner);
+  CV_Assert(spans_in.empty() || spans_in.size() == static_cast<size_t>(inner.height));
+  Linearization lin;
+  if (inner.width < kScoreBlocks || inner.height < kScoreBlocks) return lin;
+  std::vector<cv::Range> spans = spans_in;
+  if (spans.empty()) spans.assign(inner.height, cv::Range(0, inner.width));
+  for (cv::Range& span : spans) {
+    span.start = std::max(span.start, 0), span.end = std::min(span.end, inner.width);
+    if (span.end > span.start) lin.points += span.end - span.start;
+  }
+  if (lin.points < 3) return lin;
+  lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans);
+  const float inv_cutoff_sq = static_cast<float>(1.0 / (tukey_c * tukey_c * lin.sigma * lin.sigma));
+  std::vector<Eigen::Vector3d> block_scores(kScoreBlocks * kScoreBlocks, Eigen::Vector3d::Zero());
+  std::vector<int> block_counts(kScoreBlocks * kScoreBlocks, 0);
+  CorrelationSums c;
+  double inliers = 0;
+  std::vector<float> scores(3 * inner.width);
+  float* score[3] = {scores.data(), scores.data() + inner.width, scores.data() + 2 * inner.width};
+  for (int y = 0; y < inner.height; ++y) {
+    const int x0 = spans[y].start, n = spans[y].end - spans[y].start;
+    if (n <= 0) continue;
+    const float* t = frame.ptr<float>(inner.y + y) + inner.x + x0;
+    const float* up = view.ptr<float>(y) + 1 + x0;
+    const float* mid = view.ptr<float>(y + 1) + 1 + x0;
+    const float* down = view.ptr<float>(y + 2) + 1 + x0;
+    const float dv = static_cast<float>(inner.y + y + 0.5 - principal_px.y());
+    const float du0 = static_cast<float>(inner.x + x0 + 0.5 - principal_px.x());
+    const RowSums s = SumRow(t, up, mid, down, n, du0, dv, inv_cutoff_sq, score[0] + x0,
+                             score[1] + x0, score[2] + x0);
+    lin.h(0, 0) += s.h00, lin.h(0, 1) += s.h01, lin.h(0, 2) += s.h02;
+    lin.h(1, 1) += s.h11, lin.h(1, 2) += s.h12, lin.h(2, 2) += s.h22;
+    c.sw += s.sw, c.st += s.st, c.sv += s.sv, c.stt += s.stt, c.svv += s.svv, c.stv += s.stv;
+    inliers += s.inliers;
+    const int by = y * kScoreBlocks / inner.height;
+    for (int bx = 0; bx < kScoreBlocks; ++bx) {
+      const int b0 = std::max(bx * inner.width / kScoreBlocks, spans[y].start);
+      const int b1 = std::min((bx + 1) * inner.width / kScoreBlocks, spans[y].end);
+      if (b1 <= b0) continue;
+      const Eigen::Vector3d block_score(Sum(score[0] + b0, b1 - b0), Sum(score[1] + b0, b1 - b0),
+                                        Sum(score[2] + b0, b1 - b0));
+      lin.g += block_score;
+      block_scores[by * kScoreBlocks + bx] += block_score;
+      block_counts[by * kScoreBlocks + bx] += b1 - b0;
+    }
+  }
+  lin.h(1, 0) = lin.h(0, 1), lin.h(2, 0) = lin.h(0, 2), lin.h(2, 1) = lin.h(1, 2);
+  lin.correlation = c.Correlation();
+  lin.inlier_fraction = inliers / lin.points;
+  lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
+  return lin;
+}
+
+}  // namespace fleetloc::tracking

@@ -1,0 +1,60 @@
+// The robust normal equations of the dense alignment (tracking/direct_aligner.h), and the
+// whole-frame form used by the full-resolution polish: every pixel of the frame against a mosaic
+// view rendered at the current pose, in one vectorized pass, because on noisy frames the pose's
+// precision grows with the number of pixels used (issue 15: at 640×480 with 4 DN read noise the
+// templates, about a fifth of the frame, reach 0.013–0.018 px where a whole-frame fit reaches
+// 0.006–0.008).
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace fleetloc::tracking {
+
+// Sums over the pixels of one level at one pose. The increment q is in level-0 px, px, rad; the
+// sums are not yet scaled by the residual variance.
+struct Linearization {
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();             // Σ w·J·Jᵀ
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();             // Σ w·J·r
+  Eigen::Matrix3d score_spread = Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
+  double sigma = 0.0;                                      // robust residual scale
+  double correlation = 0.0, inlier_fraction = 0.0;
+  int points = 0;
+};
+
+// Weighted sums of the frame values t and mosaic values v, for the weighted correlation.
+struct CorrelationSums {
+  double sw = 0, st = 0, sv = 0, stt = 0, svv = 0, stv = 0;
+  double Correlation() const;
+};
+
+// Residuals correlate within a block of the frame (blur, normalization windows, occluders) but
+// hardly across blocks: the frame is cut into kScoreBlocks² blocks and the spread of their score
+// sums gives the sandwich covariance's middle term.
+inline constexpr int kScoreBlocks = 8;
+
+// Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
+// n/(n − 1) over the n blocks that have pixels.
+Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
+                            const std::vector<int>& block_counts, const Eigen::Vector3d& total);
+
+// Tukey's biweight: (1 − (r/c)²)² inside the cut-off c, 0 outside.
+inline double TukeyWeight(double r, double cutoff) {
+  const double x = r / cutoff;
+  return x * x >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
+}
+
+// The whole frame at level 0. `frame`: the normalized frame (CV_32F). `view`: the normalized
+// mosaic rendered at the pose (CV_32F) over `inner` grown by one pixel on each side, for the
+// central-difference gradient. `inner`: the frame pixels used (inside `frame`). `principal_px`:
+// the principal point (the rotation column's origin). `spans`: per row of `inner`, the columns
+// (relative to inner.x) whose view lies in the mosaic; empty: every column. sigma ≤ 0: estimated
+// from the residuals' MAD. The Jacobian takes the view's gradient (the clean mosaic's, see
+// Linearize in direct_aligner.cpp).
+Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                                  const std::vector<cv::Range>& spans,
+                                  const Eigen::Vector2d& principal_px, double tukey_c,
+                                  double sigma);
+
+}  // namespace fleetloc::tracking
