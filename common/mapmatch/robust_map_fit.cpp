@@ -217,7 +217,8 @@ std::string ValidationFailure(const Mode& mode, const Problem& problem) {
   }
   if (mode.pairs.rms_residual_m > o.max_rms_ratio * h) {
     return "the points within h = " + Num(h) + " of the landmarks are spread like outliers (rms " +
-           Num(mode.pairs.rms_residual_m) + " m)";
+           Num(mode.pairs.rms_residual_m) + " m); if they are that noisy, h should be about three "
+           "times their noise";
   }
   return "";
 }

@@ -39,9 +39,10 @@ struct RobustMapFitOptions {
   // min_points_per_landmark points within the final h ...
   int min_landmarks = 2;            // >= 2
   int min_points_per_landmark = 3;  // >= 1
-  // ... with the rms residual of those pairs at most this share of h (points spread uniformly
-  // over the kernel have 0.71); in (0, 1].
-  double max_rms_ratio = 0.6;
+  // ... with the rms residual of those pairs at most this share of h: points spread uniformly
+  // over the kernel have 0.71, normal noise of σ 0.46 when h = 3σ and 0.64 when h = 1.5σ (noisier
+  // points need a larger final h); in (0, 1].
+  double max_rms_ratio = 0.65;
   // A distinct valid mode with at least this share of the best one's support: ambiguous; (0, 1].
   double ambiguity_ratio = 0.9;
 };
