@@ -27,13 +27,15 @@ struct PositionUpdateOptions {
   // lands the window's points on at least fit.fit.min_landmarks landmarks (3 here: with two,
   // points paired with the wrong landmarks fitted as well as with the right ones, seen facing a
   // corridor's end wall: 2 landmarks, 6 pairs, the pose 14 cm and 2.7° off), each with
-  // min_points_per_landmark points, tightly, and no other correction within the search radius
-  // (0.5 m) is supported almost as well. h shrinks to 5 cm: on rendered corridors
-  // (agent_position_update_test, exact poses) the fits were 3-7 cm off with 10 cm and mostly
-  // within 1.3 cm with 5 cm.
-  mapmatch::GlobalPositionUpdateOptions fit{
-      .weight_half_life_s = 1.0,
-      .fit = {.search_radius_m = 0.5, .final_radius_m = 0.05, .min_landmarks = 3}};
+  // min_points_per_landmark points (2 here: the window holds 4–5 images, a corner seen in two of
+  // them counts), tightly, and no other correction within the search radius (0.5 m) is supported
+  // almost as well. h shrinks to 5 cm: on rendered corridors (agent_position_update_test, exact
+  // poses) the fits were 3-7 cm off with 10 cm and mostly within 1.3 cm with 5 cm.
+  mapmatch::GlobalPositionUpdateOptions fit{.weight_half_life_s = 1.0,
+                                            .fit = {.search_radius_m = 0.5,
+                                                    .final_radius_m = 0.05,
+                                                    .min_landmarks = 3,
+                                                    .min_points_per_landmark = 2}};
   // ... and when it would move the pose at most this far and turn it at most this much (> 0).
   double max_correction_m = 0.5;
   double max_correction_rad = 0.1;
