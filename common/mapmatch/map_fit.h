@@ -3,7 +3,8 @@
 // the kernel radius h; one iteration solves the linearised weighted least-squares step over those
 // pairs, Δ = (Σ w JᵀJ)⁻¹ Σ w Jᵀ(m_j − T(p_i)), and T ← T + Δ. Outliers farther than h from every
 // landmark and landmarks with no measurement nearby drop out by themselves. The fit is local: it
-// converges to the truth from a start within about h of it.
+// converges to the truth from a start within about h of it, and to whatever mode is nearest from
+// anywhere else — robust_map_fit.h gives it good starts and checks what it converged to.
 #pragma once
 
 #include <Eigen/Core>

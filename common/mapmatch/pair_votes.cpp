@@ -10,16 +10,24 @@
 namespace fleetloc::mapmatch {
 namespace {
 
-// For each spot, the landmarks within the search radius (grown by the tolerance) of it.
+// For each spot, the landmarks within `reach` of it (the search radius grown by the tolerance),
+// at most `most` of them, the nearest.
 std::vector<std::vector<int>> Candidates(std::span<const DenseSpot> spots,
-                                         std::span<const Eigen::Vector2d> landmarks,
-                                         double reach) {
+                                         std::span<const Eigen::Vector2d> landmarks, double reach,
+                                         int most) {
   std::vector<std::vector<int>> candidates(spots.size());
+  std::vector<std::pair<double, int>> within;
   for (std::size_t k = 0; k < spots.size(); ++k) {
+    within.clear();
     for (std::size_t m = 0; m < landmarks.size(); ++m) {
-      if ((landmarks[m] - spots[k].center).squaredNorm() < reach * reach)
-        candidates[k].push_back(static_cast<int>(m));
+      const double d2 = (landmarks[m] - spots[k].center).squaredNorm();
+      if (d2 < reach * reach) within.emplace_back(d2, static_cast<int>(m));
     }
+    if (static_cast<int>(within.size()) > most) {
+      std::nth_element(within.begin(), within.begin() + most, within.end());
+      within.resize(most);
+    }
+    for (const auto& [d2, m] : within) candidates[k].push_back(m);
   }
   return candidates;
 }
@@ -91,10 +99,12 @@ std::vector<VotedCorrection> VoteCorrections(std::span<const DenseSpot> spots,
                                              std::span<const Eigen::Vector2d> landmarks,
                                              const PairVoteOptions& options) {
   FLEETLOC_CHECK(options.search_radius_m > 0 && options.tolerance_m > 0 &&
-                 options.min_pair_distance_m >= 0 && options.max_corrections > 0);
+                 options.min_pair_distance_m >= 0 && options.max_corrections > 0 &&
+                 options.max_landmarks_per_spot > 0);
   if (spots.size() < 2 || landmarks.size() < 2) return {};
   const Voting voting{spots, landmarks,
-                      Candidates(spots, landmarks, options.search_radius_m + options.tolerance_m),
+                      Candidates(spots, landmarks, options.search_radius_m + options.tolerance_m,
+                                 options.max_landmarks_per_spot),
                       options};
   std::vector<VotedCorrection> proposals;
   for (std::size_t k = 0; k < spots.size(); ++k)

@@ -22,6 +22,9 @@ struct PairVoteOptions {
   double tolerance_m = 0.05;
   double min_pair_distance_m = 0.2;  // spots closer than this do not vote (rotation too loose)
   int max_corrections = 8;           // > 0
+  // A spot pairs with at most this many landmarks within reach, the nearest: bounds the cost of a
+  // wide search over a large map (spots² × this² distance checks); > 0.
+  int max_landmarks_per_spot = 24;
 };
 
 struct VotedCorrection {

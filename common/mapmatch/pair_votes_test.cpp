@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace fleetloc::mapmatch {
 namespace {
@@ -54,6 +55,22 @@ TEST(PairVotes, AtMostMaxCorrectionsAndCloseSpotsDoNotVote) {
   const std::vector<Eigen::Vector2d> close_map{{0, 0}, {0.1, 0}};
   EXPECT_TRUE(VoteCorrections(close, close_map, {.search_radius_m = 1}).empty())
       << "10 cm apart: closer than min_pair_distance_m";
+}
+
+// 20,000 landmarks scattered over 100 m × 100 m and a search radius covering all of them: each
+// spot pairs only with its 24 nearest, which still hold the right ones.
+TEST(PairVotes, AWideSearchOverALargeMapPairsSpotsWithTheirNearestLandmarks) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(0.0, 100.0);
+  std::vector<Eigen::Vector2d> map{{50, 50}, {53, 50}, {50, 52}};
+  for (int k = 0; k < 20000; ++k) map.emplace_back(uniform(rng), uniform(rng));
+  const geometry::Pose2 truth{0.1, -0.05, 0.5 * kDeg};
+  std::vector<DenseSpot> spots;
+  for (int m = 0; m < 3; ++m) spots.push_back({truth.Inverse() * map[m], 10.0});
+  const std::vector<VotedCorrection> voted =
+      VoteCorrections(spots, map, {.search_radius_m = 200, .tolerance_m = 0.03});
+  ASSERT_FALSE(voted.empty());
+  EXPECT_LT(LargestDisagreement(voted[0].correction, truth, {49, 49}, {54, 53}), 1e-9);
 }
 
 TEST(PairVotes, RigidFromTwoPairsIsExact) {
