@@ -37,22 +37,25 @@ struct Method {
   FitMethod fit;
 };
 
-// The robust fit searches within the problem's radius hint; the local fit is the mean shift alone
-// from the start, h shrinking from the hint to the robust fit's final h (issue 5's setup).
+// The local mean shift from the start (FitMap), h starting at the radius hint: shrinking to the
+// robust fit's final h, or staying at the hint as `fleetctl mapmatch --radius H` ran before issue 16.
+mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
+  const double final_radius = mapmatch::RobustMapFitOptions{}.final_radius_m;
+  const mapmatch::MapFitOptions options{
+      .radius_m = t.radius_hint_m,
+      .final_radius_m = shrink ? std::min(final_radius, t.radius_hint_m) : 0.0};
+  return mapmatch::FitMap(t.map, t.problem.points, {}, {}, options).value();
+}
+
+// The robust fit searches within the problem's radius hint with its default options.
 std::vector<Method> Methods() {
-  return {{"mean shift",
+  return {{"mean shift (robust)",
            [](const MapFitTrial& t) {
              const mapmatch::RobustMapFitOptions options{.search_radius_m = t.radius_hint_m};
              return mapmatch::RobustFitMap(t.map, t.problem.points, {}, {}, options).value();
            }},
-          {"local fit",
-           [](const MapFitTrial& t) {
-             const double final_radius = mapmatch::RobustMapFitOptions{}.final_radius_m;
-             const mapmatch::MapFitOptions options{
-                 .radius_m = t.radius_hint_m,
-                 .final_radius_m = std::min(final_radius, t.radius_hint_m)};
-             return mapmatch::FitMap(t.map, t.problem.points, {}, {}, options).value();
-           }},
+          {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
+          {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
           {"RANSAC",
            [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
           {"ICP",
@@ -95,22 +98,22 @@ std::string SeedList(const std::vector<unsigned>& seeds) {
 }
 
 void PrintHeader(const std::vector<Method>& methods) {
-  std::printf("%-9s", "outliers");
-  for (const Method& m : methods) std::printf(" | %-34s", m.name.c_str());
-  std::printf("\n%-9s", "");
+  std::printf("%-8s", "outliers");
+  for (const Method& m : methods) std::printf(" | %-27s", m.name.c_str());
+  std::printf("\n%-8s", "");
   for (std::size_t k = 0; k < methods.size(); ++k)
-    std::printf(" | %8s %6s %10s %7s", "success", "wrong", "median err", "us/fit");
+    std::printf(" | %6s %6s %6s %6s", "succ", "wrong", "err mm", "us");
   std::printf("\n");
 }
 
-// Success and wrong-converged rates, the median position error at the vehicle (non-converged
-// fits count as infinite) and the median time per fit.
+// Success and wrong-converged rates, the median position error at the vehicle in mm (non-converged
+// fits count as infinite) and the median time per fit in µs.
 void PrintRow(double outlier_percent, const std::vector<Score>& scores) {
-  std::printf("%7.0f %%", outlier_percent);
+  std::printf("%6.0f %%", outlier_percent);
   for (const Score& s : scores) {
-    const double median_mm = 1e3 * Median(s.position_errors_m);
-    std::printf(" | %7.1f%% %5.1f%% %7.1f mm %7.1f", 100.0 * s.successes / s.trials,
-                100.0 * s.wrong_converged / s.trials, median_mm, 1e6 * Median(s.seconds));
+    std::printf(" | %5.1f%% %5.1f%% %6.1f %6.0f", 100.0 * s.successes / s.trials,
+                100.0 * s.wrong_converged / s.trials, 1e3 * Median(s.position_errors_m),
+                1e6 * Median(s.seconds));
   }
   std::printf("\n");
   std::fflush(stdout);
@@ -150,8 +153,9 @@ Status RunBenchMapFit(BenchMapFitArgs args) {
     args.outlier_percents = args.problems.kind == "rooms" ? std::vector<double>{70, 80, 90}
                                                           : std::vector<double>{50, 70, 80, 90};
   }
-  std::printf("== map fit, %s; success: error at the vehicle < 1 cm and < 0.5 deg; wrong: "
-              "converged but not a success\n",
+  std::printf("== map fit, %s\n== success: error at the vehicle < 1 cm and < 0.5 deg; wrong: "
+              "converged but not a success; err: median position error at the vehicle; us: "
+              "median time per fit\n",
               DescribeTrials(args.problems).c_str());
   RunTable(args, args.seeds, "tuning seeds");
   if (!args.held_out_seeds.empty()) RunTable(args, args.held_out_seeds, "held-out seeds");
