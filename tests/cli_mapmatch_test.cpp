@@ -176,8 +176,8 @@ TEST_F(CliMapmatch, BadOptionsNameTheOption) {
     EXPECT_TRUE(IsBadInput(Mapmatch("--radius 0.3 --init=" + Quote(init)), {"--init"})) << init;
   }
   for (const std::string final_radius : {"0", "-0.1", "nan", "x"}) {
-    EXPECT_TRUE(IsBadInput(Mapmatch("--radius 0.3 --final-radius=" + final_radius),
-                           {"--final-radius"}))
+    EXPECT_TRUE(
+        IsBadInput(Mapmatch("--radius 0.3 --final-radius=" + final_radius), {"--final-radius"}))
         << final_radius;
   }
 }

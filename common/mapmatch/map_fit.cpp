@@ -51,7 +51,7 @@ struct NormalEquations {
   double kernel_support = 0.0;                         // Σ w (1 − |r|²/h²)
   int pairs = 0;
   std::vector<int> pairs_per_landmark;
-  std::vector<int> matched_landmarks;  // indices of landmarks with at least one pair
+  std::vector<int> matched_landmarks;        // indices of landmarks with at least one pair
   std::vector<std::pair<int, int>> matches;  // (point, landmark) of every pair
 };
 

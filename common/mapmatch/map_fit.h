@@ -80,9 +80,9 @@ Status CheckMapFitInputs(std::span<const Eigen::Vector2d> landmarks,
 // The point–landmark pairs within h under a correction, measured without fitting.
 struct PairStatistics {
   int pairs = 0;
-  double support = 0.0;  // Σ w (1 − |r|²/h²)
-  double rms_residual_m = 0.0;  // weighted, 0 without pairs
-  std::vector<int> pairs_per_landmark;  // one count per landmark
+  double support = 0.0;                      // Σ w (1 − |r|²/h²)
+  double rms_residual_m = 0.0;               // weighted, 0 without pairs
+  std::vector<int> pairs_per_landmark;       // one count per landmark
   std::vector<std::pair<int, int>> matches;  // (point, landmark) of every pair, ascending
 };
 // Requires h > 0 and inputs that passed CheckMapFitInputs.

@@ -45,7 +45,8 @@ double Score(const Voting& v, const geometry::Pose2& correction) {
   for (std::size_t k = 0; k < v.spots.size(); ++k) {
     const Eigen::Vector2d moved = correction * v.spots[k].center;
     double best = t2;
-    for (const int m : v.candidates[k]) best = std::min(best, (v.landmarks[m] - moved).squaredNorm());
+    for (const int m : v.candidates[k])
+      best = std::min(best, (v.landmarks[m] - moved).squaredNorm());
     score += v.spots[k].support * (1.0 - best / t2);
   }
   return score;
@@ -89,8 +90,8 @@ geometry::Pose2 RigidFromTwoPairs(const Eigen::Vector2d& a, const Eigen::Vector2
 double LargestDisagreement(const geometry::Pose2& a, const geometry::Pose2& b,
                            const Eigen::Vector2d& low, const Eigen::Vector2d& high) {
   double largest = 0.0;
-  for (const Eigen::Vector2d& corner : {low, high, Eigen::Vector2d(low.x(), high.y()),
-                                       Eigen::Vector2d(high.x(), low.y())})
+  for (const Eigen::Vector2d& corner :
+       {low, high, Eigen::Vector2d(low.x(), high.y()), Eigen::Vector2d(high.x(), low.y())})
     largest = std::max(largest, (a * corner - b * corner).norm());
   return largest;
 }
@@ -109,10 +110,9 @@ std::vector<VotedCorrection> VoteCorrections(std::span<const DenseSpot> spots,
   std::vector<VotedCorrection> proposals;
   for (std::size_t k = 0; k < spots.size(); ++k)
     for (std::size_t l = k + 1; l < spots.size(); ++l) VotePair(voting, k, l, &proposals);
-  std::stable_sort(proposals.begin(), proposals.end(),
-                   [](const VotedCorrection& a, const VotedCorrection& b) {
-                     return a.score > b.score;
-                   });
+  std::stable_sort(
+      proposals.begin(), proposals.end(),
+      [](const VotedCorrection& a, const VotedCorrection& b) { return a.score > b.score; });
   Eigen::Vector2d low, high;
   SpotBox(spots, &low, &high);
   std::vector<VotedCorrection> distinct;

@@ -35,8 +35,7 @@ TEST(PairVotes, SpotsOnLandmarksVoteTheCorrection) {
   EXPECT_NEAR(voted[0].score, 40.0, 1e-6) << "all four spots on their landmarks";
   for (std::size_t k = 1; k < voted.size(); ++k) {
     EXPECT_LT(voted[k].score, voted[0].score);
-    EXPECT_GT(LargestDisagreement(voted[k].correction, voted[0].correction, {0, 0}, {4, 3}),
-              0.03)
+    EXPECT_GT(LargestDisagreement(voted[k].correction, voted[0].correction, {0, 0}, {4, 3}), 0.03)
         << "each proposal once";
   }
 }

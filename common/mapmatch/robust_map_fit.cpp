@@ -3,12 +3,12 @@
 //
 // Cost: the dense spots and the pair vote are O(points log points + spots² × candidates²); each
 // start's fit only sees the points and landmarks it can pair (those within twice its starting h of
-// each other under the start). Measured in docs/benchmarks.md ("Map fit ... rooms").
+// each other under the start). Measured in docs/benchmarks.md ("Map fit on cluttered rooms").
 #include "mapmatch/robust_map_fit.h"
 
 #include <algorithm>
-#include <iterator>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -20,13 +20,18 @@ namespace {
 
 std::string Num(double value) { return std::to_string(value); }
 
+std::string Describe(const geometry::Pose2& t) {
+  return "(" + Num(t.x) + ", " + Num(t.y) + ", " + Num(t.theta) + ")";
+}
+
 struct Box {
   Eigen::Vector2d low, high;
 };
 
 Box BoxOf(std::span<const Eigen::Vector2d> xy) {
   Box box{xy.front(), xy.front()};
-  for (const Eigen::Vector2d& p : xy) box.low = box.low.cwiseMin(p), box.high = box.high.cwiseMax(p);
+  for (const Eigen::Vector2d& p : xy)
+    box.low = box.low.cwiseMin(p), box.high = box.high.cwiseMax(p);
   return box;
 }
 
@@ -50,7 +55,8 @@ std::vector<Eigen::Vector2d> LandmarksNear(std::span<const Eigen::Vector2d> land
   const Box box = BoxOf(moved);
   std::vector<Eigen::Vector2d> near;
   for (const Eigen::Vector2d& m : landmarks) {
-    if ((m.array() >= box.low.array() - reach).all() && (m.array() <= box.high.array() + reach).all())
+    if ((m.array() >= box.low.array() - reach).all() &&
+        (m.array() <= box.high.array() + reach).all())
       near.push_back(m);
   }
   return near;
@@ -100,7 +106,8 @@ MapFitOptions FitOptions(const Problem& problem, double start_radius) {
 // into `count` landmarks.
 PairStatistics Renumbered(PairStatistics stats, const std::vector<int>& index, std::size_t count) {
   std::vector<int> per_landmark(count, 0);
-  for (std::size_t k = 0; k < index.size(); ++k) per_landmark[index[k]] = stats.pairs_per_landmark[k];
+  for (std::size_t k = 0; k < index.size(); ++k)
+    per_landmark[index[k]] = stats.pairs_per_landmark[k];
   stats.pairs_per_landmark = std::move(per_landmark);
   for (auto& match : stats.matches) match.second = index[match.second];
   std::sort(stats.matches.begin(), stats.matches.end());
@@ -112,8 +119,8 @@ PairStatistics Renumbered(PairStatistics stats, const std::vector<int>& index, s
 // the fit nor counting as support.
 void KeepToLandedLandmarks(const Problem& problem, const Subset& part, Mode* mode) {
   const double h = problem.final_radius;
-  const PairStatistics all = MeasurePairs(problem.landmarks, problem.points, problem.weights,
-                                          mode->fit.correction, h);
+  const PairStatistics all =
+      MeasurePairs(problem.landmarks, problem.points, problem.weights, mode->fit.correction, h);
   std::vector<int> index;
   std::vector<Eigen::Vector2d> landed;
   for (std::size_t m = 0; m < problem.landmarks.size(); ++m) {
@@ -130,13 +137,14 @@ void KeepToLandedLandmarks(const Problem& problem, const Subset& part, Mode* mod
       mode->fit = std::move(refit);
     }
   }
-  mode->pairs = Renumbered(MeasurePairs(landed, problem.points, problem.weights,
-                                        mode->fit.correction, h),
-                           index, problem.landmarks.size());
+  mode->pairs =
+      Renumbered(MeasurePairs(landed, problem.points, problem.weights, mode->fit.correction, h),
+                 index, problem.landmarks.size());
 }
 
 Subset Whole(const Problem& problem) {
-  return {problem.landmarks, {problem.points.begin(), problem.points.end()},
+  return {problem.landmarks,
+          {problem.points.begin(), problem.points.end()},
           {problem.weights.begin(), problem.weights.end()}};
 }
 
@@ -152,9 +160,9 @@ Mode Refine(const Problem& problem, const geometry::Pose2& start, double start_r
     mode.fit.reason = "no point within h of a landmark";
     return mode;
   }
-  mode.fit = FitMap(part.landmarks, part.points, part.weights, start,
-                    FitOptions(problem, start_radius))
-                 .value();
+  mode.fit =
+      FitMap(part.landmarks, part.points, part.weights, start, FitOptions(problem, start_radius))
+          .value();
   if (mode.fit.converged) KeepToLandedLandmarks(problem, part, &mode);
   return mode;
 }
@@ -217,8 +225,8 @@ std::string ValidationFailure(const Mode& mode, const Problem& problem) {
   }
   if (mode.pairs.rms_residual_m > o.max_rms_ratio * h) {
     return "the points within h = " + Num(h) + " of the landmarks are spread like outliers (rms " +
-           Num(mode.pairs.rms_residual_m) + " m); if they are that noisy, h should be about three "
-           "times their noise";
+           Num(mode.pairs.rms_residual_m) +
+           " m); if they are that noisy, h should be about three times their noise";
   }
   return "";
 }
@@ -295,9 +303,9 @@ MapFitResult Chosen(const Mode& mode) {
   result.inliers = mode.pairs.pairs;
   result.support = mode.pairs.support;
   result.rms_residual_m = mode.pairs.rms_residual_m;
-  result.landmarks_matched = static_cast<int>(
-      std::count_if(mode.pairs.pairs_per_landmark.begin(), mode.pairs.pairs_per_landmark.end(),
-                    [](int n) { return n > 0; }));
+  result.landmarks_matched = static_cast<int>(std::count_if(mode.pairs.pairs_per_landmark.begin(),
+                                                            mode.pairs.pairs_per_landmark.end(),
+                                                            [](int n) { return n > 0; }));
   return result;
 }
 
@@ -323,13 +331,10 @@ MapFitResult ChooseMode(const std::vector<Mode>& modes, const Problem& problem,
   if (valid.size() < 2) return result;
   result.runner_up_support = valid[1]->pairs.support;
   if (result.runner_up_support < problem.options.ambiguity_ratio * result.support) return result;
-  const geometry::Pose2& other = valid[1]->fit.correction;
   result = NotConverged(result, initial,
-                        "ambiguous: corrections (" + Num(result.correction.x) + ", " +
-                            Num(result.correction.y) + ", " + Num(result.correction.theta) +
-                            ") and (" + Num(other.x) + ", " + Num(other.y) + ", " +
-                            Num(other.theta) + ") are supported alike (" + Num(result.support) +
-                            " and " + Num(result.runner_up_support) + ")");
+                        "ambiguous: corrections " + Describe(result.correction) + " and " +
+                            Describe(valid[1]->fit.correction) + " are supported alike (" +
+                            Num(result.support) + " and " + Num(result.runner_up_support) + ")");
   result.ambiguous = true;
   return result;
 }
@@ -368,12 +373,17 @@ Result<MapFitResult> RobustFitMap(std::span<const Eigen::Vector2d> landmarks,
   FLEETLOC_RETURN_IF_ERROR(CheckMapFitInputs(landmarks, points, weights, initial));
   const double final_radius = options.final_radius_m;
   Problem problem{LandmarksNear(landmarks, points, initial, options.search_radius_m + final_radius),
-                  points, weights, BoxOf(points), final_radius, options};
+                  points,
+                  weights,
+                  BoxOf(points),
+                  final_radius,
+                  options};
   if (problem.landmarks.empty()) {
     MapFitResult result;
     result.correction = initial;
-    result.reason = "no landmark within the search radius " + Num(options.search_radius_m) +
-                    " m of the points";
+    result.starts = 0;
+    result.reason =
+        "no landmark within the search radius " + Num(options.search_radius_m) + " m of the points";
     return result;
   }
   const std::vector<Mode> modes = RefineStarts(problem, initial);

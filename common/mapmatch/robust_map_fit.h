@@ -30,10 +30,10 @@ struct RobustMapFitOptions {
   // h at which the fit from a voted correction starts (clipped to [final, search radius]): the vote
   // and its fit to the spots already put it within about the final h.
   double voted_start_radius_m = 0.05;
-  double shrink_factor = 0.7;  // in (0, 1)
-  int max_iterations = 100;    // per start; > 0
-  int max_spots = 64;          // > 1
-  int max_voted_starts = 8;    // >= 0; 0: only the initial correction (a local fit)
+  double shrink_factor = 0.7;        // in (0, 1)
+  int max_iterations = 100;          // per start; > 0
+  int max_spots = 64;                // > 1
+  int max_voted_starts = 8;          // >= 0; 0: only the initial correction (a local fit)
   double min_pair_distance_m = 0.2;  // spots closer than this do not vote; >= 0
   // Validation: the mode lands on at least min_landmarks landmarks, each with at least
   // min_points_per_landmark points within the final h ...

@@ -139,8 +139,8 @@ TEST(RobustMapFit, TwoReadingsSupportedAlikeAreAmbiguous) {
   std::mt19937 rng(2);
   std::normal_distribution<double> noise(0.0, 0.005);
   std::vector<Eigen::Vector2d> points;
-  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(2, 2), Eigen::Vector2d(3, 2),
-                                       Eigen::Vector2d(2, 3)})
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(2, 2), Eigen::Vector2d(3, 2), Eigen::Vector2d(2, 3)})
     for (int k = 0; k < 10; ++k) points.push_back(corner + Eigen::Vector2d(noise(rng), noise(rng)));
   const geometry::Pose2 start{0.1, 0.05, 0.0};
   const MapFitResult fit =
@@ -191,8 +191,7 @@ TEST(RobustMapFit, ZeroWeightPointsDoNotCount) {
       weights.push_back(0.0);
     }
   }
-  const MapFitResult fit =
-      RobustFitMap(map, points, weights, {}, {.search_radius_m = 0.5}).value();
+  const MapFitResult fit = RobustFitMap(map, points, weights, {}, {.search_radius_m = 0.5}).value();
   ASSERT_TRUE(fit.converged) << fit.reason;
   EXPECT_LT(ErrorOf(fit.correction, truth).translation_m, 1e-9);
   EXPECT_EQ(fit.inliers, 16);
@@ -205,8 +204,8 @@ TEST(RobustMapFit, BadOptionsAndInputsAreClearErrors) {
   auto error = [&](const RobustMapFitOptions& options,
                    std::span<const Eigen::Vector2d> landmarks = {}) {
     const Result<MapFitResult> r =
-        RobustFitMap(landmarks.empty() ? std::span<const Eigen::Vector2d>(map) : landmarks,
-                     points, {}, {}, options);
+        RobustFitMap(landmarks.empty() ? std::span<const Eigen::Vector2d>(map) : landmarks, points,
+                     {}, {}, options);
     EXPECT_FALSE(r.ok());
     return r.ok() ? std::string() : r.status().message();
   };

@@ -29,8 +29,10 @@ std::vector<Eigen::Vector2d> DoorJambs(const Eigen::Vector2d& low, const Eigen::
   const double start = Uniform(0.3, length - 0.3 - width, rng);
   std::vector<Eigen::Vector2d> jambs;
   for (const double along : {start, start + width}) {
-    if (horizontal) jambs.emplace_back(low.x() + along, wall == 0 ? low.y() : high.y());
-    else jambs.emplace_back(wall == 2 ? low.x() : high.x(), low.y() + along);
+    if (horizontal)
+      jambs.emplace_back(low.x() + along, wall == 0 ? low.y() : high.y());
+    else
+      jambs.emplace_back(wall == 2 ? low.x() : high.x(), low.y() + along);
   }
   return jambs;
 }
@@ -57,15 +59,15 @@ std::vector<Eigen::Vector2d> ClusteredOutliers(const RoomMap& map, const RoomMap
           map.landmarks[room.landmarks[UniformInt(0, room.landmarks.size() - 1, rng)]];
       const double inward = std::atan2(middle.y() - corner.y(), middle.x() - corner.x());
       const double angle = inward + Uniform(-M_PI / 4, M_PI / 4, rng);
-      centers.push_back(corner + Uniform(0.1, 0.5, rng) * Eigen::Vector2d(std::cos(angle),
-                                                                            std::sin(angle)));
+      centers.push_back(corner +
+                        Uniform(0.1, 0.5, rng) * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
     } else {
       const Eigen::Vector2d at(Uniform(room.low.x() + 0.7, room.high.x() - 0.7, rng),
                                Uniform(room.low.y() + 0.7, room.high.y() - 0.7, rng));
       const Eigen::Rotation2Dd turn(Uniform(-M_PI, M_PI, rng));
       const double a = 0.5 * Uniform(0.4, 1.2, rng), b = 0.5 * Uniform(0.3, 0.6, rng);
       for (const Eigen::Vector2d& leg : {Eigen::Vector2d(-a, -b), Eigen::Vector2d(a, -b),
-                                        Eigen::Vector2d(a, b), Eigen::Vector2d(-a, b)})
+                                         Eigen::Vector2d(a, b), Eigen::Vector2d(-a, b)})
         centers.push_back(at + turn * leg);
     }
     for (const Eigen::Vector2d& center : centers) {
@@ -152,8 +154,8 @@ RoomProblem SimulateRoomProblem(const RoomMap& map, const RoomProblemOptions& op
   RoomProblem out;
   out.vehicle = {Uniform(room.low.x() + 0.5, room.high.x() - 0.5, rng),
                  Uniform(room.low.y() + 0.5, room.high.y() - 0.5, rng)};
-  out.seen = NearestOfRoom(map, room, out.vehicle, UniformInt(options.min_seen, options.max_seen,
-                                                               rng));
+  out.seen =
+      NearestOfRoom(map, room, out.vehicle, UniformInt(options.min_seen, options.max_seen, rng));
   // The estimate is off by a shift and a turn about the vehicle.
   const double shift = options.max_prior_shift_m * Uniform(0, 1, rng);
   const double heading = Uniform(-M_PI, M_PI, rng);

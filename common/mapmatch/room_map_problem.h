@@ -40,8 +40,8 @@ struct RoomProblemOptions {
   // Exactly this many points when > 0 (inliers (1 − outlier_fraction) of them, spread over the
   // seen landmarks); otherwise the inliers follow from points_per_landmark.
   int total_points = 0;
-  double clustered_share = 0.5;  // of the outliers: in clusters (corner clutter, shelf legs)
-  double max_prior_shift_m = 0.3;               // prior error at the vehicle, up to this
+  double clustered_share = 0.5;    // of the outliers: in clusters (corner clutter, shelf legs)
+  double max_prior_shift_m = 0.3;  // prior error at the vehicle, up to this
   double max_prior_turn_rad = 10 * M_PI / 180;  // ... and this
   double min_hint_factor = 1.0;  // radius hint: this to max_hint_factor × the largest true
   double max_hint_factor = 3.0;  // displacement of a seen landmark

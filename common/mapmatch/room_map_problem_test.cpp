@@ -27,10 +27,10 @@ TEST(RoomMap, HasTheAskedLandmarksEachInOneRoom) {
         EXPECT_TRUE(listed.insert(index).second) << "landmark " << index << " in two rooms";
         const Eigen::Vector2d& m = map.landmarks[index];
         // Corners and jambs lie on the room's inner rectangle.
-        const bool on_x = std::abs(m.x() - room.low.x()) < 1e-12 ||
-                          std::abs(m.x() - room.high.x()) < 1e-12;
-        const bool on_y = std::abs(m.y() - room.low.y()) < 1e-12 ||
-                          std::abs(m.y() - room.high.y()) < 1e-12;
+        const bool on_x =
+            std::abs(m.x() - room.low.x()) < 1e-12 || std::abs(m.x() - room.high.x()) < 1e-12;
+        const bool on_y =
+            std::abs(m.y() - room.low.y()) < 1e-12 || std::abs(m.y() - room.high.y()) < 1e-12;
         EXPECT_TRUE(on_x || on_y);
       }
       const Eigen::Vector2d size = room.high - room.low;

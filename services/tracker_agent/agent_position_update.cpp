@@ -128,8 +128,8 @@ std::optional<geometry::PoseWithCovariance> AgentPositionUpdate::Update(
   spdlog::debug(
       "position fit at t={:.3f}: {} landmarks, {} pairs, rms {:.3f} m, support {:.1f} (runner-up "
       "{:.1f}), {} starts, {} iterations",
-      t, fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.support,
-      fit.runner_up_support, fit.starts, fit.iterations);
+      t, fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.support, fit.runner_up_support,
+      fit.starts, fit.iterations);
   const double moved = Distance(update->pose.pose, current.pose);
   const double turned = std::abs(geometry::WrapAngle(update->pose.pose.theta - current.pose.theta));
   if (moved > options_.max_correction_m || turned > options_.max_correction_rad) {

@@ -38,7 +38,8 @@ struct Method {
 };
 
 // The local mean shift from the start (FitMap), h starting at the radius hint: shrinking to the
-// robust fit's final h, or staying at the hint as `fleetctl mapmatch --radius H` ran before issue 16.
+// robust fit's final h, or staying at the hint as `fleetctl mapmatch --radius H` ran before
+// issue 16.
 mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
   const double final_radius = mapmatch::RobustMapFitOptions{}.final_radius_m;
   const mapmatch::MapFitOptions options{
@@ -49,17 +50,17 @@ mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
 
 // The robust fit searches within the problem's radius hint with its default options.
 std::vector<Method> Methods() {
-  return {{"mean shift (robust)",
-           [](const MapFitTrial& t) {
-             const mapmatch::RobustMapFitOptions options{.search_radius_m = t.radius_hint_m};
-             return mapmatch::RobustFitMap(t.map, t.problem.points, {}, {}, options).value();
-           }},
-          {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
-          {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
-          {"RANSAC",
-           [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
-          {"ICP",
-           [](const MapFitTrial& t) { return peers::IcpMapFit(t.map, t.problem.points, {}); }}};
+  return {
+      {"mean shift (robust)",
+       [](const MapFitTrial& t) {
+         const mapmatch::RobustMapFitOptions options{.search_radius_m = t.radius_hint_m};
+         return mapmatch::RobustFitMap(t.map, t.problem.points, {}, {}, options).value();
+       }},
+      {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
+      {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
+      {"RANSAC",
+       [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
+      {"ICP", [](const MapFitTrial& t) { return peers::IcpMapFit(t.map, t.problem.points, {}); }}};
 }
 
 struct Score {
@@ -153,10 +154,11 @@ Status RunBenchMapFit(BenchMapFitArgs args) {
     args.outlier_percents = args.problems.kind == "rooms" ? std::vector<double>{70, 80, 90}
                                                           : std::vector<double>{50, 70, 80, 90};
   }
-  std::printf("== map fit, %s\n== success: error at the vehicle < 1 cm and < 0.5 deg; wrong: "
-              "converged but not a success; err: median position error at the vehicle; us: "
-              "median time per fit\n",
-              DescribeTrials(args.problems).c_str());
+  std::printf(
+      "== map fit, %s\n== success: error at the vehicle < 1 cm and < 0.5 deg; wrong: "
+      "converged but not a success; err: median position error at the vehicle; us: "
+      "median time per fit\n",
+      DescribeTrials(args.problems).c_str());
   RunTable(args, args.seeds, "tuning seeds");
   if (!args.held_out_seeds.empty()) RunTable(args, args.held_out_seeds, "held-out seeds");
   return Status::Ok();
@@ -172,20 +174,22 @@ void RegisterBenchMapFit(CLI::App& bench, Status* result) {
   command->add_option("--kind", args->problems.kind, "Problems: corridor or rooms");
   command->add_option("--trials", args->trials, "Problems per outlier level and seed")
       ->check(CLI::Range(1, 1000000));
-  command->add_option("--seed", args->seeds, "Simulation seeds (the tuning table)")
+  command->add_option("--seed", args->seeds, "Simulation seeds (the tuning table)")->delimiter(',');
+  command
+      ->add_option("--held-out-seed", args->held_out_seeds,
+                   "Seeds kept out of tuning, reported in a table of their own")
       ->delimiter(',');
-  command->add_option("--held-out-seed", args->held_out_seeds,
-                      "Seeds kept out of tuning, reported in a table of their own")
-      ->delimiter(',');
-  command->add_option("--outliers", args->outlier_percents,
-                      "Outlier percentages (default 50,70,80,90 corridor; 70,80,90 rooms)")
+  command
+      ->add_option("--outliers", args->outlier_percents,
+                   "Outlier percentages (default 50,70,80,90 corridor; 70,80,90 rooms)")
       ->delimiter(',')
       ->check(CLI::Range(0.0, 99.0));
   command->add_option("--map-landmarks", args->problems.map_landmarks,
                       "rooms: landmarks in each building");
-  command->add_option("--points", args->problems.points,
-                      "rooms: exactly this many points per problem (0: 8-12 inliers per seen "
-                      "landmark and the outliers to match)")
+  command
+      ->add_option("--points", args->problems.points,
+                   "rooms: exactly this many points per problem (0: 8-12 inliers per seen "
+                   "landmark and the outliers to match)")
       ->check(CLI::Range(0, 100000));
   command->callback([args, result] { *result = RunBenchMapFit(*args); });
 }

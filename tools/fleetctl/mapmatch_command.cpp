@@ -99,15 +99,17 @@ void RegisterMapmatchCommand(CLI::App& app, Status* result) {
       app.add_subcommand("mapmatch", "Robust SE(2) fit of measured points to a landmark map");
   command->add_option("--landmarks", args->landmarks, "landmarks.csv (id,x,y)")->required();
   command->add_option("--points", args->points, "points.csv (x,y), in the map frame")->required();
-  command->add_option("--radius", args->radius,
-                      "Search radius, metres: how far the correction may move a point from where "
-                      "--init puts it (also the first kernel radius h)")
+  command
+      ->add_option("--radius", args->radius,
+                   "Search radius, metres: how far the correction may move a point from where "
+                   "--init puts it (also the first kernel radius h)")
       ->required();
   std::ostringstream final_default;
   final_default << mapmatch::RobustMapFitOptions{}.final_radius_m;
   command->add_option("--final-radius", args->final_radius,
                       "Kernel radius h at the end of the fit, metres: about 3x the points' noise "
-                      "(default " + final_default.str() + ")");
+                      "(default " +
+                          final_default.str() + ")");
   command->add_option("--init", args->init, "Initial correction DX,DY,DTHETA (m, m, rad)")
       ->capture_default_str();
   command->callback([args, result] { *result = RunMapmatch(*args); });
