@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,9 @@ namespace {
 std::string Num(double value) { return std::to_string(value); }
 
 std::string Describe(const geometry::Pose2& t) {
-  return "(" + Num(t.x) + ", " + Num(t.y) + ", " + Num(t.theta) + ")";
+  std::ostringstream text;
+  text << "(" << t.x << ", " << t.y << ", " << t.theta << ")";
+  return text.str();
 }
 
 struct Box {
