@@ -7,25 +7,6 @@
 namespace fleetloc::mapmatch {
 namespace {
 
-// The landmarks within `margin` of the points' bounding box: the only ones the fit can pair, so
-// a building-sized map costs no more per iteration than the few corners near the vehicle.
-std::vector<Eigen::Vector2d> NearbyLandmarks(std::span<const Eigen::Vector2d> landmarks,
-                                             std::span<const Eigen::Vector2d> points,
-                                             double margin) {
-  Eigen::Vector2d low = points.front(), high = points.front();
-  for (const Eigen::Vector2d& p : points) {
-    low = low.cwiseMin(p);
-    high = high.cwiseMax(p);
-  }
-  low.array() -= margin;
-  high.array() += margin;
-  std::vector<Eigen::Vector2d> nearby;
-  for (const Eigen::Vector2d& m : landmarks) {
-    if ((m.array() >= low.array()).all() && (m.array() <= high.array()).all()) nearby.push_back(m);
-  }
-  return nearby;
-}
-
 Status CheckUpdateInputs(const DetectionWindow& window, double now_s,
                          const geometry::PoseWithCovariance& current,
                          const GlobalPositionUpdateOptions& options) {
@@ -99,15 +80,10 @@ Result<PositionUpdate> UpdateGlobalPosition(const DetectionWindow& window, doubl
                                             const GlobalPositionUpdateOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(CheckUpdateInputs(window, now_s, current, options));
   const std::vector<Eigen::Vector2d> points = window.MapPoints();
-  const std::vector<Eigen::Vector2d> nearby =
-      NearbyLandmarks(landmarks, points, options.fit.radius_m);
-  PositionUpdate update{.pose = current};
-  if (nearby.empty()) {
-    update.fit.reason = "no landmark within h of the window's points";
-    return update;
-  }
+  PositionUpdate update;
+  update.pose = current;
   const std::vector<double> weights = window.Weights(now_s, options.weight_half_life_s);
-  Result<MapFitResult> fit = FitMap(nearby, points, weights, {}, options.fit);
+  Result<MapFitResult> fit = RobustFitMap(landmarks, points, weights, {}, options.fit);
   if (!fit.ok()) return fit.status();
   update.fit = std::move(*fit);
   if (!update.fit.converged) return update;

@@ -1,7 +1,8 @@
 // Global position update (paper 001 §5, DESIGN §4): floor points detected over a short time window,
 // in which odometry is still good, are placed in the map frame with the odometry-propagated pose
-// estimate at their detection time; the robust map fit of those points against the landmark map
-// gives the correction T of the estimate, and the vehicle pose becomes T ⊕ pose.
+// estimate at their detection time; the robust map fit (robust_map_fit.h) of those points against
+// the landmark map, searching within its search radius of the estimate, gives the correction T of
+// the estimate, and the vehicle pose becomes T ⊕ pose — only when the fit passed its validation.
 #pragma once
 
 #include <Eigen/Core>
@@ -11,7 +12,7 @@
 
 #include "base/status.h"
 #include "geometry/pose2.h"
-#include "mapmatch/map_fit.h"
+#include "mapmatch/robust_map_fit.h"
 
 namespace fleetloc::mapmatch {
 
@@ -51,23 +52,27 @@ class DetectionWindow {
 
 struct GlobalPositionUpdateOptions {
   double weight_half_life_s = 0.0;  // older points count less; >= 0, 0: all points count alike
-  MapFitOptions fit{.radius_m = 0.5, .final_radius_m = 0.1};
+  // The estimate may be up to 0.5 m off at the points; detections smeared over the window by
+  // odometry drift call for a final h of 0.1 m.
+  RobustMapFitOptions fit{.search_radius_m = 0.5, .final_radius_m = 0.1};
 };
 
 // InvalidInput naming the first option out of range.
 Status Validate(const GlobalPositionUpdateOptions& options);
 
 struct PositionUpdate {
-  bool applied = false;  // false: the fit did not converge (fit.reason) and `pose` is unchanged
+  // false: the fit did not converge or failed its validation (fit.reason; fit.ambiguous when
+  // another correction was supported alike) and `pose` is unchanged
+  bool applied = false;
   // T ⊕ current, its covariance that of T carried to the pose (first order): the fit is an
   // absolute measurement, so it replaces the drifted uncertainty instead of adding to it.
   geometry::PoseWithCovariance pose;
   MapFitResult fit;
 };
 
-// Fits the window's points (weighted by age at now_s) against the landmarks within h of them and
-// applies the correction to `current`. InvalidInput for bad options, an empty window, a time before
-// the newest point, a non-finite pose or a bad landmark map (as FitMap).
+// Fits the window's points (weighted by age at now_s) against the landmarks and applies the
+// correction to `current`. InvalidInput for bad options, an empty window, a time before the newest
+// point, a non-finite pose or a bad landmark map (as RobustFitMap).
 Result<PositionUpdate> UpdateGlobalPosition(const DetectionWindow& window, double now_s,
                                             std::span<const Eigen::Vector2d> landmarks,
                                             const geometry::PoseWithCovariance& current,

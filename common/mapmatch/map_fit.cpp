@@ -42,39 +42,24 @@ Status CheckWeights(std::span<const double> weights, std::size_t points) {
   return Status::Ok();
 }
 
-Status CheckInputs(std::span<const Eigen::Vector2d> landmarks,
-                   std::span<const Eigen::Vector2d> points, std::span<const double> weights,
-                   const geometry::Pose2& initial, const MapFitOptions& options) {
-  FLEETLOC_RETURN_IF_ERROR(Validate(options));
-  if (landmarks.empty()) return InvalidInput("map fit: no landmarks");
-  if (points.empty()) return InvalidInput("map fit: no points");
-  if (!initial.ToVector().allFinite())
-    return InvalidInput("map fit: the initial correction is not finite");
-  FLEETLOC_RETURN_IF_ERROR(CheckFinite(landmarks, "landmark"));
-  FLEETLOC_RETURN_IF_ERROR(CheckFinite(points, "point"));
-  FLEETLOC_RETURN_IF_ERROR(CheckWeights(weights, points.size()));
-  if (const auto duplicate = FindDuplicateLandmarks(landmarks)) {
-    return InvalidInput("map fit: landmarks " + std::to_string(duplicate->first) + " and " +
-                        std::to_string(duplicate->second) + " are at the same position");
-  }
-  return Status::Ok();
-}
-
 // The weighted normal equations of one Gauss–Newton step over the pairs within h of a landmark.
 struct NormalEquations {
   Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();   // Σ w JᵀJ
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();  // Σ w Jᵀ r
   double weighted_squared_residual = 0.0;              // Σ w |r|²
   double weight = 0.0;                                 // Σ w
+  double kernel_support = 0.0;                         // Σ w (1 − |r|²/h²)
   int pairs = 0;
-  std::vector<int> matched_landmarks;  // indices of landmarks with at least one pair
+  std::vector<int> pairs_per_landmark;
+  std::vector<int> matched_landmarks;        // indices of landmarks with at least one pair
+  std::vector<std::pair<int, int>> matches;  // (point, landmark) of every pair
 };
 
 NormalEquations Accumulate(std::span<const Eigen::Vector2d> landmarks,
                            std::span<const Eigen::Vector2d> points, std::span<const double> weights,
                            const geometry::Pose2& t, double radius) {
   NormalEquations eq;
-  std::vector<char> matched(landmarks.size(), 0);
+  eq.pairs_per_landmark.assign(landmarks.size(), 0);
   const double r2 = radius * radius;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double w = weights.empty() ? 1.0 : weights[i];
@@ -90,12 +75,14 @@ NormalEquations Accumulate(std::span<const Eigen::Vector2d> landmarks,
       eq.gradient += w * j.transpose() * r;
       eq.weighted_squared_residual += w * r.squaredNorm();
       eq.weight += w;
+      eq.kernel_support += w * (1.0 - r.squaredNorm() / r2);
       ++eq.pairs;
-      matched[m] = 1;
+      ++eq.pairs_per_landmark[m];
+      eq.matches.emplace_back(static_cast<int>(i), static_cast<int>(m));
     }
   }
-  for (std::size_t m = 0; m < matched.size(); ++m)
-    if (matched[m]) eq.matched_landmarks.push_back(static_cast<int>(m));
+  for (std::size_t m = 0; m < landmarks.size(); ++m)
+    if (eq.pairs_per_landmark[m] > 0) eq.matched_landmarks.push_back(static_cast<int>(m));
   return eq;
 }
 
@@ -129,12 +116,45 @@ void Summarize(const NormalEquations& eq, MapFitResult* result) {
   result->inliers = eq.pairs;
   result->landmarks_matched = static_cast<int>(eq.matched_landmarks.size());
   result->rms_residual_m = eq.weight > 0 ? std::sqrt(eq.weighted_squared_residual / eq.weight) : 0;
+  result->support = eq.kernel_support;
   if (!result->converged) return;
   const double sigma2 = eq.weighted_squared_residual / (2.0 * eq.pairs - 3.0);
   result->covariance = sigma2 * eq.hessian.inverse();
 }
 
 }  // namespace
+
+Status CheckMapFitInputs(std::span<const Eigen::Vector2d> landmarks,
+                         std::span<const Eigen::Vector2d> points, std::span<const double> weights,
+                         const geometry::Pose2& initial) {
+  if (landmarks.empty()) return InvalidInput("map fit: no landmarks");
+  if (points.empty()) return InvalidInput("map fit: no points");
+  if (!initial.ToVector().allFinite())
+    return InvalidInput("map fit: the initial correction is not finite");
+  FLEETLOC_RETURN_IF_ERROR(CheckFinite(landmarks, "landmark"));
+  FLEETLOC_RETURN_IF_ERROR(CheckFinite(points, "point"));
+  FLEETLOC_RETURN_IF_ERROR(CheckWeights(weights, points.size()));
+  if (const auto duplicate = FindDuplicateLandmarks(landmarks)) {
+    return InvalidInput("map fit: landmarks " + std::to_string(duplicate->first) + " and " +
+                        std::to_string(duplicate->second) + " are at the same position");
+  }
+  return Status::Ok();
+}
+
+PairStatistics MeasurePairs(std::span<const Eigen::Vector2d> landmarks,
+                            std::span<const Eigen::Vector2d> points,
+                            std::span<const double> weights, const geometry::Pose2& correction,
+                            double radius_m) {
+  FLEETLOC_CHECK(radius_m > 0.0);
+  NormalEquations eq = Accumulate(landmarks, points, weights, correction, radius_m);
+  PairStatistics stats;
+  stats.pairs = eq.pairs;
+  stats.support = eq.kernel_support;
+  stats.rms_residual_m = eq.weight > 0 ? std::sqrt(eq.weighted_squared_residual / eq.weight) : 0;
+  stats.pairs_per_landmark = std::move(eq.pairs_per_landmark);
+  stats.matches = std::move(eq.matches);
+  return stats;
+}
 
 std::optional<std::pair<std::size_t, std::size_t>> FindDuplicateLandmarks(
     std::span<const Eigen::Vector2d> landmarks) {
@@ -173,7 +193,8 @@ Result<MapFitResult> FitMap(std::span<const Eigen::Vector2d> landmarks,
                             std::span<const Eigen::Vector2d> points,
                             std::span<const double> weights, const geometry::Pose2& initial,
                             const MapFitOptions& options) {
-  FLEETLOC_RETURN_IF_ERROR(CheckInputs(landmarks, points, weights, initial, options));
+  FLEETLOC_RETURN_IF_ERROR(Validate(options));
+  FLEETLOC_RETURN_IF_ERROR(CheckMapFitInputs(landmarks, points, weights, initial));
   const double final_radius =
       options.final_radius_m > 0 ? options.final_radius_m : options.radius_m;
   MapFitResult result;

@@ -3,7 +3,8 @@
 // the kernel radius h; one iteration solves the linearised weighted least-squares step over those
 // pairs, Δ = (Σ w JᵀJ)⁻¹ Σ w Jᵀ(m_j − T(p_i)), and T ← T + Δ. Outliers farther than h from every
 // landmark and landmarks with no measurement nearby drop out by themselves. The fit is local: it
-// converges to the truth from a start within about h of it.
+// converges to the truth from a start within about h of it, and to whatever mode is nearest from
+// anywhere else — robust_map_fit.h gives it good starts and checks what it converged to.
 #pragma once
 
 #include <Eigen/Core>
@@ -12,6 +13,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "base/status.h"
 #include "geometry/pose2.h"
@@ -45,6 +47,15 @@ struct MapFitResult {
   int landmarks_matched = 0;  // landmarks with at least one pair
   double rms_residual_m = 0.0;
   double final_radius_m = 0.0;  // h at the last iteration
+  // Kernel support of the final pairs, Σ w (1 − |r|²/h²) over the pairs within the final h: the
+  // Epanechnikov density the mean shift climbs, how much of the data the correction explains.
+  double support = 0.0;
+  // Set by the robust fit (robust_map_fit.h): the starting corrections it refined, and whether a
+  // distinct correction is supported almost as well (its support in runner_up_support; the fit is
+  // then not converged).
+  int starts = 1;
+  bool ambiguous = false;
+  double runner_up_support = 0.0;
   // False when the pairs cannot determine T (fewer than min_inliers, or a single landmark cluster
   // so the rotation is unobservable) or the iteration limit was reached while still moving;
   // `correction` is then the last estimate, not a fit, and `reason` says why.
@@ -59,6 +70,26 @@ inline constexpr double kSameLandmarkM = 1e-6;
 // landmarks spread along x.
 std::optional<std::pair<std::size_t, std::size_t>> FindDuplicateLandmarks(
     std::span<const Eigen::Vector2d> landmarks);
+
+// InvalidInput naming the problem for no landmarks or points, a non-finite landmark, point, weight
+// or initial value, weights not one per point or negative, or two landmarks at the same position.
+Status CheckMapFitInputs(std::span<const Eigen::Vector2d> landmarks,
+                         std::span<const Eigen::Vector2d> points, std::span<const double> weights,
+                         const geometry::Pose2& initial);
+
+// The point–landmark pairs within h under a correction, measured without fitting.
+struct PairStatistics {
+  int pairs = 0;
+  double support = 0.0;                      // Σ w (1 − |r|²/h²)
+  double rms_residual_m = 0.0;               // weighted, 0 without pairs
+  std::vector<int> pairs_per_landmark;       // one count per landmark
+  std::vector<std::pair<int, int>> matches;  // (point, landmark) of every pair, ascending
+};
+// Requires h > 0 and inputs that passed CheckMapFitInputs.
+PairStatistics MeasurePairs(std::span<const Eigen::Vector2d> landmarks,
+                            std::span<const Eigen::Vector2d> points,
+                            std::span<const double> weights, const geometry::Pose2& correction,
+                            double radius_m);
 
 // Fits T starting from `initial`. `weights` (one per point, finite, >= 0) may be empty (all 1).
 // InvalidInput naming the problem for bad options, no landmarks or points, a non-finite landmark,

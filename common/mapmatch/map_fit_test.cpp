@@ -168,6 +168,18 @@ TEST(MapFit, TheIterationLimitIsNotConvergence) {
   EXPECT_NE(fit.reason.find("still moving after 1 iterations"), std::string::npos) << fit.reason;
 }
 
+TEST(MapFit, MeasurePairsCountsThePairsWithinHAndTheirKernelSupport) {
+  const std::vector<Eigen::Vector2d> points{{0.01, 0}, {4, 0.02}, {4, 0.1}, {2, 2}};
+  const std::vector<double> weights{1.0, 2.0, 1.0, 1.0};
+  const PairStatistics stats = MeasurePairs(kMap, points, weights, {}, 0.05);
+  EXPECT_EQ(stats.pairs, 2);
+  // Σ w (1 − r²/h²): 1 × (1 − 0.04) + 2 × (1 − 0.16).
+  EXPECT_NEAR(stats.support, 0.96 + 2 * 0.84, 1e-12);
+  EXPECT_NEAR(stats.rms_residual_m, std::sqrt((1e-4 + 2 * 4e-4) / 3.0), 1e-12);
+  EXPECT_EQ(stats.pairs_per_landmark, (std::vector<int>{1, 1, 0, 0, 0, 0}));
+  EXPECT_EQ(stats.matches, (std::vector<std::pair<int, int>>{{0, 0}, {1, 1}}));
+}
+
 TEST(MapFit, BadInputIsAClearError) {
   const std::vector<Eigen::Vector2d> points{{0, 0}, {4, 0}};
   const std::vector<Eigen::Vector2d> nan_point{{0, 0}, {kNan, 0}};

@@ -54,7 +54,6 @@ Result<std::unique_ptr<AgentPositionUpdate>> AgentPositionUpdate::Create(
   if (!(std::isfinite(options.window_s) && options.window_s > 0)) {
     return InvalidInput("position update: window_s must be > 0");
   }
-  if (options.min_landmarks < 2) return InvalidInput("position update: min_landmarks must be >= 2");
   if (!(std::isfinite(options.max_correction_m) && options.max_correction_m > 0)) {
     return InvalidInput("position update: max_correction_m must be > 0");
   }
@@ -126,18 +125,16 @@ std::optional<geometry::PoseWithCovariance> AgentPositionUpdate::Update(
     return std::nullopt;
   }
   const mapmatch::MapFitResult& fit = update->fit;
-  spdlog::debug("position fit at t={:.3f}: {} landmarks, {} pairs, rms {:.3f} m, {} iterations", t,
-                fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.iterations);
-  if (fit.landmarks_matched < options_.min_landmarks) {
-    Reject(t, "the fit pairs " + std::to_string(fit.landmarks_matched) +
-                  " landmark(s), fewer than " + std::to_string(options_.min_landmarks));
-    return std::nullopt;
-  }
+  spdlog::debug(
+      "position fit at t={:.3f}: {} landmarks, {} pairs, rms {:.3f} m, support {:.1f} (runner-up "
+      "{:.1f}), {} starts, {} iterations",
+      t, fit.landmarks_matched, fit.inliers, fit.rms_residual_m, fit.support, fit.runner_up_support,
+      fit.starts, fit.iterations);
   const double moved = Distance(update->pose.pose, current.pose);
   const double turned = std::abs(geometry::WrapAngle(update->pose.pose.theta - current.pose.theta));
   if (moved > options_.max_correction_m || turned > options_.max_correction_rad) {
     Reject(t, "the fit would move the pose " + std::to_string(moved) + " m and turn it " +
-                  std::to_string(turned) + " rad, more than the fit can reach");
+                  std::to_string(turned) + " rad, more than the agent allows");
     return std::nullopt;
   }
   stats_.last_rejected = false;

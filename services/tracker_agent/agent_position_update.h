@@ -23,19 +23,22 @@ namespace fleetloc::tracker_agent {
 struct PositionUpdateOptions {
   double period_s = 1.0;  // one fit per this much image time; > 0
   double window_s = 2.0;  // over the detections of this last stretch; > 0
-  // A converged fit is rejected when it pairs fewer landmarks than this (>= 2): with two, points
-  // paired with the wrong landmarks fit as well as with the right ones (seen facing a corridor's
-  // end wall: 2 landmarks, 6 pairs, the pose 14 cm and 2.7° off).
-  int min_landmarks = 3;
-  // ... or when it would move the pose farther or turn it more than this (> 0): the fit is local
-  // (it reaches about h = fit.radius_m), so a bigger jump paired points with the wrong landmarks
-  // (seen at the same wall: 0.3-0.8 m and 6-18°).
+  // A fit is used only when the robust fit (mapmatch/robust_map_fit.h) passes its validation: it
+  // lands the window's points on at least fit.fit.min_landmarks landmarks (3 here: with two,
+  // points paired with the wrong landmarks fitted as well as with the right ones, seen facing a
+  // corridor's end wall: 2 landmarks, 6 pairs, the pose 14 cm and 2.7° off), each with
+  // min_points_per_landmark points (2 here: the window holds 4–5 images, a corner seen in two of
+  // them counts), tightly, and no other correction within the search radius (0.5 m) is supported
+  // almost as well. h shrinks to 5 cm: on rendered corridors (agent_position_update_test, exact
+  // poses) the fits were 3-7 cm off with 10 cm and mostly within 1.3 cm with 5 cm.
+  mapmatch::GlobalPositionUpdateOptions fit{.weight_half_life_s = 1.0,
+                                            .fit = {.search_radius_m = 0.5,
+                                                    .final_radius_m = 0.05,
+                                                    .min_landmarks = 3,
+                                                    .min_points_per_landmark = 2}};
+  // ... and when it would move the pose at most this far and turn it at most this much (> 0).
   double max_correction_m = 0.5;
   double max_correction_rad = 0.1;
-  // h shrinks to 5 cm: on rendered corridors (agent_position_update_test, exact poses) the fits
-  // were 3-7 cm off with the library's 10 cm and mostly within 1.3 cm with 5 cm.
-  mapmatch::GlobalPositionUpdateOptions fit{.weight_half_life_s = 1.0,
-                                            .fit = {.radius_m = 0.5, .final_radius_m = 0.05}};
   mapmatch::LandmarkDetectorOptions detector;
 };
 
@@ -74,8 +77,9 @@ class AgentPositionUpdate {
 
   // When a fit is due at t (period_s after the previous one, the first period_s after the first
   // image), fits the window against the map with `current` (the estimate at t) and returns the
-  // corrected pose with the fit's covariance if the fit converged on min_landmarks within the max
-  // correction; nullopt otherwise (counted as rejected with the reason, or not due). `use`: the
+  // corrected pose with the fit's covariance if the fit converged (validated, not ambiguous)
+  // within the max correction; nullopt otherwise (counted as rejected with the reason, or not
+  // due). `use`: the
   // agent replaces its estimate with the result (the window follows the correction); otherwise only
   // the disagreement is recorded.
   std::optional<geometry::PoseWithCovariance> Update(double t,

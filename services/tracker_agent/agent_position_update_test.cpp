@@ -105,7 +105,9 @@ TEST_F(RenderedDrive, FitsOnTooFewLandmarksOrThatJumpTooFarAreRejected) {
     EXPECT_NE(update->stats().last_reason.find(reason), std::string::npos)
         << update->stats().last_reason;
   };
-  rejects({.min_landmarks = 50}, "fewer than 50");
+  PositionUpdateOptions many_landmarks;
+  many_landmarks.fit.fit.min_landmarks = 50;  // the fit's validation refuses it
+  rejects(many_landmarks, "fewer than 50");
   rejects({.max_correction_m = 0.05}, "would move the pose");
 }
 

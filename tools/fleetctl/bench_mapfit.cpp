@@ -10,12 +10,12 @@
 #include <functional>
 #include <memory>
 #include <opencv2/core/utility.hpp>
-#include <random>
 #include <string>
 #include <vector>
 
+#include "bench_mapfit_problems.h"
 #include "mapmatch/map_fit.h"
-#include "mapmatch/map_fit_problem.h"
+#include "mapmatch/robust_map_fit.h"
 #include "peers/map_fit_peers.h"
 
 namespace fleetloc::fleetctl {
@@ -24,90 +24,67 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 struct BenchMapFitArgs {
-  int trials = 500;  // per outlier level
-  unsigned seed = 1;
-  std::vector<double> outlier_percents{50, 70, 80, 90};
+  int trials = 500;  // per outlier level and seed
+  std::vector<unsigned> seeds{1};
+  std::vector<unsigned> held_out_seeds;  // reported in a table of their own
+  std::vector<double> outlier_percents;  // default per kind
+  MapFitTrialOptions problems;
 };
 
-// A 40 m corridor, 2.4 m wide: both ends and a door (two jambs) every ~5 m on each wall.
-std::vector<Eigen::Vector2d> CorridorMap(std::mt19937& rng) {
-  std::uniform_real_distribution<double> jitter(-1.0, 1.0);
-  std::vector<Eigen::Vector2d> map{{0, -1.2}, {0, 1.2}, {40, -1.2}, {40, 1.2}};
-  for (double wall : {-1.2, 1.2}) {
-    for (double x = 2.5; x < 38; x += 5.0) {
-      const double door = x + jitter(rng);
-      map.emplace_back(door, wall);
-      map.emplace_back(door + 0.9, wall);
-    }
-  }
-  return map;
-}
-
-// One problem: the vehicle somewhere in the corridor sees the landmarks within 4 m.
-struct Trial {
-  Eigen::Vector2d vehicle;
-  mapmatch::MapFitProblem problem;
-};
-
-Trial MakeTrial(const std::vector<Eigen::Vector2d>& map, double outlier_fraction,
-                std::mt19937& rng) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Trial trial;
-  std::vector<int> observed;
-  while (observed.size() < 2) {
-    trial.vehicle = {2.0 + 36.0 * unit(rng), -0.3 + 0.6 * unit(rng)};
-    observed.clear();
-    for (std::size_t m = 0; m < map.size(); ++m)
-      if ((map[m] - trial.vehicle).norm() < 4.0) observed.push_back(static_cast<int>(m));
-  }
-  // The pose estimate is 2–5 cm and 1–2° off: a rotation about the vehicle, not the map origin.
-  const double heading = 2 * M_PI * unit(rng), shift = 0.02 + 0.03 * unit(rng);
-  const double turn = (unit(rng) < 0.5 ? -1 : 1) * (1.0 + unit(rng)) * kDeg;
-  const geometry::Pose2 at_vehicle{trial.vehicle.x(), trial.vehicle.y(), 0.0};
-  const geometry::Pose2 error{shift * std::cos(heading), shift * std::sin(heading), turn};
-  trial.problem = mapmatch::SimulateMapFitProblem(
-      map, observed, at_vehicle * error * at_vehicle.Inverse(),
-      {.points_per_landmark = 10, .noise_sigma_m = 0.01, .outlier_fraction = outlier_fraction},
-      rng);
-  return trial;
-}
-
-using FitMethod = std::function<mapmatch::MapFitResult(std::span<const Eigen::Vector2d>,
-                                                       std::span<const Eigen::Vector2d>)>;
+using FitMethod = std::function<mapmatch::MapFitResult(const MapFitTrial&)>;
 struct Method {
   std::string name;
   FitMethod fit;
 };
 
+// The local mean shift from the start (FitMap), h starting at the radius hint: shrinking to the
+// robust fit's final h, or staying at the hint as `fleetctl mapmatch --radius H` ran before
+// issue 16.
+mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
+  const double final_radius = mapmatch::RobustMapFitOptions{}.final_radius_m;
+  const mapmatch::MapFitOptions options{
+      .radius_m = t.radius_hint_m,
+      .final_radius_m = shrink ? std::min(final_radius, t.radius_hint_m) : 0.0};
+  return mapmatch::FitMap(t.map, t.problem.points, {}, {}, options).value();
+}
+
+// The robust fit searches within the problem's radius hint with its default options.
 std::vector<Method> Methods() {
-  const mapmatch::MapFitOptions options{.radius_m = 0.3, .final_radius_m = 0.05};
   return {
-      {"mean shift",
-       [options](auto landmarks, auto points) {
-         return mapmatch::FitMap(landmarks, points, {}, {}, options).value();
+      {"mean shift (robust)",
+       [](const MapFitTrial& t) {
+         const mapmatch::RobustMapFitOptions options{.search_radius_m = t.radius_hint_m};
+         return mapmatch::RobustFitMap(t.map, t.problem.points, {}, {}, options).value();
        }},
+      {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
+      {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
       {"RANSAC",
-       [](auto landmarks, auto points) { return peers::RansacMapFit(landmarks, points, {}); }},
-      {"ICP", [](auto landmarks, auto points) { return peers::IcpMapFit(landmarks, points, {}); }}};
+       [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
+      {"ICP", [](const MapFitTrial& t) { return peers::IcpMapFit(t.map, t.problem.points, {}); }}};
 }
 
 struct Score {
+  int trials = 0;
   int successes = 0;
+  int wrong_converged = 0;  // converged, but not within the success bounds
   std::vector<double> position_errors_m;
-  double seconds = 0.0;
+  std::vector<double> seconds;
 };
 
 // Runs `method` on `trial` and scores it at the vehicle: the correction's error moves the vehicle.
-void RunMethod(const Method& method, const std::vector<Eigen::Vector2d>& map, const Trial& trial,
-               Score* score) {
+void RunMethod(const Method& method, const MapFitTrial& trial, Score* score) {
   const auto start = std::chrono::steady_clock::now();
-  const mapmatch::MapFitResult fit = method.fit(map, trial.problem.points);
-  score->seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double position_error =
-      (fit.correction * trial.vehicle - trial.problem.truth * trial.vehicle).norm();
-  const double rotation_error = mapmatch::ErrorOf(fit.correction, trial.problem.truth).rotation_rad;
+  const mapmatch::MapFitResult fit = method.fit(trial);
+  score->seconds.push_back(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  const geometry::Pose2& truth = trial.problem.truth;
+  const double position_error = (fit.correction * trial.vehicle - truth * trial.vehicle).norm();
+  const double rotation_error = mapmatch::ErrorOf(fit.correction, truth).rotation_rad;
+  const bool success = fit.converged && position_error < 0.01 && rotation_error < 0.5 * kDeg;
+  ++score->trials;
   score->position_errors_m.push_back(fit.converged ? position_error : INFINITY);
-  if (fit.converged && position_error < 0.01 && rotation_error < 0.5 * kDeg) ++score->successes;
+  if (success) ++score->successes;
+  if (fit.converged && !success) ++score->wrong_converged;
 }
 
 double Median(std::vector<double> values) {
@@ -115,47 +92,75 @@ double Median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
+std::string SeedList(const std::vector<unsigned>& seeds) {
+  std::string text;
+  for (const unsigned s : seeds) text += (text.empty() ? "" : ",") + std::to_string(s);
+  return text;
+}
+
 void PrintHeader(const std::vector<Method>& methods) {
-  std::printf("%-9s", "outliers");
-  for (const Method& m : methods) std::printf(" | %-30s", m.name.c_str());
-  std::printf("\n%-9s", "");
+  std::printf("%-8s", "outliers");
+  for (const Method& m : methods) std::printf(" | %-27s", m.name.c_str());
+  std::printf("\n%-8s", "");
   for (std::size_t k = 0; k < methods.size(); ++k)
-    std::printf(" | %8s %11s %9s", "success", "median err", "us/fit");
+    std::printf(" | %6s %6s %6s %6s", "succ", "wrong", "err mm", "us");
   std::printf("\n");
 }
 
-void PrintRow(double outlier_percent, const std::vector<Score>& scores, int trials) {
-  std::printf("%7.0f %%", outlier_percent);
+// Success and wrong-converged rates, the median position error at the vehicle in mm (non-converged
+// fits count as infinite) and the median time per fit in µs.
+void PrintRow(double outlier_percent, const std::vector<Score>& scores) {
+  std::printf("%6.0f %%", outlier_percent);
   for (const Score& s : scores) {
-    std::printf(" | %7.1f%% %8.1f mm %9.1f", 100.0 * s.successes / trials,
-                1e3 * Median(s.position_errors_m), 1e6 * s.seconds / trials);
+    std::printf(" | %5.1f%% %5.1f%% %6.1f %6.0f", 100.0 * s.successes / s.trials,
+                100.0 * s.wrong_converged / s.trials, 1e3 * Median(s.position_errors_m),
+                1e6 * Median(s.seconds));
   }
   std::printf("\n");
   std::fflush(stdout);
 }
 
-Status RunBenchMapFit(const BenchMapFitArgs& args) {
-  cv::setNumThreads(1);
-  std::mt19937 rng(args.seed);
-  const std::vector<Eigen::Vector2d> map = CorridorMap(rng);
+// One table: every outlier level over `seeds`, `trials` problems per level and seed.
+void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
+              const std::string& title) {
   const std::vector<Method> methods = Methods();
-  std::printf(
-      "== map fit: %zu-landmark corridor (40 m x 2.4 m), %d trials per outlier level, seed "
-      "%u; 10 points (sigma 1 cm) per landmark within 4 m of the vehicle; start 2-5 cm and "
-      "1-2 deg off; success: error at the vehicle < 1 cm and < 0.5 deg\n",
-      map.size(), args.trials, args.seed);
+  std::vector<MapFitTrials> streams;
+  for (const unsigned seed : seeds) streams.emplace_back(seed);
+  std::printf("-- %s: seeds %s, %d trials per outlier level and seed\n", title.c_str(),
+              SeedList(seeds).c_str(), args.trials);
   PrintHeader(methods);
   for (const double percent : args.outlier_percents) {
+    MapFitTrialOptions options = args.problems;
+    options.outlier_fraction = percent / 100.0;
     std::vector<Score> scores(methods.size());
-    for (int t = 0; t < args.trials; ++t) {
-      const Trial trial = MakeTrial(map, percent / 100.0, rng);
-      for (std::size_t k = 0; k < methods.size(); ++k)
-        RunMethod(methods[k], map, trial, &scores[k]);
-      if ((t + 1) % 100 == 0)
-        spdlog::info("{} % outliers: {}/{} trials", percent, t + 1, args.trials);
+    for (MapFitTrials& stream : streams) {
+      for (int t = 0; t < args.trials; ++t) {
+        const MapFitTrial trial = stream.Next(options);
+        for (std::size_t k = 0; k < methods.size(); ++k) RunMethod(methods[k], trial, &scores[k]);
+      }
     }
-    PrintRow(percent, scores, args.trials);
+    spdlog::info("{}: {} % outliers done", title, percent);
+    PrintRow(percent, scores);
   }
+}
+
+Status RunBenchMapFit(BenchMapFitArgs args) {
+  cv::setNumThreads(1);
+  if (args.problems.kind != "corridor" && args.problems.kind != "rooms")
+    return InvalidInput("--kind: must be corridor or rooms, got '" + args.problems.kind + "'");
+  if (args.problems.kind == "rooms" && args.problems.map_landmarks < 4)
+    return InvalidInput("--map-landmarks: must be >= 4");
+  if (args.outlier_percents.empty()) {
+    args.outlier_percents = args.problems.kind == "rooms" ? std::vector<double>{70, 80, 90}
+                                                          : std::vector<double>{50, 70, 80, 90};
+  }
+  std::printf(
+      "== map fit, %s\n== success: error at the vehicle < 1 cm and < 0.5 deg; wrong: "
+      "converged but not a success; err: median position error at the vehicle; us: "
+      "median time per fit\n",
+      DescribeTrials(args.problems).c_str());
+  RunTable(args, args.seeds, "tuning seeds");
+  if (!args.held_out_seeds.empty()) RunTable(args, args.held_out_seeds, "held-out seeds");
   return Status::Ok();
 }
 
@@ -166,12 +171,26 @@ void RegisterBenchMapFit(CLI::App& bench, Status* result) {
   CLI::App* command =
       bench.add_subcommand("mapfit", "Map fit: mean shift vs RANSAC vs ICP on the same problems");
   command->option_defaults()->always_capture_default();
-  command->add_option("--trials", args->trials, "Problems per outlier level")
+  command->add_option("--kind", args->problems.kind, "Problems: corridor or rooms");
+  command->add_option("--trials", args->trials, "Problems per outlier level and seed")
       ->check(CLI::Range(1, 1000000));
-  command->add_option("--seed", args->seed, "Simulation seed");
-  command->add_option("--outliers", args->outlier_percents, "Outlier percentages")
+  command->add_option("--seed", args->seeds, "Simulation seeds (the tuning table)")->delimiter(',');
+  command
+      ->add_option("--held-out-seed", args->held_out_seeds,
+                   "Seeds kept out of tuning, reported in a table of their own")
+      ->delimiter(',');
+  command
+      ->add_option("--outliers", args->outlier_percents,
+                   "Outlier percentages (default 50,70,80,90 corridor; 70,80,90 rooms)")
       ->delimiter(',')
       ->check(CLI::Range(0.0, 99.0));
+  command->add_option("--map-landmarks", args->problems.map_landmarks,
+                      "rooms: landmarks in each building");
+  command
+      ->add_option("--points", args->problems.points,
+                   "rooms: exactly this many points per problem (0: 8-12 inliers per seen "
+                   "landmark and the outliers to match)")
+      ->check(CLI::Range(0, 100000));
   command->callback([args, result] { *result = RunBenchMapFit(*args); });
 }
 

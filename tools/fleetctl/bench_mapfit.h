@@ -1,7 +1,8 @@
-// `fleetctl bench mapfit` (issue 5): the mean-shift map fit against RANSAC and plain ICP on the
-// same simulated problems — a corridor landmark map, points around the landmarks near the vehicle
-// with centimetre noise, 50–90 % uniform outliers, a start a few centimetres and degrees off.
-// Success rate, median error and time per fit, side by side; progress on stderr.
+// `fleetctl bench mapfit` (issues 5 and 16): the robust mean-shift map fit, the mean shift alone
+// from the start (the fit before issue 16), RANSAC and plain ICP on the same simulated problems of
+// one kind (bench_mapfit_problems.h: `corridor` or `rooms`), per outlier level: success rate,
+// wrong-converged rate, median error at the vehicle and median time per fit, side by side; one
+// table for the tuning seeds and one for the held-out seeds. Progress on stderr.
 #pragma once
 
 #include <CLI/CLI.hpp>

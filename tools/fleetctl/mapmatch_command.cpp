@@ -1,15 +1,17 @@
-// fleetctl mapmatch: the robust SE(2) map fit (CONTRACT §6–7) of points.csv against landmarks.csv;
-// prints the correction as JSON on stdout.
+// fleetctl mapmatch: the robust SE(2) map fit (CONTRACT §6–7, mapmatch/robust_map_fit.h) of
+// points.csv against landmarks.csv, searching within --radius of --init; prints the correction as
+// JSON on stdout: the contract's keys, then the fit's evidence (support, ambiguity, reason).
 #include <spdlog/spdlog.h>
 
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "commands.h"
 #include "io/mapmatch_files.h"
-#include "mapmatch/map_fit.h"
+#include "mapmatch/robust_map_fit.h"
 #include "parse_numbers.h"
 
 namespace fleetloc::fleetctl {
@@ -19,6 +21,7 @@ struct MapmatchArgs {
   std::string landmarks;
   std::string points;
   std::string radius;
+  std::string final_radius;  // empty: the library's default
   std::string init = "0,0,0";
 };
 
@@ -34,17 +37,43 @@ nlohmann::json FitJson(const mapmatch::MapFitResult& fit) {
                       {"converged", fit.converged},
                       {"landmarks_matched", fit.landmarks_matched},
                       {"rms_residual_m", fit.rms_residual_m},
-                      {"covariance", covariance}};
+                      {"covariance", covariance},
+                      {"support", fit.support},
+                      {"ambiguous", fit.ambiguous},
+                      {"runner_up_support", fit.runner_up_support},
+                      {"starts", fit.starts},
+                      {"final_radius_m", fit.final_radius_m}};
   if (!fit.converged) json["reason"] = fit.reason;
   return json;
 }
 
-// Reads the files, fits from --init and prints the JSON. A fit that cannot determine the
-// correction is a result (converged false, with the reason), not an error.
-Status RunMapmatch(const MapmatchArgs& args) {
-  Result<std::vector<double>> radius = ParseNumbers(args.radius, 1, "--radius", "H (metres)");
+// One positive number of metres from `text`, or InvalidInput naming `option`.
+Result<double> PositiveMetres(const std::string& text, const std::string& option) {
+  Result<std::vector<double>> value = ParseNumbers(text, 1, option, "metres");
+  if (!value.ok()) return value.status();
+  if ((*value)[0] <= 0) return InvalidInput(option + ": must be > 0, got '" + text + "'");
+  return (*value)[0];
+}
+
+// The fit's options from --radius (the search radius) and --final-radius.
+Result<mapmatch::RobustMapFitOptions> FitOptions(const MapmatchArgs& args) {
+  mapmatch::RobustMapFitOptions options;
+  Result<double> radius = PositiveMetres(args.radius, "--radius");
   if (!radius.ok()) return radius.status();
-  if ((*radius)[0] <= 0) return InvalidInput("--radius: must be > 0, got '" + args.radius + "'");
+  options.search_radius_m = *radius;
+  if (!args.final_radius.empty()) {
+    Result<double> final_radius = PositiveMetres(args.final_radius, "--final-radius");
+    if (!final_radius.ok()) return final_radius.status();
+    options.final_radius_m = *final_radius;
+  }
+  return options;
+}
+
+// Reads the files, fits around --init and prints the JSON. A fit that cannot be trusted is a
+// result (converged false, the reason, the --init correction), not an error.
+Status RunMapmatch(const MapmatchArgs& args) {
+  Result<mapmatch::RobustMapFitOptions> options = FitOptions(args);
+  if (!options.ok()) return options.status();
   Result<std::vector<double>> init = ParseNumbers(args.init, 3, "--init", "DX,DY,DTHETA");
   if (!init.ok()) return init.status();
   Result<io::LandmarkMap> landmarks = io::ReadLandmarksCsv(args.landmarks);
@@ -55,7 +84,7 @@ Status RunMapmatch(const MapmatchArgs& args) {
   if (points->empty()) return InvalidInput(args.points + ": no points");
   const geometry::Pose2 start{(*init)[0], (*init)[1], (*init)[2]};
   Result<mapmatch::MapFitResult> fit =
-      mapmatch::FitMap(landmarks->positions, *points, {}, start, {.radius_m = (*radius)[0]});
+      mapmatch::RobustFitMap(landmarks->positions, *points, {}, start, *options);
   if (!fit.ok()) return fit.status();
   if (!fit->converged) spdlog::warn("map fit did not converge: {}", fit->reason);
   std::cout << FitJson(*fit).dump(2) << "\n";
@@ -70,7 +99,17 @@ void RegisterMapmatchCommand(CLI::App& app, Status* result) {
       app.add_subcommand("mapmatch", "Robust SE(2) fit of measured points to a landmark map");
   command->add_option("--landmarks", args->landmarks, "landmarks.csv (id,x,y)")->required();
   command->add_option("--points", args->points, "points.csv (x,y), in the map frame")->required();
-  command->add_option("--radius", args->radius, "Kernel radius h, metres")->required();
+  command
+      ->add_option("--radius", args->radius,
+                   "Search radius, metres: how far the correction may move a point from where "
+                   "--init puts it (also the first kernel radius h)")
+      ->required();
+  std::ostringstream final_default;
+  final_default << mapmatch::RobustMapFitOptions{}.final_radius_m;
+  command->add_option("--final-radius", args->final_radius,
+                      "Kernel radius h at the end of the fit, metres: about 3x the points' noise "
+                      "(default " +
+                          final_default.str() + ")");
   command->add_option("--init", args->init, "Initial correction DX,DY,DTHETA (m, m, rad)")
       ->capture_default_str();
   command->callback([args, result] { *result = RunMapmatch(*args); });
