@@ -45,7 +45,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"max_coasting_frames", &o.max_coasting_frames},
           {"normalized_cache_mb", &o.normalized_cache_mb},
           {"direct_refine", &o.direct_refine},
-          {"polish", &o.polish},
+          {"polish_max_frame_pixels", &o.polish_max_frame_pixels},
           {"retry_templates_frames", &o.retry_templates_frames},
           {"direct_first_after_failures", &o.direct_first_after_failures},
           {"max_disagreement_chi2", &o.max_disagreement_chi2}};

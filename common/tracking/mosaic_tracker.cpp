@@ -73,7 +73,9 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
                   options.match_smoothing_sigma_px),
       matcher_(options, &normalized_),
       direct_(options.direct, camera, &normalized_),
-      estimate_(camera.mount, options.odometry) {}
+      estimate_(camera.mount, options.odometry),
+      polish_(static_cast<long long>(camera.width_px) * camera.height_px <=
+              options.polish_max_frame_pixels) {}
 
 void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
   estimate_.Reset(base_in_map, odom);
@@ -347,7 +349,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
     direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
                     stats.direct == DirectUse::kUsed;
   }
-  if (posterior && options_.polish) posterior = Polished(frame, prior, *posterior, &stats);
+  if (posterior && polish_) posterior = Polished(frame, prior, *posterior, &stats);
   LockState state = LockState::kCoasting;
   if (posterior) {
     estimate_.Correct(*posterior);

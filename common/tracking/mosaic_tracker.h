@@ -105,6 +105,7 @@ class MosaicTracker : public FrameLocalizer {
   TemplateMatcher matcher_;
   DirectAligner direct_;
   InternalEstimate estimate_;  // camera_ground in map: the tracker's own estimate
+  bool polish_ = false;        // this camera's frames are polished (polish_max_frame_pixels)
   int coasting_frames_ = 0;
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
   int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran

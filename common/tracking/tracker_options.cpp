@@ -139,6 +139,8 @@ Status Validate(const TrackerOptions& o) {
       Check(o.direct_first_after_failures >= 1, "direct_first_after_failures", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polish_max_frame_pixels >= 0, "polish_max_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
   const auto& n = o.odometry;
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&

@@ -167,9 +167,13 @@ struct TrackerOptions {
   // The dense alignment runs when the templates do not lock, and after they do when
   // direct_refine is set (it then gives the final pose when it agrees with the templates).
   bool direct_refine = false;
-  // Every located frame's fit is polished over all its pixels at full resolution
-  // (DirectAligner::Polish) and the polished fit taken when it validates and agrees.
-  bool polish = false;
+  // On cameras of at most this many pixels every located frame's fit is polished over all its
+  // pixels at full resolution (DirectAligner::Polish) and the polished fit taken when it
+  // validates and agrees (0: never). It divides the camera RMS by 1.4–5 on every stress cell
+  // (the templates use a fifth of the pixels) but costs ≈ 0.5 ms per 320×240 frame and ≈ 2 ms per
+  // 640×480 one, beyond that size's 2 ms budget on textured floors: so by default 320×240 only
+  // (docs/benchmarks.md, "Full-resolution polish"); 307200 turns it on at 640×480.
+  int polish_max_frame_pixels = 100000;
   // After direct_first_after_failures frames in a row that the templates failed on, the last of
   // them locked by the dense alignment (a weak floor, not a one-off bad prediction), the next
   // frames start with the dense alignment; the templates are tried again after
