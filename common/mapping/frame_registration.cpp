@@ -38,6 +38,7 @@ tracking::TrackerOptions FramePairTrackerOptions() {
   tracking::TrackerOptions options;
   options.refine_passes = 1;
   options.max_search_radius_px = 64;
+  options.polish_max_frame_pixels = 0;
   return options;
 }
 

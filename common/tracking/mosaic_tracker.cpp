@@ -271,9 +271,11 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
   stats->templates = std::max(stats->templates, static_cast<int>(measured.matches.size()));
   PoseUpdate update = Update(prior, measured, 0);
   // Further passes: resample the mosaic at the refined pose and re-match the inliers in a small
-  // window, so the sub-pixel fit works near zero shift where its bias vanishes.
-  for (int pass = 0; pass < options_.refine_passes && update.inliers >= options_.min_inliers;
-       ++pass) {
+  // window, so the sub-pixel fit works near zero shift where its bias vanishes. Not when the fit
+  // will be polished: the polish ends at the same pose with or without them (camera RMS within
+  // 0.0002 px on the stress cells) and they cost 0.3 ms.
+  const int refine_passes = polish_ ? 0 : options_.refine_passes;
+  for (int pass = 0; pass < refine_passes && update.inliers >= options_.min_inliers; ++pass) {
     measured = MatchSites(Inliers(measured, update), update.posterior,
                           options_.refine_search_radius_px, 0);
     update = Update(prior, measured, 0);

@@ -149,6 +149,7 @@ struct TrackerOptions {
   // matched again within ±refine radius, where the quadratic peak fit's pixel-locking bias
   // vanishes. One pass: camera RMS 0.009–0.014 → 0.003–0.005 px on the clean 640×480 stress floors
   // (below ECC's 0.005–0.009), demo floors base_link 0.051 → 0.041 px, +0.45 ms per frame.
+  // Skipped on frames that are polished (polish_max_frame_pixels), which end at the same pose.
   int refine_passes = 1;
   // Coarse-to-fine: when the search radius exceeds coarse_above_radius_px, the first search runs
   // at pyramid level coarse_levels (each level halves the resolution and the radius) on the first
