@@ -1,5 +1,5 @@
-// fleetctl bench mapfit: mean shift vs RANSAC vs ICP on the same map-fit problems (see
-// bench_mapfit.h).
+// fleetctl bench mapfit: mean shift vs RANSAC (two kinds) vs ICP on the same map-fit problems
+// (see bench_mapfit.h).
 #include "bench_mapfit.h"
 
 #include <spdlog/spdlog.h>
@@ -17,6 +17,7 @@
 #include "mapmatch/map_fit.h"
 #include "mapmatch/robust_map_fit.h"
 #include "peers/map_fit_peers.h"
+#include "peers/pair_ransac_map_fit.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -48,7 +49,8 @@ mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
   return mapmatch::FitMap(t.map, t.problem.points, {}, {}, options).value();
 }
 
-// The robust fit searches within the problem's radius hint with its default options.
+// The robust fit and the correspondence-free RANSAC search within the problem's radius hint with
+// their default options; RANSAC-NN (nearest-landmark pairs under the start) and ICP do not use it.
 std::vector<Method> Methods() {
   return {
       {"mean shift (robust)",
@@ -59,7 +61,14 @@ std::vector<Method> Methods() {
       {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
       {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
       {"RANSAC",
-       [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
+       [](const MapFitTrial& t) {
+         const peers::PairRansacOptions options{.search_radius_m = t.radius_hint_m};
+         return peers::PairRansacMapFit(t.map, t.problem.points, {}, options);
+       }},
+      {"RANSAC-NN",
+       [](const MapFitTrial& t) {
+         return peers::NearestRansacMapFit(t.map, t.problem.points, {});
+       }},
       {"ICP", [](const MapFitTrial& t) { return peers::IcpMapFit(t.map, t.problem.points, {}); }}};
 }
 
