@@ -129,6 +129,19 @@ void PrintRow(double outlier_percent, const std::vector<Score>& scores) {
   std::fflush(stdout);
 }
 
+// The same table's successes and wrong-converged fits as counts, so two methods whose rates
+// round alike can be compared exactly.
+void PrintCounts(const std::vector<double>& outlier_percents,
+                 const std::vector<std::vector<Score>>& table) {
+  std::printf("counts: successes / wrong of the trials per level\n");
+  for (std::size_t level = 0; level < table.size(); ++level) {
+    std::printf("%6.0f %%", outlier_percents[level]);
+    for (const Score& s : table[level])
+      std::printf(" | %6d %6d of %-11d", s.successes, s.wrong_converged, s.trials);
+    std::printf("\n");
+  }
+}
+
 // One table: every outlier level over `seeds`, `trials` problems per level and seed.
 void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
               const std::string& title) {
@@ -138,6 +151,7 @@ void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
   std::printf("-- %s: seeds %s, %d trials per outlier level and seed\n", title.c_str(),
               SeedList(seeds).c_str(), args.trials);
   PrintHeader(methods);
+  std::vector<std::vector<Score>> table;
   for (const double percent : args.outlier_percents) {
     MapFitTrialOptions options = args.problems;
     options.outlier_fraction = percent / 100.0;
@@ -150,7 +164,9 @@ void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
     }
     spdlog::info("{}: {} % outliers done", title, percent);
     PrintRow(percent, scores);
+    table.push_back(std::move(scores));
   }
+  PrintCounts(args.outlier_percents, table);
 }
 
 Status RunBenchMapFit(BenchMapFitArgs args) {
