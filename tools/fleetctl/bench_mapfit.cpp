@@ -1,5 +1,5 @@
-// fleetctl bench mapfit: mean shift vs RANSAC vs ICP on the same map-fit problems (see
-// bench_mapfit.h).
+// fleetctl bench mapfit: mean shift vs RANSAC (two kinds) vs ICP on the same map-fit problems
+// (see bench_mapfit.h).
 #include "bench_mapfit.h"
 
 #include <spdlog/spdlog.h>
@@ -17,6 +17,7 @@
 #include "mapmatch/map_fit.h"
 #include "mapmatch/robust_map_fit.h"
 #include "peers/map_fit_peers.h"
+#include "peers/pair_ransac_map_fit.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -48,7 +49,8 @@ mapmatch::MapFitResult LocalFit(const MapFitTrial& t, bool shrink) {
   return mapmatch::FitMap(t.map, t.problem.points, {}, {}, options).value();
 }
 
-// The robust fit searches within the problem's radius hint with its default options.
+// The robust fit and the correspondence-free RANSAC search within the problem's radius hint with
+// their default options; RANSAC-NN (nearest-landmark pairs under the start) and ICP do not use it.
 std::vector<Method> Methods() {
   return {
       {"mean shift (robust)",
@@ -59,7 +61,14 @@ std::vector<Method> Methods() {
       {"local, h shrinks", [](const MapFitTrial& t) { return LocalFit(t, true); }},
       {"local, h = radius", [](const MapFitTrial& t) { return LocalFit(t, false); }},
       {"RANSAC",
-       [](const MapFitTrial& t) { return peers::RansacMapFit(t.map, t.problem.points, {}); }},
+       [](const MapFitTrial& t) {
+         const peers::PairRansacOptions options{.search_radius_m = t.radius_hint_m};
+         return peers::PairRansacMapFit(t.map, t.problem.points, {}, options);
+       }},
+      {"RANSAC-NN",
+       [](const MapFitTrial& t) {
+         return peers::NearestRansacMapFit(t.map, t.problem.points, {});
+       }},
       {"ICP", [](const MapFitTrial& t) { return peers::IcpMapFit(t.map, t.problem.points, {}); }}};
 }
 
@@ -120,6 +129,19 @@ void PrintRow(double outlier_percent, const std::vector<Score>& scores) {
   std::fflush(stdout);
 }
 
+// The same table's successes and wrong-converged fits as counts, so two methods whose rates
+// round alike can be compared exactly.
+void PrintCounts(const std::vector<double>& outlier_percents,
+                 const std::vector<std::vector<Score>>& table) {
+  std::printf("counts: successes / wrong of the trials per level\n");
+  for (std::size_t level = 0; level < table.size(); ++level) {
+    std::printf("%6.0f %%", outlier_percents[level]);
+    for (const Score& s : table[level])
+      std::printf(" | %6d %6d of %-11d", s.successes, s.wrong_converged, s.trials);
+    std::printf("\n");
+  }
+}
+
 // One table: every outlier level over `seeds`, `trials` problems per level and seed.
 void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
               const std::string& title) {
@@ -129,6 +151,7 @@ void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
   std::printf("-- %s: seeds %s, %d trials per outlier level and seed\n", title.c_str(),
               SeedList(seeds).c_str(), args.trials);
   PrintHeader(methods);
+  std::vector<std::vector<Score>> table;
   for (const double percent : args.outlier_percents) {
     MapFitTrialOptions options = args.problems;
     options.outlier_fraction = percent / 100.0;
@@ -141,7 +164,9 @@ void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
     }
     spdlog::info("{}: {} % outliers done", title, percent);
     PrintRow(percent, scores);
+    table.push_back(std::move(scores));
   }
+  PrintCounts(args.outlier_percents, table);
 }
 
 Status RunBenchMapFit(BenchMapFitArgs args) {

@@ -1,4 +1,4 @@
-// RANSAC and ICP map fits (see map_fit_peers.h).
+// Nearest-landmark RANSAC and ICP map fits, and the rigid fit they share (see map_fit_peers.h).
 #include "peers/map_fit_peers.h"
 
 #include <cmath>
@@ -21,30 +21,12 @@ const Eigen::Vector2d& Nearest(std::span<const Eigen::Vector2d> landmarks,
   return landmarks[best];
 }
 
-// The rigid transform that best moves `from` onto `to` in least squares (2-D closed form).
-geometry::Pose2 RigidFit(const std::vector<Eigen::Vector2d>& from,
-                         const std::vector<Eigen::Vector2d>& to) {
-  Eigen::Vector2d from_mean = Eigen::Vector2d::Zero(), to_mean = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) from_mean += from[i], to_mean += to[i];
-  from_mean /= static_cast<double>(from.size());
-  to_mean /= static_cast<double>(to.size());
-  double dot = 0.0, cross = 0.0;
-  for (std::size_t i = 0; i < from.size(); ++i) {
-    const Eigen::Vector2d a = from[i] - from_mean, b = to[i] - to_mean;
-    dot += a.dot(b);
-    cross += a.x() * b.y() - a.y() * b.x();
-  }
-  const double theta = std::atan2(cross, dot);
-  const Eigen::Vector2d shift = to_mean - geometry::Pose2{0, 0, theta} * from_mean;
-  return {shift.x(), shift.y(), theta};
-}
-
 }  // namespace
 
-mapmatch::MapFitResult RansacMapFit(std::span<const Eigen::Vector2d> landmarks,
-                                    std::span<const Eigen::Vector2d> points,
-                                    const geometry::Pose2& initial,
-                                    const RansacMapFitOptions& options) {
+mapmatch::MapFitResult NearestRansacMapFit(std::span<const Eigen::Vector2d> landmarks,
+                                           std::span<const Eigen::Vector2d> points,
+                                           const geometry::Pose2& initial,
+                                           const NearestRansacOptions& options) {
   // Pairs relative to the points' centroid, so the dropped scale of the similarity cannot shift
   // the correction by (scale − 1) × the distance to the map origin.
   std::vector<Eigen::Vector2d> moved;
@@ -75,6 +57,23 @@ mapmatch::MapFitResult RansacMapFit(std::span<const Eigen::Vector2d> landmarks,
   result.inliers = cv::countNonZero(inliers);
   result.converged = true;
   return result;
+}
+
+geometry::Pose2 RigidFit(const std::vector<Eigen::Vector2d>& from,
+                         const std::vector<Eigen::Vector2d>& to) {
+  Eigen::Vector2d from_mean = Eigen::Vector2d::Zero(), to_mean = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < from.size(); ++i) from_mean += from[i], to_mean += to[i];
+  from_mean /= static_cast<double>(from.size());
+  to_mean /= static_cast<double>(to.size());
+  double dot = 0.0, cross = 0.0;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    const Eigen::Vector2d a = from[i] - from_mean, b = to[i] - to_mean;
+    dot += a.dot(b);
+    cross += a.x() * b.y() - a.y() * b.x();
+  }
+  const double theta = std::atan2(cross, dot);
+  const Eigen::Vector2d shift = to_mean - geometry::Pose2{0, 0, theta} * from_mean;
+  return {shift.x(), shift.y(), theta};
 }
 
 mapmatch::MapFitResult IcpMapFit(std::span<const Eigen::Vector2d> landmarks,

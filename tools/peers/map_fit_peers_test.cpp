@@ -25,7 +25,7 @@ mapmatch::MapFitProblem Problem(double outlier_fraction) {
 TEST(MapFitPeers, CleanPointsGiveTheTruth) {
   const mapmatch::MapFitProblem clean = Problem(0.0);
   for (const mapmatch::MapFitResult& fit :
-       {RansacMapFit(kMap, clean.points, {}), IcpMapFit(kMap, clean.points, {})}) {
+       {NearestRansacMapFit(kMap, clean.points, {}), IcpMapFit(kMap, clean.points, {})}) {
     ASSERT_TRUE(fit.converged) << fit.reason;
     EXPECT_LT(mapmatch::ErrorOf(fit.correction, kTruth).translation_m, 1e-6);
     EXPECT_LT(mapmatch::ErrorOf(fit.correction, kTruth).rotation_rad, 1e-6);
@@ -34,7 +34,7 @@ TEST(MapFitPeers, CleanPointsGiveTheTruth) {
 
 TEST(MapFitPeers, RansacRejectsOutliersAndIcpDoesNot) {
   const mapmatch::MapFitProblem noisy = Problem(0.5);
-  const mapmatch::MapFitResult ransac = RansacMapFit(kMap, noisy.points, {});
+  const mapmatch::MapFitResult ransac = NearestRansacMapFit(kMap, noisy.points, {});
   ASSERT_TRUE(ransac.converged);
   EXPECT_LT(mapmatch::ErrorOf(ransac.correction, kTruth).translation_m, 1e-3);
   EXPECT_EQ(ransac.inliers, noisy.inliers);
