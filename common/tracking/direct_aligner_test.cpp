@@ -150,13 +150,18 @@ TEST(DirectAligner, AlignsALowContrastFloor) {
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.15);
 }
 
-TEST(DirectAligner, RefusesAFrameOfAnotherFloor) {
-  Fixture f;
+// The frame the camera would see at `base` over another floor (a brick photo).
+cv::Mat FrameOfAnotherFloor(const Pose2& base) {
   TestScene other;
   other.floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
-  ASSERT_FALSE(other.floor.empty());
+  EXPECT_FALSE(other.floor.empty());
+  return other.Render(base, 1.0, 0.0);
+}
+
+TEST(DirectAligner, RefusesAFrameOfAnotherFloor) {
+  Fixture f;
   const Pose2 base = TrueBase();
-  const cv::Mat frame = other.Render(base, 1.0, 0.0);
+  const cv::Mat frame = FrameOfAnotherFloor(base);
   for (const double sigma_m : {0.002, 0.006}) {
     const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {sigma_m, sigma_m, 0.01});
     const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
@@ -240,12 +245,9 @@ TEST(DirectAligner, PolishRefusesAStartItWouldHaveToMoveFar) {
 
 TEST(DirectAligner, PolishRefusesAFrameOfAnotherFloor) {
   Fixture f;
-  TestScene other;
-  other.floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
-  ASSERT_FALSE(other.floor.empty());
   const Pose2 base = TrueBase();
   const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
-  const DirectAlignment fit = f.aligner.Polish(other.Render(base, 1.0, 0.0), prior, prior.pose);
+  const DirectAlignment fit = f.aligner.Polish(FrameOfAnotherFloor(base), prior, prior.pose);
   EXPECT_FALSE(fit.valid) << "correlation " << fit.correlation;
 }
 
