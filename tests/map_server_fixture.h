@@ -84,6 +84,28 @@ class MapServerFixture {
     return value;
   }
 
+  // "name: message" of the newest health report's issue ("" when it has none; waits up to 5 s
+  // for a report).
+  std::string HealthIssue() {
+    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(*participant_,
+                                                                  transport::topics::kServiceHealth);
+    auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
+        participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
+    std::string issue;
+    bool seen = false;
+    Eventually([&] {
+      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+        seen = true;
+        issue = h.issues._length == 0 ? ""
+                                      : transport::GetBounded(h.issues._buffer[0].name) + ": " +
+                                            transport::GetBounded(h.issues._buffer[0].message);
+      });
+      return seen;
+    }, 5.0);
+    EXPECT_TRUE(seen);
+    return issue;
+  }
+
   const std::string& mosaic_path() const { return mosaic_path_; }
   const mosaic::MosaicLayout& layout() const { return layout_; }
   transport::Participant& participant() { return *participant_; }

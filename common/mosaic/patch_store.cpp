@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "geometry/covariance_check.h"
 #include "mosaic/tile_codec.h"
 
 namespace fleetloc::mosaic {
@@ -20,8 +21,19 @@ constexpr const char* kSchema =
     " x REAL NOT NULL, y REAL NOT NULL, theta REAL NOT NULL, covariance BLOB NOT NULL,"
     " quality REAL NOT NULL, min_x REAL NOT NULL, min_y REAL NOT NULL, max_x REAL NOT NULL,"
     " max_y REAL NOT NULL, image BLOB NOT NULL, folded_in_version INTEGER NOT NULL DEFAULT 0,"
-    " PRIMARY KEY(vehicle_id, sequence));"
+    " refused_reason TEXT, PRIMARY KEY(vehicle_id, sequence));"
     "CREATE INDEX IF NOT EXISTS patches_by_x ON patches(min_x, max_x);";
+
+// Mosaic files written before patches could be refused lack the column: add it.
+Status AddRefusedColumn(sqlite3* db, const std::string& path) {
+  Result<sqlite::Stmt> info = sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('patches') WHERE name = 'refused_reason'");
+  if (!info.ok()) return Internal(path + ": " + info.status().message());
+  if (sqlite3_step(info->get()) == SQLITE_ROW) return Status::Ok();
+  if (Status added = sqlite::Exec(db, "ALTER TABLE patches ADD COLUMN refused_reason TEXT"); !added.ok()) {
+    return Internal(path + ": cannot add the refused_reason column: " + added.message());
+  }
+  return Status::Ok();
+}
 
 Status CheckPatch(const PatchRecord& p) {
   const std::string what = "patch " + p.vehicle_id + "#" + std::to_string(p.sequence) + ": field '";
@@ -30,7 +42,9 @@ Status CheckPatch(const PatchRecord& p) {
   if (!std::isfinite(p.pose.x) || !std::isfinite(p.pose.y) || !std::isfinite(p.pose.theta)) {
     return InvalidInput(what + "pose' is not finite");
   }
-  if (!p.covariance.allFinite()) return InvalidInput(what + "covariance' is not finite");
+  if (const std::string problem = geometry::CovarianceProblem(p.covariance); !problem.empty()) {
+    return InvalidInput(what + "covariance': " + problem);
+  }
   if (!(p.quality >= 0 && p.quality <= 1)) return InvalidInput(what + "quality' is not in [0, 1]");
   if (!std::isfinite(p.stamp_s)) return InvalidInput(what + "stamp' is not finite");
   return Status::Ok();
@@ -61,6 +75,7 @@ Result<std::unique_ptr<PatchStore>> PatchStore::Open(const std::string& path) {
   if (Status created = sqlite::Exec(db->get(), kSchema); !created.ok()) {
     return Internal(path + ": cannot create the patches table: " + created.message());
   }
+  FLEETLOC_RETURN_IF_ERROR(AddRefusedColumn(db->get(), path));
   return std::unique_ptr<PatchStore>(new PatchStore(path, std::move(db).value(), *resolution));
 }
 
@@ -110,6 +125,7 @@ Result<PatchQuery> PatchStore::Unfolded(const MapRect& r, int64_t committed_vers
       db_.get(),
       "SELECT vehicle_id, sequence, stamp, x, y, theta, covariance, quality, image,"
       " folded_in_version FROM patches WHERE (folded_in_version = 0 OR folded_in_version > ?1)"
+      " AND refused_reason IS NULL"
       " AND max_x > ?2 AND min_x < ?3 AND max_y > ?4 AND min_y < ?5"
       " ORDER BY vehicle_id, sequence");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
@@ -165,6 +181,27 @@ Status PatchStore::MarkFolded(const std::vector<PatchRecord>& patches, int64_t v
   return sqlite::Exec(db_.get(), "COMMIT");
 }
 
+Status PatchStore::MarkRefused(const std::vector<Refusal>& refusals) {
+  std::lock_guard lock(mutex_);
+  FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db_.get(), "BEGIN IMMEDIATE"));
+  Result<sqlite::Stmt> stmt = sqlite::Prepare(
+      db_.get(), "UPDATE patches SET refused_reason = ?1 WHERE vehicle_id = ?2 AND sequence = ?3");
+  bool ok = stmt.ok();
+  for (size_t i = 0; ok && i < refusals.size(); ++i) {
+    sqlite::ScopedReset reset(stmt->get());
+    sqlite3_bind_text(stmt->get(), 1, refusals[i].reason.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(stmt->get(), 2, refusals[i].vehicle_id.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(stmt->get(), 3, refusals[i].sequence);
+    ok = sqlite3_step(stmt->get()) == SQLITE_DONE;
+  }
+  if (!ok) {
+    const std::string message = sqlite::ErrorMessage(db_.get());
+    (void)sqlite::Exec(db_.get(), "ROLLBACK");
+    return Internal(path_ + ": marking patches refused: " + message);
+  }
+  return sqlite::Exec(db_.get(), "COMMIT");
+}
+
 Status PatchStore::ClearUncommittedMarks(int64_t committed_version) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
@@ -181,13 +218,15 @@ Result<PatchCounts> PatchStore::Counts(int64_t committed_version) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
       db_.get(),
-      "SELECT COUNT(*), SUM(folded_in_version > 0 AND folded_in_version <= ?1) FROM patches");
+      "SELECT COUNT(*), SUM(folded_in_version > 0 AND folded_in_version <= ?1),"
+      " SUM(refused_reason IS NOT NULL) FROM patches");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_bind_int64(stmt->get(), 1, committed_version);
   if (sqlite3_step(stmt->get()) != SQLITE_ROW) {
     return Internal(path_ + ": counting patches: " + sqlite::ErrorMessage(db_.get()));
   }
-  return PatchCounts{sqlite3_column_int64(stmt->get(), 0), sqlite3_column_int64(stmt->get(), 1)};
+  return PatchCounts{sqlite3_column_int64(stmt->get(), 0), sqlite3_column_int64(stmt->get(), 1),
+                     sqlite3_column_int64(stmt->get(), 2)};
 }
 
 }  // namespace fleetloc::mosaic

@@ -6,6 +6,9 @@
 // job first marks its patches folded_in_version = v + 1, then commits tile version v + 1. A patch
 // counts as folded only when folded_in_version <= the committed mosaic version, so a job that dies
 // between the two steps leaves its patches unfolded and can simply be re-run.
+//
+// A patch the map server refused (it failed admission: mapping/patch_admission.h) keeps its
+// reason and is never selected for folding again.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,6 +51,14 @@ struct PatchQuery {
 struct PatchCounts {
   long long stored = 0;
   long long folded = 0;  // at or below the given committed version
+  long long refused = 0;
+};
+
+// A patch a re-mapping job refused, and why.
+struct Refusal {
+  std::string vehicle_id;
+  int64_t sequence = 0;
+  std::string reason;
 };
 
 class PatchStore {
@@ -58,14 +69,19 @@ class PatchStore {
 
   // Stores one patch in one transaction. kDuplicate (nothing written) if (vehicle_id, sequence)
   // is already stored. InvalidInput naming the field for an empty or non-gray image, a non-finite
-  // pose or covariance, or a quality outside [0, 1]; Internal on SQLite errors.
+  // pose, a covariance that is not finite, symmetric and positive definite, or a quality outside
+  // [0, 1]; Internal on SQLite errors.
   Result<PutOutcome> Put(const PatchRecord& patch);
 
-  // The patches whose footprint intersects `region` and that are not folded at `committed_version`.
+  // The patches whose footprint intersects `region` and that are neither folded at
+  // `committed_version` nor refused.
   Result<PatchQuery> Unfolded(const MapRect& region, int64_t committed_version);
 
   // Marks the patches folded into `version` (see the note at the top), in one transaction.
   Status MarkFolded(const std::vector<PatchRecord>& patches, int64_t version);
+
+  // Marks patches refused for good, with their reasons, in one transaction.
+  Status MarkRefused(const std::vector<Refusal>& refusals);
 
   // Clears marks above `committed_version` left by a job that died before committing its tiles.
   Status ClearUncommittedMarks(int64_t committed_version);

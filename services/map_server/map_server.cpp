@@ -6,7 +6,6 @@
 #include <chrono>
 
 #include "transport/mosaic_messages.h"
-#include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
@@ -56,6 +55,9 @@ Status MapServer::Open() {
   auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
   if (!patches.ok()) return patches.status();
   patches_ = std::move(patches).value();
+  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
+  if (!standing.ok()) return standing.status();
+  standing_ = std::move(standing).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
@@ -101,8 +103,8 @@ Status MapServer::OpenServices() {
                                          config_.max_tiles_per_request,
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);
   patch_service_ = std::make_unique<PatchService>(
-      patches_.get(), store_.get(), PatchLimits{config_.max_patch_bytes, config_.max_patch_side_px},
-      channels_.get(), &counters_);
+      patches_.get(), store_.get(), standing_.get(),
+      PatchLimits{config_.max_patch_bytes, config_.max_patch_side_px}, channels_.get(), &counters_);
   remaps_ = std::make_unique<RemapService>(
       config_.server_id,
       [this](const RemapJob& job, const RemapProgressFn& progress, const std::atomic<bool>& cancel) {
@@ -127,18 +129,23 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
   if (!store.ok()) return store.status();
   auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
   if (!patches.ok()) return patches.status();
+  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
+  if (!standing.ok()) return standing.status();
   const mosaic::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
                                      job.replace ? mosaic::RemapMode::kReplace
-                                                 : mosaic::RemapMode::kBlend};
+                                                 : mosaic::RemapMode::kBlend,
+                                     config_.remap_policy};
   Result<mosaic::RemapResult> result = mosaic::RunRemap(
-      **store, **patches, request,
+      **store, **patches, **standing, request,
       [&](const mosaic::RemapProgress& p) {
         progress(p.phase, p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0);
       },
       &cancel);
   if (!result.ok()) return result.status();
-  return RemapOutcome{result->new_version, result->changed_tiles, result->patches_folded,
-                      result->patches_rejected};
+  return RemapOutcome{result->new_version,    result->changed_tiles,
+                      result->patches_folded, result->patches_rejected,
+                      result->patches_held,   mosaic::RemapSummary(*result),
+                      result->newly_quarantined};
 }
 
 Status MapServer::AnnounceFinishedJobs() {
@@ -170,17 +177,30 @@ Status MapServer::PublishMosaicInfo() {
   return info_writer_->Write(transport::ToIdl(layout, config_.server_id, owned_));
 }
 
-Status MapServer::PublishHealth() {
-  transport::ServiceHealthReport report{config_.server_id, "map_server", std::nullopt,
-                                        counters_.Snapshot()};
+std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   const uint64_t rejected = counters_.TotalRejected();
   const uint64_t read_errors = counters_.Get("tile_read_errors");
-  if (read_errors > reported_read_errors_) {
-    report.issue = {"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()};
-  } else if (rejected > reported_rejected_) {
-    report.issue = {"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()};
-  }
+  const bool new_read_errors = read_errors > reported_read_errors_;
+  const bool new_rejects = rejected > reported_rejected_;
   reported_rejected_ = rejected, reported_read_errors_ = read_errors;
+  if (new_read_errors) return {{"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()}};
+  // Quarantined vehicles stay an issue until a maintainer releases them (read from the file each
+  // time, so a release by `fleetctl mosaic vehicles --release` shows at once).
+  Result<std::map<std::string, mapping::VehicleStanding>> standings = standing_->All();
+  std::string quarantined;
+  if (standings.ok()) {
+    for (const auto& [vehicle, s] : *standings) {
+      if (s.quarantined) quarantined += (quarantined.empty() ? "" : "; ") + vehicle + ": " + s.reason;
+    }
+  }
+  if (!quarantined.empty()) return {{"vehicle_quarantined", fleetloc_HEALTH_WARN, quarantined}};
+  if (new_rejects) return {{"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()}};
+  return std::nullopt;
+}
+
+Status MapServer::PublishHealth() {
+  transport::ServiceHealthReport report{config_.server_id, "map_server", HealthIssue(),
+                                        counters_.Snapshot()};
   return transport::WriteServiceHealth(*health_writer_, report);
 }
 

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include "map_server/map_server_config.h"
 #include "map_server/patch_service.h"
@@ -19,6 +20,8 @@
 #include "mosaic/patch_store.h"
 #include "mosaic/remap_job.h"
 #include "mosaic/tile_store.h"
+#include "mosaic/vehicle_standing_store.h"
+#include "transport/service_health_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 #include "transport/waitset.h"
@@ -54,6 +57,7 @@ class MapServer {
   ServerCounters counters_;
   std::unique_ptr<mosaic::TileStore> store_;
   std::unique_ptr<mosaic::PatchStore> patches_;
+  std::unique_ptr<mosaic::VehicleStandingStore> standing_;
   mosaic::TileOwnership owned_;
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::Topic<fleetloc_MosaicInfo>> info_topic_;
@@ -79,6 +83,8 @@ class MapServer {
   std::unique_ptr<transport::PlaceIndexPublisher> place_index_publisher_;
   std::unique_ptr<PlaceIndexService> place_index_;  // null unless config_.serve_place_index
   std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
+  // The health report's issue, worst first: tile read errors, quarantined vehicles, rejects.
+  std::optional<transport::ServiceHealthReport::Issue> HealthIssue();
   uint64_t reported_rejected_ = 0;     // counts in the last health report
   uint64_t reported_read_errors_ = 0;
 };

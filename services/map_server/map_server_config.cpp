@@ -4,6 +4,7 @@
 #include <set>
 
 #include "io/json_fields.h"
+#include "map_server/admission_config.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::map_server {
@@ -25,6 +26,9 @@ Status Validate(const MapServerConfig& c) {
   if (c.tile_cache_mb < 0 || c.tile_cache_mb > 65536) return bad("tile_cache_mb", "must be in [0, 65536]");
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) {
     return bad("health_period_s", "must be in [0.05, 60]");
+  }
+  if (const std::string problem = PolicyProblem(c.remap_policy); !problem.empty()) {
+    return bad("patch_admission", problem);
   }
   return Status::Ok();
 }
@@ -55,7 +59,7 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   static const std::set<std::string> known = {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
       "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
-      "serve_place_index"};
+      "serve_place_index", "patch_admission"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -84,6 +88,11 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   if (fields.Has("owned_tiles")) FLEETLOC_RETURN_IF_ERROR(ReadOwnedTiles(fields, &c));
   if (fields.Has("serve_place_index")) {
     FLEETLOC_RETURN_IF_ERROR(fields.Bool("serve_place_index", &c.serve_place_index));
+  }
+  if (fields.Has("patch_admission")) {
+    Result<io::JsonFields> admission = fields.Object("patch_admission");
+    if (!admission.ok()) return admission.status();
+    FLEETLOC_RETURN_IF_ERROR(ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
   }
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;

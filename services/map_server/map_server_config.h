@@ -6,6 +6,7 @@
 #include <string>
 
 #include "base/status.h"
+#include "mosaic/remap_job.h"
 #include "mosaic/tile_ownership.h"
 
 namespace fleetloc::map_server {
@@ -25,6 +26,8 @@ struct MapServerConfig {
   // Build (or load from the mosaic file) and publish the place index of each version served, so
   // vehicles can relocalize anywhere (global relocalization).
   bool serve_place_index = true;
+  // How re-mapping jobs judge patches and when a vehicle is quarantined ("patch_admission").
+  mosaic::RemapPolicy remap_policy;
 };
 
 Status Validate(const MapServerConfig& config);

@@ -33,6 +33,18 @@ TEST(MapServerConfig, ShippedSampleConfigLoads) {
   auto config = LoadMapServerConfig(std::string(FLEETLOC_SOURCE_DIR) +
                                     "/deploy/config/map_server.json");
   ASSERT_TRUE(config.ok()) << config.status().message();
+  // Its patch_admission block lists the defaults.
+  const mosaic::RemapPolicy defaults;
+  const mosaic::RemapPolicy& p = config->remap_policy;
+  EXPECT_NEAR(p.admission.max_search_sigma_rad, defaults.admission.max_search_sigma_rad, 1e-9);
+  EXPECT_NEAR(p.admission.min_disagreement_rad, defaults.admission.min_disagreement_rad, 1e-9);
+  EXPECT_EQ(p.admission.min_inliers, defaults.admission.min_inliers);
+  EXPECT_EQ(p.admission.blocks.block_px, defaults.admission.blocks.block_px);
+  EXPECT_EQ(p.admission.max_changed_fraction, defaults.admission.max_changed_fraction);
+  EXPECT_EQ(p.admission.max_flattened_fraction, defaults.admission.max_flattened_fraction);
+  EXPECT_EQ(p.corroboration.min_vehicles, defaults.corroboration.min_vehicles);
+  EXPECT_EQ(p.reputation.window, defaults.reputation.window);
+  EXPECT_EQ(p.reputation.max_refused_fraction, defaults.reputation.max_refused_fraction);
 }
 
 struct BadCase {
@@ -52,6 +64,11 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
       {R"({"mosaic": "m.db", "health_period_s": -1})", "health_period_s"},
       {R"({"mosaic": "m.db", "owned_tiles": {"col_begin": 3, "col_end": 3, "row_begin": 0, "row_end": 1}})",
        "owned_tiles"},
+      {R"({"mosaic": "m.db", "patch_admission": {"trust_the_vehicle": true}})", "trust_the_vehicle"},
+      {R"({"mosaic": "m.db", "patch_admission": {"max_changed_fraction": 1.5}})", "max_changed_fraction"},
+      {R"({"mosaic": "m.db", "patch_admission": {"min_vehicles_per_change": 0}})", "min_vehicles_per_change"},
+      {R"({"mosaic": "m.db", "patch_admission": {"quarantine_window": 2}})", "quarantine_min_judged"},
+      {R"({"mosaic": "m.db", "patch_admission": 3})", "patch_admission"},
   };
   int i = 0;
   for (const BadCase& c : cases) {
@@ -61,6 +78,20 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
     EXPECT_NE(config.status().message().find(c.field), std::string::npos)
         << config.status().message();
   }
+}
+
+TEST(MapServerConfig, PatchAdmissionIsReadInTheFilesUnits) {
+  auto config = LoadMapServerConfig(WriteConfig(
+      "admission", R"({"mosaic": "m.db", "patch_admission": {"min_vehicles_per_change": 2,
+                       "max_search_sigma_deg": 2.0, "max_changed_fraction": 0.4,
+                       "quarantine_window": 8, "quarantine_min_judged": 4}})"));
+  ASSERT_TRUE(config.ok()) << config.status().message();
+  const mosaic::RemapPolicy& p = config->remap_policy;
+  EXPECT_EQ(p.corroboration.min_vehicles, 2);
+  EXPECT_NEAR(p.admission.max_search_sigma_rad, 2.0 * M_PI / 180, 1e-12);
+  EXPECT_EQ(p.admission.max_changed_fraction, 0.4);
+  EXPECT_EQ(p.reputation.window, 8);
+  EXPECT_EQ(p.admission.min_inliers, mapping::AdmissionOptions{}.min_inliers);  // default kept
 }
 
 TEST(MapServerConfig, MissingFileIsNotFound) {

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "geometry/covariance_check.h"
 #include "mosaic/tile_codec.h"
 #include "transport/wire_util.h"
 
@@ -46,8 +47,11 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
                                                   " m/px is not the mosaic's");
   }
   const double pose[3] = {s.x, s.y, s.theta};
-  if (!AllFinite(pose, 3) || !AllFinite(s.covariance, 9)) {
-    return Reject("rejected_patch_malformed", what + ": pose or covariance not finite");
+  if (!AllFinite(pose, 3)) return Reject("rejected_patch_malformed", what + ": pose not finite");
+  const Eigen::Matrix3d covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  if (const std::string problem = geometry::CovarianceProblem(covariance); !problem.empty()) {
+    // A zero or negative covariance claims a certainty no vehicle has: malformed, counted apart.
+    return Reject("rejected_patch_covariance", what + ": " + problem);
   }
   if (!(s.quality >= 0.0f && s.quality <= 1.0f)) {
     return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
@@ -75,7 +79,7 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
   record.sequence = static_cast<int64_t>(s.sequence_number);
   record.stamp_s = transport::ToSeconds(s.stamp);
   record.pose = {s.x, s.y, s.theta};
-  record.covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  record.covariance = covariance;
   record.quality = s.quality;
   record.image = std::move(image).value();
   return {std::move(record), ""};

@@ -1,6 +1,7 @@
 // Checks a received PatchObservation and turns it into a patch record for the store: wire
-// version, vehicle id, mosaic, resolution, finite pose and covariance, quality, encoded size, and
-// the PNG itself (header checked before decoding, so a forged size cannot exhaust memory).
+// version, vehicle id, mosaic, resolution, finite pose, a covariance that is symmetric positive
+// definite (a zero or negative one is malformed), quality, encoded size, and the PNG itself
+// (header checked before decoding, so a forged size cannot exhaust memory).
 #pragma once
 
 #include <string>

@@ -10,26 +10,45 @@ namespace fleetloc::map_server {
 std::vector<std::string> PatchService::CounterNames() {
   return {"patches_received",        "patches_stored",          "patches_duplicate",
           "rejected_patch_malformed", "rejected_patch_oversized", "rejected_patch_image",
-          "rejected_patch_mosaic",   "patch_store_errors",      "patch_acks_unmatched"};
+          "rejected_patch_mosaic",   "patch_store_errors",      "patch_acks_unmatched",
+          "rejected_patch_covariance", "rejected_patch_quarantined"};
 }
 
 PatchService::PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
-                           PatchLimits limits, VehicleChannels* channels,
-                           ServerCounters* counters)
-    : patches_(patches), tiles_(tiles), limits_(limits), channels_(channels), counters_(counters) {}
+                           mosaic::VehicleStandingStore* standing, PatchLimits limits,
+                           VehicleChannels* channels, ServerCounters* counters)
+    : patches_(patches),
+      tiles_(tiles),
+      standing_(standing),
+      limits_(limits),
+      channels_(channels),
+      counters_(counters) {}
+
+void PatchService::Refuse(const std::string& vehicle, uint64_t sequence, const std::string& counter,
+                          const std::string& reason) {
+  counters_->Reject(counter, reason);
+  // Without a valid id there is no partition to answer in.
+  if (transport::IsValidEntityId(vehicle)) {
+    acks_.Push(vehicle, {sequence, fleetloc_PATCH_REJECTED, reason});
+  }
+}
 
 void PatchService::Receive(const fleetloc_PatchObservation& sample) {
   counters_->Add("patches_received");
   const std::string vehicle = transport::GetBounded(sample.vehicle_id);
+  if (transport::IsValidEntityId(vehicle)) {
+    Result<bool> quarantined = standing_->IsQuarantined(vehicle);
+    if (quarantined.ok() && *quarantined) {
+      return Refuse(vehicle, sample.sequence_number, "rejected_patch_quarantined",
+                    "PatchObservation " + vehicle + "#" + std::to_string(sample.sequence_number) +
+                        ": vehicle quarantined (its patches kept failing admission; "
+                        "fleetctl mosaic vehicles --release lifts it)");
+    }
+  }
   DecodedPatch decoded = DecodePatch(sample, tiles_->layout(), limits_);
   if (!decoded.record.ok()) {
-    counters_->Reject(decoded.reject_counter, decoded.record.status().message());
-    // Without a valid id there is no partition to answer in.
-    if (transport::IsValidEntityId(vehicle)) {
-      acks_.Push(vehicle, {sample.sequence_number, fleetloc_PATCH_REJECTED,
-                           decoded.record.status().message()});
-    }
-    return;
+    return Refuse(vehicle, sample.sequence_number, decoded.reject_counter,
+                  decoded.record.status().message());
   }
   Result<mosaic::PutOutcome> stored = patches_->Put(*decoded.record);
   if (!stored.ok()) {

@@ -1,5 +1,6 @@
 // Collects PatchObservations: each is checked and decoded, stored in one SQLite transaction
 // (idempotent on vehicle and sequence number), then acknowledged in the vehicle's partition.
+// A quarantined vehicle's patches (mosaic/vehicle_standing_store.h) are refused on arrival.
 // A rejected patch is acknowledged as rejected with the reason (retrying cannot help); a patch
 // that could not be stored (SQLite failure) is not acknowledged, so the vehicle retries it and
 // nothing acknowledged is ever lost.
@@ -14,6 +15,7 @@
 #include "map_server/vehicle_channels.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
+#include "mosaic/vehicle_standing_store.h"
 
 namespace fleetloc::map_server {
 
@@ -21,7 +23,8 @@ class PatchService {
  public:
   static std::vector<std::string> CounterNames();
 
-  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles, PatchLimits limits,
+  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
+               mosaic::VehicleStandingStore* standing, PatchLimits limits,
                VehicleChannels* channels, ServerCounters* counters);
 
   void Receive(const fleetloc_PatchObservation& sample);
@@ -34,9 +37,13 @@ class PatchService {
     fleetloc_PatchAckStatus status = fleetloc_PATCH_REJECTED;
     std::string reason;
   };
+  // Counts a rejection and queues its acknowledgement (when the id can be answered at all).
+  void Refuse(const std::string& vehicle, uint64_t sequence, const std::string& counter,
+              const std::string& reason);
 
   mosaic::PatchStore* patches_;
   mosaic::TileStore* tiles_;
+  mosaic::VehicleStandingStore* standing_;
   PatchLimits limits_;
   VehicleChannels* channels_;
   ServerCounters* counters_;

@@ -13,7 +13,8 @@ namespace fleetloc::map_server {
 using transport::GetBounded;
 
 std::vector<std::string> RemapService::CounterNames() {
-  return {"remap_commands", "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command"};
+  return {"remap_commands",  "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command",
+          "patches_folded",  "patches_refused", "patches_held",      "vehicles_quarantined"};
 }
 
 RemapService::RemapService(std::string server_id, RemapRunner runner,
@@ -106,9 +107,17 @@ void RemapService::Work() {
       continue;
     }
     counters_->Add("remap_jobs_done");
-    spdlog::info("remap {} done: version {}, {} tiles, {} patches folded", job.command_id,
-                 outcome->new_version, outcome->changed_tiles.size(), outcome->patches_folded);
-    Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, "", &*outcome);
+    counters_->Add("patches_folded", static_cast<uint64_t>(outcome->patches_folded));
+    counters_->Add("patches_refused", static_cast<uint64_t>(outcome->patches_rejected));
+    counters_->Add("patches_held", static_cast<uint64_t>(outcome->patches_held));
+    spdlog::info("remap {} done: version {}, {} tiles; {}", job.command_id, outcome->new_version,
+                 outcome->changed_tiles.size(), outcome->summary);
+    for (const std::string& vehicle : outcome->newly_quarantined) {
+      counters_->Add("vehicles_quarantined");
+      spdlog::warn("vehicle '{}' quarantined: its patches keep failing admission; its patches are "
+                   "refused until `fleetctl mosaic vehicles MOSAIC --release {}`", vehicle, vehicle);
+    }
+    Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, outcome->summary, &*outcome);
     std::lock_guard lock(mutex_);
     finished_.push_back(std::move(outcome).value());
   }

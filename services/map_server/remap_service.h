@@ -1,6 +1,6 @@
 // Re-mapping jobs: a RemapCommand is checked (wire version, mosaic, region) and queued; one worker
 // thread runs the jobs in order with the re-mapping engine, reporting RemapStatus (queued, running
-// with phase and progress, done, failed, rejected). Finished jobs are handed back to the DDS loop
+// with phase and progress, done with the per-vehicle summary as its message, failed, rejected). Finished jobs are handed back to the DDS loop
 // (TakeFinished) to announce the new version. Stopping cancels the running job, which then leaves
 // the mosaic as it was.
 #pragma once
@@ -32,6 +32,9 @@ struct RemapOutcome {
   std::vector<mosaic::TileKey> changed_tiles;
   int patches_folded = 0;
   int patches_rejected = 0;
+  int patches_held = 0;                        // awaiting another vehicle's confirmation
+  std::string summary;                         // per vehicle: folded, refused (why), held
+  std::vector<std::string> newly_quarantined;  // vehicles this job quarantined
 };
 
 using RemapProgressFn = std::function<void(const std::string& phase, double fraction)>;
