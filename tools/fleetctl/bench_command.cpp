@@ -243,6 +243,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchReloc(*bench, result);
   RegisterBenchStress(*bench, result);
   RegisterBenchSupervisor(*bench, result);
+  RegisterBenchSupervisorAbuse(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

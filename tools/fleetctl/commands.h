@@ -29,5 +29,7 @@ void RegisterBenchReloc(CLI::App& bench, Status* result);
 void RegisterBenchStress(CLI::App& bench, Status* result);
 // `bench supervisor` (bench_supervisor.cpp).
 void RegisterBenchSupervisor(CLI::App& bench, Status* result);
+// `bench supervisor-abuse` (bench_supervisor_abuse.cpp).
+void RegisterBenchSupervisorAbuse(CLI::App& bench, Status* result);
 
 }  // namespace fleetloc::fleetctl
