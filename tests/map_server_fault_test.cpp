@@ -38,7 +38,10 @@ std::map<mosaic::TileKey, std::vector<std::uint8_t>> AllTiles(const std::string&
 
 TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns) {
   Scene scene;
-  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain);
+  // The test sends its 64 patches once, at once: no rate limit and room for all in the decoding
+  // queue (a vehicle would send the ones not acknowledged again later).
+  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain, 0.0005, 256,
+                                   R"("patch_intake": {"patches_per_s": 1000, "burst": 1000, "queue": 128})");
   auto patches = transport::PatchClient::Create(server.participant(), "agv-9");
   ASSERT_TRUE(patches.ok());
   ASSERT_TRUE(Eventually([&] { return (*patches)->ServerMatched(); }));

@@ -112,6 +112,30 @@ class Verdicts {
   std::set<std::string> changed_;
 };
 
+// The job's patches read from the store one image at a time (memory bounded by the few images in
+// use, not by the number of patches); images that do not decode are remembered.
+class StorePatchSource : public mapping::PatchSource {
+ public:
+  StorePatchSource(PatchStore* store, std::vector<const PatchRecord*> headers)
+      : store_(store), headers_(std::move(headers)) {}
+  int size() const override { return static_cast<int>(headers_.size()); }
+  Result<mapping::Patch> Load(int index) override {
+    const PatchRecord& h = *headers_.at(static_cast<size_t>(index));
+    Result<cv::Mat> image = store_->LoadImage(h.vehicle_id, h.sequence);
+    if (!image.ok()) {
+      unreadable_.insert(index);
+      return image.status();
+    }
+    return mapping::Patch{std::move(image).value(), h.pose, h.covariance, h.quality, h.vehicle_id};
+  }
+  bool Unreadable(int index) const { return unreadable_.count(index) > 0; }
+
+ private:
+  PatchStore* store_;
+  std::vector<const PatchRecord*> headers_;
+  std::set<int> unreadable_;
+};
+
 mapping::RemapOptions ComputeOptions(const RemapRequest& request) {
   mapping::RemapOptions options;
   options.mode = request.mode == RemapMode::kReplace ? mapping::BlendMode::kReplace
@@ -156,38 +180,44 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   };
   FLEETLOC_RETURN_IF_ERROR(patches.ClearUncommittedMarks(layout.version));
   report("select", 0, 1);
-  Result<PatchQuery> query = patches.Unfolded(request.region, layout.version);
+  Result<std::vector<PatchRecord>> query = patches.UnfoldedHeaders(request.region, layout.version);
   if (!query.ok()) return query.status();
   Result<std::map<std::string, mapping::VehicleStanding>> standings = standing.All();
   if (!standings.ok()) return standings.status();
-  RemapResult result{layout.version, {}, 0, 0, 0, query->unreadable, {}, {}};
+  RemapResult result{layout.version, {}, 0, 0, 0, 0, {}, {}};
   Verdicts verdicts(std::move(standings).value(), request.policy.reputation, &result);
   std::vector<const PatchRecord*> judged;
-  std::vector<mapping::Patch> inputs;
-  for (const PatchRecord& p : query->patches) {
+  for (const PatchRecord& p : *query) {
     if (verdicts.Quarantined(p.vehicle_id)) {
       verdicts.RefuseUnjudged(p);
-      continue;
+    } else {
+      judged.push_back(&p);
     }
-    judged.push_back(&p);
-    inputs.push_back({p.image, p.pose, p.covariance, p.quality, p.vehicle_id});
   }
   MosaicView view(layout, [&store](const TileKey& k) { return store.ReadTile(k); },
-                  std::make_shared<TileCache>(size_t{256} << 20));
+                  std::make_shared<TileCache>(size_t{64} << 20));
   const auto fetch = [&](const TileKey& key) {
     Result<cv::Mat> tile = store.ReadTile(key);
     return tile.ok() ? *tile : cv::Mat(cv::Mat::zeros(layout.tile_size_px, layout.tile_size_px, CV_8UC1));
   };
-  mapping::VectorPatchSource source(std::move(inputs));
+  StorePatchSource source(&patches, judged);
   Result<mapping::RemapTiles> computed = mapping::ComputeRemap(
       &view, fetch, source, ComputeOptions(request),
       [&](const mapping::RemapStep& step) { report(step.phase, step.done, step.total); }, cancel);
   if (!computed.ok()) return computed.status();
-  for (size_t i = 0; i < judged.size(); ++i) verdicts.Record(*judged[i], computed->outcomes[i]);
+  for (size_t i = 0; i < judged.size(); ++i) {
+    // A stored image that does not decode is the file's fault, not the vehicle's: left as it is.
+    if (source.Unreadable(static_cast<int>(i))) {
+      ++result.patches_unreadable;
+      continue;
+    }
+    verdicts.Record(*judged[i], computed->outcomes[i]);
+  }
   FLEETLOC_RETURN_IF_ERROR(verdicts.Persist(patches, standing));
   result.patches_folded = static_cast<int>(verdicts.folded().size());
   result.patches_held = computed->Count(mapping::PatchFate::kHeld);
-  result.patches_rejected = static_cast<int>(query->patches.size()) - result.patches_folded - result.patches_held;
+  result.patches_rejected = static_cast<int>(query->size()) - result.patches_folded - result.patches_held -
+                            result.patches_unreadable;
   if (computed->tiles.empty()) return result;  // nothing to change
   if (cancel != nullptr && cancel->load()) return InvalidInput("cancelled");
   report("commit", 0, 1);

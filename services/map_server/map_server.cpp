@@ -27,6 +27,7 @@ constexpr const char* kRejectedPartition = "rejected_vehicle_partition";
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
   names.push_back(kRejectedPartition);
+  for (const char* name : {"tile_rows_pruned", "patches_pruned", "prune_errors"}) names.push_back(name);
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
                            PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
@@ -102,15 +103,17 @@ Status MapServer::OpenServices() {
   tiles_ = std::make_unique<TileService>(store_.get(), owned_, channels_.get(), &counters_,
                                          config_.max_tiles_per_request,
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);
-  patch_service_ = std::make_unique<PatchService>(
-      patches_.get(), store_.get(), standing_.get(),
-      PatchLimits{config_.max_patch_bytes, config_.max_patch_side_px}, channels_.get(), &counters_);
+  PatchIntake intake = config_.intake;
+  intake.limits = {config_.max_patch_bytes, config_.max_patch_side_px};
+  patch_service_ = std::make_unique<PatchService>(patches_.get(), store_.get(), standing_.get(), intake,
+                                                  channels_.get(), &counters_);
   remaps_ = std::make_unique<RemapService>(
       config_.server_id,
       [this](const RemapJob& job, const RemapProgressFn& progress, const std::atomic<bool>& cancel) {
         return RunRemapJob(job, progress, cancel);
       },
-      remap_status_writer_.get(), &counters_);
+      remap_status_writer_.get(), &counters_,
+      Maintenance{config_.retention.prune_period_s, [this] { Prune(); }});
   if (!config_.serve_place_index) return Status::Ok();
   auto publisher = transport::PlaceIndexPublisher::Create(*participant_, config_.server_id);
   if (!publisher.ok()) return publisher.status();
@@ -146,6 +149,19 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
                       result->patches_folded, result->patches_rejected,
                       result->patches_held,   mosaic::RemapSummary(*result),
                       result->newly_quarantined};
+}
+
+void MapServer::Prune() {
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  Result<mosaic::PruneResult> pruned = mosaic::PruneMosaic(config_.mosaic_path, config_.retention.policy, now);
+  if (!pruned.ok()) return counters_.Reject("prune_errors", pruned.status().message());
+  counters_.Add("tile_rows_pruned", static_cast<uint64_t>(pruned->tile_rows_deleted));
+  counters_.Add("patches_pruned", static_cast<uint64_t>(pruned->patches_deleted));
+  if (pruned->tile_rows_deleted > 0 || pruned->patches_deleted > 0) {
+    spdlog::info("pruned {} tile rows older than version {} and {} patches ({} MB)", pruned->tile_rows_deleted,
+                 pruned->oldest_version_kept, pruned->patches_deleted, pruned->patch_bytes_deleted >> 20);
+  }
+  patch_service_->RefreshUsage();
 }
 
 Status MapServer::AnnounceFinishedJobs() {

@@ -18,6 +18,7 @@
 #include "map_server/tile_service.h"
 #include "map_server/vehicle_channels.h"
 #include "mosaic/patch_store.h"
+#include "mosaic/mosaic_retention.h"
 #include "mosaic/remap_job.h"
 #include "mosaic/tile_store.h"
 #include "mosaic/vehicle_standing_store.h"
@@ -52,6 +53,8 @@ class MapServer {
   Status AnnounceFinishedJobs();
   Result<RemapOutcome> RunRemapJob(const RemapJob& job, const RemapProgressFn& progress,
                                    const std::atomic<bool>& cancel);
+  // Retention (mosaic/mosaic_retention.h), run by the re-mapping thread between jobs.
+  void Prune();
 
   MapServerConfig config_;
   ServerCounters counters_;

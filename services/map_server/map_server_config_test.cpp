@@ -45,6 +45,11 @@ TEST(MapServerConfig, ShippedSampleConfigLoads) {
   EXPECT_EQ(p.corroboration.min_vehicles, defaults.corroboration.min_vehicles);
   EXPECT_EQ(p.reputation.window, defaults.reputation.window);
   EXPECT_EQ(p.reputation.max_refused_fraction, defaults.reputation.max_refused_fraction);
+  // So do its patch_intake and retention blocks.
+  EXPECT_EQ(config->intake.budget.max_bytes_total, PatchBudgetOptions{}.max_bytes_total);
+  EXPECT_EQ(config->intake.queue, PatchIntake{}.queue);
+  EXPECT_EQ(config->retention.policy.unfolded_patch_retention_s, mosaic::RetentionPolicy{}.unfolded_patch_retention_s);
+  EXPECT_EQ(config->retention.prune_period_s, Retention{}.prune_period_s);
 }
 
 struct BadCase {
@@ -69,6 +74,12 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
       {R"({"mosaic": "m.db", "patch_admission": {"min_vehicles_per_change": 0}})", "min_vehicles_per_change"},
       {R"({"mosaic": "m.db", "patch_admission": {"quarantine_window": 2}})", "quarantine_min_judged"},
       {R"({"mosaic": "m.db", "patch_admission": 3})", "patch_admission"},
+      {R"({"mosaic": "m.db", "patch_intake": {"patches_per_s": 0}})", "patches_per_s"},
+      {R"({"mosaic": "m.db", "patch_intake": {"burst": 2.5}})", "burst"},
+      {R"({"mosaic": "m.db", "patch_intake": {"max_store_mb": 10, "max_mb_per_vehicle": 20}})", "max_store_mb"},
+      {R"({"mosaic": "m.db", "patch_intake": {"flood": 1}})", "flood"},
+      {R"({"mosaic": "m.db", "retention": {"tile_versions_kept": 0}})", "tile_versions_kept"},
+      {R"({"mosaic": "m.db", "retention": {"prune_period_s": 1}})", "prune_period_s"},
   };
   int i = 0;
   for (const BadCase& c : cases) {
@@ -92,6 +103,20 @@ TEST(MapServerConfig, PatchAdmissionIsReadInTheFilesUnits) {
   EXPECT_EQ(p.admission.max_changed_fraction, 0.4);
   EXPECT_EQ(p.reputation.window, 8);
   EXPECT_EQ(p.admission.min_inliers, mapping::AdmissionOptions{}.min_inliers);  // default kept
+}
+
+TEST(MapServerConfig, PatchIntakeAndRetentionAreReadInTheFilesUnits) {
+  auto config = LoadMapServerConfig(WriteConfig(
+      "intake", R"({"mosaic": "m.db", "patch_intake": {"patches_per_s": 0.5, "max_mb_per_vehicle": 64,
+                    "max_store_mb": 1024}, "retention": {"tile_versions_kept": 3, "patch_retention_days": 2}})"));
+  ASSERT_TRUE(config.ok()) << config.status().message();
+  EXPECT_EQ(config->intake.budget.patches_per_s, 0.5);
+  EXPECT_EQ(config->intake.budget.max_bytes_per_vehicle, 64LL << 20);
+  EXPECT_EQ(config->intake.budget.max_bytes_total, 1024LL << 20);
+  EXPECT_EQ(config->intake.budget.burst, PatchBudgetOptions{}.burst);  // default kept
+  EXPECT_EQ(config->retention.policy.tile_versions_kept, 3);
+  EXPECT_EQ(config->retention.policy.patch_retention_s, 2 * 86400.0);
+  EXPECT_EQ(config->retention.prune_period_s, 3600);
 }
 
 TEST(MapServerConfig, MissingFileIsNotFound) {

@@ -25,8 +25,8 @@ bool AllFinite(const double* values, int n) {
 
 }  // namespace
 
-DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::MosaicLayout& layout,
-                         const PatchLimits& limits) {
+DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::MosaicLayout& layout,
+                        const PatchLimits& limits) {
   const std::string vehicle = GetBounded(s.vehicle_id);
   const std::string what = "PatchObservation " + vehicle + "#" + std::to_string(s.sequence_number);
   if (s.wire_version != fleetloc_WIRE_VERSION) {
@@ -72,8 +72,9 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
                                                   std::to_string(size->height) + " px out of [16, " +
                                                   std::to_string(limits.max_side_px) + "]");
   }
-  Result<cv::Mat> image = mosaic::DecodeGrayPng(bytes, limits.max_side_px);
-  if (!image.ok()) return Reject("rejected_patch_image", what + ": " + image.status().message());
+  if (Status header = mosaic::CheckGrayPngHeader(bytes, limits.max_side_px); !header.ok()) {
+    return Reject("rejected_patch_image", what + ": " + header.message());
+  }
   mosaic::PatchRecord record;
   record.vehicle_id = vehicle;
   record.sequence = static_cast<int64_t>(s.sequence_number);
@@ -81,8 +82,28 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
   record.pose = {s.x, s.y, s.theta};
   record.covariance = covariance;
   record.quality = s.quality;
-  record.image = std::move(image).value();
+  record.png.assign(bytes.begin(), bytes.end());
   return {std::move(record), ""};
+}
+
+Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits) {
+  Result<cv::Mat> image = mosaic::DecodeGrayPng(record->png, limits.max_side_px);
+  if (!image.ok()) {
+    return InvalidInput("PatchObservation " + record->vehicle_id + "#" + std::to_string(record->sequence) + ": " +
+                        image.status().message());
+  }
+  record->image = std::move(image).value();
+  return Status::Ok();
+}
+
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
+                         const PatchLimits& limits) {
+  DecodedPatch checked = CheckPatch(sample, layout, limits);
+  if (!checked.record.ok()) return checked;
+  if (Status decoded = DecodePatchImage(&*checked.record, limits); !decoded.ok()) {
+    return Reject("rejected_patch_image", decoded.message());
+  }
+  return checked;
 }
 
 }  // namespace fleetloc::map_server

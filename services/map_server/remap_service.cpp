@@ -19,9 +19,10 @@ std::vector<std::string> RemapService::CounterNames() {
 
 RemapService::RemapService(std::string server_id, RemapRunner runner,
                            const transport::Writer<fleetloc_RemapStatus>* status_writer,
-                           ServerCounters* counters)
+                           ServerCounters* counters, Maintenance maintenance)
     : server_id_(std::move(server_id)),
       runner_(std::move(runner)),
+      maintenance_(std::move(maintenance)),
       status_writer_(status_writer),
       counters_(counters),
       worker_([this] { Work(); }) {}
@@ -81,16 +82,31 @@ std::vector<RemapOutcome> RemapService::TakeFinished() {
   return std::exchange(finished_, {});
 }
 
+bool RemapService::WaitForJob(RemapJob* job) {
+  using Clock = std::chrono::steady_clock;
+  const bool periodic = maintenance_.period_s > 0 && maintenance_.run;
+  if (periodic && next_maintenance_ <= Clock::now()) {
+    maintenance_.run();
+    next_maintenance_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(maintenance_.period_s));
+  }
+  std::unique_lock lock(mutex_);
+  const auto ready = [&] { return stopping_.load() || !queue_.empty(); };
+  if (periodic) {
+    if (!wake_.wait_until(lock, next_maintenance_, ready)) return false;
+  } else {
+    wake_.wait(lock, ready);
+  }
+  if (stopping_ || queue_.empty()) return false;
+  *job = queue_.front();
+  queue_.pop_front();
+  return true;
+}
+
 void RemapService::Work() {
-  for (;;) {
+  while (!stopping_) {
     RemapJob job;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
-      if (stopping_) return;
-      job = queue_.front();
-      queue_.pop_front();
-    }
+    if (!WaitForJob(&job)) continue;
     auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(1);
     const RemapProgressFn progress = [&](const std::string& phase, double fraction) {
       const auto now = std::chrono::steady_clock::now();

@@ -20,7 +20,8 @@ void RegisterMapmatchCommand(CLI::App& app, Status* result);
 void RegisterRelocCommand(CLI::App& app, Status* result);
 void RegisterStatusCommand(CLI::App& app, Status* result);
 
-// `mosaic vehicles` (mosaic_upkeep_commands.cpp), added by RegisterMosaicCommands.
+// `mosaic vehicles` and `mosaic prune` (mosaic_upkeep_commands.cpp), added by
+// RegisterMosaicCommands.
 void AddMosaicUpkeepCommands(CLI::App& mosaic, Status* result);
 // `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
