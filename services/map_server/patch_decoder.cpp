@@ -82,8 +82,12 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
   record.pose = {s.x, s.y, s.theta};
   record.covariance = covariance;
   record.quality = s.quality;
-  record.png.assign(bytes.begin(), bytes.end());
   return {std::move(record), ""};
+}
+
+void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* record) {
+  const auto bytes = transport::OctetSpan(sample.image);
+  record->png.assign(bytes.begin(), bytes.end());
 }
 
 Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits) {
@@ -100,6 +104,7 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::
                          const PatchLimits& limits) {
   DecodedPatch checked = CheckPatch(sample, layout, limits);
   if (!checked.record.ok()) return checked;
+  CopyPng(sample, &*checked.record);
   if (Status decoded = DecodePatchImage(&*checked.record, limits); !decoded.ok()) {
     return Reject("rejected_patch_image", decoded.message());
   }

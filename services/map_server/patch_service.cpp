@@ -83,14 +83,16 @@ void PatchService::Receive(const fleetloc_PatchObservation& sample) {
     return Refuse(vehicle, sample.sequence_number, checked.reject_counter, checked.record.status().message());
   }
   mosaic::PatchRecord& record = *checked.record;
-  const long long bytes = static_cast<long long>(record.png.size());
-  // Over budget or no room to queue: not acknowledged, the vehicle sends it again later.
+  const auto bytes = static_cast<long long>(transport::OctetSpan(sample.image).size());
+  // Over budget or no room to queue: not acknowledged, the vehicle sends it again later (and its
+  // bytes are not even copied).
   const BudgetVerdict verdict = budget_.Admit(vehicle, bytes, SteadySeconds());
   if (verdict != BudgetVerdict::kAccept) return counters_->Add(BudgetVerdictName(verdict));
   {
     std::lock_guard lock(queue_mutex_);
     const size_t max_bytes = static_cast<size_t>(intake_.max_queued_mb) << 20;
-    if (queue_.size() < static_cast<size_t>(intake_.queue) && queued_bytes_ + record.png.size() <= max_bytes) {
+    if (queue_.size() < static_cast<size_t>(intake_.queue) && queued_bytes_ + static_cast<size_t>(bytes) <= max_bytes) {
+      CopyPng(sample, &record);
       queued_bytes_ += record.png.size();
       queue_.push_back(std::move(record));
       wake_.notify_one();

@@ -244,6 +244,8 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchStress(*bench, result);
   RegisterBenchSupervisor(*bench, result);
   RegisterBenchSupervisorAbuse(*bench, result);
+  RegisterBenchRemap(*bench, result);
+  RegisterBenchPatchFlood(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -30,6 +30,9 @@ void RegisterBenchReloc(CLI::App& bench, Status* result);
 void RegisterBenchStress(CLI::App& bench, Status* result);
 // `bench supervisor` (bench_supervisor.cpp).
 void RegisterBenchSupervisor(CLI::App& bench, Status* result);
+// `bench remap` (bench_remap.cpp) and `bench patch-flood` (bench_patch_flood.cpp).
+void RegisterBenchRemap(CLI::App& bench, Status* result);
+void RegisterBenchPatchFlood(CLI::App& bench, Status* result);
 // `bench supervisor-abuse` (bench_supervisor_abuse.cpp).
 void RegisterBenchSupervisorAbuse(CLI::App& bench, Status* result);
 
