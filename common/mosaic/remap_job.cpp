@@ -38,15 +38,23 @@ Status CheckPolicy(const RemapPolicy& p) {
   return Status::Ok();
 }
 
-Result<long long> Commit(TileStore& store, const std::map<TileKey, cv::Mat>& tiles) {
+// Writes the tiles as the next version in one transaction; `report(done, total)` after each tile
+// (the version still uncommitted) and once committed.
+Result<long long> Commit(TileStore& store, const std::map<TileKey, cv::Mat>& tiles,
+                         const std::function<void(int, int)>& report) {
   FLEETLOC_RETURN_IF_ERROR(store.BeginVersion());
+  const int total = static_cast<int>(tiles.size()) + 1;
+  int done = 0;
   for (const auto& [key, tile] : tiles) {
     if (Status put = store.PutTile(key, tile); !put.ok()) {
       (void)store.AbortVersion();
       return put;
     }
+    report(++done, total);
   }
-  return store.CommitVersion();
+  Result<long long> version = store.CommitVersion();
+  if (version.ok()) report(total, total);
+  return version;
 }
 
 // The verdicts of one job: what to write back (refusals, standings, folded patches) and the report.
@@ -223,14 +231,14 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   report("commit", 0, 1);
   // Marks first, tiles second: the marks only count once the version is committed.
   FLEETLOC_RETURN_IF_ERROR(patches.MarkFolded(verdicts.folded(), layout.version + 1));
-  Result<long long> version = Commit(store, computed->tiles);
+  Result<long long> version =
+      Commit(store, computed->tiles, [&](int done, int total) { report("commit", done, total); });
   if (!version.ok()) {
     (void)patches.ClearUncommittedMarks(layout.version);
     return version.status();
   }
   result.new_version = *version;
   for (const auto& [key, tile] : computed->tiles) result.changed_tiles.push_back(key);
-  report("commit", 1, 1);
   return result;
 }
 

@@ -38,7 +38,9 @@ struct RemapRequest {
 };
 
 struct RemapProgress {
-  std::string phase;  // select, judge, corroborate, blend, pyramid, commit
+  // select, judge, corroborate, blend, pyramid, commit (done 1 .. total - 1: tiles written into the
+  // still uncommitted version; total: committed)
+  std::string phase;
   int done = 0;
   int total = 0;
 };

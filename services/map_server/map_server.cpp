@@ -4,6 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <thread>
 
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
@@ -138,10 +140,20 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
                                      job.replace ? mosaic::RemapMode::kReplace
                                                  : mosaic::RemapMode::kBlend,
                                      config_.remap_policy};
+  // Fault injection for the tests only (tests/map_server_fault_test.cpp): with
+  // FLEETLOC_FAILPOINT_COMMIT_PAUSE_S set, the job reports and then pauses after writing its first
+  // tile into the uncommitted version, so a test can kill the server inside the commit.
+  const char* pause = std::getenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S");
   Result<mosaic::RemapResult> result = mosaic::RunRemap(
       **store, **patches, **standing, request,
       [&](const mosaic::RemapProgress& p) {
-        progress(p.phase, p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0);
+        const double fraction = p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0;
+        if (pause != nullptr && p.phase == "commit" && p.done == 1 && p.total > 1) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(250));  // past the report throttle
+          progress(p.phase, fraction);
+          std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(pause)));
+        }
+        progress(p.phase, fraction);
       },
       &cancel);
   if (!result.ok()) return result.status();
