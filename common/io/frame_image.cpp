@@ -19,14 +19,14 @@ Status WrongSize(const FrameRef& frame, long long width, long long height, const
 constexpr size_t kHeaderBytes = 256 * 1024;  // a JPEG's frame header may follow its EXIF block
 
 // The header of the image file at `path` (read from its first bytes); InvalidInput naming the file
-// when it is not a PNG, JPEG or binary PNM.
+// when it is not a PNG, JPEG, BMP or binary PNM.
 Result<mosaic::ImageHeader> HeaderOf(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::vector<std::uint8_t> head(kHeaderBytes);
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<size_t>(in.gcount()));
   const std::optional<mosaic::ImageHeader> header = mosaic::ReadImageHeader(head);
-  if (!header) return InvalidInput(path.string() + ": not a PNG, JPEG or binary PNM image (or its header is cut)");
+  if (!header) return InvalidInput(path.string() + ": not a PNG, JPEG, BMP or binary PNM image (or its header is cut)");
   return *header;
 }
 

@@ -89,7 +89,7 @@ Status WriteRun(const Run& run);
 // decoded).
 Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera);
 
-// Reads an image file (PNG, JPEG or binary PNM; 8-bit or 16-bit, gray or colour) as 8-bit gray,
+// Reads an image file (PNG, JPEG, BMP or binary PNM; 8-bit or 16-bit, gray or colour) as 8-bit gray,
 // without a size check beyond `max_pixels` (for raw frames, whose size is the physical camera's,
 // and floor images), read from its header before decoding. NotFound "<file>: not found",
 // InvalidInput "<file>: ..." for a larger, corrupt or unsupported file.

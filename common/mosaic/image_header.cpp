@@ -1,8 +1,9 @@
-// PNG IHDR, JPEG SOF and PNM header parsing.
+// PNG IHDR, JPEG SOF, BMP and PNM header parsing.
 #include "mosaic/image_header.h"
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 
 namespace fleetloc::mosaic {
 namespace {
@@ -102,6 +103,24 @@ std::optional<ImageHeader> Pnm(Bytes b) {
   return h;
 }
 
+// "BM", then the BITMAPINFOHEADER's width (18), height (22, negative: top-down) and bits per
+// pixel (28), little-endian.
+std::optional<ImageHeader> Bmp(Bytes b) {
+  if (b.size() < 30 || b[0] != 'B' || b[1] != 'M') return std::nullopt;
+  const auto le32 = [&](size_t at) {
+    return static_cast<std::int32_t>(std::uint32_t{b[at]} | (std::uint32_t{b[at + 1]} << 8) |
+                                     (std::uint32_t{b[at + 2]} << 16) | (std::uint32_t{b[at + 3]} << 24));
+  };
+  ImageHeader h;
+  h.format = ImageFormat::kBmp;
+  h.width = le32(18);
+  h.height = std::abs(static_cast<long long>(le32(22)));
+  const int bits = b[28] | (b[29] << 8);
+  h.channels = bits >= 24 ? bits / 8 : 1;
+  h.bit_depth = bits >= 24 ? 8 : bits;
+  return h;
+}
+
 }  // namespace
 
 std::string ImageHeader::Describe() const {
@@ -112,6 +131,7 @@ std::string ImageHeader::Describe() const {
 std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes) {
   if (auto h = Png(bytes)) return h;
   if (auto h = Jpeg(bytes)) return h;
+  if (auto h = Bmp(bytes)) return h;
   return Pnm(bytes);
 }
 

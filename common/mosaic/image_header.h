@@ -1,5 +1,5 @@
 // What an encoded image says about itself before it is decoded: format, size, bit depth and
-// channels, read from the first bytes (PNG IHDR, JPEG SOF, binary PNM). Decoders check these
+// channels, read from the first bytes (PNG IHDR, JPEG SOF, BMP, binary PNM). Decoders check these
 // against their limits first, so a small file declaring a huge, deep or colour image is refused
 // without the decoder allocating anything. Pure: bytes in, a header out.
 #pragma once
@@ -11,7 +11,7 @@
 
 namespace fleetloc::mosaic {
 
-enum class ImageFormat { kPng, kJpeg, kPnm };
+enum class ImageFormat { kPng, kJpeg, kBmp, kPnm };
 
 struct ImageHeader {
   ImageFormat format = ImageFormat::kPng;
@@ -23,7 +23,7 @@ struct ImageHeader {
   std::string Describe() const;
 };
 
-// The header of a PNG, JPEG or binary PNM (P5, P6) image from its first bytes (a JPEG's SOF may
+// The header of a PNG, JPEG, BMP or binary PNM (P5, P6) image from its first bytes (a JPEG's SOF may
 // come after its EXIF block: pass up to 256 KiB). nullopt when the bytes are not one of these or
 // too short to tell.
 std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes);

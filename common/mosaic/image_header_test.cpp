@@ -30,6 +30,7 @@ TEST(ImageHeader, ReadsSizeDepthAndChannelsOfEncodedImages) {
       {cv::Mat(12, 16, CV_8UC1, cv::Scalar(9)), ".jpg", ImageFormat::kJpeg, 8, 1},
       {cv::Mat(12, 16, CV_8UC1, cv::Scalar(9)), ".pgm", ImageFormat::kPnm, 8, 1},
       {cv::Mat(12, 16, CV_8UC3, cv::Scalar(9, 9, 9)), ".ppm", ImageFormat::kPnm, 8, 3},
+      {cv::Mat(12, 16, CV_8UC3, cv::Scalar(9, 9, 9)), ".bmp", ImageFormat::kBmp, 8, 3},
   };
   for (const Case& c : cases) {
     const std::optional<ImageHeader> h = ReadImageHeader(Encode(c.image, c.ext));

@@ -5,6 +5,12 @@
 // (process_request over a RequestStream), then give the connection back to the front while it is
 // kept alive. Live streams go to the stream hub. Routes are registered on it as on any
 // httplib::Server.
+//
+// httplib's own per-connection knobs (set_keep_alive_max_count, set_keep_alive_timeout,
+// set_read_timeout, the thread pool of new_task_queue) belong to the connection handling this
+// replaces; their equivalents are http.max_requests_per_connection, keep_alive_timeout_s,
+// header_timeout_s and workers. set_payload_max_length, routing, static files and range
+// responses are still httplib's (the front checks sizes and ranges first).
 #pragma once
 
 // Eigen (through shared_fleet.h) before httplib: <resolv.h>, which httplib includes, defines
