@@ -15,12 +15,10 @@ namespace fleetloc::testing {
 
 using Scene = mapping::testing::ChangedFloorScene;
 
-// The scene's patch at pixel `centre`, reported off by `error`, numbered `sequence`, with quality
-// 0.9 and a stamp of 100 + sequence s. `mosaic_id` empty: whatever mosaic the server serves.
-inline transport::PatchToSend ScenePatch(const Scene& scene, uint64_t sequence, cv::Point centre,
-                                         const geometry::Pose2& error,
-                                         const std::string& mosaic_id = "") {
-  const mapping::Patch p = scene.PatchAt(centre, error);
+// `p` as a vehicle sends it, numbered `sequence`, with its quality (0.9 when it has none) and a
+// stamp of 100 + sequence s. `mosaic_id` empty: whatever mosaic the server serves.
+inline transport::PatchToSend ToSend(const mapping::Patch& p, uint64_t sequence,
+                                     const std::string& mosaic_id = "") {
   transport::PatchToSend out;
   out.sequence = sequence;
   out.stamp_s = 100.0 + static_cast<double>(sequence);
@@ -28,10 +26,17 @@ inline transport::PatchToSend ScenePatch(const Scene& scene, uint64_t sequence, 
   out.mosaic_version = 1;
   out.pose = p.pose;
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(out.covariance) = p.covariance;
-  out.quality = 0.9f;
+  out.quality = p.quality > 0 ? static_cast<float>(p.quality) : 0.9f;
   out.resolution_m = Scene::kRes;
   out.png = *mosaic::EncodeTile(p.image);
   return out;
+}
+
+// The scene's patch at pixel `centre`, reported off by `error` (see ToSend).
+inline transport::PatchToSend ScenePatch(const Scene& scene, uint64_t sequence, cv::Point centre,
+                                         const geometry::Pose2& error,
+                                         const std::string& mosaic_id = "") {
+  return ToSend(scene.PatchAt(centre, error), sequence, mosaic_id);
 }
 
 // "x0,y0,x1,y1" in map metres around the change, as `fleetctl remap --region` takes it.

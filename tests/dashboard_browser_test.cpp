@@ -31,7 +31,7 @@ TEST(DashboardBrowser, VehiclesMoveAKilledAgentRaisesAnAlertAndARemapFromThePage
                           "--outbox", (server.dir() / (id + "_outbox.db")).string()},
         (server.dir() / (id + ".log")).string()));
   }
-  testing::SupervisorProcess supervisor(server.dir(), kDomain, "maint-7f3a9c");
+  testing::SupervisorProcess supervisor(server.dir(), kDomain, "maint-7f3a9c-7f3a9c");
   ASSERT_GT(supervisor.port(), 0);
 
   const std::string artifacts = FLEETLOC_BINARY_DIR "/test-artifacts/dashboard";

@@ -38,7 +38,10 @@ std::map<mosaic::TileKey, std::vector<std::uint8_t>> AllTiles(const std::string&
 
 TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns) {
   Scene scene;
-  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain);
+  // The test sends its 64 patches once, at once: no rate limit and room for all in the decoding
+  // queue (a vehicle would send the ones not acknowledged again later).
+  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain, 0.0005, 256,
+                                   R"("patch_intake": {"patches_per_s": 1000, "burst": 1000, "queue": 128})");
   auto patches = transport::PatchClient::Create(server.participant(), "agv-9");
   ASSERT_TRUE(patches.ok());
   ASSERT_TRUE(Eventually([&] { return (*patches)->ServerMatched(); }));
@@ -91,6 +94,68 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   const auto outcome = nlohmann::json::parse(rerun.out);
   EXPECT_EQ(outcome["new_version"], 2);
   EXPECT_EQ(outcome["patches_folded"], sent);
+}
+
+TEST(MapServerFault, KilledInsideTheTileCommitKeepsServingThePreviousVersion) {
+  Scene scene;
+  // The server pauses 30 s after writing the first tile of the new version, not yet committed.
+  ::setenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S", "30", 1);
+  testing::MapServerFixture server("map_server_fault_commit", scene.old_floor, kDomain);
+  ::unsetenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S");
+  auto patches = transport::PatchClient::Create(server.participant(), "agv-9");
+  ASSERT_TRUE(patches.ok());
+  ASSERT_TRUE(Eventually([&] { return (*patches)->ServerMatched(); }));
+  ASSERT_TRUE(testing::SendPatch(**patches, testing::ScenePatch(scene, 1, {490, 425}, {})));
+  ASSERT_TRUE(testing::SendPatch(**patches, testing::ScenePatch(scene, 2, {470, 440}, {})));
+  ASSERT_TRUE(Eventually([&] { return server.HealthCounter("patches_stored") == 2; }));
+  const auto before = AllTiles(server.mosaic_path());
+  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(server.participant(),
+                                                                     transport::topics::kRemapStatus);
+  auto statuses = transport::Reader<fleetloc_RemapStatus>::Create(
+      server.participant().get(), *status_topic, transport::DurableStateQos());
+  const std::string region = testing::RegionAroundChange(scene);
+  auto remap = io::ChildProcess::Start(
+      std::string(FLEETLOC_BINARY_DIR) + "/bin/fleetctl",
+      {"remap", "--domain", std::to_string(kDomain), "--region", region, "--mode", "replace", "--timeout", "60"},
+      (server.dir() / "remap_commit.log").string());
+  ASSERT_TRUE(remap.ok());
+  // Killed once it says it is writing the new version's tiles (and has not committed them).
+  bool committing = false;
+  ASSERT_TRUE(Eventually([&] {
+    (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+      committing = committing || (s.state == fleetloc_REMAP_RUNNING &&
+                                  transport::GetBounded(s.phase) == "commit" && s.progress > 0 && s.progress < 1);
+    });
+    return committing;
+  }, 60));
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  remap->Stop(SIGTERM);
+  // The file holds the previous version whole; the patches' folded marks do not count.
+  EXPECT_EQ(AllTiles(server.mosaic_path()), before);
+  EXPECT_EQ((*mosaic::TileStore::Open(server.mosaic_path(), mosaic::OpenMode::kReadOnly))->version(), 1);
+  EXPECT_EQ((*mosaic::PatchStore::Open(server.mosaic_path()))->Counts(1)->folded, 0);
+  // Restarted (no pause now), it serves the previous version's tiles, then re-maps them.
+  server.StartServer();
+  auto client = transport::TileClient::Create(server.participant(), "agv-8");
+  ASSERT_TRUE(client.ok());
+  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+  // Asked again until answered: the dead server's reader stays matched until its lease ends, so a
+  // request may reach only it.
+  std::vector<transport::ReceivedTile> tiles;
+  uint32_t request = 0;
+  ASSERT_TRUE(Eventually([&] {
+    EXPECT_TRUE((*client)->Request(++request, "", {{0, 1, 1}}).ok());
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    auto taken = (*client)->TakeTiles();
+    for (auto& t : taken.ok() ? *taken : std::vector<transport::ReceivedTile>{}) tiles.push_back(std::move(t));
+    return !tiles.empty();
+  }));
+  EXPECT_EQ(tiles[0].version, 1);
+  EXPECT_EQ(tiles[0].data, before.at({0, 1, 1}));
+  const testing::CommandResult rerun = testing::RunFleetctl("remap --domain " + std::to_string(kDomain) +
+                                                            " --region " + region + " --mode replace --timeout 120");
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.err;
+  EXPECT_EQ(nlohmann::json::parse(rerun.out)["new_version"], 2);
 }
 
 TEST(MapServerFault, TilesAskedForWhileTheServerWasDownAreAskedAgainWhenItReturns) {

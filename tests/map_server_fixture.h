@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
@@ -24,9 +25,11 @@ namespace fleetloc::testing {
 class MapServerFixture {
  public:
   // Imports `floor` (a gray image) at `resolution_m` with `tile_size_px` tiles and starts
-  // map_server on `domain`.
+  // map_server on `domain`; `config_members` (JSON members, e.g. `"patch_intake": {...}`) go into
+  // a configuration file for it.
   MapServerFixture(const std::string& name, const cv::Mat& floor, uint32_t domain,
-                   double resolution_m = 0.0005, int tile_size_px = 256)
+                   double resolution_m = 0.0005, int tile_size_px = 256,
+                   const std::string& config_members = "")
       : scratch_(name), domain_(domain) {
     mosaic_path_ = (scratch_.path() / "floor.db").string();
     const std::string image = (scratch_.path() / "floor.png").string();
@@ -37,6 +40,10 @@ class MapServerFixture {
     auto imported = mosaic::ImportImage(image, options, mosaic_path_);
     EXPECT_TRUE(imported.ok()) << imported.status().message();
     if (imported.ok()) layout_ = *imported;
+    if (!config_members.empty()) {
+      config_path_ = (scratch_.path() / "map_server.json").string();
+      std::ofstream(config_path_) << "{\"mosaic\": \"" << mosaic_path_ << "\", " << config_members << "}";
+    }
     StartServer();
     auto participant = transport::Participant::Create(domain);
     EXPECT_TRUE(participant.ok()) << participant.status().message();
@@ -50,10 +57,11 @@ class MapServerFixture {
   }
 
   void StartServer() {
+    std::vector<std::string> args = {"--mosaic", mosaic_path_, "--domain", std::to_string(domain_),
+                                     "--server-id", "map-t"};
+    if (!config_path_.empty()) args.insert(args.end(), {"--config", config_path_});
     server_ = std::make_unique<io::ChildProcess>(StartDaemon(
-        "map_server",
-        {"--mosaic", mosaic_path_, "--domain", std::to_string(domain_), "--server-id", "map-t"},
-        (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
+        "map_server", args, (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
   }
   // Kills the server with `signal` and returns its exit status.
   int StopServer(int signal) {
@@ -84,6 +92,28 @@ class MapServerFixture {
     return value;
   }
 
+  // "name: message" of the newest health report's issue ("" when it has none; waits up to 5 s
+  // for a report).
+  std::string HealthIssue() {
+    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(*participant_,
+                                                                  transport::topics::kServiceHealth);
+    auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
+        participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
+    std::string issue;
+    bool seen = false;
+    Eventually([&] {
+      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+        seen = true;
+        issue = h.issues._length == 0 ? ""
+                                      : transport::GetBounded(h.issues._buffer[0].name) + ": " +
+                                            transport::GetBounded(h.issues._buffer[0].message);
+      });
+      return seen;
+    }, 5.0);
+    EXPECT_TRUE(seen);
+    return issue;
+  }
+
   const std::string& mosaic_path() const { return mosaic_path_; }
   const mosaic::MosaicLayout& layout() const { return layout_; }
   transport::Participant& participant() { return *participant_; }
@@ -95,6 +125,7 @@ class MapServerFixture {
   uint32_t domain_;
   int starts_ = 0;
   std::string mosaic_path_;
+  std::string config_path_;
   mosaic::MosaicLayout layout_;
   std::unique_ptr<io::ChildProcess> server_;
   std::unique_ptr<transport::Participant> participant_;

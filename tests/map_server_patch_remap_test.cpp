@@ -1,14 +1,18 @@
 // Patches and re-mapping through DDS against a map_server process: patches are stored once and
 // acknowledged, bad ones are rejected with a reason and counted, and `fleetctl remap` folds them
 // into a new mosaic version that vehicles are told about (TileUpdate, MosaicInfo) and can fetch.
+// A forged vehicle's patches change nothing, the re-map reports them per vehicle, and the vehicle
+// is quarantined (alerted in health, refused on arrival) until a maintainer releases it.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "changed_floor_patches.h"
+#include "mapping/forged_patches.h"
 #include "map_server_fixture.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
+#include "mosaic/tile_store.h"
 #include "transport/mosaic_messages.h"
 #include "transport/patch_client.h"
 #include "transport/remap_client.h"
@@ -93,11 +97,16 @@ TEST_F(MapServerPatchRemap, BadPatchesAreRejectedWithAReasonAndCounted) {
   nan_pose.pose.x = std::nan("");
   transport::PatchToSend wrong_scale = PatchAt(14, {490, 425}, {});
   wrong_scale.resolution_m = 0.001;
-  for (const auto* p : {&oversized, &corrupt, &foreign, &nan_pose, &wrong_scale}) {
+  transport::PatchToSend zero_covariance = PatchAt(15, {490, 425}, {});
+  std::fill(std::begin(zero_covariance.covariance), std::end(zero_covariance.covariance), 0.0);
+  transport::PatchToSend negative_covariance = PatchAt(16, {490, 425}, {});
+  for (double& c : negative_covariance.covariance) c = -c;
+  for (const auto* p : {&oversized, &corrupt, &foreign, &nan_pose, &wrong_scale, &zero_covariance,
+                        &negative_covariance}) {
     ASSERT_TRUE(testing::SendPatch(*patches_, *p));
   }
-  const auto acks = Acks(5);
-  ASSERT_EQ(acks.size(), 5u);
+  const auto acks = Acks(7);
+  ASSERT_EQ(acks.size(), 7u);
   for (const auto& [seq, ack] : acks) {
     EXPECT_EQ(ack.status, fleetloc_PATCH_REJECTED) << seq;
     EXPECT_FALSE(ack.reason.empty()) << seq;
@@ -108,6 +117,8 @@ TEST_F(MapServerPatchRemap, BadPatchesAreRejectedWithAReasonAndCounted) {
   EXPECT_EQ(server_.HealthCounter("rejected_patch_image"), 1u);
   EXPECT_EQ(server_.HealthCounter("rejected_patch_mosaic"), 1u);
   EXPECT_EQ(server_.HealthCounter("rejected_patch_malformed"), 2u);
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_covariance"), 2u);
+  EXPECT_NE(acks.at(15).reason.find("positive definite"), std::string::npos) << acks.at(15).reason;
   // Nothing of them was stored, and the server still takes good patches.
   SendTheTwoPatches();
   EXPECT_EQ((*mosaic::PatchStore::Open(server_.mosaic_path()))->Counts(1)->stored, 2);
@@ -156,6 +167,63 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
   cv::Mat diff;
   cv::absdiff(tile(part - cv::Point(256, 256)), scene_.new_floor(part), diff);
   EXPECT_LT(cv::mean(diff)[0], 3.0);
+}
+
+TEST_F(MapServerPatchRemap, AForgedVehicleChangesNothingAndIsQuarantined) {
+  auto forger = transport::PatchClient::Create(server_.participant(), "forger");
+  ASSERT_TRUE(forger.ok());
+  ASSERT_TRUE(Eventually([&] { return (*forger)->ServerMatched(); }));
+  uint64_t sequence = 0;
+  for (cv::Point centre : {cv::Point(490, 425), cv::Point(520, 400)}) {
+    for (const auto& forged : mapping::testing::ForgedPatches(scene_, centre)) {
+      ASSERT_TRUE(testing::SendPatch(**forger, testing::ToSend(forged.patch, ++sequence)));
+    }
+  }
+  ASSERT_TRUE(Eventually([&] { return server_.HealthCounter("patches_stored") == sequence; }));
+  SendTheTwoPatches();  // agv-1's true views of the changed floor
+  auto store = mosaic::TileStore::Open(server_.mosaic_path(), mosaic::OpenMode::kReadOnly);
+  ASSERT_TRUE(store.ok());
+  const std::vector<std::uint8_t> far_tile_before = *(*store)->ReadTileBytes({0, 3, 3});
+  const testing::CommandResult remap = Remap(RegionAroundChange());
+  ASSERT_EQ(remap.exit_code, 0) << remap.err;
+  const auto outcome = nlohmann::json::parse(remap.out);
+  EXPECT_EQ(outcome["new_version"], 2);
+  EXPECT_EQ(outcome["patches_folded"], 2);
+  EXPECT_EQ(outcome["patches_rejected"], sequence);
+  const std::string message = outcome["message"];
+  EXPECT_NE(message.find("agv-1: 2 folded"), std::string::npos) << message;
+  EXPECT_NE(message.find("forger: 0 folded, 12 refused"), std::string::npos) << message;
+  EXPECT_NE(message.find("QUARANTINED"), std::string::npos) << message;
+  // Only the true views changed the floor: the changed area shows the new floor.
+  ASSERT_TRUE((*store)->Refresh().ok());
+  const cv::Mat tile = *mosaic::DecodeTile(*(*store)->ReadTileBytes({0, 1, 1}), 256);
+  const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
+  cv::Mat diff;
+  cv::absdiff(tile(part - cv::Point(256, 256)), scene_.new_floor(part), diff);
+  EXPECT_LT(cv::mean(diff)[0], 3.0);
+  EXPECT_EQ(*(*store)->ReadTileBytes({0, 3, 3}), far_tile_before);
+  EXPECT_EQ(server_.HealthCounter("vehicles_quarantined"), 1u);
+  EXPECT_EQ(server_.HealthCounter("patches_refused"), sequence);
+  EXPECT_NE(server_.HealthIssue().find("vehicle_quarantined: forger"), std::string::npos);
+  // The forger's next patch is refused on arrival, even a true view.
+  ASSERT_TRUE(testing::SendPatch(**forger, PatchAt(++sequence, {490, 425}, {})));
+  std::optional<transport::ReceivedAck> refused;
+  ASSERT_TRUE(Eventually([&] {
+    auto acks = (*forger)->TakeAcks();
+    for (const auto& ack : acks.ok() ? *acks : std::vector<transport::ReceivedAck>{}) {
+      if (ack.sequence == sequence) refused = ack;
+    }
+    return refused.has_value();
+  }));
+  EXPECT_EQ(refused->status, fleetloc_PATCH_REJECTED);
+  EXPECT_NE(refused->reason.find("quarantined"), std::string::npos) << refused->reason;
+  EXPECT_EQ(server_.HealthCounter("rejected_patch_quarantined"), 1u);
+  // A maintainer releases it; the alert clears.
+  const testing::CommandResult release =
+      testing::RunFleetctl("mosaic vehicles " + server_.mosaic_path() + " --release forger");
+  ASSERT_EQ(release.exit_code, 0) << release.err;
+  EXPECT_EQ(nlohmann::json::parse(release.out)["forger"]["quarantined"], false);
+  EXPECT_TRUE(Eventually([&] { return server_.HealthIssue().find("quarantined") == std::string::npos; }));
 }
 
 TEST_F(MapServerPatchRemap, BadRemapCommandsAreRejected) {

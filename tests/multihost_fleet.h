@@ -253,6 +253,8 @@ class MultiHostFleet {
   }
   std::string TokenFile() const {
     std::ofstream(dir_ / "token") << "multihost-test-token\n";
+    std::filesystem::permissions(dir_ / "token", std::filesystem::perms::owner_read |
+                                                     std::filesystem::perms::owner_write);
     return dir_ / "token";
   }
   std::string Write(const std::string& name, const nlohmann::json& config) const {

@@ -227,7 +227,7 @@ TEST(Security, OnlyAMaintainerCanCommandARemap) {
 TEST(Security, AVehicleWritesOnlyItsOwnPartitionAndOnlyItsOwnId) {
   testing::ScratchDir dir("security_partition");
   SecuredMapServer server(dir, kPartitionDomain);
-  testing::SupervisorProcess supervisor(dir.path(), kPartitionDomain, "tok-sec",
+  testing::SupervisorProcess supervisor(dir.path(), kPartitionDomain, "tok-sec-tok-sec-0",
                                         SecuredAs("supervisor-sup-1"));
   Maintainer alice(kPartitionDomain);
   const std::string agv1 = Credentials::Get().Config("vehicle-agv-1");
@@ -290,7 +290,7 @@ TEST(Security, OutsidersAreNeverMatched) {
 TEST(Security, ASecuredFleetTracks) {
   testing::ScratchDir dir("security_fleet");
   SecuredMapServer server(dir, kFleetDomain);
-  testing::SupervisorProcess supervisor(dir.path(), kFleetDomain, "tok-sec",
+  testing::SupervisorProcess supervisor(dir.path(), kFleetDomain, "tok-sec-tok-sec-0",
                                         SecuredAs("supervisor-sup-1"));
   std::vector<std::string> args = {
       "--sim-floor",  server.floor(), "--domain", std::to_string(kFleetDomain),

@@ -24,6 +24,8 @@ class SupervisorProcess {
       : dir_(dir), token_(token) {
     const std::string token_file = (dir / "token").string();
     std::ofstream(token_file) << token << "\n";
+    // The supervisor refuses a token file group or others may read.
+    std::filesystem::permissions(token_file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
     const std::string port_file = (dir / "port").string();
     std::filesystem::remove(port_file);
     std::vector<std::string> args = {"--domain", std::to_string(domain), "--history",
@@ -44,6 +46,7 @@ class SupervisorProcess {
   }
 
   int port() const { return port_; }
+  pid_t pid() const { return process_->pid(); }
   std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
   const std::string& token() const { return token_; }
   std::string log() const { return ReadWhole(dir_ / "fleet_supervisor.log"); }

@@ -86,7 +86,7 @@ std::string RawRequest(int port, const std::string& bytes) {
 
 TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
   testing::ScratchDir dir("supervisor_http_bad");
-  testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-5551");
+  testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-5551-5551-5551");
   auto participant = transport::Participant::Create(kDomain);
   ASSERT_TRUE(participant.ok());
   FakeVehicle vehicle(*participant, "agv-h1");
@@ -123,10 +123,10 @@ TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
     EXPECT_FALSE(error.empty()) << path << ": no JSON error message";
   }
   const std::string good = R"({"region": [0, 0, 0.1, 0.1], "mode": "blend"})";
-  const httplib::Headers right = {{"Authorization", "Bearer tok-5551"}};
+  const httplib::Headers right = {{"Authorization", "Bearer tok-5551-5551-5551"}};
   EXPECT_EQ(Status(http.Post("/api/remap", good, "application/json")).first, 401);
   EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "Bearer nope"}}, good, "application/json")).first, 403);
-  EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "tok-5551"}}, good, "application/json")).first, 401);
+  EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "tok-5551-5551-5551"}}, good, "application/json")).first, 401);
   EXPECT_EQ(Status(http.Get("/api/auth", {{"Authorization", "Bearer nope"}})).first, 403);
   EXPECT_EQ(Status(http.Get("/api/auth", right)).first, 200);
   for (const std::string bad : {"{not json", "[1,2]", R"({"region": [0, 0, 1]})", R"({"region": [0, 0, "a", 1]})",
@@ -170,7 +170,7 @@ TEST(SupervisorHttp, HistoryAndVehiclesSurviveARestart) {
   auto participant = transport::Participant::Create(kDomain);
   ASSERT_TRUE(participant.ok());
   {
-    testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-1");
+    testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-1-tok-1-tok-1");
     FakeVehicle vehicle(*participant, "agv-r1");
     httplib::Client http("127.0.0.1", supervisor.port());
     for (int i = 0; i < 60; ++i) {  // 3 s at 20 Hz: several stored poses (one per second)
@@ -179,7 +179,7 @@ TEST(SupervisorHttp, HistoryAndVehiclesSurviveARestart) {
     }
     ASSERT_EQ(http.Get("/api/vehicles/agv-r1")->status, 200);
   }  // SIGTERM: the last rows are flushed
-  testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-1");
+  testing::SupervisorProcess supervisor(dir.path(), kDomain, "tok-1-tok-1-tok-1");
   httplib::Client http("127.0.0.1", supervisor.port());
   auto vehicle = http.Get("/api/vehicles/agv-r1");
   ASSERT_TRUE(vehicle);

@@ -42,4 +42,12 @@ class ChildProcess {
 // The directory of the running executable (for finding sibling programs in build/bin).
 std::string ExecutableDir();
 
+// What a running process has used so far, from /proc (zeros for a process that is gone).
+struct ProcessUsage {
+  double cpu_s = 0;        // user + system
+  double rss_mb = 0;       // resident now
+  double peak_rss_mb = 0;  // resident high-water mark
+};
+ProcessUsage UsageOf(pid_t pid);
+
 }  // namespace fleetloc::io

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -31,6 +32,14 @@ TEST(ChildProcess, StopsARunningChildWithTheSignal) {
   EXPECT_TRUE(child->Running());
   EXPECT_EQ(child->Stop(SIGTERM), 128 + SIGTERM);
   EXPECT_FALSE(child->Running());
+}
+
+TEST(ChildProcess, UsageOfAProcessIsReadFromProc) {
+  const ProcessUsage self = UsageOf(::getpid());
+  EXPECT_GT(self.rss_mb, 1.0);
+  EXPECT_GE(self.peak_rss_mb, self.rss_mb);
+  EXPECT_GE(self.cpu_s, 0.0);
+  EXPECT_EQ(UsageOf(-1).rss_mb, 0.0);
 }
 
 TEST(ChildProcess, MissingProgramIsNotFound) {

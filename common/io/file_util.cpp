@@ -1,6 +1,7 @@
 // Whole-file reading and atomic writing.
 #include "io/file_util.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -56,6 +57,17 @@ Status WriteFileAtomically(const fs::path& path, std::string_view content) {
     return Internal(path.string() + ": cannot rename temporary file into place: " + ec.message());
   }
   return Status::Ok();
+}
+
+long RaiseOpenFileLimit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return -1;
+  if (limit.rlim_cur < limit.rlim_max) {
+    limit.rlim_cur = limit.rlim_max;
+    (void)::setrlimit(RLIMIT_NOFILE, &limit);
+    (void)::getrlimit(RLIMIT_NOFILE, &limit);
+  }
+  return limit.rlim_cur == RLIM_INFINITY ? 1L << 30 : static_cast<long>(limit.rlim_cur);
 }
 
 }  // namespace fleetloc::io

@@ -21,4 +21,8 @@ std::filesystem::path AbsoluteDir(const std::filesystem::path& dir);
 // any I/O failure; the temporary file is removed on failure.
 Status WriteFileAtomically(const std::filesystem::path& path, std::string_view content);
 
+// Raises this process's soft limit of open files to its hard limit (a server holding thousands of
+// connections needs more than the usual 1024). Returns the soft limit now in force.
+long RaiseOpenFileLimit();
+
 }  // namespace fleetloc::io

@@ -78,6 +78,22 @@ TEST(ReadFrame, CorruptPngIsInvalidInputNamingTheFile) {
                        broken, 0, ""));
 }
 
+TEST(ReadFrame, AHugeImageDeclaredInATinyFileIsRefusedBeforeDecoding) {
+  TempDir dir;
+  const fs::path file = dir.path() / "huge.png";
+  testing::WriteGrayPng(file, 16, 12);
+  std::string png = testing::ReadText(file);
+  // IHDR width and height (big-endian at 16 and 20) rewritten to 30000 x 30000.
+  for (size_t at : {16u, 20u}) png[at] = 0, png[at + 1] = 0, png[at + 2] = 0x75, png[at + 3] = 0x30;
+  testing::WriteText(file, png);
+  const Status frame = ReadFrame({0.0, file}, SmallCamera()).status();
+  EXPECT_TRUE(HasError(frame, StatusCode::kInvalidInput, file, 0, "")) << frame.message();
+  EXPECT_NE(frame.message().find("30000x30000"), std::string::npos) << frame.message();
+  const Status image = ReadGrayImage(file).status();
+  EXPECT_EQ(image.code(), StatusCode::kInvalidInput);
+  EXPECT_NE(image.message().find("more than 100000000 pixels"), std::string::npos) << image.message();
+}
+
 TEST(ReadFrame, WrongSizeNamesFileAndBothSizes) {
   TempDir dir;
   const fs::path file = dir.path() / "big.png";

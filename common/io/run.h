@@ -85,13 +85,16 @@ Result<Run> ReadRun(const std::filesystem::path& dir);
 // files are written by the caller; FrameRef::file is written relative to the run directory.
 Status WriteRun(const Run& run);
 
-// Reads one frame as 8-bit gray; checks its size against the camera.
+// Reads one frame as 8-bit gray; checks its size against the camera (in its header, before it is
+// decoded).
 Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera);
 
-// Reads any image file (PNG, 8-bit or 16-bit, gray or colour) as 8-bit gray, without a size check
-// (for raw frames, whose size is the physical camera's). NotFound "<file>: not found",
-// InvalidInput "<file>: cannot decode image ..." for a corrupt or unsupported file.
-Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path);
+// Reads an image file (PNG, JPEG, BMP or binary PNM; 8-bit or 16-bit, gray or colour) as 8-bit gray,
+// without a size check beyond `max_pixels` (for raw frames, whose size is the physical camera's,
+// and floor images), read from its header before decoding. NotFound "<file>: not found",
+// InvalidInput "<file>: ..." for a larger, corrupt or unsupported file.
+constexpr long long kMaxImagePixels = 100'000'000;
+Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path, long long max_pixels = kMaxImagePixels);
 
 // poses.csv: every number finite, t strictly ascending, variances non-negative, status one of
 // the four names, inliers a non-negative integer. Written numbers round-trip exactly.

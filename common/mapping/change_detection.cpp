@@ -4,29 +4,53 @@
 #include <opencv2/imgproc.hpp>
 
 namespace fleetloc::mapping {
+namespace {
 
-ChangeReport CompareWithMosaic(const cv::Mat& frame, const cv::Mat& view, const ChangeOptions& o) {
+BlockComparison CompareBlock(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& block,
+                             const ChangeOptions& o) {
+  BlockComparison c;
+  c.rect = block;
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(frame(block), mean, stddev);
+  c.frame_stddev = stddev[0];
+  c.floor_seen = cv::countNonZero(frame(block) > o.dark_dn) >= block.area() * 9 / 10;
+  c.mapped = cv::countNonZero(view(block)) >= block.area() / 2;
+  if (!c.mapped) return c;
+  cv::meanStdDev(view(block), mean, stddev);
+  c.view_stddev = stddev[0];
+  // A flat side has no correlation to speak of (matchTemplate's answer there is undefined).
+  if (c.frame_stddev < 1e-3 || c.view_stddev < 1e-3) return c;
+  cv::Mat ncc;
+  cv::matchTemplate(view(block), frame(block), ncc, cv::TM_CCOEFF_NORMED);
+  c.ncc = ncc.at<float>(0, 0);
+  return c;
+}
+
+}  // namespace
+
+std::vector<BlockComparison> CompareBlocks(const cv::Mat& frame, const cv::Mat& view,
+                                           const ChangeOptions& o) {
   CV_Assert(frame.size() == view.size() && frame.type() == CV_8UC1 && view.type() == CV_8UC1);
-  ChangeReport report;
+  std::vector<BlockComparison> blocks;
   for (int y = 0; y + o.block_px <= frame.rows; y += o.block_px) {
     for (int x = 0; x + o.block_px <= frame.cols; x += o.block_px) {
-      const cv::Rect block(x, y, o.block_px, o.block_px);
-      cv::Scalar frame_mean, frame_std, view_mean, view_std;
-      cv::meanStdDev(frame(block), frame_mean, frame_std);
-      if (cv::countNonZero(view(block)) < block.area() / 2) {
-        // Floor the mosaic does not cover — if the camera sees textured floor there at all (not
-        // darkness: 90 % of the block brighter than the dark level).
-        const bool floor_seen = cv::countNonZero(frame(block) > o.dark_dn) >= block.area() * 9 / 10;
-        if (floor_seen && frame_std[0] >= o.min_block_stddev) ++report.blocks, ++report.unmapped;
-        continue;
-      }
-      cv::meanStdDev(view(block), view_mean, view_std);
-      if (frame_std[0] < o.min_block_stddev && view_std[0] < o.min_block_stddev) continue;
-      ++report.blocks;
-      cv::Mat ncc;
-      cv::matchTemplate(view(block), frame(block), ncc, cv::TM_CCOEFF_NORMED);
-      if (ncc.at<float>(0, 0) < o.min_block_ncc) ++report.changed;
+      blocks.push_back(CompareBlock(frame, view, {x, y, o.block_px, o.block_px}, o));
     }
+  }
+  return blocks;
+}
+
+ChangeReport CompareWithMosaic(const cv::Mat& frame, const cv::Mat& view, const ChangeOptions& o) {
+  ChangeReport report;
+  for (const BlockComparison& b : CompareBlocks(frame, view, o)) {
+    if (!b.mapped) {
+      // Floor the mosaic does not cover — if the camera sees textured floor there at all.
+      if (b.floor_seen && b.frame_stddev >= o.min_block_stddev) ++report.blocks, ++report.unmapped;
+      continue;
+    }
+    if (!b.textured(o.min_block_stddev)) continue;
+    ++report.blocks;
+    if (b.ncc < o.min_block_ncc) ++report.changed;
   }
   return report;
 }

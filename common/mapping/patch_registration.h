@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <map>
 #include <memory>
+#include <string>
 #include <opencv2/core.hpp>
 #include <utility>
 
@@ -17,11 +18,13 @@
 namespace fleetloc::mapping {
 
 // A rectified floor image (CV_8UC1 at the mosaic's level-0 resolution) and the pose of its
-// camera_ground frame (image centre) in map, with covariance.
+// camera_ground frame (image centre) in map, with covariance, as its sender reported them.
 struct Patch {
   cv::Mat image;
   geometry::Pose2 pose;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  double quality = 0;        // the sender's own 0..1 (ranks admitted patches, never admits)
+  std::string vehicle_id;    // who sent it (reputation, corroboration, reports)
 };
 
 struct Registration {
@@ -29,12 +32,20 @@ struct Registration {
   geometry::Pose2 pose;     // refined when registered, else the reported pose
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   int inliers = 0;
+  double rms_residual_px = 0;  // of the kept correspondences
 };
+
+// The mosaic as a patch of `size` whose camera_ground (image centre) is at `pose` sees it, in the
+// patch's pixel grid (CV_8UC1; 0 outside the mosaic).
+cv::Mat MosaicUnderPatch(mosaic::RasterSource* mosaic, cv::Size size, const geometry::Pose2& pose);
 
 class PatchRegistrar {
  public:
   PatchRegistrar(mosaic::RasterSource* mosaic, tracking::TrackerOptions options);
-  Registration Register(const Patch& patch);
+  // One tracker cycle from `patch.pose` with `prior` as its covariance (the search window).
+  Registration Register(const Patch& patch, const Eigen::Matrix3d& prior);
+  // The same with the patch's own covariance as the prior.
+  Registration Register(const Patch& patch) { return Register(patch, patch.covariance); }
 
  private:
   tracking::MosaicTracker& TrackerFor(cv::Size size);

@@ -1,11 +1,12 @@
 // Re-mapping computation on a real floor photo whose floor "changed" in a known place: the patches
 // register to the unchanged texture around the change, the new tiles show the changed floor, tiles
-// away from the patches are untouched, and the pyramid follows.
+// away from the patches are untouched, and the pyramid follows; a forged vehicle's patches change
+// nothing; with corroboration a change waits for a second vehicle.
 #include "mapping/remap.h"
 
 #include <gtest/gtest.h>
 
-#include "mapping/changed_floor_scene.h"
+#include "mapping/forged_patches.h"
 #include "mosaic/pyramid_builder.h"
 
 namespace fleetloc::mapping {
@@ -20,17 +21,17 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   const auto fetch = [&](const mosaic::TileKey& k) {
     return source.ReadBlock(k.level, mosaic::TilePixelRect(source.layout(), k));
   };
-  const std::vector<Patch> patches = {
+  VectorPatchSource patches({
       scene.PatchAt({490, 425}, {2.0 * kRes, -1.5 * kRes, 0.3 * M_PI / 180}),
-      scene.PatchAt({470, 440}, {-1.0 * kRes, 2.5 * kRes, -0.2 * M_PI / 180})};
+      scene.PatchAt({470, 440}, {-1.0 * kRes, 2.5 * kRes, -0.2 * M_PI / 180})});
   RemapOptions options;
   options.mode = BlendMode::kReplace;
   auto result = ComputeRemap(&source, fetch, patches, options, {}, nullptr);
   ASSERT_TRUE(result.ok()) << result.status().message();
-  ASSERT_EQ(result->used, std::vector<bool>({true, true}));
-  for (size_t i = 0; i < patches.size(); ++i) {
-    const Registration& r = result->registrations[i];
-    ASSERT_TRUE(r.registered) << "patch " << i;
+  ASSERT_EQ(result->Count(PatchFate::kFolded), 2);
+  for (size_t i = 0; i < 2; ++i) {
+    const Admission& r = result->outcomes[i].admission;
+    ASSERT_TRUE(r.admitted()) << "patch " << i << ": " << r.reason;
     const Eigen::Vector2d truth = scene.geo.PixelToMap(i == 0 ? Eigen::Vector2d(490, 425)
                                                               : Eigen::Vector2d(470, 440));
     EXPECT_LT((Eigen::Vector2d(r.pose.x, r.pose.y) - truth).norm() / kRes, 0.1) << "patch " << i;
@@ -65,28 +66,62 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   }
 }
 
-TEST(Remap, AnUnregisterablePatchWithAPoorPoseIsRejected) {
+// The current mosaic's tiles as ComputeRemap reads them.
+TileFetch FetchFrom(mosaic::ImageRasterSource& source) {
+  return [&source](const mosaic::TileKey& k) {
+    return source.ReadBlock(k.level, mosaic::TilePixelRect(source.layout(), k));
+  };
+}
+
+TEST(Remap, AForgedVehicleChangesNoTileInEitherMode) {
   Scene scene;
   mosaic::ImageRasterSource source(scene.old_floor, scene.geo);
-  Patch flat;
-  flat.image = cv::Mat(240, 320, CV_8UC1, cv::Scalar(128));  // nothing to register on
-  flat.pose = {0.25, 0.25, 0.0};
-  flat.covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-3).asDiagonal();  // σ = 20 px
-  auto result = ComputeRemap(&source, [&](const mosaic::TileKey& k) {
-    return source.ReadBlock(k.level, mosaic::TilePixelRect(source.layout(), k));
-  }, {flat}, {}, {}, nullptr);
-  ASSERT_TRUE(result.ok());
-  EXPECT_EQ(result->rejected, 1);
-  EXPECT_TRUE(result->tiles.empty());
+  std::vector<Patch> forged;
+  for (cv::Point centre : {cv::Point(490, 425), cv::Point(300, 300), cv::Point(700, 600)}) {
+    for (testing::ForgedPatch& f : testing::ForgedPatches(scene, centre)) forged.push_back(f.patch);
+  }
+  for (BlendMode mode : {BlendMode::kBlend, BlendMode::kReplace}) {
+    VectorPatchSource patches(forged);
+    RemapOptions options;
+    options.mode = mode;
+    auto result = ComputeRemap(&source, FetchFrom(source), patches, options, {}, nullptr);
+    ASSERT_TRUE(result.ok()) << result.status().message();
+    EXPECT_EQ(result->Count(PatchFate::kRefused), static_cast<int>(forged.size()));
+    EXPECT_TRUE(result->tiles.empty());  // not one pixel of the mosaic changes
+    for (const PatchOutcome& o : result->outcomes) EXPECT_FALSE(o.reason.empty());
+  }
+}
+
+TEST(Remap, WithCorroborationAOneVehicleChangeIsHeldUntilASecondVehicleSeesIt) {
+  Scene scene;
+  mosaic::ImageRasterSource source(scene.old_floor, scene.geo);
+  auto from = [&](cv::Point centre, const char* vehicle) {
+    Patch p = scene.PatchAt(centre, {});
+    p.vehicle_id = vehicle;
+    return p;
+  };
+  RemapOptions options;
+  options.mode = BlendMode::kReplace;
+  options.corroboration.min_vehicles = 2;
+  VectorPatchSource alone({from({490, 425}, "agv-1"), from({470, 440}, "agv-1"),
+                           testing::SplicedPatch(scene, {700, 600}, "forger")});
+  auto held = ComputeRemap(&source, FetchFrom(source), alone, options, {}, nullptr);
+  ASSERT_TRUE(held.ok());
+  EXPECT_EQ(held->Count(PatchFate::kHeld), 3);
+  EXPECT_TRUE(held->tiles.empty());
+  VectorPatchSource seen_twice({from({490, 425}, "agv-1"), from({470, 440}, "agv-2")});
+  auto folded = ComputeRemap(&source, FetchFrom(source), seen_twice, options, {}, nullptr);
+  ASSERT_TRUE(folded.ok());
+  EXPECT_EQ(folded->Count(PatchFate::kFolded), 2);
+  EXPECT_TRUE(folded->tiles.count({0, 1, 1}));
 }
 
 TEST(Remap, CancelStopsBeforeAnythingIsProduced) {
   Scene scene;
   mosaic::ImageRasterSource source(scene.old_floor, scene.geo);
   std::atomic<bool> cancel{true};
-  auto result = ComputeRemap(&source, [&](const mosaic::TileKey& k) {
-    return source.ReadBlock(k.level, mosaic::TilePixelRect(source.layout(), k));
-  }, {scene.PatchAt({490, 425}, {})}, {}, {}, &cancel);
+  VectorPatchSource patches({scene.PatchAt({490, 425}, {})});
+  auto result = ComputeRemap(&source, FetchFrom(source), patches, {}, {}, &cancel);
   EXPECT_FALSE(result.ok());
 }
 

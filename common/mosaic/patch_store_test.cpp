@@ -1,5 +1,6 @@
-// Patch store: idempotent puts, exact read-back, reopen, bad fields, corrupt blobs, and folding
-// that only counts once the mosaic version is committed.
+// Patch store: idempotent puts, exact read-back, reopen, bad fields (a malformed covariance among
+// them), corrupt blobs, folding that only counts once the mosaic version is committed, refusals
+// that are never selected again, and files written before refusals existed.
 #include "mosaic/patch_store.h"
 
 #include <gtest/gtest.h>
@@ -87,12 +88,19 @@ TEST_F(PatchStoreTest, ReopenKeepsEveryPatchAndRegionQueriesSelect) {
 TEST_F(PatchStoreTest, BadFieldsAreNamed) {
   auto store = Open();
   PatchRecord nan_pose = Patch(1), bad_quality = Patch(2), empty = Patch(3);
+  PatchRecord zero_covariance = Patch(4), negative_covariance = Patch(5);
   nan_pose.pose.x = std::nan("");
   bad_quality.quality = 2;
   empty.image.release();
+  zero_covariance.covariance.setZero();
+  negative_covariance.covariance *= -1;
   EXPECT_NE(store->Put(nan_pose).status().message().find("pose"), std::string::npos);
   EXPECT_NE(store->Put(bad_quality).status().message().find("quality"), std::string::npos);
   EXPECT_NE(store->Put(empty).status().message().find("image"), std::string::npos);
+  for (const PatchRecord* p : {&zero_covariance, &negative_covariance}) {
+    EXPECT_NE(store->Put(*p).status().message().find("covariance': covariance is not positive definite"),
+              std::string::npos) << store->Put(*p).status().message();
+  }
   EXPECT_EQ(store->Counts(1)->stored, 0);
 }
 
@@ -120,6 +128,38 @@ TEST_F(PatchStoreTest, FoldingCountsOnlyOnceTheVersionIsCommitted) {
   EXPECT_EQ(store->Counts(2)->folded, 1);
   ASSERT_TRUE(store->ClearUncommittedMarks(1).ok());                // the job died before commit
   EXPECT_EQ(store->Unfolded(everywhere_, 2)->patches.size(), 1u);
+}
+
+TEST_F(PatchStoreTest, RefusedPatchesAreNeverSelectedAgain) {
+  auto store = Open();
+  ASSERT_TRUE(store->Put(Patch(1)).ok());
+  ASSERT_TRUE(store->Put(Patch(2)).ok());
+  ASSERT_TRUE(store->MarkRefused({{"agv-7", 2, "unregistered: does not register"}}).ok());
+  const auto unfolded = store->Unfolded(everywhere_, 1);
+  ASSERT_EQ(unfolded->patches.size(), 1u);
+  EXPECT_EQ(unfolded->patches[0].sequence, 1);
+  EXPECT_EQ(store->Counts(1)->refused, 1);
+  EXPECT_EQ(store->Counts(1)->stored, 2);
+}
+
+TEST_F(PatchStoreTest, AFileWrittenBeforeRefusalsExistedGainsTheColumn) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
+  // The patches table as earlier versions made it, with one patch in it.
+  ASSERT_EQ(sqlite3_exec(db,
+                         "CREATE TABLE patches(vehicle_id TEXT NOT NULL, sequence INTEGER NOT NULL,"
+                         " stamp REAL NOT NULL, x REAL NOT NULL, y REAL NOT NULL, theta REAL NOT NULL,"
+                         " covariance BLOB NOT NULL, quality REAL NOT NULL, min_x REAL NOT NULL,"
+                         " min_y REAL NOT NULL, max_x REAL NOT NULL, max_y REAL NOT NULL,"
+                         " image BLOB NOT NULL, folded_in_version INTEGER NOT NULL DEFAULT 0,"
+                         " PRIMARY KEY(vehicle_id, sequence))",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  auto store = Open();
+  ASSERT_TRUE(store->Put(Patch(1)).ok());
+  ASSERT_TRUE(store->MarkRefused({{"agv-7", 1, "flat"}}).ok());
+  EXPECT_EQ(store->Counts(1)->refused, 1);
 }
 
 TEST_F(PatchStoreTest, AFileThatIsNotAMosaicIsRejected) {

@@ -1,44 +1,78 @@
 // A re-mapping job against the stored mosaic (the map server's, and any tool's): select the
-// unfolded patches of a region, compute the new tiles (mapping::ComputeRemap), then mark the
-// patches and commit the tiles as the next mosaic version. A job that fails, is cancelled or dies
-// at any point leaves the previous version intact, and can simply be run again.
+// unfolded patches of a region, judge each on the server's own evidence and fold the admitted
+// ones into new tiles (mapping::ComputeRemap), record the refusals and each vehicle's standing
+// (quarantining a vehicle whose patches keep failing), then mark the folded patches and commit
+// the tiles as the next mosaic version. A job that fails, is cancelled or dies at any point leaves
+// the previous version intact, and can simply be run again.
 #pragma once
 
 #include <atomic>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "base/status.h"
+#include "mapping/remap.h"
+#include "mapping/vehicle_reputation.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
+#include "mosaic/vehicle_standing_store.h"
 
 namespace fleetloc::mosaic {
 
 enum class RemapMode { kBlend, kReplace };
 
+// How patches are judged (the map server's configuration, "patch_admission").
+struct RemapPolicy {
+  mapping::AdmissionOptions admission;
+  mapping::CorroborationOptions corroboration;
+  mapping::ReputationOptions reputation;
+  int max_patches_per_tile = 16;
+};
+
 struct RemapRequest {
   MapRect region;
   RemapMode mode = RemapMode::kBlend;
+  RemapPolicy policy;
 };
 
 struct RemapProgress {
-  std::string phase;  // select, register, blend, pyramid, commit
+  // select, judge, corroborate, blend, pyramid, commit (done 1 .. total - 1: tiles written into the
+  // still uncommitted version; total: committed)
+  std::string phase;
   int done = 0;
   int total = 0;
+};
+
+// What one job did with one vehicle's patches.
+struct VehicleRemapReport {
+  int folded = 0;
+  int refused = 0;
+  int held = 0;                              // awaiting another vehicle's confirmation
+  std::map<std::string, int> refused_by;     // verdict name (or "quarantined") → count
+  bool quarantined = false;                  // quarantined now (before or by this job)
 };
 
 struct RemapResult {
   long long new_version = 0;          // the previous version when nothing changed
   std::vector<TileKey> changed_tiles;  // every level
   int patches_folded = 0;
-  int patches_rejected = 0;           // could not be placed well enough (see mapping::RemapOptions)
+  int patches_rejected = 0;           // refused (failed admission, unreadable, quarantined sender)
+  int patches_held = 0;
   int patches_unreadable = 0;         // stored image did not decode
+  std::map<std::string, VehicleRemapReport> vehicles;
+  std::vector<std::string> newly_quarantined;
 };
 
-// InvalidInput for an empty, inverted or non-finite region or one outside the mosaic, and when
-// cancelled; Internal on storage errors. `store` must be writable.
-Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, const RemapRequest& request,
+// One line for operators (RemapStatus message, logs): per vehicle what was folded, refused (by
+// reason) and held, and who is quarantined; at most `max_chars`, ending "..." when cut.
+std::string RemapSummary(const RemapResult& result, size_t max_chars = 255);
+
+// InvalidInput for an empty, inverted or non-finite region or one outside the mosaic, bad policy
+// options, and when cancelled; Internal on storage errors. `store` must be writable.
+Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStandingStore& standing,
+                             const RemapRequest& request,
                              const std::function<void(const RemapProgress&)>& progress = {},
                              const std::atomic<bool>* cancel = nullptr);
 

@@ -5,6 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "mosaic/image_header.h"
+
 namespace fleetloc::mosaic {
 
 std::optional<cv::Size> PngHeaderSize(std::span<const std::uint8_t> bytes) {
@@ -37,18 +39,25 @@ Result<std::vector<std::uint8_t>> EncodeTile(const cv::Mat& tile) {
   return Internal("tile PNG encoding failed");
 }
 
-Result<cv::Mat> DecodeGrayPng(std::span<const std::uint8_t> bytes, int max_side_px) {
+Status CheckGrayPngHeader(std::span<const std::uint8_t> bytes, int max_side_px) {
   if (bytes.empty()) return InvalidInput("image data is empty");
-  // The header is checked before decoding, so corrupt or hostile bytes cannot make the decoder
-  // allocate a huge image.
-  const std::optional<cv::Size> size = PngHeaderSize(bytes);
-  if (!size) return InvalidInput("image data is not a PNG");
-  if (size->width < 1 || size->height < 1 || size->width > max_side_px ||
-      size->height > max_side_px) {
-    return InvalidInput("image is " + std::to_string(size->width) + "x" +
-                        std::to_string(size->height) + " px, sides must be in [1, " +
-                        std::to_string(max_side_px) + "]");
+  const std::optional<ImageHeader> header = ReadImageHeader(bytes);
+  if (!header || header->format != ImageFormat::kPng) return InvalidInput("image data is not a PNG");
+  if (header->width < 1 || header->height < 1 || header->width > max_side_px || header->height > max_side_px) {
+    return InvalidInput("image is " + std::to_string(header->width) + "x" + std::to_string(header->height) +
+                        " px, sides must be in [1, " + std::to_string(max_side_px) + "]");
   }
+  if (header->bit_depth != 8 || header->channels != 1) {
+    return InvalidInput("image is " + header->Describe() + "; it must be 8-bit gray");
+  }
+  return Status::Ok();
+}
+
+Result<cv::Mat> DecodeGrayPng(std::span<const std::uint8_t> bytes, int max_side_px) {
+  // The header is checked before decoding, so corrupt or hostile bytes cannot make the decoder
+  // allocate a huge (or deep, or colour) image.
+  FLEETLOC_RETURN_IF_ERROR(CheckGrayPngHeader(bytes, max_side_px));
+  const std::optional<cv::Size> size = PngHeaderSize(bytes);
   cv::Mat image;
   try {
     const cv::Mat raw(1, static_cast<int>(bytes.size()), CV_8UC1,

@@ -19,8 +19,12 @@ Result<std::vector<std::uint8_t>> EncodeTile(const cv::Mat& tile);
 // ((-1, -1) for absurd sizes).
 std::optional<cv::Size> PngHeaderSize(std::span<const std::uint8_t> bytes);
 
-// Decodes an 8-bit gray PNG of any size up to max_side_px per side (checked in the header before
-// decoding). InvalidInput for anything else; never an exception.
+// Ok when `bytes` start with the header of an 8-bit gray PNG of sides in [1, max_side_px]; else
+// InvalidInput saying what the header declares (nothing is decoded).
+Status CheckGrayPngHeader(std::span<const std::uint8_t> bytes, int max_side_px);
+
+// Decodes an 8-bit gray PNG of any size up to max_side_px per side (size, depth and channels
+// checked in the header before decoding). InvalidInput for anything else; never an exception.
 Result<cv::Mat> DecodeGrayPng(std::span<const std::uint8_t> bytes, int max_side_px);
 
 // Decodes PNG bytes into a CV_8UC1 tile of exactly tile_size_px × tile_size_px. Corrupt bytes, a

@@ -4,12 +4,25 @@
 namespace fleetloc::fleet_supervisor {
 
 void EventStream::Publish(std::string data) {
+  std::function<void()> listener;
   {
     std::lock_guard lock(mutex_);
     data_ = std::make_shared<const std::string>(std::move(data));
     ++seq_;
+    listener = listener_;
   }
   changed_.notify_all();
+  if (listener) listener();
+}
+
+std::pair<uint64_t, std::shared_ptr<const std::string>> EventStream::Latest() const {
+  std::lock_guard lock(mutex_);
+  return {seq_, data_};
+}
+
+void EventStream::SetListener(std::function<void()> listener) {
+  std::lock_guard lock(mutex_);
+  listener_ = std::move(listener);
 }
 
 bool EventStream::WaitNewer(uint64_t* seq, std::shared_ptr<const std::string>* data,
@@ -22,11 +35,14 @@ bool EventStream::WaitNewer(uint64_t* seq, std::shared_ptr<const std::string>* d
 }
 
 void EventStream::Close() {
+  std::function<void()> listener;
   {
     std::lock_guard lock(mutex_);
     closed_ = true;
+    listener = listener_;
   }
   changed_.notify_all();
+  if (listener) listener();
 }
 
 bool EventStream::closed() const {

@@ -1,14 +1,17 @@
 // HttpApi: routes, input checks, the event stream and static files.
-#include "fleet_supervisor/http_api.h"
+#include "fleet_supervisor/http_api.h"  // Eigen before httplib (see guarded_server.h)
 
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <cctype>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 
 #include "fleet_supervisor/fleet_view.h"
+#include "fleet_supervisor/guarded_server.h"
+#include "io/file_util.h"
 #include "io/json_fields.h"
 #include "transport/wire_util.h"
 
@@ -20,7 +23,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr size_t kMaxBodyBytes = 64 * 1024;
 constexpr int kMaxHistoryRows = 200000;  // rows read for one series before thinning
 constexpr double kDefaultHistoryS = 600;
 constexpr int kDefaultHistoryPoints = 500;
@@ -65,9 +67,36 @@ bool SameToken(const std::string& a, const std::string& b) {
   return diff == 0;
 }
 
+// What the connection front checks, from the configuration.
+RequestPolicy PolicyOf(const SupervisorConfig& c) {
+  RequestPolicy policy;
+  policy.allowed_hosts = c.http.allowed_hosts.empty() ? DefaultAllowedHosts(c.http_bind) : c.http.allowed_hosts;
+  for (std::string& host : policy.allowed_hosts) {
+    for (char& ch : host) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  }
+  policy.max_ranges = c.http.max_ranges;
+  policy.max_body_bytes = static_cast<size_t>(c.http.max_body_bytes);
+  return policy;
+}
+
+ThrottleOptions ThrottleOf(const SupervisorConfig& c) {
+  ThrottleOptions o;
+  o.free_failures = c.http.auth_free_failures;
+  o.max_backoff_s = c.http.auth_max_backoff_s;
+  return o;
+}
+
+double SteadyNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 }  // namespace
 
-HttpApi::HttpApi(ApiContext context) : ctx_(std::move(context)), server_(std::make_unique<httplib::Server>()) {}
+HttpApi::HttpApi(ApiContext context)
+    : ctx_(std::move(context)),
+      throttle_(ThrottleOf(*ctx_.config)),
+      server_(std::make_unique<GuardedServer>(ctx_.config->http, PolicyOf(*ctx_.config), ctx_.stream,
+                                              &ctx_.fleet->counters())) {}
 
 HttpApi::~HttpApi() { Stop(); }
 
@@ -75,20 +104,26 @@ void HttpApi::Stop() {
   if (ctx_.stream) ctx_.stream->Close();
   if (server_) server_->stop();
   if (thread_.joinable()) thread_.join();
+  if (server_) server_->StopGuards();
 }
 
 Status HttpApi::Start(const std::string& web_dir) {
-  httplib::Server& s = *server_;
-  s.new_task_queue = [] { return new httplib::ThreadPool(16); };
-  s.set_payload_max_length(kMaxBodyBytes);
-  s.set_keep_alive_timeout(2);
+  GuardedServer& s = *server_;
+  s.set_payload_max_length(static_cast<size_t>(ctx_.config->http.max_body_bytes));  // the front checks first
   if (!s.set_mount_point("/", web_dir)) return NotFound(web_dir + ": the dashboard's web directory is missing");
   Routes();
   const SupervisorConfig& c = *ctx_.config;
-  port_ = c.http_port == 0 ? s.bind_to_any_port(c.http_bind) : (s.bind_to_port(c.http_bind, c.http_port) ? c.http_port : -1);
+  port_ = s.Bind(c.http_bind, c.http_port);
   if (port_ <= 0) {
     return Internal("cannot listen on " + c.http_bind + ":" + std::to_string(c.http_port));
   }
+  const long files = io::RaiseOpenFileLimit();
+  const long needed = static_cast<long>(c.http.max_connections) + c.http.max_streams + 256;
+  if (files < needed) {
+    spdlog::warn("open-file limit {} is below the {} that http.max_connections and max_streams may "
+                 "need: raise LimitNOFILE (beyond it new connections wait to be accepted)", files, needed);
+  }
+  FLEETLOC_RETURN_IF_ERROR(s.StartGuards());
   thread_ = std::thread([this] { server_->listen_after_bind(); });
   spdlog::info("dashboard on http://{}:{}/ ({})", c.http_bind, port_,
                ctx_.maintainer_token.empty() ? "read-only: no maintainer token" : "maintainer token set");
@@ -124,7 +159,8 @@ void HttpApi::Routes() {
     return false;
   };
   // The maintainer token of a change request: 401 without one, 403 when wrong or read-only.
-  auto authorized = [this](const Request& req, Response& res) {
+  // After a few wrong tokens a client must wait longer and longer before its token is checked.
+  auto authorized = [this, &fleet](const Request& req, Response& res) {
     const std::string header = req.get_header_value("Authorization");
     if (ctx_.maintainer_token.empty()) {
       Fail(res, 403, "read-only: this supervisor has no maintainer token configured");
@@ -135,10 +171,20 @@ void HttpApi::Routes() {
       Fail(res, 401, "a maintainer token is required (Authorization: Bearer <token>)");
       return false;
     }
+    if (const double wait = throttle_.RetryAfter(req.remote_addr, SteadyNow()); wait > 0) {
+      ++fleet.counters().http_auth_throttled;
+      res.set_header("Retry-After", std::to_string(static_cast<long long>(std::ceil(wait))));
+      Fail(res, 429, "too many wrong maintainer tokens: try again in " +
+                         std::to_string(static_cast<long long>(std::ceil(wait))) + " s");
+      return false;
+    }
     if (!SameToken(header.substr(7), ctx_.maintainer_token)) {
+      throttle_.Failed(req.remote_addr, SteadyNow());
+      spdlog::warn("wrong maintainer token from {}", req.remote_addr);
       Fail(res, 403, "wrong maintainer token");
       return false;
     }
+    throttle_.Succeeded(req.remote_addr);
     return true;
   };
 
@@ -252,21 +298,7 @@ void HttpApi::Routes() {
     for (const auto& [name, value] : fleet.counters().Snapshot()) counters[name] = value;
     Reply(res, 200, counters);
   });
-  s.Get("/api/events", [this](const Request&, Response& res) {
-    res.set_header("Cache-Control", "no-cache");
-    EventStream* stream = ctx_.stream;
-    auto seq = std::make_shared<uint64_t>(0);
-    res.set_chunked_content_provider("text/event-stream", [stream, seq](size_t, httplib::DataSink& sink) {
-      std::shared_ptr<const std::string> data;
-      if (!stream->WaitNewer(seq.get(), &data, std::chrono::seconds(2))) {
-        if (stream->closed()) return false;
-        static const std::string kKeepAlive = ": keep-alive\n\n";
-        return sink.write(kKeepAlive.data(), kKeepAlive.size());
-      }
-      const std::string event = "data: " + *data + "\n\n";
-      return sink.write(event.data(), event.size());
-    });
-  });
+  // GET /api/events never reaches here: the connection front hands it to the stream hub.
 }
 
 }  // namespace fleetloc::fleet_supervisor

@@ -1,8 +1,10 @@
-// The supervisor's HTTP server (cpp-httplib): the JSON API, the live stream (Server-Sent Events)
-// and the dashboard's static files. Reads are open; every change (starting a re-mapping job)
-// needs the maintainer token as "Authorization: Bearer <token>" — 401 without it, 403 with a
-// wrong one or when no token is configured (read-only). Bad input gets a 4xx JSON
-// {"error": "..."} and is counted. The API is listed in docs/architecture.md.
+// The supervisor's HTTP server (cpp-httplib behind the connection front: guarded_server.h): the
+// JSON API, the live stream (Server-Sent Events, served by the stream hub) and the dashboard's
+// static files. Reads are open; every change (starting a re-mapping job) needs the maintainer
+// token as "Authorization: Bearer <token>" — 401 without it, 403 with a wrong one or when no token
+// is configured (read-only), 429 while the client must wait after repeated wrong tokens
+// (auth_throttle.h). Bad input gets a 4xx JSON {"error": "..."} and is counted. The API is listed
+// in docs/architecture.md; what a client may cost the server, in http_limits.h.
 #pragma once
 
 #include <functional>
@@ -11,6 +13,7 @@
 #include <thread>
 
 #include "base/status.h"
+#include "fleet_supervisor/auth_throttle.h"
 #include "fleet_supervisor/event_stream.h"
 #include "fleet_supervisor/history_store.h"
 #include "fleet_supervisor/overview_tiles.h"
@@ -18,11 +21,9 @@
 #include "fleet_supervisor/supervisor_config.h"
 #include "transport/remap_client.h"
 
-namespace httplib {
-class Server;
-}
-
 namespace fleetloc::fleet_supervisor {
+
+class GuardedServer;
 
 // What the handlers use; everything outlives the HttpApi.
 struct ApiContext {
@@ -52,7 +53,8 @@ class HttpApi {
   void Routes();
 
   ApiContext ctx_;
-  std::unique_ptr<httplib::Server> server_;
+  AuthThrottle throttle_;
+  std::unique_ptr<GuardedServer> server_;
   std::thread thread_;
   int port_ = 0;
 };

@@ -3,6 +3,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "fleet_supervisor/fleet_view.h"
 
 namespace fleetloc::fleet_supervisor {
@@ -20,7 +22,17 @@ std::vector<std::pair<std::string, uint64_t>> SupervisorCounters::Snapshot() con
           {"alerts_raised", alerts_raised},       {"alerts_cleared", alerts_cleared},
           {"http_requests", http_requests},       {"http_rejected", http_rejected},
           {"tiles_served", tiles_served},         {"remaps_started", remaps_started},
-          {"stream_snapshots", stream_snapshots}, {"deadline_misses", deadline_misses}};
+          {"stream_snapshots", stream_snapshots}, {"deadline_misses", deadline_misses},
+          {"http_connections_refused", http_connections_refused},
+          {"http_head_timeouts", http_head_timeouts},
+          {"http_heads_too_large", http_heads_too_large},
+          {"http_requests_refused", http_requests_refused},
+          {"http_busy", http_busy},
+          {"http_auth_throttled", http_auth_throttled},
+          {"http_streams_refused", http_streams_refused},
+          {"http_streams_dropped", http_streams_dropped},
+          {"http_connections_open", static_cast<uint64_t>(std::max<int64_t>(0, http_connections_open))},
+          {"http_streams_open", static_cast<uint64_t>(std::max<int64_t>(0, http_streams_open))}};
 }
 
 SharedFleet::SharedFleet(const fleet::AlertOptions& alerts, const fleet::TrailOptions& trail,

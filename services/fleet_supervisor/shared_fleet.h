@@ -28,6 +28,11 @@ struct SupervisorCounters {
   std::atomic<uint64_t> http_requests{0}, http_rejected{0}, tiles_served{0}, remaps_started{0};
   std::atomic<uint64_t> stream_snapshots{0}, deadline_misses{0};
   std::atomic<uint64_t> history_queue{0};  // rows waiting for the next write
+  // The HTTP front (http_limits.h): what it refused or cut off, and what is open now.
+  std::atomic<uint64_t> http_connections_refused{0}, http_head_timeouts{0}, http_heads_too_large{0};
+  std::atomic<uint64_t> http_requests_refused{0}, http_busy{0}, http_auth_throttled{0};
+  std::atomic<uint64_t> http_streams_refused{0}, http_streams_dropped{0};
+  std::atomic<int64_t> http_connections_open{0}, http_streams_open{0};
   // (name, value) pairs in a fixed order.
   std::vector<std::pair<std::string, uint64_t>> Snapshot() const;
 };

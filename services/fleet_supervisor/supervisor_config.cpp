@@ -1,6 +1,9 @@
 // Fleet supervisor configuration from JSON.
 #include "fleet_supervisor/supervisor_config.h"
 
+#include <sys/stat.h>
+
+#include <cstdio>
 #include <set>
 
 #include "io/file_util.h"
@@ -33,6 +36,7 @@ Status Validate(const SupervisorConfig& c) {
     return bad("trail", "need period_s > 0 and length_s >= period_s");
   }
   if (Status alerts = fleet::Validate(c.alerts); !alerts.ok()) return bad("alerts", alerts.message());
+  if (const std::string problem = LimitsProblem(c.http); !problem.empty()) return bad("http", problem);
   return Status::Ok();
 }
 
@@ -64,6 +68,49 @@ Status ReadAlerts(const io::JsonFields& fields, const nlohmann::json& json, flee
     }
     for (const auto& [name, out] : members) {
       if (rule->Has(name)) FLEETLOC_RETURN_IF_ERROR(rule->Number(name, out));
+    }
+  }
+  return Status::Ok();
+}
+
+// "http": every member of HttpLimits, optional; "allowed_hosts" a list of strings.
+Status ReadHttp(const io::JsonFields& fields, const nlohmann::json& json, HttpLimits* h) {
+  Result<io::JsonFields> http = fields.Object("http");
+  if (!http.ok()) return http.status();
+  const std::pair<const char*, int*> ints[] = {
+      {"max_connections", &h->max_connections}, {"max_streams", &h->max_streams},
+      {"workers", &h->workers}, {"queue", &h->queue},
+      {"max_requests_per_connection", &h->max_requests_per_connection},
+      {"max_header_bytes", &h->max_header_bytes}, {"max_header_count", &h->max_header_count},
+      {"max_body_bytes", &h->max_body_bytes}, {"max_ranges", &h->max_ranges},
+      {"max_buffered_mb", &h->max_buffered_mb}, {"auth_free_failures", &h->auth_free_failures}};
+  const std::pair<const char*, double*> numbers[] = {
+      {"header_timeout_s", &h->header_timeout_s}, {"keep_alive_timeout_s", &h->keep_alive_timeout_s},
+      {"write_timeout_s", &h->write_timeout_s}, {"stream_keep_alive_s", &h->stream_keep_alive_s},
+      {"auth_max_backoff_s", &h->auth_max_backoff_s}};
+  for (const auto& [key, value] : json.items()) {
+    bool known = key == "allowed_hosts";
+    for (const auto& [name, out] : ints) known |= key == name;
+    for (const auto& [name, out] : numbers) known |= key == name;
+    if (!known) return http->Error(key, "unknown option");
+  }
+  for (const auto& [name, out] : ints) {  // ranges: Validate()
+    if (!http->Has(name)) continue;
+    double value = 0;
+    FLEETLOC_RETURN_IF_ERROR(http->NonNegativeNumber(name, &value));
+    if (value != static_cast<int>(value)) return http->Error(name, "must be an integer");
+    *out = static_cast<int>(value);
+  }
+  for (const auto& [name, out] : numbers) {
+    if (http->Has(name)) FLEETLOC_RETURN_IF_ERROR(http->PositiveNumber(name, out));
+  }
+  if (http->Has("allowed_hosts")) {
+    const nlohmann::json& hosts = json["allowed_hosts"];
+    if (!hosts.is_array()) return http->Error("allowed_hosts", "must be a list of host names");
+    h->allowed_hosts.clear();
+    for (const nlohmann::json& host : hosts) {
+      if (!host.is_string()) return http->Error("allowed_hosts", "must be a list of host names");
+      h->allowed_hosts.push_back(host.get<std::string>());
     }
   }
   return Status::Ok();
@@ -101,7 +148,7 @@ Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path) {
       {"max_query_range_s", &c.max_query_range_s}, {"stream_period_s", &c.stream_period_s},
       {"tile_timeout_s", &c.tile_timeout_s}, {"health_period_s", &c.health_period_s}};
   for (const auto& [key, value] : json->items()) {
-    bool known = key == "alerts" || key == "trail";
+    bool known = key == "alerts" || key == "trail" || key == "http";
     for (const auto& [name, out] : strings) known |= key == name;
     for (const auto& [name, out] : ints) known |= key == name;
     for (const auto& [name, out] : numbers) known |= key == name;
@@ -122,17 +169,56 @@ Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path) {
   }
   if (fields.Has("alerts")) FLEETLOC_RETURN_IF_ERROR(ReadAlerts(fields, (*json)["alerts"], &c.alerts));
   if (fields.Has("trail")) FLEETLOC_RETURN_IF_ERROR(ReadTrail(fields, (*json)["trail"], &c.trail));
+  if (fields.Has("http")) FLEETLOC_RETURN_IF_ERROR(ReadHttp(fields, (*json)["http"], &c.http));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }
 
+namespace {
+
+// "" or what makes `token` unfit to guard re-mapping.
+std::string TokenProblem(const std::string& token) {
+  if (token.size() < 16) return "the maintainer token is shorter than 16 characters";
+  if (token.size() > 1024) return "the maintainer token is longer than 1024 characters";
+  for (const char ch : token) {
+    if (ch <= ' ' || ch > '~') return "the maintainer token has a character that is not printable ASCII";
+  }
+  return "";
+}
+
+// The token file must be a regular file nobody but its owner may read or write.
+Status CheckTokenFileMode(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return NotFound(path + ": cannot read the maintainer token file");
+  if (!S_ISREG(st.st_mode)) return InvalidInput(path + ": the maintainer token file is not a regular file");
+  if ((st.st_mode & 077) != 0) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%03o", static_cast<unsigned>(st.st_mode & 0777));
+    return InvalidInput(path + ": the maintainer token file has mode " + mode +
+                        "; group and others must have no access (chmod 600)");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 Result<std::string> ResolveMaintainerToken(const SupervisorConfig& c) {
-  if (!c.maintainer_token.empty() || c.maintainer_token_file.empty()) return c.maintainer_token;
+  if (!c.maintainer_token.empty()) {
+    if (const std::string problem = TokenProblem(c.maintainer_token); !problem.empty()) {
+      return InvalidInput("fleet supervisor config: field 'maintainer_token': " + problem);
+    }
+    return c.maintainer_token;
+  }
+  if (c.maintainer_token_file.empty()) return std::string();
+  FLEETLOC_RETURN_IF_ERROR(CheckTokenFileMode(c.maintainer_token_file));
   Result<std::string> text = io::ReadFileText(c.maintainer_token_file);
   if (!text.ok()) return text.status();
   std::string token = text->substr(0, text->find('\n'));
   while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
   if (token.empty()) return InvalidInput(c.maintainer_token_file + ": the maintainer token is empty");
+  if (const std::string problem = TokenProblem(token); !problem.empty()) {
+    return InvalidInput(c.maintainer_token_file + ": " + problem);
+  }
   return token;
 }
 

@@ -6,6 +6,7 @@
 
 #include "base/status.h"
 #include "fleet/fleet_state.h"
+#include "fleet_supervisor/http_limits.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -17,7 +18,8 @@ struct SupervisorConfig {
   int http_port = 8080;                     // 0: any free port (logged and written to port_file)
   std::string port_file;                    // if set, the bound port is written there
   // Re-mapping and every other change need this token (Authorization: Bearer <token>); empty
-  // (and no file): the dashboard is read-only. The file's first line is the token.
+  // (and no file): the dashboard is read-only. The file's first line is the token; the file must
+  // not be readable by group or others, and a token has 16-1024 printable characters.
   std::string maintainer_token;
   std::string maintainer_token_file;
   std::string history_db = "fleet_history.db";
@@ -33,6 +35,7 @@ struct SupervisorConfig {
   double health_period_s = 1.0;             // the supervisor's own ServiceHealth
   fleet::AlertOptions alerts;
   fleet::TrailOptions trail;
+  HttpLimits http;                          // connection, stream, head and auth limits ("http")
 };
 
 Status Validate(const SupervisorConfig& config);
@@ -41,7 +44,9 @@ Status Validate(const SupervisorConfig& config);
 Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path);
 
 // The token in force: `maintainer_token`, else the first line of `maintainer_token_file` (NotFound
-// naming the file if it cannot be read), else empty (read-only).
+// naming the file if it cannot be read; InvalidInput naming it when group or others may read it),
+// else empty (read-only). InvalidInput for a token shorter than 16 or longer than 1024
+// characters, or with a character that is not printable ASCII.
 Result<std::string> ResolveMaintainerToken(const SupervisorConfig& config);
 
 }  // namespace fleetloc::fleet_supervisor

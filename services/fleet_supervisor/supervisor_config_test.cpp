@@ -25,10 +25,16 @@ TEST(SupervisorConfig, DefaultsBindLoopbackAndAreValid) {
 TEST(SupervisorConfig, ShippedSampleLoads) {
   auto config = LoadSupervisorConfig(std::string(FLEETLOC_SOURCE_DIR) + "/deploy/config/fleet_supervisor.json");
   ASSERT_TRUE(config.ok()) << config.status().message();
+  // Its "http" block lists the defaults.
+  const HttpLimits defaults;
+  EXPECT_EQ(config->http.max_connections, defaults.max_connections);
+  EXPECT_EQ(config->http.max_header_bytes, defaults.max_header_bytes);
+  EXPECT_EQ(config->http.header_timeout_s, defaults.header_timeout_s);
+  EXPECT_TRUE(config->http.allowed_hosts.empty());
 }
 
 TEST(SupervisorConfig, FieldsAndAlertRulesAreRead) {
-  auto c = LoadSupervisorConfig(Write("ok", R"({"http_port": 9000, "maintainer_token": "s3cret",
+  auto c = LoadSupervisorConfig(Write("ok", R"({"http_port": 9000, "maintainer_token": "s3cret-s3cret-s3cret",
       "retention_s": 3600, "alerts": {"cycle_p95_ms": {"raise_above": 40, "clear_below": 20}},
       "trail": {"length_s": 30}})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
@@ -38,15 +44,56 @@ TEST(SupervisorConfig, FieldsAndAlertRulesAreRead) {
   EXPECT_EQ(c->alerts.cycle_p95_ms.clear_below, 20);
   EXPECT_EQ(c->alerts.cycle_p95_ms.raise_after_s, 3.0);  // default kept
   EXPECT_EQ(c->trail.length_s, 30);
-  EXPECT_EQ(*ResolveMaintainerToken(*c), "s3cret");
+  EXPECT_EQ(*ResolveMaintainerToken(*c), "s3cret-s3cret-s3cret");
+}
+
+// Writes a token file with `mode`.
+std::string WriteToken(const std::string& name, const std::string& text, std::filesystem::perms mode) {
+  // A read-only file of an earlier run could not be written over: start afresh.
+  std::filesystem::remove(std::filesystem::temp_directory_path() / ("sup_config_" + name + ".json"));
+  const std::string path = Write(name, text);
+  std::filesystem::permissions(path, mode);
+  return path;
 }
 
 TEST(SupervisorConfig, TokenFileFirstLineIsTheToken) {
+  using std::filesystem::perms;
   SupervisorConfig c;
-  c.maintainer_token_file = Write("token", "abc123\nignored\n");
-  EXPECT_EQ(*ResolveMaintainerToken(c), "abc123");
+  c.maintainer_token_file = WriteToken("token", "abc123-abc123-abc123\nignored\n", perms::owner_read | perms::owner_write);
+  EXPECT_EQ(*ResolveMaintainerToken(c), "abc123-abc123-abc123");
   c.maintainer_token_file = "/nonexistent/token";
   EXPECT_FALSE(ResolveMaintainerToken(c).ok());
+}
+
+TEST(SupervisorConfig, ATokenFileOthersCanReadOrAShortTokenIsRefused) {
+  using std::filesystem::perms;
+  SupervisorConfig c;
+  c.maintainer_token_file = WriteToken("token_world", "abc123-abc123-abc123\n",
+                                       perms::owner_read | perms::owner_write | perms::others_read);
+  auto resolved = ResolveMaintainerToken(c);
+  ASSERT_FALSE(resolved.ok());
+  EXPECT_NE(resolved.status().message().find("mode 604"), std::string::npos) << resolved.status().message();
+  c.maintainer_token_file = WriteToken("token_group", "abc123-abc123-abc123\n",
+                                       perms::owner_read | perms::group_read);
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("mode 440"), std::string::npos);
+  c.maintainer_token_file = WriteToken("token_short", "abc123\n", perms::owner_read);
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("shorter than 16"), std::string::npos);
+  c.maintainer_token_file = WriteToken("token_space", "abc123 abc123 abc123\n", perms::owner_read);
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("printable"), std::string::npos);
+  c.maintainer_token_file.clear();
+  c.maintainer_token = "short";
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("maintainer_token"), std::string::npos);
+}
+
+TEST(SupervisorConfig, HttpLimitsAreReadAndChecked) {
+  auto c = LoadSupervisorConfig(Write("http", R"({"http": {"max_connections": 100, "workers": 4,
+      "header_timeout_s": 2.5, "allowed_hosts": ["fleet.example.org", "10.0.0.5"]}})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_EQ(c->http.max_connections, 100);
+  EXPECT_EQ(c->http.workers, 4);
+  EXPECT_EQ(c->http.header_timeout_s, 2.5);
+  EXPECT_EQ(c->http.allowed_hosts, (std::vector<std::string>{"fleet.example.org", "10.0.0.5"}));
+  EXPECT_EQ(c->http.max_streams, HttpLimits{}.max_streams);  // default kept
 }
 
 TEST(SupervisorConfig, BadFieldsAreNamed) {
@@ -61,6 +108,10 @@ TEST(SupervisorConfig, BadFieldsAreNamed) {
       {R"({"alerts": {"silent_s": {"raise_abov": 1}}})", "raise_abov"},
       {R"({"trail": {"period_s": -1}})", "period_s"},
       {R"({"http_bind": ""})", "http_bind"},
+      {R"({"http": {"workers": 0}})", "workers"},
+      {R"({"http": {"max_conections": 5}})", "max_conections"},
+      {R"({"http": {"allowed_hosts": "x"}})", "allowed_hosts"},
+      {R"({"http": {"allowed_hosts": ["a b"]}})", "allowed_hosts"},
   };
   for (const auto& [json, field] : cases) {
     auto c = LoadSupervisorConfig(Write("bad", json));

@@ -4,9 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <thread>
 
 #include "transport/mosaic_messages.h"
-#include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
@@ -28,6 +29,7 @@ constexpr const char* kRejectedPartition = "rejected_vehicle_partition";
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
   names.push_back(kRejectedPartition);
+  for (const char* name : {"tile_rows_pruned", "patches_pruned", "prune_errors"}) names.push_back(name);
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
                            PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
@@ -56,6 +58,9 @@ Status MapServer::Open() {
   auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
   if (!patches.ok()) return patches.status();
   patches_ = std::move(patches).value();
+  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
+  if (!standing.ok()) return standing.status();
+  standing_ = std::move(standing).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
@@ -100,15 +105,17 @@ Status MapServer::OpenServices() {
   tiles_ = std::make_unique<TileService>(store_.get(), owned_, channels_.get(), &counters_,
                                          config_.max_tiles_per_request,
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);
-  patch_service_ = std::make_unique<PatchService>(
-      patches_.get(), store_.get(), PatchLimits{config_.max_patch_bytes, config_.max_patch_side_px},
-      channels_.get(), &counters_);
+  PatchIntake intake = config_.intake;
+  intake.limits = {config_.max_patch_bytes, config_.max_patch_side_px};
+  patch_service_ = std::make_unique<PatchService>(patches_.get(), store_.get(), standing_.get(), intake,
+                                                  channels_.get(), &counters_);
   remaps_ = std::make_unique<RemapService>(
       config_.server_id,
       [this](const RemapJob& job, const RemapProgressFn& progress, const std::atomic<bool>& cancel) {
         return RunRemapJob(job, progress, cancel);
       },
-      remap_status_writer_.get(), &counters_);
+      remap_status_writer_.get(), &counters_,
+      Maintenance{config_.retention.prune_period_s, [this] { Prune(); }});
   if (!config_.serve_place_index) return Status::Ok();
   auto publisher = transport::PlaceIndexPublisher::Create(*participant_, config_.server_id);
   if (!publisher.ok()) return publisher.status();
@@ -127,18 +134,46 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
   if (!store.ok()) return store.status();
   auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
   if (!patches.ok()) return patches.status();
+  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
+  if (!standing.ok()) return standing.status();
   const mosaic::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
                                      job.replace ? mosaic::RemapMode::kReplace
-                                                 : mosaic::RemapMode::kBlend};
+                                                 : mosaic::RemapMode::kBlend,
+                                     config_.remap_policy};
+  // Fault injection for the tests only (tests/map_server_fault_test.cpp): with
+  // FLEETLOC_FAILPOINT_COMMIT_PAUSE_S set, the job reports and then pauses after writing its first
+  // tile into the uncommitted version, so a test can kill the server inside the commit.
+  const char* pause = std::getenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S");
   Result<mosaic::RemapResult> result = mosaic::RunRemap(
-      **store, **patches, request,
+      **store, **patches, **standing, request,
       [&](const mosaic::RemapProgress& p) {
-        progress(p.phase, p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0);
+        const double fraction = p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0;
+        if (pause != nullptr && p.phase == "commit" && p.done == 1 && p.total > 1) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(250));  // past the report throttle
+          progress(p.phase, fraction);
+          std::this_thread::sleep_for(std::chrono::duration<double>(std::atof(pause)));
+        }
+        progress(p.phase, fraction);
       },
       &cancel);
   if (!result.ok()) return result.status();
-  return RemapOutcome{result->new_version, result->changed_tiles, result->patches_folded,
-                      result->patches_rejected};
+  return RemapOutcome{result->new_version,    result->changed_tiles,
+                      result->patches_folded, result->patches_rejected,
+                      result->patches_held,   mosaic::RemapSummary(*result),
+                      result->newly_quarantined};
+}
+
+void MapServer::Prune() {
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  Result<mosaic::PruneResult> pruned = mosaic::PruneMosaic(config_.mosaic_path, config_.retention.policy, now);
+  if (!pruned.ok()) return counters_.Reject("prune_errors", pruned.status().message());
+  counters_.Add("tile_rows_pruned", static_cast<uint64_t>(pruned->tile_rows_deleted));
+  counters_.Add("patches_pruned", static_cast<uint64_t>(pruned->patches_deleted));
+  if (pruned->tile_rows_deleted > 0 || pruned->patches_deleted > 0) {
+    spdlog::info("pruned {} tile rows older than version {} and {} patches ({} MB)", pruned->tile_rows_deleted,
+                 pruned->oldest_version_kept, pruned->patches_deleted, pruned->patch_bytes_deleted >> 20);
+  }
+  patch_service_->RefreshUsage();
 }
 
 Status MapServer::AnnounceFinishedJobs() {
@@ -170,17 +205,30 @@ Status MapServer::PublishMosaicInfo() {
   return info_writer_->Write(transport::ToIdl(layout, config_.server_id, owned_));
 }
 
-Status MapServer::PublishHealth() {
-  transport::ServiceHealthReport report{config_.server_id, "map_server", std::nullopt,
-                                        counters_.Snapshot()};
+std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   const uint64_t rejected = counters_.TotalRejected();
   const uint64_t read_errors = counters_.Get("tile_read_errors");
-  if (read_errors > reported_read_errors_) {
-    report.issue = {"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()};
-  } else if (rejected > reported_rejected_) {
-    report.issue = {"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()};
-  }
+  const bool new_read_errors = read_errors > reported_read_errors_;
+  const bool new_rejects = rejected > reported_rejected_;
   reported_rejected_ = rejected, reported_read_errors_ = read_errors;
+  if (new_read_errors) return {{"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()}};
+  // Quarantined vehicles stay an issue until a maintainer releases them (read from the file each
+  // time, so a release by `fleetctl mosaic vehicles --release` shows at once).
+  Result<std::map<std::string, mapping::VehicleStanding>> standings = standing_->All();
+  std::string quarantined;
+  if (standings.ok()) {
+    for (const auto& [vehicle, s] : *standings) {
+      if (s.quarantined) quarantined += (quarantined.empty() ? "" : "; ") + vehicle + ": " + s.reason;
+    }
+  }
+  if (!quarantined.empty()) return {{"vehicle_quarantined", fleetloc_HEALTH_WARN, quarantined}};
+  if (new_rejects) return {{"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()}};
+  return std::nullopt;
+}
+
+Status MapServer::PublishHealth() {
+  transport::ServiceHealthReport report{config_.server_id, "map_server", HealthIssue(),
+                                        counters_.Snapshot()};
   return transport::WriteServiceHealth(*health_writer_, report);
 }
 

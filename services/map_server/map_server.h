@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include "map_server/map_server_config.h"
 #include "map_server/patch_service.h"
@@ -17,8 +18,11 @@
 #include "map_server/tile_service.h"
 #include "map_server/vehicle_channels.h"
 #include "mosaic/patch_store.h"
+#include "mosaic/mosaic_retention.h"
 #include "mosaic/remap_job.h"
 #include "mosaic/tile_store.h"
+#include "mosaic/vehicle_standing_store.h"
+#include "transport/service_health_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 #include "transport/waitset.h"
@@ -49,11 +53,14 @@ class MapServer {
   Status AnnounceFinishedJobs();
   Result<RemapOutcome> RunRemapJob(const RemapJob& job, const RemapProgressFn& progress,
                                    const std::atomic<bool>& cancel);
+  // Retention (mosaic/mosaic_retention.h), run by the re-mapping thread between jobs.
+  void Prune();
 
   MapServerConfig config_;
   ServerCounters counters_;
   std::unique_ptr<mosaic::TileStore> store_;
   std::unique_ptr<mosaic::PatchStore> patches_;
+  std::unique_ptr<mosaic::VehicleStandingStore> standing_;
   mosaic::TileOwnership owned_;
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::Topic<fleetloc_MosaicInfo>> info_topic_;
@@ -79,6 +86,8 @@ class MapServer {
   std::unique_ptr<transport::PlaceIndexPublisher> place_index_publisher_;
   std::unique_ptr<PlaceIndexService> place_index_;  // null unless config_.serve_place_index
   std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
+  // The health report's issue, worst first: tile read errors, quarantined vehicles, rejects.
+  std::optional<transport::ServiceHealthReport::Issue> HealthIssue();
   uint64_t reported_rejected_ = 0;     // counts in the last health report
   uint64_t reported_read_errors_ = 0;
 };

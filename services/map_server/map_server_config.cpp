@@ -1,9 +1,11 @@
 // Map server configuration from JSON.
 #include "map_server/map_server_config.h"
 
+#include <functional>
 #include <set>
 
 #include "io/json_fields.h"
+#include "map_server/admission_config.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::map_server {
@@ -26,6 +28,11 @@ Status Validate(const MapServerConfig& c) {
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) {
     return bad("health_period_s", "must be in [0.05, 60]");
   }
+  if (const std::string problem = PolicyProblem(c.remap_policy); !problem.empty()) {
+    return bad("patch_admission", problem);
+  }
+  if (const std::string problem = IntakeProblem(c.intake); !problem.empty()) return bad("patch_intake", problem);
+  if (const std::string problem = RetentionProblem(c.retention); !problem.empty()) return bad("retention", problem);
   return Status::Ok();
 }
 
@@ -55,7 +62,7 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   static const std::set<std::string> known = {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
       "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
-      "serve_place_index"};
+      "serve_place_index", "patch_admission", "patch_intake", "retention"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -84,6 +91,20 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   if (fields.Has("owned_tiles")) FLEETLOC_RETURN_IF_ERROR(ReadOwnedTiles(fields, &c));
   if (fields.Has("serve_place_index")) {
     FLEETLOC_RETURN_IF_ERROR(fields.Bool("serve_place_index", &c.serve_place_index));
+  }
+  for (const auto& [key, read] :
+       {std::pair<const char*, std::function<Status(const io::JsonFields&, const nlohmann::json&)>>{
+            "patch_intake", [&](const auto& f, const auto& j) { return ReadPatchIntake(f, j, &c.intake); }},
+        {"retention", [&](const auto& f, const auto& j) { return ReadRetention(f, j, &c.retention); }}}) {
+    if (!fields.Has(key)) continue;
+    Result<io::JsonFields> object = fields.Object(key);
+    if (!object.ok()) return object.status();
+    FLEETLOC_RETURN_IF_ERROR(read(*object, (*json)[key]));
+  }
+  if (fields.Has("patch_admission")) {
+    Result<io::JsonFields> admission = fields.Object("patch_admission");
+    if (!admission.ok()) return admission.status();
+    FLEETLOC_RETURN_IF_ERROR(ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
   }
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;

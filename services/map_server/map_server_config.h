@@ -6,6 +6,8 @@
 #include <string>
 
 #include "base/status.h"
+#include "map_server/resource_config.h"
+#include "mosaic/remap_job.h"
 #include "mosaic/tile_ownership.h"
 
 namespace fleetloc::map_server {
@@ -19,12 +21,19 @@ struct MapServerConfig {
   int max_tiles_per_request = 256;
   int max_patch_bytes = 4 << 20;           // encoded patch image; larger ones are rejected
   int max_patch_side_px = 4096;
+  // Each vehicle's rate and quotas, the decoding queue ("patch_intake"; its limits are the two
+  // above).
+  PatchIntake intake;
+  // Old tile versions and patches deleted, and how often ("retention").
+  Retention retention;
   int max_vehicles = 4096;                 // reply channels kept open (LRU)
   int tile_cache_mb = 64;                  // encoded tiles kept in memory
   double health_period_s = 1.0;
   // Build (or load from the mosaic file) and publish the place index of each version served, so
   // vehicles can relocalize anywhere (global relocalization).
   bool serve_place_index = true;
+  // How re-mapping jobs judge patches and when a vehicle is quarantined ("patch_admission").
+  mosaic::RemapPolicy remap_policy;
 };
 
 Status Validate(const MapServerConfig& config);

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "geometry/covariance_check.h"
 #include "mosaic/tile_codec.h"
 #include "transport/wire_util.h"
 
@@ -24,8 +25,8 @@ bool AllFinite(const double* values, int n) {
 
 }  // namespace
 
-DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::MosaicLayout& layout,
-                         const PatchLimits& limits) {
+DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::MosaicLayout& layout,
+                        const PatchLimits& limits) {
   const std::string vehicle = GetBounded(s.vehicle_id);
   const std::string what = "PatchObservation " + vehicle + "#" + std::to_string(s.sequence_number);
   if (s.wire_version != fleetloc_WIRE_VERSION) {
@@ -46,8 +47,11 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
                                                   " m/px is not the mosaic's");
   }
   const double pose[3] = {s.x, s.y, s.theta};
-  if (!AllFinite(pose, 3) || !AllFinite(s.covariance, 9)) {
-    return Reject("rejected_patch_malformed", what + ": pose or covariance not finite");
+  if (!AllFinite(pose, 3)) return Reject("rejected_patch_malformed", what + ": pose not finite");
+  const Eigen::Matrix3d covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  if (const std::string problem = geometry::CovarianceProblem(covariance); !problem.empty()) {
+    // A zero or negative covariance claims a certainty no vehicle has: malformed, counted apart.
+    return Reject("rejected_patch_covariance", what + ": " + problem);
   }
   if (!(s.quality >= 0.0f && s.quality <= 1.0f)) {
     return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
@@ -68,17 +72,43 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& s, const mosaic::Mosai
                                                   std::to_string(size->height) + " px out of [16, " +
                                                   std::to_string(limits.max_side_px) + "]");
   }
-  Result<cv::Mat> image = mosaic::DecodeGrayPng(bytes, limits.max_side_px);
-  if (!image.ok()) return Reject("rejected_patch_image", what + ": " + image.status().message());
+  if (Status header = mosaic::CheckGrayPngHeader(bytes, limits.max_side_px); !header.ok()) {
+    return Reject("rejected_patch_image", what + ": " + header.message());
+  }
   mosaic::PatchRecord record;
   record.vehicle_id = vehicle;
   record.sequence = static_cast<int64_t>(s.sequence_number);
   record.stamp_s = transport::ToSeconds(s.stamp);
   record.pose = {s.x, s.y, s.theta};
-  record.covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  record.covariance = covariance;
   record.quality = s.quality;
-  record.image = std::move(image).value();
   return {std::move(record), ""};
+}
+
+void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* record) {
+  const auto bytes = transport::OctetSpan(sample.image);
+  record->png.assign(bytes.begin(), bytes.end());
+}
+
+Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits) {
+  Result<cv::Mat> image = mosaic::DecodeGrayPng(record->png, limits.max_side_px);
+  if (!image.ok()) {
+    return InvalidInput("PatchObservation " + record->vehicle_id + "#" + std::to_string(record->sequence) + ": " +
+                        image.status().message());
+  }
+  record->image = std::move(image).value();
+  return Status::Ok();
+}
+
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
+                         const PatchLimits& limits) {
+  DecodedPatch checked = CheckPatch(sample, layout, limits);
+  if (!checked.record.ok()) return checked;
+  CopyPng(sample, &*checked.record);
+  if (Status decoded = DecodePatchImage(&*checked.record, limits); !decoded.ok()) {
+    return Reject("rejected_patch_image", decoded.message());
+  }
+  return checked;
 }
 
 }  // namespace fleetloc::map_server

@@ -1,6 +1,7 @@
 // Checks a received PatchObservation and turns it into a patch record for the store: wire
-// version, vehicle id, mosaic, resolution, finite pose and covariance, quality, encoded size, and
-// the PNG itself (header checked before decoding, so a forged size cannot exhaust memory).
+// version, vehicle id, mosaic, resolution, finite pose, a covariance that is symmetric positive
+// definite (a zero or negative one is malformed), quality, encoded size, and the PNG itself
+// (header checked before decoding, so a forged size cannot exhaust memory).
 #pragma once
 
 #include <string>
@@ -22,7 +23,20 @@ struct DecodedPatch {
   std::string reject_counter;  // when !record.ok(): the ServerCounters name of the reason
 };
 
-// `layout`: the mosaic served (its id and level-0 resolution must match the patch's).
+// Every check that needs no decoding (fields, sizes, the PNG's header). The record has neither
+// image nor PNG bytes yet (CopyPng copies them, once the patch is to be kept). `layout`: the
+// mosaic served (its id and level-0 resolution must match the patch's).
+DecodedPatch CheckPatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
+                        const PatchLimits& limits);
+
+// Copies the sample's PNG bytes into the record.
+void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* record);
+
+// Decodes a checked record's PNG into its image (so a corrupt image is refused before it is
+// stored). InvalidInput naming the patch when it does not decode.
+Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits);
+
+// CheckPatch, then DecodePatchImage.
 DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
                          const PatchLimits& limits);
 

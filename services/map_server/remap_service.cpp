@@ -13,14 +13,16 @@ namespace fleetloc::map_server {
 using transport::GetBounded;
 
 std::vector<std::string> RemapService::CounterNames() {
-  return {"remap_commands", "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command"};
+  return {"remap_commands",  "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command",
+          "patches_folded",  "patches_refused", "patches_held",      "vehicles_quarantined"};
 }
 
 RemapService::RemapService(std::string server_id, RemapRunner runner,
                            const transport::Writer<fleetloc_RemapStatus>* status_writer,
-                           ServerCounters* counters)
+                           ServerCounters* counters, Maintenance maintenance)
     : server_id_(std::move(server_id)),
       runner_(std::move(runner)),
+      maintenance_(std::move(maintenance)),
       status_writer_(status_writer),
       counters_(counters),
       worker_([this] { Work(); }) {}
@@ -80,16 +82,31 @@ std::vector<RemapOutcome> RemapService::TakeFinished() {
   return std::exchange(finished_, {});
 }
 
+bool RemapService::WaitForJob(RemapJob* job) {
+  using Clock = std::chrono::steady_clock;
+  const bool periodic = maintenance_.period_s > 0 && maintenance_.run;
+  if (periodic && next_maintenance_ <= Clock::now()) {
+    maintenance_.run();
+    next_maintenance_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(maintenance_.period_s));
+  }
+  std::unique_lock lock(mutex_);
+  const auto ready = [&] { return stopping_.load() || !queue_.empty(); };
+  if (periodic) {
+    if (!wake_.wait_until(lock, next_maintenance_, ready)) return false;
+  } else {
+    wake_.wait(lock, ready);
+  }
+  if (stopping_ || queue_.empty()) return false;
+  *job = queue_.front();
+  queue_.pop_front();
+  return true;
+}
+
 void RemapService::Work() {
-  for (;;) {
+  while (!stopping_) {
     RemapJob job;
-    {
-      std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
-      if (stopping_) return;
-      job = queue_.front();
-      queue_.pop_front();
-    }
+    if (!WaitForJob(&job)) continue;
     auto last_report = std::chrono::steady_clock::now() - std::chrono::seconds(1);
     const RemapProgressFn progress = [&](const std::string& phase, double fraction) {
       const auto now = std::chrono::steady_clock::now();
@@ -106,9 +123,17 @@ void RemapService::Work() {
       continue;
     }
     counters_->Add("remap_jobs_done");
-    spdlog::info("remap {} done: version {}, {} tiles, {} patches folded", job.command_id,
-                 outcome->new_version, outcome->changed_tiles.size(), outcome->patches_folded);
-    Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, "", &*outcome);
+    counters_->Add("patches_folded", static_cast<uint64_t>(outcome->patches_folded));
+    counters_->Add("patches_refused", static_cast<uint64_t>(outcome->patches_rejected));
+    counters_->Add("patches_held", static_cast<uint64_t>(outcome->patches_held));
+    spdlog::info("remap {} done: version {}, {} tiles; {}", job.command_id, outcome->new_version,
+                 outcome->changed_tiles.size(), outcome->summary);
+    for (const std::string& vehicle : outcome->newly_quarantined) {
+      counters_->Add("vehicles_quarantined");
+      spdlog::warn("vehicle '{}' quarantined: its patches keep failing admission; its patches are "
+                   "refused until `fleetctl mosaic vehicles MOSAIC --release {}`", vehicle, vehicle);
+    }
+    Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, outcome->summary, &*outcome);
     std::lock_guard lock(mutex_);
     finished_.push_back(std::move(outcome).value());
   }

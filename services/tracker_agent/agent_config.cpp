@@ -32,6 +32,8 @@ Status Validate(const AgentConfig& c) {
   if (!(c.patch_min_changed > 0 && c.patch_min_changed <= 1)) return bad("patch_min_changed", "must be in (0, 1]");
   if (!(c.patch_retry_s > 0)) return bad("patch_retry_s", "must be > 0");
   if (!(c.drain_s >= 0)) return bad("drain_s", "must be >= 0");
+  if (c.outbox_max_patches < 1) return bad("outbox_max_patches", "must be >= 1");
+  if (c.outbox_max_mb < 1) return bad("outbox_max_mb", "must be >= 1");
   if (c.start_pose != "given" && c.start_pose != "relocalize") {
     return bad("start_pose", "must be given or relocalize");
   }
@@ -57,7 +59,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   const io::JsonFields fields(*json, path);
   static const std::set<std::string> known = {
       "vehicle_id", "domain", "dds_config", "run", "paced", "tracker", "tile_cache_mb",
-      "tile_timeout_ms", "prefetch_margin_px", "prefetch_ahead_s", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox",
+      "tile_timeout_ms", "prefetch_margin_px", "prefetch_ahead_s", "health_period_s", "map_server_timeout_s", "mosaic_wait_s", "outbox", "outbox_max_patches", "outbox_max_mb",
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
       "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames",
@@ -78,6 +80,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
                                     {"tile_timeout_ms", &c.tile_timeout_ms},
                                     {"prefetch_margin_px", &c.prefetch_margin_px},
                                     {"sim_seed", &c.sim_seed},
+                                    {"outbox_max_patches", &c.outbox_max_patches},
+                                    {"outbox_max_mb", &c.outbox_max_mb},
                                     {"relocalize_after_coasting_frames", &c.relocalize_after_coasting_frames}}) {
     if (!fields.Has(key)) continue;
     double value = 0;

@@ -34,6 +34,10 @@ struct AgentConfig {
   double mosaic_wait_s = 30.0;        // how long to wait for a map server at start
   // Patches of floor that looks different from the mosaic, kept in an outbox until acknowledged.
   std::string outbox_path;            // empty: fleetloc-outbox-<vehicle_id>.db in the working dir
+  // The outbox holds at most this many patches and megabytes; beyond, the oldest tenth's lowest
+  // quality patch goes (counted, reported in the vehicle's health).
+  int outbox_max_patches = 500;
+  int outbox_max_mb = 256;
   double patch_min_interval_s = 2.0;  // at most one patch per this many seconds
   double patch_min_changed = 0.3;     // share of the frame's blocks that must look different
   double patch_retry_s = 2.0;         // resend an unacknowledged patch after this long

@@ -67,6 +67,8 @@ TEST(AgentConfig, ShippedSampleLoads) {
 TEST(AgentConfig, BadFieldsAreNamed) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"run": "r", "wheels": 4})", "wheels"},
+      {R"({"run": "r", "outbox_max_patches": 0})", "outbox_max_patches"},
+      {R"({"run": "r", "outbox_max_mb": 1.5})", "outbox_max_mb"},
       {R"({"run": "r", "vehicle_id": "agv 7"})", "vehicle_id"},
       {R"({"vehicle_id": "a"})", "run"},
       {R"({"run": "r", "paced": "yes"})", "paced"},

@@ -86,6 +86,10 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
         counts + "; last rejected: " + u->last_reason);
   }
   if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
+  if (in.patch_outbox_dropped > 0) {
+    add("patch_outbox_full", fleetloc_HEALTH_WARN,
+        std::to_string(in.patch_outbox_dropped) + " patches dropped from the full outbox (oldest, lowest quality)");
+  }
   h->level = fleetloc_HEALTH_OK;
   for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);
   h->issues._buffer = issues->data();

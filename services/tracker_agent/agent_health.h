@@ -35,6 +35,7 @@ class AgentHealth {
     std::string unreachable_servers;       // their ids when not, comma-separated
     bool place_index_ready = false;  // relocalization possible
     const PositionUpdateStats* position_update = nullptr;  // null: no position updates
+    long long patch_outbox_dropped = 0;  // patches the full outbox dropped (ever, this vehicle)
   };
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,

@@ -87,7 +87,8 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   const std::string outbox_path = config_.outbox_path.empty()
                                       ? "fleetloc-outbox-" + config_.vehicle_id + ".db"
                                       : config_.outbox_path;
-  auto outbox = PatchOutbox::Open(outbox_path);
+  auto outbox = PatchOutbox::Open(outbox_path, {config_.outbox_max_patches,
+                                               static_cast<long long>(config_.outbox_max_mb) << 20});
   if (!outbox.ok()) return outbox.status();
   outbox_ = std::move(outbox).value();
   rectifier_ = replay::RectifierFor(camera_);
@@ -292,11 +293,13 @@ void TrackerAgent::UpdateMapServerReachability() {
 
 void TrackerAgent::PublishHealth() {
   const Result<long long> outbox = outbox_->Size();
+  const Result<long long> dropped = outbox_->Dropped();
   AgentHealth::Inputs in{config_.vehicle_id, tile_cache_->stats(), loader_->stats(), loader_->pending(),
                          outbox.ok() ? static_cast<size_t>(*outbox) : 0, map_server_reachable_,
                          map_servers_->UnreachableNames(),
                          relocalizer_->ready(),
-                         position_update_ ? &position_update_->stats() : nullptr};
+                         position_update_ ? &position_update_->stats() : nullptr,
+                         dropped.ok() ? *dropped : 0};
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);

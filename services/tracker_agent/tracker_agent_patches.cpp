@@ -73,7 +73,8 @@ void TrackerAgent::PumpPatches() {
   // announced, a patch would leave the outbox with that replica never having it.
   if (!patches_->ServerMatched() || !map_server_reachable_ || map_servers_->UncoveredTiles() > 0)
     return;
-  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  // Monotonic time with the boot it belongs to: after a reboot every unacknowledged patch is due.
+  const OutboxTime now = OutboxNow();
   Result<std::vector<transport::PatchToSend>> due = outbox_->Due(now, config_.patch_retry_s, 2);
   if (!due.ok()) return health_.RecordError(due.status().message());
   for (const transport::PatchToSend& patch : *due) {

@@ -247,6 +247,9 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchReloc(*bench, result);
   RegisterBenchStress(*bench, result);
   RegisterBenchSupervisor(*bench, result);
+  RegisterBenchSupervisorAbuse(*bench, result);
+  RegisterBenchRemap(*bench, result);
+  RegisterBenchPatchFlood(*bench, result);
 }
 
 }  // namespace fleetloc::fleetctl

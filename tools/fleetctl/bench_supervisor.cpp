@@ -49,21 +49,8 @@ double Now() {
 
 // CPU seconds (user + system) and resident MB of a process, from /proc.
 std::pair<double, double> CpuAndRss(pid_t pid) {
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  std::string text((std::istreambuf_iterator<char>(stat)), {});
-  std::istringstream fields(text.substr(text.rfind(')') + 2));
-  std::string field;
-  double utime = 0, stime = 0;
-  for (int i = 3; fields >> field; ++i) {
-    if (i == 14) utime = std::stod(field);
-    if (i == 15) { stime = std::stod(field); break; }
-  }
-  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-  double rss_kb = 0;
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmRSS:", 0) == 0) rss_kb = std::stod(line.substr(6));
-  }
-  return {(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK)), rss_kb / 1024.0};
+  const io::ProcessUsage usage = io::UsageOf(pid);
+  return {usage.cpu_s, usage.rss_mb};
 }
 
 // Publishes the simulated fleet until `stop`: vehicle i drives a circle of its own.

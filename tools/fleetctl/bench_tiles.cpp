@@ -99,15 +99,10 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   return t;
 }
 
-struct Latency {
-  int vehicles = 0;
-  long long requests = 0, answered = 0;
-  double p50_ms = 0, p99_ms = 0, max_ms = 0;
-};
+}  // namespace
 
-// `vehicles` clients each ask for one random level-0 tile every 1/rate_hz s (staggered).
-Result<Latency> MeasureLatency(const transport::Participant& participant, int vehicles,
-                               const TileBenchSettings& s) {
+Result<TileLatency> MeasureTileLatency(const transport::Participant& participant, int vehicles,
+                                       const TileBenchSettings& s) {
   std::vector<std::unique_ptr<TileClient>> fleet;
   auto waitset = transport::WaitSet::Create(participant);
   if (!waitset.ok()) return waitset.status();
@@ -131,7 +126,7 @@ Result<Latency> MeasureLatency(const transport::Participant& participant, int ve
     due[i] = start + period * i / vehicles;
   }
   uint32_t next_id = 1;
-  Latency result{vehicles};
+  TileLatency result{vehicles};
   while (Clock::now() < start + std::chrono::duration<double>(s.seconds)) {
     for (int i = 0; i < vehicles; ++i) {
       if (Clock::now() < due[i]) continue;
@@ -160,7 +155,9 @@ Result<Latency> MeasureLatency(const transport::Participant& participant, int ve
   return result;
 }
 
-void Print(const Throughput& tp, const DdsperfThroughput& peer, const std::vector<Latency>& lat,
+namespace {
+
+void Print(const Throughput& tp, const DdsperfThroughput& peer, const std::vector<TileLatency>& lat,
            const DdsperfLatency& ping) {
   std::printf("\ntile streaming, loopback, one map_server process (throughput phase: one vehicle)\n");
   std::printf("%-28s %12s %10s %12s\n", "method", "samples/s", "MB/s", "sample bytes");
@@ -172,7 +169,7 @@ void Print(const Throughput& tp, const DdsperfThroughput& peer, const std::vecto
   std::printf("\nrequest -> tile latency (one %0.f-byte tile per request)\n", tp.mean_tile_bytes);
   std::printf("%-10s %10s %10s %10s %10s %10s\n", "vehicles", "requests", "answered", "p50 ms",
               "p99 ms", "max ms");
-  for (const Latency& l : lat) {
+  for (const TileLatency& l : lat) {
     std::printf("%-10d %10lld %10lld %10.3f %10.3f %10.3f\n", l.vehicles, l.requests, l.answered,
                 l.p50_ms, l.p99_ms, l.max_ms);
   }
@@ -181,10 +178,10 @@ void Print(const Throughput& tp, const DdsperfThroughput& peer, const std::vecto
 }
 
 nlohmann::json ToJson(const TileBenchSettings& s, const Throughput& tp,
-                      const DdsperfThroughput& peer, const std::vector<Latency>& lat,
+                      const DdsperfThroughput& peer, const std::vector<TileLatency>& lat,
                       const DdsperfLatency& ping) {
   nlohmann::json latency = nlohmann::json::array();
-  for (const Latency& l : lat) {
+  for (const TileLatency& l : lat) {
     latency.push_back({{"vehicles", l.vehicles}, {"requests", l.requests}, {"answered", l.answered},
                        {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}});
   }
@@ -226,10 +223,10 @@ Status RunTileBench(const TileBenchSettings& s) {
   spdlog::info("bench tiles: throughput for {} s", s.seconds);
   Result<Throughput> tp = MeasureThroughput(*participant, s);
   if (!tp.ok()) return tp.status();
-  std::vector<Latency> latencies;
+  std::vector<TileLatency> latencies;
   for (int n : s.vehicles) {
     spdlog::info("bench tiles: latency with {} vehicles for {} s", n, s.seconds);
-    Result<Latency> l = MeasureLatency(*participant, n, s);
+    Result<TileLatency> l = MeasureTileLatency(*participant, n, s);
     if (!l.ok()) return l.status();
     latencies.push_back(*l);
   }

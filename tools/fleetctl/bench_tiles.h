@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base/status.h"
+#include "transport/participant.h"
 
 namespace fleetloc::fleetctl {
 
@@ -29,5 +30,17 @@ struct TileBenchSettings {
 };
 
 Status RunTileBench(const TileBenchSettings& settings);
+
+struct TileLatency {
+  int vehicles = 0;
+  long long requests = 0, answered = 0;
+  double p50_ms = 0, p99_ms = 0, max_ms = 0;
+};
+
+// `vehicles` clients (vehicle ids "v<vehicles>-<i>") each ask the map server on `participant`'s
+// domain for one random level-0 tile every 1 / settings.rate_hz s (staggered), for settings.seconds
+// after a 1 s warm-up; the request → tile latency.
+Result<TileLatency> MeasureTileLatency(const transport::Participant& participant, int vehicles,
+                                       const TileBenchSettings& settings);
 
 }  // namespace fleetloc::fleetctl

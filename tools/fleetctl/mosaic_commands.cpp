@@ -1,4 +1,5 @@
-// fleetctl mosaic import | build | info | export (CONTRACT section 6): thin wrappers over the
+// fleetctl mosaic import | build | info | export (CONTRACT section 6; `vehicles` lives in
+// mosaic_upkeep_commands.cpp): thin wrappers over the
 // mosaic store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and
 // `build` print JSON on stdout.
 #include <spdlog/spdlog.h>
@@ -189,6 +190,7 @@ void RegisterMosaicCommands(CLI::App& app, Status* result) {
   AddBuild(*mosaic, result);
   AddInfo(*mosaic, result);
   AddExport(*mosaic, result);
+  AddMosaicUpkeepCommands(*mosaic, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -1,0 +1,33 @@
+// Small socket helpers shared by the supervisor's connection front, its workers and its live
+// stream hub: non-blocking mode, sending with a deadline, and the short error answers the front
+// gives without involving a handler.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <string_view>
+
+namespace fleetloc::fleet_supervisor {
+
+using SteadyClock = std::chrono::steady_clock;
+
+// Puts `fd` in non-blocking mode (and close-on-exec); false on failure.
+bool SetNonBlocking(int fd);
+
+// Sends all of `data` on the non-blocking `fd`, waiting (poll) until `deadline` for room; false
+// when the peer is gone or the deadline passed.
+bool SendBefore(int fd, std::string_view data, SteadyClock::time_point deadline);
+
+// A complete HTTP/1.1 response with a JSON {"error": message} body and "Connection: close".
+std::string ErrorResponse(int status, std::string_view message);
+
+// The reason phrase of the statuses the front answers itself.
+const char* ReasonPhrase(int status);
+
+// Best effort, never waiting: sends ErrorResponse and closes `fd`.
+void AnswerAndClose(int fd, int status, std::string_view message);
+
+// Shuts down and closes `fd` (ignoring errors).
+void CloseSocket(int fd);
+
+}  // namespace fleetloc::fleet_supervisor

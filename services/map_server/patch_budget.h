@@ -1,0 +1,56 @@
+// What one vehicle (and all together) may put into the map server's patch store: a rate (token
+// bucket: patches per second with a burst) and a quota (stored patches and bytes per vehicle, bytes
+// for all). A patch over its budget is not acknowledged — the vehicle keeps it and sends it again
+// later — so a flooding vehicle costs the server a counter, not its disk. Pure bookkeeping (the
+// clock is passed in); thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace fleetloc::map_server {
+
+struct PatchBudgetOptions {
+  double patches_per_s = 2.0;  // per vehicle, sustained
+  int burst = 20;              // per vehicle, at once
+  long long max_patches_per_vehicle = 1000;
+  long long max_bytes_per_vehicle = 512LL << 20;
+  long long max_bytes_total = 8192LL << 20;
+  size_t max_vehicles = 4096;  // rate buckets kept (the least recently used are dropped)
+};
+
+enum class BudgetVerdict { kAccept, kRateLimited, kOverVehicleQuota, kOverTotalQuota };
+const char* BudgetVerdictName(BudgetVerdict verdict);  // the counter: "patches_rate_limited", ...
+
+struct PatchUsage {
+  long long patches = 0;
+  long long bytes = 0;
+};
+
+class PatchBudget {
+ public:
+  explicit PatchBudget(PatchBudgetOptions options) : options_(options) {}
+
+  // Decides on a patch of `bytes` from `vehicle` at `now_s`. kAccept takes a token and reserves
+  // the patch in the vehicle's usage (Unreserve if it is not stored after all).
+  BudgetVerdict Admit(const std::string& vehicle, long long bytes, double now_s);
+  void Unreserve(const std::string& vehicle, long long bytes);
+  // Replaces the usage with what the store holds (at start, after re-maps and prunes).
+  void SetUsage(std::map<std::string, PatchUsage> usage);
+  PatchUsage Usage(const std::string& vehicle) const;
+
+ private:
+  struct Bucket {
+    double tokens = 0;
+    double last_s = 0;
+  };
+  const PatchBudgetOptions options_;
+  mutable std::mutex mutex_;
+  std::map<std::string, Bucket> buckets_;
+  std::map<std::string, PatchUsage> usage_;
+  long long total_bytes_ = 0;
+};
+
+}  // namespace fleetloc::map_server
