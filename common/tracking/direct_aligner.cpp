@@ -503,13 +503,10 @@ void DirectAligner::RefineAtFullResolution(const Level& level, const PoseWithCov
 // fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
 std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
-  const FrameMosaicWarp to_frame = FrameMosaicWarp::For(pose, camera_, layout.geo).Inverse();
   constexpr double kSpare = 3.0;
-  geometry::ConvexPolygon mosaic_in_frame;
-  for (const auto& corner : geometry::Rectangle(kSpare, kSpare, layout.width_px - kSpare,
-                                                layout.height_px - kSpare)) {
-    mosaic_in_frame.push_back(to_frame(corner));
-  }
+  const geometry::ConvexPolygon mosaic_in_frame =
+      MosaicInFrame(FrameMosaicWarp::For(pose, camera_, layout.geo), layout.width_px,
+                    layout.height_px, kSpare);
   std::vector<cv::Range> spans(inner.height);
   for (int y = 0; y < inner.height; ++y) {
     const auto [lo, hi] = geometry::SpanAtY(mosaic_in_frame, inner.y + y + 0.5);

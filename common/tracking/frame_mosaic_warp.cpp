@@ -25,4 +25,15 @@ FrameMosaicWarp FrameMosaicWarp::Inverse() const {
   return inverse;
 }
 
+geometry::ConvexPolygon MosaicInFrame(const FrameMosaicWarp& to_mosaic, double width_px,
+                                      double height_px, double inset_px) {
+  const FrameMosaicWarp to_frame = to_mosaic.Inverse();
+  geometry::ConvexPolygon polygon;
+  for (const auto& corner :
+       geometry::Rectangle(inset_px, inset_px, width_px - inset_px, height_px - inset_px)) {
+    polygon.push_back(to_frame(corner));
+  }
+  return polygon;
+}
+
 }  // namespace fleetloc::tracking

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "geometry/camera_model.h"
+#include "geometry/convex_polygon.h"
 #include "geometry/geotransform.h"
 
 namespace fleetloc::tracking {
@@ -27,5 +28,10 @@ struct FrameMosaicWarp {
     return {linear, offset / static_cast<double>(1 << level)};
   }
 };
+
+// The mosaic's level-0 area [inset, width − inset] × [inset, height − inset] in the frame's pixel
+// coordinates, for the frame → mosaic map `to_mosaic`.
+geometry::ConvexPolygon MosaicInFrame(const FrameMosaicWarp& to_mosaic, double width_px,
+                                      double height_px, double inset_px = 0.0);
 
 }  // namespace fleetloc::tracking

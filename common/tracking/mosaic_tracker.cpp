@@ -110,11 +110,8 @@ int MosaicTracker::MaxSearchRadius() const {
 std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& texture, const Pose2& camera,
                                                      int radius_px, int template_size_px) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
-  const FrameMosaicWarp to_frame = FrameMosaicWarp::For(camera, camera_, layout.geo).Inverse();
-  geometry::ConvexPolygon mosaic_in_frame;
-  for (const auto& corner : geometry::Rectangle(0, 0, layout.width_px, layout.height_px)) {
-    mosaic_in_frame.push_back(to_frame(corner));
-  }
+  const geometry::ConvexPolygon mosaic_in_frame = MosaicInFrame(
+      FrameMosaicWarp::For(camera, camera_, layout.geo), layout.width_px, layout.height_px);
   const int half_step = std::max(1, options_.candidate_step_px / 2);
   // A template must lie in the frame; its search window only in the mosaic (the window is cut
   // from the mosaic, not the frame), so sites near the frame's edges stay usable however wide the
