@@ -58,6 +58,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"max_points", &d.max_points},
           {"polish_iterations", &d.polish_iterations},
           {"max_polish_shift_px", &d.max_polish_shift_px},
+          {"min_significant_peak_z", &d.min_significant_peak_z},
           {"min_polish_correlation", &d.min_polish_correlation},
           {"max_iterations", &d.max_iterations},
           {"converged_px", &d.converged_px},

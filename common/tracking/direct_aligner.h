@@ -30,6 +30,9 @@ struct DirectAlignment {
   double coarse_correlation = 0.0;           // weighted NCC at the coarsest level
   double inlier_fraction = 0.0;              // at the finest level
   double peak_ratio = 0.0;                   // of the coarse search (0 when none ran)
+  // The search peak's correlation above the rest of the search surface, in its standard
+  // deviations (0 when no search ran).
+  double peak_z = 0.0;
   double prior_chi2 = 0.0;
   double sigma_px = 0.0;  // image-only worst-direction position sigma, level-0 px
   int points = 0;         // pixels used at the finest level
@@ -92,7 +95,7 @@ class DirectAligner {
                                const geometry::Pose2& start, DirectAlignment* out) const;
   struct SearchHit {
     geometry::Pose2 pose;
-    double correlation = 0.0, peak_ratio = 1.0;
+    double correlation = 0.0, peak_ratio = 1.0, peak_z = 0.0;
   };
   SearchHit SearchAt(const Level& level, const geometry::Pose2& pose, int r) const;
 

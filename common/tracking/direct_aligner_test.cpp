@@ -97,7 +97,30 @@ TEST(DirectAligner, FindsTheBasinFromAPoorPredictionByCoarseSearch) {
   const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
   ASSERT_TRUE(fit.valid) << fit.reason;
   EXPECT_TRUE(fit.searched);
+  EXPECT_GT(fit.peak_z, 8.0);
   EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+}
+
+// A fit whose search peak is significant is taken at an innovation the prediction's covariance
+// calls unlikely (an odometry model too confident in a fast turn), and only through that rule:
+// here every other rule is set to refuse it.
+TEST(DirectAligner, TakesASignificantPeakThatThePredictionDoesNotExpect) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  const PoseWithCovariance prior = Prior(f.scene, base, {0.006, 0.008, 0.01}, {0.004, 0.004, 0.02});
+  DirectAlignOptions options = SmallCameraOptions();
+  options.max_prior_chi2 = options.max_weak_prior_chi2 = 0.01;
+  options.max_clear_peak_ratio = 0.001;
+  options.min_distinct_correlation = 0.999;
+  for (const double min_z : {8.0, 1000.0}) {
+    options.min_significant_peak_z = min_z;
+    const DirectAligner aligner(options, f.scene.camera, &f.normalized);
+    const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
+    EXPECT_GT(fit.prior_chi2, options.max_prior_chi2);
+    EXPECT_EQ(fit.valid, min_z == 8.0) << "z " << fit.peak_z << ": " << fit.reason;
+    if (fit.valid) EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+  }
 }
 
 TEST(DirectAligner, FindsAPredictionTurnedByTwiceItsHeadingSigma) {
@@ -166,6 +189,7 @@ TEST(DirectAligner, RefusesAFrameOfAnotherFloor) {
     const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {sigma_m, sigma_m, 0.01});
     const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
     EXPECT_FALSE(fit.valid) << "sigma " << sigma_m << ": correlation " << fit.correlation;
+    EXPECT_LT(fit.peak_z, 8.0) << "sigma " << sigma_m;
   }
 }
 

@@ -38,6 +38,8 @@ struct FrameResult {
   // The dense fit's quality when it ran: finest and coarsest correlation, the coarse search's
   // peak ratio, and its innovation against the prediction (χ², 3 dof).
   double direct_correlation = 0, direct_coarse_correlation = 0, direct_peak_ratio = 0;
+  double direct_peak_z = 0;    // the search peak's height over the surface, in its std devs
+  double direct_sigma_px = 0;  // the fit's image-only 1-sigma position, worst direction
   double direct_chi2 = 0;
 };
 

@@ -65,6 +65,8 @@ Status Validate(const DirectAlignOptions& d) {
         {d.max_clear_peak_ratio, "direct.max_clear_peak_ratio"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
   }
+  FLEETLOC_RETURN_IF_ERROR(Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z",
+                                 "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
                                  "direct.max_prior_chi2", "and max_weak_prior_chi2 must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_distinct_prior_chi2 >= d.max_prior_chi2,
