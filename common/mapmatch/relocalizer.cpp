@@ -42,6 +42,11 @@ Status Validate(const RelocalizerOptions& options) {
     return InvalidInput("relocalizer: confident_inliers must be >= min_verified_inliers");
   if (options.ambiguity_margin_inliers < 0)
     return InvalidInput("relocalizer: ambiguity_margin_inliers must be >= 0");
+  if (!(options.dense_min_correlation > 0.0 && options.dense_min_correlation < 1.0))
+    return InvalidInput("relocalizer: dense_min_correlation must be in (0, 1)");
+  if (!(options.dense_max_second_ratio > 0.0 && options.dense_max_second_ratio < 1.0))
+    return InvalidInput("relocalizer: dense_max_second_ratio must be in (0, 1)");
+  FLEETLOC_RETURN_IF_ERROR(Validate(options.dense));
   return tracking::Validate(options.tracker);
 }
 
@@ -56,13 +61,27 @@ Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index
                                                          mosaic::RasterSource* mosaic,
                                                          const geometry::CameraModel& camera,
                                                          const RelocalizerOptions& options) {
-  FLEETLOC_CHECK(index != nullptr && mosaic != nullptr);
+  FLEETLOC_CHECK(mosaic != nullptr);
   FLEETLOC_RETURN_IF_ERROR(Validate(options));
-  if (std::abs(camera.resolution_m / index->resolution_m() - 1.0) > 1e-6) {
+  const double resolution_m = mosaic->layout().geo.resolution;
+  if (std::abs(camera.resolution_m / resolution_m - 1.0) > 1e-6) {
     return InvalidInput("relocalizer: camera resolution " + std::to_string(camera.resolution_m) +
-                        " m/px differs from the mosaic's " + std::to_string(index->resolution_m()));
+                        " m/px differs from the mosaic's " + std::to_string(resolution_m));
   }
-  return std::unique_ptr<Relocalizer>(new Relocalizer(index, mosaic, camera, options));
+  std::unique_ptr<Relocalizer> relocalizer(new Relocalizer(index, mosaic, camera, options));
+  if (options.dense_search) {
+    // A mosaic too large for the dense search is relocalized by its features alone.
+    Result<std::unique_ptr<DensePlaceSearch>> dense =
+        DensePlaceSearch::Create(*mosaic, camera, options.dense);
+    if (dense.ok()) {
+      relocalizer->dense_ = std::move(dense).value();
+    } else if (index == nullptr) {
+      return InvalidInput("relocalizer: no place index, and " + dense.status().message());
+    }
+  }
+  if (index == nullptr && relocalizer->dense_ == nullptr)
+    return InvalidInput("relocalizer: neither a place index nor the dense search");
+  return relocalizer;
 }
 
 std::vector<FeatureMatch> Relocalizer::MatchFrame(const cv::Mat& frame, Relocalization* out) const {
@@ -98,9 +117,15 @@ std::vector<FeatureMatch> Relocalizer::MatchFrame(const cv::Mat& frame, Relocali
 
 std::optional<Relocalizer::Verified> Relocalizer::Verify(const cv::Mat& frame,
                                                          const PoseCandidate& candidate) {
+  return Verify(frame, candidate, options_.verify_sigma_m, options_.verify_sigma_rad);
+}
+
+std::optional<Relocalizer::Verified> Relocalizer::Verify(const cv::Mat& frame,
+                                                         const PoseCandidate& candidate,
+                                                         double sigma_m, double sigma_rad) {
   geometry::PoseWithCovariance camera_in_map{candidate.camera_in_map, Eigen::Matrix3d::Zero()};
-  camera_in_map.covariance.diagonal() << std::pow(options_.verify_sigma_m, 2),
-      std::pow(options_.verify_sigma_m, 2), std::pow(options_.verify_sigma_rad, 2);
+  camera_in_map.covariance.diagonal() << sigma_m * sigma_m, sigma_m * sigma_m,
+      sigma_rad * sigma_rad;
   tracker_.Reset(geometry::ComposeFixed(camera_in_map, camera_.mount.Inverse()), geometry::Pose2{});
   const tracking::FrameResult result = tracker_.Track(frame, 0.0, geometry::Pose2{});
   if (result.state != tracking::LockState::kTracking) return std::nullopt;
@@ -150,6 +175,40 @@ void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) co
   out->candidate_inliers = best.candidate_inliers;
 }
 
+void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<DensePeak> peaks = dense_->Search(frame);
+  out->dense = true;
+  out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
+  out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
+  const std::string scores = "dense peaks " + std::to_string(out->dense_best) + " and " +
+                             std::to_string(out->dense_second);
+  if (out->dense_best < options_.dense_min_correlation) {
+    out->reason += "; " + scores + ": too weak";
+  } else if (out->dense_second > options_.dense_max_second_ratio * out->dense_best) {
+    out->reason += "; ambiguous: " + scores;
+  } else {
+    PoseCandidate candidate;
+    candidate.camera_in_map = peaks[0].camera_in_map;
+    const double sigma_m = dense_->separation_m() / 4;
+    ++out->verified;
+    const std::optional<Verified> v =
+        Verify(frame, candidate, sigma_m, dense_->heading_separation_rad() / 8);
+    const geometry::Pose2 searched = candidate.camera_in_map * camera_.mount.Inverse();
+    if (v && std::hypot(v->base_in_map.pose.x - searched.x, v->base_in_map.pose.y - searched.y) <
+                 dense_->separation_m()) {
+      out->found = true;
+      out->reason.clear();
+      out->base_in_map = v->base_in_map;
+      out->inliers = v->inliers;
+      out->templates = v->templates;
+    } else {
+      out->reason += "; " + scores + ": the tracker did not confirm the best";
+    }
+  }
+  out->dense_ms = MsSince(start);
+}
+
 Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   if (frame.empty()) return InvalidInput("relocalize: the frame is empty");
   if (frame.type() != CV_8UC1 || frame.cols != camera_.width_px ||
@@ -160,6 +219,11 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
                         " with " + std::to_string(frame.channels()) + " channel(s)");
   }
   Relocalization out;
+  if (index_ == nullptr) {
+    out.reason = "no place index";
+    DenseRelocalize(frame, &out);
+    return out;
+  }
   const std::vector<FeatureMatch> matches = MatchFrame(frame, &out);
   const auto cluster_start = std::chrono::steady_clock::now();
   const std::vector<PoseCandidate> candidates = ClusterVotes(matches, options_.clustering);
@@ -172,6 +236,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
     Choose(VerifyCandidates(frame, candidates, &out), &out);
   }
   out.verify_ms = MsSince(verify_start);
+  if (!out.found && dense_) DenseRelocalize(frame, &out);
   return out;
 }
 

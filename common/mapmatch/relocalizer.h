@@ -14,6 +14,7 @@
 #include "base/status.h"
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
+#include "mapmatch/dense_place_search.h"
 #include "mapmatch/place_index.h"
 #include "mapmatch/pose_votes.h"
 #include "mosaic/raster_source.h"
@@ -40,6 +41,17 @@ struct RelocalizerOptions {
   double verify_sigma_m = 0.002;  // candidate covariance the tracker searches (1-sigma)
   double verify_sigma_rad = 0.01;
   tracking::TrackerOptions tracker;  // the verifying tracker cycle
+  // Dense place search (issue 17), tried when the features give no pose and the mosaic is small
+  // enough for it (DensePlaceSearchOptions::max_refine_level_mpx): its best peak is verified by a
+  // tracker cycle and accepted only when it correlates at least dense_min_correlation and the
+  // best distinct peak reaches at most dense_max_second_ratio of it (a self-similar floor: refused
+  // as ambiguous). Measured on the stress floors' tuning split: right peaks 0.25–0.7 with seconds
+  // at most 0.35 of them; a floor photo with cloned patches gave a wrong best at 0.60 with its
+  // second at 0.50 (0.83 of it).
+  bool dense_search = true;
+  DensePlaceSearchOptions dense;
+  double dense_min_correlation = 0.2;
+  double dense_max_second_ratio = 0.6;
 };
 
 // Flat range checks (and the tracker's); InvalidInput naming the field.
@@ -56,13 +68,18 @@ struct Relocalization {
   int templates = 0;          // correspondences the accepted tracker cycle measured
   int inliers = 0;            // of those, kept by its pose update
   int candidate_inliers = 0;  // feature inliers of the accepted candidate
-  double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0;
+  // The dense place search, when it ran: its best and second (distinct) peak's correlations.
+  bool dense = false;
+  double dense_best = 0, dense_second = 0;
+  double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0, dense_ms = 0;
 };
 
 class Relocalizer {
  public:
-  // `index` and `mosaic` must outlive the relocalizer and describe the same mosaic. InvalidInput
-  // for bad options or a camera whose resolution differs from the index's mosaic.
+  // `index` and `mosaic` must outlive the relocalizer and describe the same mosaic; `index` may be
+  // null (a floor without features: the dense search alone). InvalidInput for bad options, a
+  // camera whose resolution differs from the mosaic's, or no index and a mosaic too large for
+  // the dense search.
   static Result<std::unique_ptr<Relocalizer>> Create(const PlaceIndex* index,
                                                      mosaic::RasterSource* mosaic,
                                                      const geometry::CameraModel& camera,
@@ -82,17 +99,22 @@ class Relocalizer {
   };
   // One tracker cycle from the candidate; nullopt when the tracker does not lock.
   std::optional<Verified> Verify(const cv::Mat& frame, const PoseCandidate& candidate);
+  std::optional<Verified> Verify(const cv::Mat& frame, const PoseCandidate& candidate,
+                                 double sigma_m, double sigma_rad);
   // The verified poses of the candidates, as the options' verification rule says.
   std::vector<Verified> VerifyCandidates(const cv::Mat& frame,
                                          const std::vector<PoseCandidate>& candidates,
                                          Relocalization* out);
   // Accepts the best of `verified` into *out, or sets the reason why none is accepted.
   void Choose(std::vector<Verified> verified, Relocalization* out) const;
+  // The dense place search and the verification of its best peak (see RelocalizerOptions).
+  void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
 
   const PlaceIndex* index_;
   geometry::CameraModel camera_;
   RelocalizerOptions options_;
   tracking::MosaicTracker tracker_;
+  std::unique_ptr<DensePlaceSearch> dense_;  // null: off, or the mosaic is too large for it
 };
 
 }  // namespace fleetloc::mapmatch

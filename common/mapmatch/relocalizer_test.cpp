@@ -102,5 +102,77 @@ TEST(Relocalizer, BadOptionsAndMismatchedCameraAreRejected) {
   EXPECT_NE(mismatched.status().message().find("resolution"), std::string::npos);
 }
 
+// A plain-concrete photograph (data/stress_floors) with a 320×240 camera: too few features.
+struct PlainScene {
+  cv::Mat photo;
+  geometry::CameraModel camera;
+};
+
+PlainScene PlainConcreteScene() {
+  PlainScene scene;
+  scene.photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
+                           cv::IMREAD_GRAYSCALE);
+  EXPECT_FALSE(scene.photo.empty());
+  scene.camera.width_px = 320;
+  scene.camera.height_px = 240;
+  scene.camera.cx_px = 160;
+  scene.camera.cy_px = 120;
+  scene.camera.mount = {0.40, 0.0, 0.0};
+  return scene;
+}
+
+TEST(Relocalizer, WithoutAnIndexTheDenseSearchFindsPosesOnPlainConcrete) {
+  PlainScene scene = PlainConcreteScene();
+  mosaic::ImageRasterSource floor(scene.photo,
+                                  {0.0, scene.photo.rows * kResolutionM, kResolutionM});
+  auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 21);
+  std::mt19937_64 rng(9);
+  int correct = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const geometry::Pose2 truth = sim::RandomFullFramePose(floor.layout(), scene.camera, rng);
+    const Result<Relocalization> r =
+        (*relocalizer)->Relocalize(renderer.Render(truth, {0, 0}, trial).image);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    if (!r->found) continue;
+    const geometry::Pose2 pose = r->base_in_map.pose;
+    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
+    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+    ++correct;
+  }
+  EXPECT_GE(correct, 5);
+}
+
+TEST(Relocalizer, AFloorThatRepeatsItselfIsAmbiguousNeverAWrongPose) {
+  PlainScene scene = PlainConcreteScene();
+  cv::Mat twice;
+  cv::hconcat(scene.photo, scene.photo, twice);
+  mosaic::ImageRasterSource floor(twice, {0.0, twice.rows * kResolutionM, kResolutionM});
+  auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 22);
+  for (int trial = 0; trial < 4; ++trial) {  // frames wholly inside the left copy
+    const geometry::Pose2 camera_pose{0.15 + 0.05 * trial, 0.2 + 0.04 * trial, 0.9 * trial - 1.2};
+    const geometry::Pose2 truth = camera_pose * scene.camera.mount.Inverse();
+    const Result<Relocalization> r =
+        (*relocalizer)->Relocalize(renderer.Render(truth, {0, 0}, trial).image);
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r->found) << "trial " << trial;
+    EXPECT_NE(r->reason.find("ambiguous"), std::string::npos) << r->reason;
+  }
+}
+
+TEST(Relocalizer, NoIndexAndAMosaicTooLargeForTheDenseSearchIsRejected) {
+  PlainScene scene = PlainConcreteScene();
+  mosaic::ImageRasterSource floor(scene.photo,
+                                  {0.0, scene.photo.rows * kResolutionM, kResolutionM});
+  RelocalizerOptions options;
+  options.dense.max_refine_level_mpx = 0.01;
+  const auto refused = Relocalizer::Create(nullptr, &floor, scene.camera, options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("no place index"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::mapmatch

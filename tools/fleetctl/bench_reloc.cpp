@@ -5,15 +5,23 @@
 #include <random>
 
 #include "io/progress_log.h"
+#include "reloc_index.h"
+#include "replay/replay.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
 
 namespace fleetloc::fleetctl {
 namespace {
 
-// The bench's camera: 640×480 at the mosaic's resolution, mounted 0.40 m ahead of base_link.
-geometry::CameraModel BenchCamera(const mosaic::MosaicLayout& layout) {
+// The bench's camera: the settings' frame size at the mosaic's resolution, mounted 0.40 m ahead
+// of base_link.
+geometry::CameraModel BenchCamera(const mosaic::MosaicLayout& layout,
+                                  const RelocTrialSettings& settings) {
   geometry::CameraModel camera;
+  camera.width_px = settings.width_px;
+  camera.height_px = settings.height_px;
+  camera.cx_px = 0.5 * settings.width_px;
+  camera.cy_px = 0.5 * settings.height_px;
   camera.resolution_m = layout.geo.resolution;
   camera.mount = {0.40, 0.0, 0.0};
   return camera;
@@ -30,31 +38,47 @@ bool FrameFits(const mosaic::MosaicLayout& layout, const geometry::CameraModel& 
 }
 
 // The vehicle's pose at frame `k`: driven straight ahead from `start`, or backwards when ahead
-// leaves the mosaic.
+// leaves the mosaic, or standing at `start` when neither fits (a floor a few frames across).
 geometry::Pose2 PoseAtFrame(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
                             const geometry::Pose2& start, int k, double step_m) {
-  const geometry::Pose2 ahead = start * geometry::Pose2{k * step_m, 0.0, 0.0};
-  return FrameFits(layout, camera, ahead) ? ahead : start * geometry::Pose2{-k * step_m, 0.0, 0.0};
+  for (const double sign : {1.0, -1.0}) {
+    const geometry::Pose2 pose = start * geometry::Pose2{sign * k * step_m, 0.0, 0.0};
+    if (FrameFits(layout, camera, pose)) return pose;
+  }
+  return start;
+}
+
+// The floor's velocity across the image while the vehicle drives straight ahead at speed_m_s
+// (for the motion blur of a camera condition with an exposure time).
+Eigen::Vector2d ImageVelocity(const geometry::CameraModel& camera, double speed_m_s) {
+  constexpr double kDt = 1e-3;
+  const geometry::Pose2 moved = camera.mount.Inverse() * geometry::Pose2{speed_m_s * kDt, 0, 0} *
+                                camera.mount;  // the camera's motion in its own frame
+  return (camera.GroundToPixel(moved.Inverse() * Eigen::Vector2d::Zero()) -
+          camera.GroundToPixel(Eigen::Vector2d::Zero())) /
+         kDt;
 }
 
 double Ms(const mapmatch::Relocalization& r) {
-  return r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms;
+  return r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms + r.dense_ms;
 }
 
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles).
 Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
-                            const mapmatch::PlaceIndex& index, sim::CameraRenderer& renderer,
+                            const mapmatch::PlaceIndex* index, sim::CameraRenderer& renderer,
                             const geometry::Pose2& start, int trial, const RelocTrialSettings& s) {
   const mosaic::MosaicLayout layout = store->layout();
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(s.tile_cache_bytes));
-  auto relocalizer = mapmatch::Relocalizer::Create(&index, &view, renderer.camera(), s.relocalizer);
+  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), s.relocalizer);
   if (!relocalizer.ok()) return relocalizer.status();
   RelocTrial out;
   for (int k = 0; k < s.attempts && !out.found; ++k) {
     const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
+    const Eigen::Vector2d velocity =
+        ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
-        renderer.Render(truth, {0, 0}, static_cast<std::uint64_t>(trial) * 16 + k).image;
+        renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
     Result<mapmatch::Relocalization> r = (*relocalizer)->Relocalize(frame);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
     out.runs.push_back(*r);
@@ -70,17 +94,86 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   return out;
 }
 
+// Every trial that ended without a correct pose, with what the relocalizer saw.
+nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
+  nlohmann::json failures = nlohmann::json::array();
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    const RelocTrial& t = trials[i];
+    if (t.correct) continue;
+    nlohmann::json runs = nlohmann::json::array();
+    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(RelocalizationJson(r));
+    failures.push_back({{"trial", i},
+                        {"found", t.found},
+                        {"error_m", t.error_m},
+                        {"error_rad", t.error_rad},
+                        {"attempts", runs}});
+  }
+  return failures;
+}
+
+// [correct, tracker inliers, templates, candidate feature inliers] of every accepted pose: the
+// margins of the acceptance gates.
+nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
+  nlohmann::json accepted = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    if (!t.found) continue;
+    const mapmatch::Relocalization& r = t.runs.back();
+    accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers});
+  }
+  return accepted;
+}
+
 }  // namespace
 
+nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
+  int correct = 0, within = 0, wrong = 0, not_found = 0;
+  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
+  for (const RelocTrial& t : trials) {
+    correct += t.correct;
+    within += t.correct && t.time_to_pose_s <= s.target_s;
+    wrong += t.found && !t.correct;
+    not_found += !t.found;
+    if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
+    for (const mapmatch::Relocalization& r : t.runs) {
+      attempt_ms.push_back(Ms(r));
+      detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
+    }
+  }
+  const double n = static_cast<double>(trials.size());
+  const auto pct = [](const std::vector<double>& v) {
+    return nlohmann::json{{"p50", replay::Percentile(v, 50)},
+                          {"p95", replay::Percentile(v, 95)},
+                          {"max", replay::Percentile(v, 100)}};
+  };
+  return {{"trials", trials.size()},
+          {"correct", correct},
+          {"success_rate", correct / n},
+          {"correct_within_target", within},
+          {"success_rate_within_target", within / n},
+          {"wrong_pose", wrong},
+          {"not_found", not_found},
+          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+          {"attempt_ms", pct(attempt_ms)},
+          {"attempts", attempt_ms.size()},
+          {"failures", Failures(trials)},
+          {"accepted", Accepted(trials)},
+          {"stage_ms_p50",
+           {{"detect", replay::Percentile(detect, 50)},
+            {"match", replay::Percentile(match, 50)},
+            {"verify", replay::Percentile(verify, 50)}}}};
+}
+
+
 Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
-                                               const mapmatch::PlaceIndex& index,
+                                               const mapmatch::PlaceIndex* index,
                                                const RelocTrialSettings& settings) {
   const mosaic::MosaicLayout layout = store->layout();
   // The renderer reads the same mosaic through its own view and cache, so it never warms the
   // relocalizer's tiles.
   mosaic::MosaicView floor(layout, mosaic::MakeTileLoader(store),
                            std::make_shared<mosaic::TileCache>(256LL << 20));
-  sim::CameraRenderer renderer(&floor, BenchCamera(layout), sim::RenderOptions{}, settings.seed);
+  sim::CameraRenderer renderer(&floor, BenchCamera(layout, settings), settings.render,
+                               settings.seed);
   std::mt19937_64 rng(settings.seed);
   io::PercentLog log("relocalization trials", "trials", 5);
   std::vector<RelocTrial> trials;

@@ -1,18 +1,20 @@
 // `fleetctl bench reloc` trials: a vehicle put down at a random pose (uniform over the mosaic area
 // where a full frame fits, uniform heading) sees sim-rendered frames (5 Hz, driving straight at
-// 0.3 m per frame); each frame is relocalized with no prior, from a cold tile cache, until a pose
+// 0.3 m per frame, backwards when ahead leaves the floor, standing when neither fits); each frame is relocalized with no prior, from a cold tile cache, until a pose
 // is returned. Time to the first correct pose counts the relocalizer's time of every attempt plus
 // the frame period for each frame it waited for.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 #include "base/status.h"
 #include "mapmatch/place_index.h"
 #include "mapmatch/relocalizer.h"
 #include "mosaic/tile_store.h"
+#include "sim/sim_options.h"
 
 namespace fleetloc::fleetctl {
 
@@ -26,6 +28,8 @@ struct RelocTrialSettings {
   double target_s = 1.0;  // "within 1 s"
   std::uint64_t seed = 1;
   long long tile_cache_bytes = 64LL << 20;  // per trial (cold)
+  int width_px = 640, height_px = 480;      // the camera's frames
+  sim::RenderOptions render;                // camera effects (default: `fleetctl sim`'s)
   mapmatch::RelocalizerOptions relocalizer;
 };
 
@@ -38,10 +42,15 @@ struct RelocTrial {
   std::vector<mapmatch::Relocalization> runs;  // one per attempt
 };
 
-// Runs the trials on the mosaic of `store` with `index`; logs progress. Internal if the
+// Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);
+// logs progress. Internal if the
 // relocalizer rejects a rendered frame (a bug).
 Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
-                                               const mapmatch::PlaceIndex& index,
+                                               const mapmatch::PlaceIndex* index,
                                                const RelocTrialSettings& settings);
+
+// The trials' counts (correct, within target_s, wrong, not found), time percentiles, every
+// failed trial with what the relocalizer saw, and the gate margins of every accepted pose.
+nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s);
 
 }  // namespace fleetloc::fleetctl

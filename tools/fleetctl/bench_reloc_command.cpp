@@ -12,6 +12,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "bench_reloc.h"
+#include "bench_reloc_stress.h"
 #include "commands.h"
 #include "composed_floor.h"
 #include "floor_images.h"
@@ -20,7 +21,6 @@
 #include "mosaic/importer.h"
 #include "mosaic/place_index_cache.h"
 #include "reloc_index.h"
-#include "replay/replay.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -41,6 +41,8 @@ struct BenchRelocArgs {
   std::string json;
   mapmatch::PlaceIndexOptions index;
   RelocTrialSettings trials;
+  bool stress = false;      // the stress floors instead (bench_reloc_stress.h)
+  RelocStressArgs stressed;  // its floors, sizes, conditions and layouts
 };
 
 // The composed, imported mosaic of args.size (kept in the work dir and reused when present).
@@ -92,73 +94,6 @@ Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceI
   });
 }
 
-// Every trial that ended without a correct pose, with what the relocalizer saw.
-nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
-  nlohmann::json failures = nlohmann::json::array();
-  for (std::size_t i = 0; i < trials.size(); ++i) {
-    const RelocTrial& t = trials[i];
-    if (t.correct) continue;
-    nlohmann::json runs = nlohmann::json::array();
-    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(RelocalizationJson(r));
-    failures.push_back({{"trial", i},
-                        {"found", t.found},
-                        {"error_m", t.error_m},
-                        {"error_rad", t.error_rad},
-                        {"attempts", runs}});
-  }
-  return failures;
-}
-
-// [correct, tracker inliers, templates, candidate feature inliers] of every accepted pose: the
-// margins of the acceptance gates.
-nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
-  nlohmann::json accepted = nlohmann::json::array();
-  for (const RelocTrial& t : trials) {
-    if (!t.found) continue;
-    const mapmatch::Relocalization& r = t.runs.back();
-    accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers});
-  }
-  return accepted;
-}
-
-nlohmann::json TrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
-  int correct = 0, within = 0, wrong = 0, not_found = 0;
-  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
-  for (const RelocTrial& t : trials) {
-    correct += t.correct;
-    within += t.correct && t.time_to_pose_s <= s.target_s;
-    wrong += t.found && !t.correct;
-    not_found += !t.found;
-    if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
-    for (const mapmatch::Relocalization& r : t.runs) {
-      attempt_ms.push_back(r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms);
-      detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
-    }
-  }
-  const double n = static_cast<double>(trials.size());
-  const auto pct = [](const std::vector<double>& v) {
-    return nlohmann::json{{"p50", replay::Percentile(v, 50)},
-                          {"p95", replay::Percentile(v, 95)},
-                          {"max", replay::Percentile(v, 100)}};
-  };
-  return {{"trials", trials.size()},
-          {"correct", correct},
-          {"success_rate", correct / n},
-          {"correct_within_target", within},
-          {"success_rate_within_target", within / n},
-          {"wrong_pose", wrong},
-          {"not_found", not_found},
-          {"time_to_correct_pose_ms", pct(to_pose_ms)},
-          {"attempt_ms", pct(attempt_ms)},
-          {"attempts", attempt_ms.size()},
-          {"failures", Failures(trials)},
-          {"accepted", Accepted(trials)},
-          {"stage_ms_p50",
-           {{"detect", replay::Percentile(detect, 50)},
-            {"match", replay::Percentile(match, 50)},
-            {"verify", replay::Percentile(verify, 50)}}}};
-}
-
 void PrintSummary(const nlohmann::json& j) {
   const auto& st = j["trials"];
   std::cout << "\n== global relocalization: " << j["mosaic"]["megapixels"].get<double>()
@@ -181,6 +116,14 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
   cv::setNumThreads(1);  // one core; and no worker threads may exist when the build forks
   FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.index));
   FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.trials.relocalizer));
+  if (args.stress) {
+    RelocStressArgs stressed = args.stressed;
+    stressed.index = args.index;
+    stressed.trials = args.trials;
+    stressed.json = args.json;
+    stressed.work_dir = args.work_dir;
+    return RunRelocStress(stressed);
+  }
   Result<std::string> db = PrepareMosaic(args);
   if (!db.ok()) return db.status();
   Result<ChildRun> build = BuildIndexInChild(*db, args.index);
@@ -192,7 +135,7 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
                           std::make_shared<mosaic::TileCache>(64LL << 20));
   Result<mosaic::LoadedPlaceIndex> index = mosaic::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic::IndexCache::kUse);
   if (!index.ok()) return index.status();
-  Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, index->index, args.trials);
+  Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, &index->index, args.trials);
   if (!trials.ok()) return trials.status();
   const mosaic::MosaicLayout layout = (*store)->layout();
   nlohmann::json json{
@@ -216,7 +159,7 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
         {"max_error_m", args.trials.max_error_m},
         {"max_error_rad", args.trials.max_error_rad},
         {"tile_cache_bytes_per_trial", args.trials.tile_cache_bytes}}},
-      {"trials", TrialStats(*trials, args.trials)},
+      {"trials", RelocTrialStats(*trials, args.trials)},
       {"rss_after_trials_bytes", ResidentBytes()}};
   PrintSummary(json);
   if (args.json.empty()) return Status::Ok();
@@ -244,6 +187,24 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
   cmd->add_option("--lsh-multiprobe", args->index.lsh_multiprobe_level, "LSH multi-probe level");
   cmd->add_option("--max-verified", args->trials.relocalizer.max_verified_candidates,
                   "Candidates verified by a tracker cycle per frame");
+  cmd->add_flag("--stress", args->stress,
+                "The stress floors (data/stress_floors) × --sizes × --conditions × --layouts "
+                "instead of one large composed floor");
+  RelocStressArgs& st = args->stressed;
+  cmd->add_option("--manifest", st.manifest, "Stress floors manifest (with --stress)");
+  cmd->add_option("--split", st.split, "tuning, holdout or all (with --stress)")
+      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
+  cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
+      ->delimiter(',');
+  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")
+      ->delimiter(',');
+  cmd->add_option("--conditions", st.conditions,
+                  "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
+      ->delimiter(',');
+  cmd->add_option("--layouts", st.layouts,
+                  "single (the floor alone) and/or repeated (the floor twice side by side; "
+                  "with --stress)")
+      ->delimiter(',');
   cmd->callback([args, result] { *result = RunBenchReloc(*args); });
 }
 

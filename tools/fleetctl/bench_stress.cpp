@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
+#include <sstream>
 
 #include "io/file_util.h"
 #include "io/run.h"
@@ -65,6 +66,17 @@ Result<std::vector<StressFloor>> ReadStressManifest(const fs::path& manifest) {
     floors.push_back(std::move(*floor));
   }
   return floors;
+}
+
+Result<FrameSize> ParseFrameSize(const std::string& text) {
+  FrameSize size{0, 0, text};
+  char x = 0;
+  std::istringstream in(text);
+  if (!(in >> size.width >> x >> size.height) || x != 'x' || !in.eof() || size.width < 64 ||
+      size.height < 64 || size.width > 4096 || size.height > 4096) {
+    return InvalidInput("--sizes: '" + text + "' is not WIDTHxHEIGHT within 64..4096");
+  }
+  return size;
 }
 
 fs::path DefaultStressManifest() {

@@ -18,6 +18,15 @@ struct StressFloor {
   std::string file, floor_class, split;  // split: "tuning" or "holdout"
 };
 
+// A frame size of the suite, "WIDTHxHEIGHT".
+struct FrameSize {
+  int width = 0, height = 0;
+  std::string label;
+};
+
+// "WIDTHxHEIGHT" with both within 64..4096; InvalidInput naming --sizes otherwise.
+Result<FrameSize> ParseFrameSize(const std::string& text);
+
 // data/stress_floors/floors.json: NotFound / InvalidInput naming the file and the bad entry.
 Result<std::vector<StressFloor>> ReadStressManifest(const std::filesystem::path& manifest);
 

@@ -33,22 +33,6 @@ struct StressArgs {
   BenchSettings settings;
 };
 
-struct FrameSize {
-  int width = 0, height = 0;
-  std::string label;
-};
-
-Result<FrameSize> ParseSize(const std::string& text) {
-  FrameSize size{0, 0, text};
-  char x = 0;
-  std::istringstream in(text);
-  if (!(in >> size.width >> x >> size.height) || x != 'x' || !in.eof() || size.width < 64 ||
-      size.height < 64 || size.width > 4096 || size.height > 4096) {
-    return InvalidInput("--sizes: '" + text + "' is not WIDTHxHEIGHT within 64..4096");
-  }
-  return size;
-}
-
 // A weak floor: the looser accuracy and time targets apply.
 bool PlainClass(const std::string& floor_class) {
   return floor_class == "plain_concrete" || floor_class == "polished_concrete" ||
@@ -141,7 +125,7 @@ Status RunStress(StressArgs& args) {
   if (!floors.ok()) return floors.status();
   std::vector<FrameSize> sizes;
   for (const std::string& text : args.sizes) {
-    Result<FrameSize> size = ParseSize(text);
+    Result<FrameSize> size = ParseFrameSize(text);
     if (!size.ok()) return size.status();
     sizes.push_back(*size);
   }

@@ -56,8 +56,8 @@ Status ImportFresh(const fs::path& image, double resolution_m, const fs::path& d
   return layout.status();
 }
 
-// Opens floor_dir/mosaic.db made from `image`, importing it first unless the one there was made
-// from the same file (size, mtime, resolution) and opens.
+}  // namespace
+
 Result<std::shared_ptr<mosaic::TileStore>> OpenFloorMosaic(const fs::path& image,
                                                            double resolution_m,
                                                            const fs::path& floor_dir) {
@@ -83,6 +83,8 @@ Result<std::shared_ptr<mosaic::TileStore>> OpenFloorMosaic(const fs::path& image
   if (!opened.ok()) return opened.status();
   return std::shared_ptr<mosaic::TileStore>(std::move(*opened));
 }
+
+namespace {
 
 sim::SimOptions SimOptionsFor(const BenchSettings& settings) {
   sim::SimOptions options;  // the realistic defaults of `fleetctl sim`

@@ -10,6 +10,7 @@
 
 #include "base/status.h"
 #include "io/run.h"
+#include "mosaic/tile_store.h"
 #include "replay/replay.h"
 #include "sim/run_simulator.h"
 #include "tracking/tracker_options.h"
@@ -36,6 +37,13 @@ struct BenchSettings {
 // Reads `path` (tracker options JSON, as `fleetctl track --config`) into settings->tracker; an
 // empty path keeps the defaults.
 Status LoadBenchTrackerOptions(const std::string& path, BenchSettings* settings);
+
+// Opens floor_dir/mosaic.db made from `image` at `resolution_m`, importing it first unless the one
+// there was made from the same file (size, mtime, resolution) and opens. NotFound for a missing
+// image; the import's error; Internal when the directory cannot be created.
+Result<std::shared_ptr<mosaic::TileStore>> OpenFloorMosaic(const std::filesystem::path& image,
+                                                           double resolution_m,
+                                                           const std::filesystem::path& floor_dir);
 
 // One method's replay of (the first frames of) a run. `run` holds exactly the frames and truth
 // rows that were replayed, so it scores the replay as `fleetctl track` would.

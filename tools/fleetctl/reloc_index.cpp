@@ -14,7 +14,10 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
                         {"match", r.match_ms},
                         {"cluster", r.cluster_ms},
                         {"verify", r.verify_ms},
-                        {"total", r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms}}}};
+                        {"dense", r.dense_ms},
+                        {"total", r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms +
+                                      r.dense_ms}}}};
+  if (r.dense) json["dense"] = {{"best", r.dense_best}, {"second", r.dense_second}};
   if (!r.found) {
     json["reason"] = r.reason;
     return json;

@@ -1,0 +1,288 @@
+// Dense global place search: heading sweep at a coarse level, refinement one level finer (see
+// dense_place_search.h).
+#include "mapmatch/dense_place_search.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace fleetloc::mapmatch {
+
+// The whole mosaic at one pyramid level, normalized, with its geotransform.
+struct DensePlaceSearch::Level {
+  int level = 0;
+  cv::Mat normalized;  // CV_32F
+  geometry::Geotransform geo;
+  double half_diagonal_px = 0;  // of a frame at this level
+  int pad_px = 0;               // zero border around the mosaic
+  double heading_step_rad = 0;
+};
+
+namespace {
+
+constexpr double kEpsilonDn = 0.5;  // keeps flat areas from being amplified into noise
+
+// (I − μ) / (σ + ε) over a window, clipped to ±clip; CV_32F.
+cv::Mat NormalizeClipped(const cv::Mat& image, int window, double clip) {
+  cv::Mat f, mean, mean_sq, sigma;
+  image.convertTo(f, CV_32F);
+  cv::boxFilter(f, mean, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
+                cv::BORDER_REFLECT);
+  cv::boxFilter(f.mul(f), mean_sq, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
+                cv::BORDER_REFLECT);
+  cv::sqrt(cv::max(mean_sq - mean.mul(mean), 0.0), sigma);
+  cv::Mat out = (f - mean) / (sigma + kEpsilonDn);
+  return cv::min(cv::max(out, -clip), clip);
+}
+
+// The whole mosaic at `level` (resampled from the coarsest stored level when it has fewer).
+cv::Mat ReadWholeLevel(mosaic::RasterSource& mosaic, int level) {
+  const mosaic::MosaicLayout& layout = mosaic.layout();
+  const int stored = std::min(level, layout.levels - 1);
+  cv::Mat pixels = mosaic.ReadBlock(
+      stored, cv::Rect(0, 0, layout.LevelWidth(stored), layout.LevelHeight(stored)));
+  if (stored == level) return pixels;
+  cv::Mat smaller;
+  cv::resize(pixels, smaller, cv::Size(layout.LevelWidth(level), layout.LevelHeight(level)), 0, 0,
+             cv::INTER_AREA);
+  return smaller;
+}
+
+// Frame pixel directions → mosaic pixel directions at the same level, for heading θ.
+Eigen::Matrix2d FrameToMosaic(const geometry::CameraModel& camera,
+                              const geometry::Geotransform& geo, double theta) {
+  Eigen::Matrix2d to_ground, to_pixel;
+  const Eigen::Vector2d g0 = camera.PixelToGround({0, 0});
+  to_ground << camera.PixelToGround({1, 0}) - g0, camera.PixelToGround({0, 1}) - g0;
+  const Eigen::Vector2d p0 = geo.MapToPixel({0, 0});
+  to_pixel << geo.MapToPixel({1, 0}) - p0, geo.MapToPixel({0, 1}) - p0;
+  // The frame and the mosaic are taken at the same level: scale-free.
+  const double scale = geo.resolution / camera.resolution_m;
+  return scale * to_pixel * Eigen::Rotation2Dd(theta).toRotationMatrix() * to_ground;
+}
+
+// The normalized frame rotated into the mosaic's axes for heading θ: the template, its mask, and
+// the template's continuous coordinates of the frame centre.
+struct Template {
+  cv::Mat pixels, mask;
+  Eigen::Vector2d centre;
+};
+
+Template RotatedFrame(const cv::Mat& frame, const Eigen::Matrix2d& l) {
+  const Eigen::Vector2d half(0.5 * frame.cols, 0.5 * frame.rows);
+  const Eigen::Vector2d extent = l.cwiseAbs() * half;
+  const cv::Size size(2 * static_cast<int>(std::ceil(extent.x())) + 2,
+                      2 * static_cast<int>(std::ceil(extent.y())) + 2);
+  Template t;
+  t.centre = Eigen::Vector2d(0.5 * size.width, 0.5 * size.height);
+  // Index coordinates (centres at integers): dst = L·(src + ½ − c_f) + c_t − ½.
+  const Eigen::Vector2d offset = l * (Eigen::Vector2d(0.5, 0.5) - half) + t.centre -
+                                 Eigen::Vector2d(0.5, 0.5);
+  const cv::Matx23d m(l(0, 0), l(0, 1), offset.x(), l(1, 0), l(1, 1), offset.y());
+  cv::warpAffine(frame, t.pixels, m, size, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  cv::warpAffine(cv::Mat(frame.size(), CV_8UC1, cv::Scalar(255)), t.mask, m, size,
+                 cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  cv::erode(t.mask, t.mask, cv::Mat());
+  return t;
+}
+
+// Places where the template meets only the zero border (0 / 0) score 0, not NaN or infinity.
+void FiniteScores(cv::Mat* scores) {
+  cv::patchNaNs(*scores, 0.0);
+  scores->setTo(0.0f, cv::abs(*scores) > 1.0f);
+}
+
+// Sub-pixel offset of a peak from three samples (quadratic), within ±0.5.
+double QuadraticOffset(double left, double centre, double right) {
+  const double denominator = left - 2 * centre + right;
+  if (denominator >= 0) return 0;
+  return std::clamp(0.5 * (left - right) / denominator, -0.5, 0.5);
+}
+
+// The refined sub-pixel position of the maximum of `scores` at integer `at`.
+Eigen::Vector2d SubPixel(const cv::Mat& scores, cv::Point at) {
+  Eigen::Vector2d p(at.x, at.y);
+  const auto s = [&](int x, int y) { return static_cast<double>(scores.at<float>(y, x)); };
+  if (at.x > 0 && at.x + 1 < scores.cols)
+    p.x() += QuadraticOffset(s(at.x - 1, at.y), s(at.x, at.y), s(at.x + 1, at.y));
+  if (at.y > 0 && at.y + 1 < scores.rows)
+    p.y() += QuadraticOffset(s(at.x, at.y - 1), s(at.x, at.y), s(at.x, at.y + 1));
+  return p;
+}
+
+// The camera pose whose frame centre lands at mosaic continuous coordinates `at` (of `level`).
+geometry::Pose2 PoseAt(const geometry::CameraModel& camera, const geometry::Geotransform& geo,
+                       const Eigen::Vector2d& at, double theta) {
+  const Eigen::Vector2d centre_ground =
+      camera.PixelToGround({0.5 * camera.width_px, 0.5 * camera.height_px});
+  const Eigen::Vector2d xy = geo.PixelToMap(at) - Eigen::Rotation2Dd(theta) * centre_ground;
+  return {xy.x(), xy.y(), geometry::WrapAngle(theta)};
+}
+
+}  // namespace
+
+Status Validate(const DensePlaceSearchOptions& o) {
+  if (o.min_short_side_px < 16 || o.min_short_side_px > 512)
+    return InvalidInput("dense place search: min_short_side_px must be 16..512");
+  if (!(o.heading_step_scale > 0.1 && o.heading_step_scale <= 4.0))
+    return InvalidInput("dense place search: heading_step_scale must be in (0.1, 4]");
+  if (o.normalize_window_px < 3 || o.normalize_window_px % 2 == 0)
+    return InvalidInput("dense place search: normalize_window_px must be odd and >= 3");
+  if (!(o.clip > 0.5 && o.clip <= 10.0))
+    return InvalidInput("dense place search: clip must be in (0.5, 10]");
+  if (o.coarse_peaks < 1 || o.coarse_peaks > 100)
+    return InvalidInput("dense place search: coarse_peaks must be 1..100");
+  if (o.max_peaks < 2 || o.max_peaks > o.coarse_peaks)
+    return InvalidInput("dense place search: max_peaks must be 2..coarse_peaks");
+  if (!(o.max_refine_level_mpx > 0.0 && o.max_refine_level_mpx <= 100.0))
+    return InvalidInput("dense place search: max_refine_level_mpx must be in (0, 100]");
+  return Status::Ok();
+}
+
+DensePlaceSearch::DensePlaceSearch(const geometry::CameraModel& camera,
+                                   const DensePlaceSearchOptions& options)
+    : camera_(camera), options_(options) {}
+
+Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
+    mosaic::RasterSource& mosaic, const geometry::CameraModel& camera,
+    const DensePlaceSearchOptions& options) {
+  FLEETLOC_RETURN_IF_ERROR(Validate(options));
+  const mosaic::MosaicLayout& layout = mosaic.layout();
+  if (std::abs(camera.resolution_m / layout.geo.resolution - 1.0) > 1e-6)
+    return InvalidInput("dense place search: camera and mosaic resolutions differ");
+  int fine = 0;
+  const int short_side = std::min(camera.width_px, camera.height_px);
+  while ((short_side >> (fine + 1)) >= options.min_short_side_px) ++fine;
+  const double mpx = layout.LevelWidth(fine) * static_cast<double>(layout.LevelHeight(fine)) / 1e6;
+  if (mpx > options.max_refine_level_mpx) {
+    return InvalidInput("dense place search: the mosaic has " + std::to_string(mpx) +
+                        " Mpx at level " + std::to_string(fine) + ", more than " +
+                        std::to_string(options.max_refine_level_mpx));
+  }
+  std::unique_ptr<DensePlaceSearch> search(new DensePlaceSearch(camera, options));
+  search->refine_level_ = fine;
+  for (int k = 0; k < 2; ++k) {
+    auto level = std::make_shared<Level>();
+    level->level = fine + 1 - k;
+    level->half_diagonal_px =
+        0.5 * std::hypot(camera.width_px >> level->level, camera.height_px >> level->level);
+    // Padded with zeros (no correlation) so a frame near the mosaic's edge can still be placed.
+    level->pad_px = static_cast<int>(std::ceil(level->half_diagonal_px)) + 8;
+    cv::copyMakeBorder(NormalizeClipped(ReadWholeLevel(mosaic, level->level),
+                                        options.normalize_window_px, options.clip),
+                       level->normalized, level->pad_px, level->pad_px, level->pad_px,
+                       level->pad_px, cv::BORDER_CONSTANT, 0);
+    const double pad_m = level->pad_px * layout.geo.resolution * (1 << level->level);
+    level->geo = layout.geo.AtLevel(level->level);
+    level->geo.origin_x -= pad_m;
+    level->geo.origin_y += pad_m;
+    level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px;
+    (k == 0 ? search->coarse_ : search->fine_) = level;
+  }
+  return search;
+}
+
+double DensePlaceSearch::separation_m() const {
+  const int short_side = std::min(camera_.width_px, camera_.height_px) >> fine_->level;
+  return std::max(4.0, 0.25 * short_side) * fine_->geo.resolution;
+}
+
+double DensePlaceSearch::heading_separation_rad() const {
+  return 8.0 * fine_->heading_step_rad;
+}
+
+std::size_t DensePlaceSearch::MemoryBytes() const {
+  return (coarse_->normalized.total() + fine_->normalized.total()) * sizeof(float);
+}
+
+std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(const cv::Mat& frame) const {
+  const Level& c = *coarse_;
+  cv::Mat small;
+  cv::resize(frame, small, cv::Size(frame.cols >> c.level, frame.rows >> c.level), 0, 0,
+             cv::INTER_AREA);
+  const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
+  std::vector<DensePeak> peaks;
+  const int steps = static_cast<int>(std::ceil(2 * M_PI / c.heading_step_rad));
+  for (int k = 0; k < steps; ++k) {
+    const double theta = -M_PI + 2 * M_PI * k / steps;
+    const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
+    if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) continue;
+    cv::Mat scores;
+    cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+    FiniteScores(&scores);
+    for (int p = 0; p < 2; ++p) {  // the two best places at this heading
+      double best = 0;
+      cv::Point at;
+      cv::minMaxLoc(scores, nullptr, &best, nullptr, &at);
+      peaks.push_back({PoseAt(camera_, c.geo, Eigen::Vector2d(at.x, at.y) + t.centre, theta),
+                       best});
+      cv::circle(scores, at, std::max(2, t.pixels.rows / 4), cv::Scalar(-1), cv::FILLED);
+    }
+  }
+  std::sort(peaks.begin(), peaks.end(),
+            [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
+  return peaks;
+}
+
+DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse) const {
+  const Level& f = *fine_;
+  cv::Mat small;
+  cv::resize(frame, small, cv::Size(frame.cols >> f.level, frame.rows >> f.level), 0, 0,
+             cv::INTER_AREA);
+  const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
+  const Eigen::Vector2d centre_ground =
+      camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
+  constexpr int kRadius = 4;  // fine pixels searched around the coarse peak
+  DensePeak best{coarse.camera_in_map, -2.0};
+  for (int j = -2; j <= 2; ++j) {
+    const double theta = coarse.camera_in_map.theta + j * f.heading_step_rad;
+    const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, f.geo, theta));
+    const Eigen::Vector2d at = f.geo.MapToPixel(coarse.camera_in_map * centre_ground);
+    const cv::Point corner(static_cast<int>(std::lround(at.x() - t.centre.x())) - kRadius,
+                           static_cast<int>(std::lround(at.y() - t.centre.y())) - kRadius);
+    const cv::Rect area(corner, t.pixels.size() + cv::Size(2 * kRadius, 2 * kRadius));
+    if ((area & cv::Rect(0, 0, f.normalized.cols, f.normalized.rows)) != area) continue;
+    cv::Mat scores;
+    cv::matchTemplate(f.normalized(area), t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+    FiniteScores(&scores);
+    double value = 0;
+    cv::Point peak;
+    cv::minMaxLoc(scores, nullptr, &value, nullptr, &peak);
+    if (!(value > best.correlation)) continue;
+    const Eigen::Vector2d sub = SubPixel(scores, peak);
+    best = {PoseAt(camera_, f.geo, Eigen::Vector2d(corner.x, corner.y) + sub + t.centre, theta),
+            value};
+  }
+  return best;
+}
+
+std::vector<DensePeak> DensePlaceSearch::Search(const cv::Mat& frame) const {
+  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
+                 frame.rows == camera_.height_px);
+  const auto distinct = [&](const DensePeak& a, const std::vector<DensePeak>& kept) {
+    return std::none_of(kept.begin(), kept.end(), [&](const DensePeak& k) {
+      return std::hypot(a.camera_in_map.x - k.camera_in_map.x,
+                        a.camera_in_map.y - k.camera_in_map.y) < separation_m() &&
+             std::abs(geometry::WrapAngle(a.camera_in_map.theta - k.camera_in_map.theta)) <
+                 heading_separation_rad();
+    });
+  };
+  std::vector<DensePeak> coarse;
+  for (const DensePeak& p : CoarsePeaks(frame)) {
+    if (static_cast<int>(coarse.size()) >= options_.coarse_peaks) break;
+    if (distinct(p, coarse)) coarse.push_back(p);
+  }
+  std::vector<DensePeak> refined;
+  for (const DensePeak& p : coarse) refined.push_back(Refine(frame, p));
+  std::sort(refined.begin(), refined.end(),
+            [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
+  std::vector<DensePeak> out;
+  for (const DensePeak& p : refined) {
+    if (static_cast<int>(out.size()) >= options_.max_peaks) break;
+    if (distinct(p, out)) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace fleetloc::mapmatch

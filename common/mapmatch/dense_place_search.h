@@ -1,0 +1,77 @@
+// Dense global place search (issue 17): where a floor has too few distinctive features for the
+// place index (plain or polished concrete, epoxy, upscaled photos) or dust hides them, the whole
+// camera frame, reduced to a coarse pyramid level and locally normalized (gain, bias, vignetting
+// and uneven light removed; values clipped so dust and debris weigh little), is correlated with
+// the whole normalized mosaic at that level at every heading (FFT correlation, masked to the
+// rotated frame). The best peaks are refined one level finer over nearby headings and positions.
+// The answer is a short list of camera poses with their correlations, best first, distinct from
+// each other — the caller verifies them and refuses when the best does not clearly beat the
+// second. Cost grows with the mosaic's area: meant for mosaics up to a few square metres (the
+// options bound it). Pure: reads the mosaic through a RasterSource once, at construction.
+#pragma once
+
+#include <memory>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "base/status.h"
+#include "geometry/camera_model.h"
+#include "geometry/pose2.h"
+#include "mosaic/raster_source.h"
+
+namespace fleetloc::mapmatch {
+
+struct DensePlaceSearchOptions {
+  // The refine level is the coarsest whose frame short side is >= this many pixels; the heading
+  // search runs one level coarser.
+  int min_short_side_px = 48;
+  double heading_step_scale = 1.0;  // heading step = this / frame half-diagonal (search level px)
+  int normalize_window_px = 7;      // local mean and deviation window at both levels, odd
+  double clip = 2.5;                // normalized values are clipped to ±this
+  int coarse_peaks = 12;            // distinct peaks of the heading search refined
+  int max_peaks = 4;                // distinct refined poses returned
+  // Mosaics whose refine level has more pixels are refused (the search would be too slow).
+  double max_refine_level_mpx = 0.6;
+};
+
+// Flat range checks; InvalidInput naming the field.
+Status Validate(const DensePlaceSearchOptions& options);
+
+struct DensePeak {
+  geometry::Pose2 camera_in_map;  // camera_ground in map
+  double correlation = 0.0;       // masked normalized cross-correlation at the refine level
+};
+
+class DensePlaceSearch {
+ public:
+  // Reads the whole mosaic at the two levels the camera's frames need and normalizes it.
+  // InvalidInput for bad options, a camera whose resolution differs from the mosaic's, or a mosaic
+  // too large for the options' bound (the message says how large).
+  static Result<std::unique_ptr<DensePlaceSearch>> Create(mosaic::RasterSource& mosaic,
+                                                          const geometry::CameraModel& camera,
+                                                          const DensePlaceSearchOptions& options);
+
+  // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
+  std::vector<DensePeak> Search(const cv::Mat& frame) const;
+
+  // Two peaks are distinct places when their positions differ by separation_m (a quarter of the
+  // frame's short side, at least 4 refine-level pixels) or their headings by
+  // heading_separation_rad (8 refine-level heading steps).
+  double separation_m() const;
+  double heading_separation_rad() const;
+  int refine_level() const { return refine_level_; }
+  std::size_t MemoryBytes() const;
+
+ private:
+  struct Level;
+  DensePlaceSearch(const geometry::CameraModel& camera, const DensePlaceSearchOptions& options);
+  std::vector<DensePeak> CoarsePeaks(const cv::Mat& frame) const;
+  DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse) const;
+
+  geometry::CameraModel camera_;
+  DensePlaceSearchOptions options_;
+  int refine_level_ = 0;
+  std::shared_ptr<const Level> coarse_, fine_;
+};
+
+}  // namespace fleetloc::mapmatch
