@@ -28,16 +28,31 @@ constexpr uint32_t kDomain = 103;
 constexpr const char* kToken = "abuse-test-token-0123";
 using nlohmann::json;
 
-// The first line of the answer to raw `bytes` (the connection closes or 5 s pass).
-std::string FirstLine(int port, const std::string& bytes) {
+// A socket connected to the supervisor on loopback from the local address `from` (another
+// 127.x.y.z is another client address), or -1.
+int ConnectFrom(int port, const char* from = "127.0.0.1") {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in source{};
+  source.sin_family = AF_INET;
+  ::inet_pton(AF_INET, from, &source.sin_addr);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(static_cast<uint16_t>(port));
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   timeval timeout{5, 0};
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) return "connect failed";
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&source), sizeof source) != 0 ||
+      ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+// The first line of the answer to raw `bytes` (the connection closes or 5 s pass).
+std::string FirstLine(int port, const std::string& bytes, const char* from = "127.0.0.1") {
+  const int fd = ConnectFrom(port, from);
+  if (fd < 0) return "connect failed";
   (void)!::write(fd, bytes.data(), bytes.size());
   std::string answer;
   char buffer[4096];
@@ -169,6 +184,31 @@ TEST(SupervisorAbuse, ForeignHostsNulBytesRangesAndSurplusConnectionsAreRefused)
   EXPECT_GT(idle.stats().connects, 40);  // the refused ones reconnected
   EXPECT_TRUE(
       testing::Eventually([&] { return Stats(http).value("http_connections_refused", 0) > 0; }));
+}
+
+// One address may hold max_connections_per_address sockets; the next one from it is refused at
+// once while another address is still answered.
+TEST(SupervisorAbuse, OneAddressCannotTakeEveryConnection) {
+  testing::ScratchDir dir("supervisor_abuse_per_address");
+  const std::string config =
+      WriteConfig(dir.path(), {{"max_connections", 64}, {"max_connections_per_address", 6}});
+  testing::SupervisorProcess supervisor(dir.path(), kDomain, kToken, {"--config", config});
+  const int port = supervisor.port();
+  const std::string request =
+      "GET /api/fleet HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+  httplib::Client http("127.0.0.1", port);
+  std::vector<int> idle;
+  for (int i = 0; i < 6; ++i) idle.push_back(ConnectFrom(port, "127.0.0.2"));
+  for (int fd : idle) ASSERT_GE(fd, 0);
+  ASSERT_TRUE(testing::Eventually([&] { return Stats(http).value("http_connections_open", 0) >= 6; }));
+  EXPECT_EQ(FirstLine(port, request, "127.0.0.2"), "HTTP/1.1 503 Service Unavailable");
+  EXPECT_EQ(FirstLine(port, request, "127.0.0.3"), "HTTP/1.1 200 OK");
+  EXPECT_EQ(FirstLine(port, request), "HTTP/1.1 200 OK");
+  EXPECT_GE(Stats(http).value("http_address_refused", 0), 1);
+  // Once the address lets its sockets go, it is answered again.
+  for (int fd : idle) ::close(fd);
+  EXPECT_TRUE(testing::Eventually(
+      [&] { return FirstLine(port, request, "127.0.0.2") == "HTTP/1.1 200 OK"; }));
 }
 
 TEST(SupervisorAbuse, WrongTokensMakeTheClientWait) {

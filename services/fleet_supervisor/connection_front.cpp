@@ -69,6 +69,10 @@ void ConnectionFront::Adopt(int fd) {
     ++counters_->http_connections_refused;
     return AnswerAndClose(fd, 503, "too many connections");
   }
+  if (!HoldAddress(fd)) {
+    ++counters_->http_address_refused;
+    return AnswerAndClose(fd, 503, "too many connections from this address");
+  }
   ++counters_->http_connections_open;
   SetNonBlocking(fd);
   {
@@ -81,6 +85,7 @@ void ConnectionFront::Adopt(int fd) {
 
 void ConnectionFront::Done(int fd, std::string unread, int served, bool keep_alive) {
   if (!keep_alive || !running_) {
+    ReleaseAddress(fd);
     CloseSocket(fd);
     --counters_->http_connections_open;
     return;
@@ -218,11 +223,15 @@ void ConnectionFront::Dispatch(Connection& c) {
   c.buffer.clear();
   buffered_bytes_ -= request.bytes.size();
   Forget(c, false);  // no longer the front's; the stream hub counts its own
-  if (stream) return to_streams_(fd);
+  if (stream) {
+    ReleaseAddress(fd);
+    return to_streams_(fd);
+  }
   ++counters_->http_connections_open;  // still open: a worker has it
   if (!to_workers_(request)) {
     ++counters_->http_busy;
     --counters_->http_connections_open;
+    ReleaseAddress(fd);
     AnswerAndClose(fd, 503, "busy: too many requests waiting");
   }
 }
@@ -234,6 +243,7 @@ void ConnectionFront::Refuse(Connection& c, int status, const std::string& messa
   if (status < 500) ++counters_->http_rejected;
   const int fd = c.fd;
   Forget(c, false);
+  ReleaseAddress(fd);
   AnswerAndClose(fd, status, message);
 }
 
@@ -242,9 +252,32 @@ void ConnectionFront::Forget(Connection& c, bool close_socket) {
   ::epoll_ctl(epoll_, EPOLL_CTL_DEL, fd, nullptr);
   deadlines_.erase({c.deadline, fd});
   buffered_bytes_ -= std::min(buffered_bytes_, c.buffer.size());
-  if (close_socket) CloseSocket(fd);
+  if (close_socket) {
+    ReleaseAddress(fd);
+    CloseSocket(fd);
+  }
   --counters_->http_connections_open;
   connections_.erase(fd);
+}
+
+bool ConnectionFront::HoldAddress(int fd) {
+  if (limits_.max_connections_per_address == 0) return true;
+  std::string address = PeerAddress(fd);
+  std::lock_guard lock(address_mutex_);
+  int& held = held_by_address_[address];
+  if (held >= limits_.max_connections_per_address) return false;
+  ++held;
+  address_of_[fd] = std::move(address);
+  return true;
+}
+
+void ConnectionFront::ReleaseAddress(int fd) {
+  std::lock_guard lock(address_mutex_);
+  const auto it = address_of_.find(fd);
+  if (it == address_of_.end()) return;
+  const auto held = held_by_address_.find(it->second);
+  if (held != held_by_address_.end() && --held->second <= 0) held_by_address_.erase(held);
+  address_of_.erase(it);
 }
 
 void ConnectionFront::SetDeadline(Connection& c, SteadyClock::time_point deadline) {

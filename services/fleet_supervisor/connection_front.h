@@ -51,7 +51,8 @@ class ConnectionFront {
   // Closes every connection it holds and joins its thread. Idempotent.
   void Stop();
 
-  // A socket just accepted (any thread): refused with 503 beyond max_connections.
+  // A socket just accepted (any thread): refused with 503 beyond max_connections, or beyond
+  // max_connections_per_address from its peer's address.
   void Adopt(int fd);
   // A worker is done with a connection: kept alive (its unread bytes and request count come back)
   // or closed.
@@ -85,6 +86,10 @@ class ConnectionFront {
               std::atomic<uint64_t>* counter);
   void Forget(Connection& c, bool close_socket);
   void SetDeadline(Connection& c, SteadyClock::time_point deadline);
+  // Counts `fd` against its peer's address; false when that address is at its limit.
+  bool HoldAddress(int fd);
+  // `fd` is closed or handed to the stream hub: no longer counted against its address.
+  void ReleaseAddress(int fd);
   void ExpireDeadlines();
 
   const HttpLimits limits_;
@@ -98,6 +103,9 @@ class ConnectionFront {
   std::atomic<bool> running_{false};
   std::mutex handover_mutex_;
   std::vector<Handover> handovers_;
+  std::mutex address_mutex_;  // any thread: accept, workers (Done) and the loop
+  std::unordered_map<std::string, int> held_by_address_;
+  std::unordered_map<int, std::string> address_of_;
   // Loop thread only:
   std::unordered_map<int, Connection> connections_;
   std::set<std::pair<SteadyClock::time_point, int>> deadlines_;

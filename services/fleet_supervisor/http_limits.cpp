@@ -10,6 +10,7 @@ std::string LimitsProblem(const HttpLimits& l) {
   };
   for (const IntRange& r :
        {IntRange{"max_connections", l.max_connections, 16, 1 << 20},
+        IntRange{"max_connections_per_address", l.max_connections_per_address, 0, 1 << 20},
         IntRange{"max_streams", l.max_streams, 0, 1 << 16}, IntRange{"workers", l.workers, 1, 256},
         IntRange{"queue", l.queue, 1, 1 << 16},
         IntRange{"max_requests_per_connection", l.max_requests_per_connection, 1, 1 << 20},

@@ -11,6 +11,10 @@ namespace fleetloc::fleet_supervisor {
 
 struct HttpLimits {
   int max_connections = 4096;     // open sockets beside the live streams; beyond: 503 and closed
+  // Of those, from one client address; beyond: 503 and closed. 0: no such cap (the default,
+  // because on loopback and behind a reverse proxy every client has the same address; set it
+  // where clients reach the port directly).
+  int max_connections_per_address = 0;
   int max_streams = 256;          // live streams (/api/events); beyond: 503
   int workers = 8;                // threads answering requests (never held by idle or slow peers)
   int queue = 256;                // complete requests waiting for a worker; beyond: 503

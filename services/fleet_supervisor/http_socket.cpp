@@ -1,6 +1,7 @@
 // Non-blocking socket helpers.
 #include "fleet_supervisor/http_socket.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -87,6 +88,30 @@ void AnswerAndClose(int fd, int status, std::string_view message) {
   for (int i = 0; i < 4 && ::recv(fd, sink, sizeof sink, MSG_DONTWAIT) > 0; ++i) {
   }
   ::close(fd);
+}
+
+void AddressOf(const sockaddr_storage& a, std::string& ip, int& port) {
+  char text[INET6_ADDRSTRLEN] = {};
+  port = 0;
+  if (a.ss_family == AF_INET) {
+    const auto& v4 = reinterpret_cast<const sockaddr_in&>(a);
+    ::inet_ntop(AF_INET, &v4.sin_addr, text, sizeof text);
+    port = ntohs(v4.sin_port);
+  } else if (a.ss_family == AF_INET6) {
+    const auto& v6 = reinterpret_cast<const sockaddr_in6&>(a);
+    ::inet_ntop(AF_INET6, &v6.sin6_addr, text, sizeof text);
+    port = ntohs(v6.sin6_port);
+  }
+  ip = text;
+}
+
+std::string PeerAddress(int fd) {
+  sockaddr_storage a{};
+  socklen_t len = sizeof a;
+  std::string ip;
+  int port = 0;
+  if (::getpeername(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0) AddressOf(a, ip, port);
+  return ip;
 }
 
 }  // namespace fleetloc::fleet_supervisor

@@ -3,6 +3,8 @@
 // gives without involving a handler.
 #pragma once
 
+#include <sys/socket.h>
+
 #include <chrono>
 #include <string>
 #include <string_view>
@@ -29,5 +31,11 @@ void AnswerAndClose(int fd, int status, std::string_view message);
 
 // Shuts down and closes `fd` (ignoring errors).
 void CloseSocket(int fd);
+
+// The numeric address and port of a socket address (IPv4 or IPv6; "" and 0 for others).
+void AddressOf(const sockaddr_storage& address, std::string& ip, int& port);
+
+// The peer's numeric address ("" when unknown).
+std::string PeerAddress(int fd);
 
 }  // namespace fleetloc::fleet_supervisor

@@ -10,23 +10,6 @@
 #include <cstring>
 
 namespace fleetloc::fleet_supervisor {
-namespace {
-
-void AddressOf(const sockaddr_storage& a, std::string& ip, int& port) {
-  char text[INET6_ADDRSTRLEN] = {};
-  if (a.ss_family == AF_INET) {
-    const auto& v4 = reinterpret_cast<const sockaddr_in&>(a);
-    ::inet_ntop(AF_INET, &v4.sin_addr, text, sizeof text);
-    port = ntohs(v4.sin_port);
-  } else if (a.ss_family == AF_INET6) {
-    const auto& v6 = reinterpret_cast<const sockaddr_in6&>(a);
-    ::inet_ntop(AF_INET6, &v6.sin6_addr, text, sizeof text);
-    port = ntohs(v6.sin6_port);
-  }
-  ip = text;
-}
-
-}  // namespace
 
 RequestStream::RequestStream(int fd, std::string received, SteadyClock::time_point read_deadline,
                              SteadyClock::time_point write_deadline)

@@ -31,6 +31,7 @@ std::vector<std::pair<std::string, uint64_t>> SupervisorCounters::Snapshot() con
           {"http_auth_throttled", http_auth_throttled},
           {"http_streams_refused", http_streams_refused},
           {"http_streams_dropped", http_streams_dropped},
+          {"http_address_refused", http_address_refused},
           {"http_connections_open", static_cast<uint64_t>(std::max<int64_t>(0, http_connections_open))},
           {"http_streams_open", static_cast<uint64_t>(std::max<int64_t>(0, http_streams_open))}};
 }

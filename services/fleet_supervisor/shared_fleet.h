@@ -32,6 +32,7 @@ struct SupervisorCounters {
   std::atomic<uint64_t> http_connections_refused{0}, http_head_timeouts{0}, http_heads_too_large{0};
   std::atomic<uint64_t> http_requests_refused{0}, http_busy{0}, http_auth_throttled{0};
   std::atomic<uint64_t> http_streams_refused{0}, http_streams_dropped{0};
+  std::atomic<uint64_t> http_address_refused{0};  // over max_connections_per_address
   std::atomic<int64_t> http_connections_open{0}, http_streams_open{0};
   // (name, value) pairs in a fixed order.
   std::vector<std::pair<std::string, uint64_t>> Snapshot() const;

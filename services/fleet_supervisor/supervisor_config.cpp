@@ -78,7 +78,9 @@ Status ReadHttp(const io::JsonFields& fields, const nlohmann::json& json, HttpLi
   Result<io::JsonFields> http = fields.Object("http");
   if (!http.ok()) return http.status();
   const std::pair<const char*, int*> ints[] = {
-      {"max_connections", &h->max_connections}, {"max_streams", &h->max_streams},
+      {"max_connections", &h->max_connections},
+      {"max_connections_per_address", &h->max_connections_per_address},
+      {"max_streams", &h->max_streams},
       {"workers", &h->workers}, {"queue", &h->queue},
       {"max_requests_per_connection", &h->max_requests_per_connection},
       {"max_header_bytes", &h->max_header_bytes}, {"max_header_count", &h->max_header_count},
