@@ -169,6 +169,57 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
   EXPECT_LT(cv::mean(diff)[0], 3.0);
 }
 
+// After a re-map, `fleetctl mosaic rollback` run beside the running server (a dry run first,
+// which changes nothing) writes version 3 with version 1's tiles; the server serves and announces
+// it within moments, and a vehicle fetching the changed tile gets the old floor back.
+TEST_F(MapServerPatchRemap, ARollbackBesideTheRunningServerIsAnnouncedAndServed) {
+  SendTheTwoPatches();
+  ASSERT_EQ(Remap(RegionAroundChange()).exit_code, 0);
+  auto client = transport::TileClient::Create(server_.participant(), "agv-2");
+  ASSERT_TRUE(client.ok());
+  ASSERT_TRUE(Eventually([&] {
+    auto info = (*client)->LatestMosaicInfo();
+    return info && info->version == 2;
+  }));
+  auto update_topic = transport::Topic<fleetloc_TileUpdate>::Create(server_.participant(),
+                                                                    transport::topics::kTileUpdate);
+  auto updates = transport::Reader<fleetloc_TileUpdate>::Create(
+      server_.participant().get(), *update_topic, transport::DurableStateQos(32));
+  const std::string rollback = "mosaic rollback " + server_.mosaic_path() + " --to-version 1";
+  const testing::CommandResult dry = testing::RunFleetctl(rollback + " --dry-run");
+  ASSERT_EQ(dry.exit_code, 0) << dry.err;
+  EXPECT_EQ(nlohmann::json::parse(dry.out)["new_version"], 2);
+  const testing::CommandResult done = testing::RunFleetctl(rollback);
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  const auto outcome = nlohmann::json::parse(done.out);
+  EXPECT_EQ(outcome["new_version"], 3);
+  EXPECT_EQ(outcome["tiles"], nlohmann::json::parse(dry.out)["tiles"]);
+  std::vector<mosaic::TileKey> changed;
+  ASSERT_TRUE(Eventually([&] {
+    (void)updates->TakeAll([&](const fleetloc_TileUpdate& u, const dds_sample_info_t&) {
+      if (u.version != 3) return;
+      for (uint32_t i = 0; i < u.tiles._length; ++i) changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
+    });
+    return !changed.empty();
+  }));
+  EXPECT_NE(std::find(changed.begin(), changed.end(), mosaic::TileKey{0, 1, 1}), changed.end());
+  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+  ASSERT_TRUE((*client)->Request(6, "", {{0, 1, 1}}).ok());
+  std::vector<transport::ReceivedTile> tiles;
+  ASSERT_TRUE(Eventually([&] {
+    auto taken = (*client)->TakeTiles();
+    EXPECT_TRUE(taken.ok());
+    for (auto& t : *taken) tiles.push_back(std::move(t));
+    return !tiles.empty();
+  }));
+  EXPECT_EQ(tiles[0].version, 3);
+  const cv::Mat tile = *mosaic::DecodeTile(tiles[0].data, 256);
+  const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
+  cv::Mat diff;
+  cv::absdiff(tile(part - cv::Point(256, 256)), scene_.old_floor(part), diff);
+  EXPECT_LT(cv::mean(diff)[0], 1.0);
+}
+
 TEST_F(MapServerPatchRemap, AForgedVehicleChangesNothingAndIsQuarantined) {
   auto forger = transport::PatchClient::Create(server_.participant(), "forger");
   ASSERT_TRUE(forger.ok());

@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <utility>
@@ -163,13 +164,18 @@ long long TileStore::version() const {
 }
 
 Result<std::vector<std::uint8_t>> TileStore::ReadTileBytes(const TileKey& key) {
+  return ReadTileBytesAt(key, version());
+}
+
+Result<std::vector<std::uint8_t>> TileStore::ReadTileBytesAt(const TileKey& key,
+                                                             long long version) {
   std::lock_guard lock(mutex_);
   sqlite3_stmt* stmt = select_tile_.get();
   sqlite::ScopedReset reset(stmt);
   sqlite3_bind_int(stmt, 1, key.level);
   sqlite3_bind_int(stmt, 2, key.col);
   sqlite3_bind_int(stmt, 3, key.row);
-  sqlite3_bind_int64(stmt, 4, layout_.version);
+  sqlite3_bind_int64(stmt, 4, std::min(version, layout_.version));
   const int rc = sqlite3_step(stmt);
   if (rc == SQLITE_DONE) return NotFound(path_ + ": no tile " + ToString(key));
   if (rc != SQLITE_ROW) {
@@ -179,6 +185,27 @@ Result<std::vector<std::uint8_t>> TileStore::ReadTileBytes(const TileKey& key) {
   const auto* data = static_cast<const std::uint8_t*>(sqlite3_column_blob(stmt, 0));
   const int size = sqlite3_column_bytes(stmt, 0);
   return std::vector<std::uint8_t>(data, data + size);
+}
+
+Result<std::vector<TileKey>> TileStore::TilesChangedAfter(long long version) {
+  std::lock_guard lock(mutex_);
+  Result<sqlite::Stmt> select = sqlite::Prepare(
+      db_.get(),
+      "SELECT DISTINCT level, col, row FROM tiles WHERE version > ?1 AND version <= ?2"
+      " ORDER BY level, col, row");
+  if (!select.ok()) return select.status();
+  sqlite3_bind_int64(select->get(), 1, version);
+  sqlite3_bind_int64(select->get(), 2, layout_.version);
+  std::vector<TileKey> keys;
+  int rc;
+  while ((rc = sqlite3_step(select->get())) == SQLITE_ROW) {
+    keys.push_back({sqlite3_column_int(select->get(), 0), sqlite3_column_int(select->get(), 1),
+                    sqlite3_column_int(select->get(), 2)});
+  }
+  if (rc != SQLITE_DONE) {
+    return Internal(path_ + ": listing changed tiles: " + sqlite::ErrorMessage(db_.get()));
+  }
+  return keys;
 }
 
 Result<cv::Mat> TileStore::ReadTile(const TileKey& key) {

@@ -45,6 +45,11 @@ class TileStore {
   // The newest stored version <= version() of a tile, as PNG bytes / decoded. NotFound if the
   // mosaic has no such tile; InvalidInput if the stored bytes do not decode to a tile.
   Result<std::vector<std::uint8_t>> ReadTileBytes(const TileKey& key);
+  // The same as the mosaic showed it at an earlier `version` (NotFound when no row of the tile
+  // that old is stored: pruned, or the tile did not exist yet).
+  Result<std::vector<std::uint8_t>> ReadTileBytesAt(const TileKey& key, long long version);
+  // Every tile (all levels) with a stored version after `version`, up to version().
+  Result<std::vector<TileKey>> TilesChangedAfter(long long version);
   Result<cv::Mat> ReadTile(const TileKey& key);
 
   // Starts writing version version()+1 (of the newest committed state) in one write transaction.

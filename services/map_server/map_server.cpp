@@ -180,20 +180,42 @@ Status MapServer::AnnounceFinishedJobs() {
   for (const RemapOutcome& outcome : remaps_->TakeFinished()) {
     Result<long long> version = store_->Refresh();
     if (!version.ok()) return version.status();
-    tiles_->DropCache();
-    std::vector<fleetloc_TileAddress> addresses;
-    for (const mosaic::TileKey& key : outcome.changed_tiles) addresses.push_back(transport::ToIdl(key));
-    fleetloc_TileUpdate update{};
-    update.wire_version = fleetloc_WIRE_VERSION;
-    transport::SetBounded(update.server_id, config_.server_id);
-    transport::SetBounded(update.mosaic_id, store_->layout().mosaic_id);
-    update.version = outcome.new_version;
-    update.tiles._buffer = addresses.data();
-    update.tiles._length = update.tiles._maximum = static_cast<uint32_t>(addresses.size());
-    FLEETLOC_RETURN_IF_ERROR(update_writer_->Write(update));
-    FLEETLOC_RETURN_IF_ERROR(PublishMosaicInfo());
-    if (place_index_) place_index_->RequestCurrent();
+    FLEETLOC_RETURN_IF_ERROR(AnnounceVersion(outcome.new_version, outcome.changed_tiles));
   }
+  return Status::Ok();
+}
+
+Status MapServer::AnnounceVersionsCommittedElsewhere() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_version_check_) return Status::Ok();
+  next_version_check_ = now + std::chrono::milliseconds(500);
+  const long long served = store_->version();
+  Result<long long> committed = store_->Refresh();
+  if (!committed.ok()) return committed.status();
+  if (*committed <= served || *committed <= announced_version_) return Status::Ok();
+  Result<std::vector<mosaic::TileKey>> changed = store_->TilesChangedAfter(served);
+  if (!changed.ok()) return changed.status();
+  spdlog::info("mosaic version {} was committed by another writer (e.g. fleetctl mosaic rollback): "
+               "{} tiles changed since version {}", *committed, changed->size(), served);
+  return AnnounceVersion(*committed, *changed);
+}
+
+Status MapServer::AnnounceVersion(long long version, const std::vector<mosaic::TileKey>& changed) {
+  if (version <= announced_version_) return Status::Ok();
+  announced_version_ = version;
+  tiles_->DropCache();
+  std::vector<fleetloc_TileAddress> addresses;
+  for (const mosaic::TileKey& key : changed) addresses.push_back(transport::ToIdl(key));
+  fleetloc_TileUpdate update{};
+  update.wire_version = fleetloc_WIRE_VERSION;
+  transport::SetBounded(update.server_id, config_.server_id);
+  transport::SetBounded(update.mosaic_id, store_->layout().mosaic_id);
+  update.version = version;
+  update.tiles._buffer = addresses.data();
+  update.tiles._length = update.tiles._maximum = static_cast<uint32_t>(addresses.size());
+  FLEETLOC_RETURN_IF_ERROR(update_writer_->Write(update));
+  FLEETLOC_RETURN_IF_ERROR(PublishMosaicInfo());
+  if (place_index_) place_index_->RequestCurrent();
   return Status::Ok();
 }
 
@@ -261,7 +283,8 @@ Status MapServer::ServeOnce() {
   tiles_->AnswerPending();
   patch_service_->FlushAcks();
   if (place_index_) place_index_->PublishReady();
-  return AnnounceFinishedJobs();
+  FLEETLOC_RETURN_IF_ERROR(AnnounceFinishedJobs());
+  return AnnounceVersionsCommittedElsewhere();
 }
 
 Status MapServer::Run(const std::atomic<bool>& stop) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <optional>
 
@@ -51,12 +52,18 @@ class MapServer {
   Status OpenServices();
   // Announces the versions re-mapping jobs committed: TileUpdate, then the new MosaicInfo.
   Status AnnounceFinishedJobs();
+  // Every 0.5 s: a version another writer committed to the file (`fleetctl mosaic rollback`, a
+  // tool) is served and announced the same way, with the tiles changed since the served one.
+  Status AnnounceVersionsCommittedElsewhere();
+  Status AnnounceVersion(long long version, const std::vector<mosaic::TileKey>& changed);
   Result<RemapOutcome> RunRemapJob(const RemapJob& job, const RemapProgressFn& progress,
                                    const std::atomic<bool>& cancel);
   // Retention (mosaic/mosaic_retention.h), run by the re-mapping thread between jobs.
   void Prune();
 
   MapServerConfig config_;
+  long long announced_version_ = 0;  // the newest version announced (DDS loop only)
+  std::chrono::steady_clock::time_point next_version_check_{};
   ServerCounters counters_;
   std::unique_ptr<mosaic::TileStore> store_;
   std::unique_ptr<mosaic::PatchStore> patches_;

@@ -1,7 +1,9 @@
-// fleetctl mosaic vehicles | prune: the upkeep of a mosaic file — each vehicle's standing with the
-// map server (patches admitted and refused, recent verdicts, quarantine and why) as JSON and the
-// release of a quarantined vehicle; and retention (old tile versions and patches deleted,
-// mosaic/mosaic_retention.h). Both work on the file, also while the map server runs.
+// fleetctl mosaic vehicles | prune | rollback: the upkeep of a mosaic file — each vehicle's
+// standing with the map server (patches admitted and refused, recent verdicts, quarantine and why)
+// as JSON and the release of a quarantined vehicle; retention (old tile versions and patches
+// deleted, mosaic/mosaic_retention.h); and a rollback to an earlier version
+// (mosaic/mosaic_rollback.h). All work on the file, also while the map server runs (it serves and
+// announces a version committed by another writer within half a second).
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -10,6 +12,7 @@
 
 #include "commands.h"
 #include "mosaic/mosaic_retention.h"
+#include "mosaic/mosaic_rollback.h"
 #include "mosaic/vehicle_standing_store.h"
 #include "transport/wire_util.h"
 
@@ -88,10 +91,44 @@ void AddPrune(CLI::App& mosaic, Status* result) {
   cmd->callback([a, result] { *result = RunPrune(*a); });
 }
 
+struct RollbackArgs {
+  std::string mosaic;
+  long long to_version = 0;
+  bool dry_run = false;
+};
+
+Status RunRollback(const RollbackArgs& a) {
+  auto store = mosaic::TileStore::Open(
+      a.mosaic, a.dry_run ? mosaic::OpenMode::kReadOnly : mosaic::OpenMode::kReadWrite);
+  if (!store.ok()) return store.status();
+  Result<mosaic::RollbackResult> r = mosaic::RollBackMosaic(**store, a.to_version, a.dry_run);
+  if (!r.ok()) return r.status();
+  nlohmann::json tiles = nlohmann::json::array();
+  for (const mosaic::TileKey& key : r->tiles) tiles.push_back(mosaic::ToString(key));
+  const nlohmann::json out = {{"from_version", r->from_version}, {"to_version", r->to_version},
+                              {"new_version", r->new_version},   {"dry_run", a.dry_run},
+                              {"tiles_changed", r->tiles.size()}, {"tiles", tiles}};
+  std::cout << out.dump(2) << "\n";
+  return Status::Ok();
+}
+
+void AddRollback(CLI::App& mosaic, Status* result) {
+  auto a = std::make_shared<RollbackArgs>();
+  CLI::App* cmd = mosaic.add_subcommand(
+      "rollback",
+      "Write a new mosaic version whose tiles are those of an earlier version (--dry-run: list "
+      "the tiles only)");
+  cmd->add_option("MOSAIC", a->mosaic, "Mosaic file")->required();
+  cmd->add_option("--to-version", a->to_version, "The earlier version to restore")->required();
+  cmd->add_flag("--dry-run", a->dry_run, "List the tiles that would change, write nothing");
+  cmd->callback([a, result] { *result = RunRollback(*a); });
+}
+
 }  // namespace
 
 void AddMosaicUpkeepCommands(CLI::App& mosaic, Status* result) {
   AddPrune(mosaic, result);
+  AddRollback(mosaic, result);
   auto args = std::make_shared<VehiclesArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "vehicles",
