@@ -68,6 +68,28 @@ class MapServerPatchRemap : public ::testing::Test {
   }
   std::string RegionAroundChange() const { return testing::RegionAroundChange(scene_); }
 
+  // Fetches tile (0, 1, 1), expects it at `version`, and returns the mean absolute difference of
+  // its part of the changed area from `floor` (255 when no tile came).
+  double ChangedPartDifference(transport::TileClient& client, uint64_t request, long long version,
+                               const cv::Mat& floor) {
+    EXPECT_TRUE(Eventually([&] { return client.RequestsMatched(); }));
+    EXPECT_TRUE(client.Request(request, "", {{0, 1, 1}}).ok());
+    std::vector<transport::ReceivedTile> tiles;
+    const bool came = Eventually([&] {
+      auto taken = client.TakeTiles();
+      EXPECT_TRUE(taken.ok());
+      for (auto& t : *taken) tiles.push_back(std::move(t));
+      return !tiles.empty();
+    });
+    if (!came) return 255.0;
+    EXPECT_EQ(tiles[0].version, version);
+    const cv::Mat tile = *mosaic::DecodeTile(tiles[0].data, 256);
+    const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
+    cv::Mat diff;
+    cv::absdiff(tile(part - cv::Point(256, 256)), floor(part), diff);
+    return cv::mean(diff)[0];
+  }
+
 
   Scene scene_;
   testing::MapServerFixture server_;
@@ -152,21 +174,7 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
     return info && info->version == 2;
   }));
   // A vehicle fetching tile (0, 1, 1) now gets the changed floor.
-  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
-  ASSERT_TRUE((*client)->Request(5, "", {{0, 1, 1}}).ok());
-  std::vector<transport::ReceivedTile> tiles;
-  ASSERT_TRUE(Eventually([&] {
-    auto taken = (*client)->TakeTiles();
-    EXPECT_TRUE(taken.ok());
-    for (auto& t : *taken) tiles.push_back(std::move(t));
-    return !tiles.empty();
-  }));
-  EXPECT_EQ(tiles[0].version, 2);
-  const cv::Mat tile = *mosaic::DecodeTile(tiles[0].data, 256);
-  const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
-  cv::Mat diff;
-  cv::absdiff(tile(part - cv::Point(256, 256)), scene_.new_floor(part), diff);
-  EXPECT_LT(cv::mean(diff)[0], 3.0);
+  EXPECT_LT(ChangedPartDifference(**client, 5, 2, scene_.new_floor), 3.0);
 }
 
 // After a re-map, `fleetctl mosaic rollback` run beside the running server (a dry run first,
@@ -203,21 +211,7 @@ TEST_F(MapServerPatchRemap, ARollbackBesideTheRunningServerIsAnnouncedAndServed)
     return !changed.empty();
   }));
   EXPECT_NE(std::find(changed.begin(), changed.end(), mosaic::TileKey{0, 1, 1}), changed.end());
-  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
-  ASSERT_TRUE((*client)->Request(6, "", {{0, 1, 1}}).ok());
-  std::vector<transport::ReceivedTile> tiles;
-  ASSERT_TRUE(Eventually([&] {
-    auto taken = (*client)->TakeTiles();
-    EXPECT_TRUE(taken.ok());
-    for (auto& t : *taken) tiles.push_back(std::move(t));
-    return !tiles.empty();
-  }));
-  EXPECT_EQ(tiles[0].version, 3);
-  const cv::Mat tile = *mosaic::DecodeTile(tiles[0].data, 256);
-  const cv::Rect part = scene_.change & cv::Rect(256, 256, 256, 256);
-  cv::Mat diff;
-  cv::absdiff(tile(part - cv::Point(256, 256)), scene_.old_floor(part), diff);
-  EXPECT_LT(cv::mean(diff)[0], 1.0);
+  EXPECT_LT(ChangedPartDifference(**client, 6, 3, scene_.old_floor), 1.0);
 }
 
 TEST_F(MapServerPatchRemap, AForgedVehicleChangesNothingAndIsQuarantined) {
