@@ -154,12 +154,29 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
                                                                     transport::topics::kTileUpdate);
   auto updates = transport::Reader<fleetloc_TileUpdate>::Create(
       server_.participant().get(), *update_topic, transport::DurableStateQos(32));
+  // A preview on the server's file first: the same tiles and verdicts, nothing written.
+  const testing::CommandResult preview = testing::RunFleetctl(
+      "remap --dry-run --mosaic " + server_.mosaic_path() + " --region " + RegionAroundChange() +
+      " --mode replace");
+  ASSERT_EQ(preview.exit_code, 0) << preview.err;
+  const auto previewed = nlohmann::json::parse(preview.out);
+  EXPECT_EQ(previewed["state"], "preview");
+  EXPECT_EQ(previewed["version"], 1);
+  EXPECT_EQ(previewed["patches_folded"], 2);
+  EXPECT_NE(std::find(previewed["tiles"].begin(), previewed["tiles"].end(), "L0/C1/R1"),
+            previewed["tiles"].end())
+      << preview.out;
+  const testing::CommandResult no_file = testing::RunFleetctl(
+      "remap --dry-run --region " + RegionAroundChange());
+  EXPECT_NE(no_file.exit_code, 0);
+  EXPECT_NE(no_file.err.find("--dry-run needs --mosaic"), std::string::npos) << no_file.err;
   const testing::CommandResult remap = Remap(RegionAroundChange());
   ASSERT_EQ(remap.exit_code, 0) << remap.err;
   const auto outcome = nlohmann::json::parse(remap.out);
   EXPECT_EQ(outcome["state"], "done");
   EXPECT_EQ(outcome["new_version"], 2);
   EXPECT_EQ(outcome["patches_folded"], 2);
+  EXPECT_EQ(outcome["tiles_changed"], previewed["tiles_changed"]);
   std::vector<mosaic::TileKey> changed;
   ASSERT_TRUE(Eventually([&] {
     (void)updates->TakeAll([&](const fleetloc_TileUpdate& u, const dds_sample_info_t&) {

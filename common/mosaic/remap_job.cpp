@@ -100,8 +100,11 @@ class Verdicts {
   }
   // Writes the refusals and the changed standings (before any tile is committed: a verdict is
   // about the committed version and holds whatever happens to this job).
-  Status Persist(PatchStore& patches, VehicleStandingStore& store) {
+  // Each vehicle's standing after the job, in its report.
+  void Conclude() {
     for (auto& [vehicle, report] : result_->vehicles) report.quarantined = Quarantined(vehicle);
+  }
+  Status Persist(PatchStore& patches, VehicleStandingStore& store) {
     FLEETLOC_RETURN_IF_ERROR(patches.MarkRefused(refusals_));
     std::map<std::string, mapping::VehicleStanding> changed;
     for (const std::string& vehicle : changed_) changed[vehicle] = standings_[vehicle];
@@ -186,7 +189,7 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   const auto report = [&](const std::string& phase, int done, int total) {
     if (progress) progress({phase, done, total});
   };
-  FLEETLOC_RETURN_IF_ERROR(patches.ClearUncommittedMarks(layout.version));
+  if (!request.dry_run) FLEETLOC_RETURN_IF_ERROR(patches.ClearUncommittedMarks(layout.version));
   report("select", 0, 1);
   Result<std::vector<PatchRecord>> query = patches.UnfoldedHeaders(request.region, layout.version);
   if (!query.ok()) return query.status();
@@ -221,11 +224,16 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
     }
     verdicts.Record(*judged[i], computed->outcomes[i]);
   }
-  FLEETLOC_RETURN_IF_ERROR(verdicts.Persist(patches, standing));
+  verdicts.Conclude();
+  if (!request.dry_run) FLEETLOC_RETURN_IF_ERROR(verdicts.Persist(patches, standing));
   result.patches_folded = static_cast<int>(verdicts.folded().size());
   result.patches_held = computed->Count(mapping::PatchFate::kHeld);
   result.patches_rejected = static_cast<int>(query->size()) - result.patches_folded - result.patches_held -
                             result.patches_unreadable;
+  if (request.dry_run) {
+    for (const auto& [key, tile] : computed->tiles) result.changed_tiles.push_back(key);
+    return result;
+  }
   if (computed->tiles.empty()) return result;  // nothing to change
   if (cancel != nullptr && cancel->load()) return InvalidInput("cancelled");
   report("commit", 0, 1);

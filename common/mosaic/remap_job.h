@@ -35,6 +35,10 @@ struct RemapRequest {
   MapRect region;
   RemapMode mode = RemapMode::kBlend;
   RemapPolicy policy;
+  // A preview: every patch judged and every tile computed as a real job would, but nothing
+  // written — no version, no folded marks, no refusals or vehicle standing recorded, no
+  // quarantine. The result lists the tiles that would change (new_version stays the current).
+  bool dry_run = false;
 };
 
 struct RemapProgress {

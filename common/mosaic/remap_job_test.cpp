@@ -125,6 +125,35 @@ TEST_F(RemapJobTest, ReplaceCommitsTheChangedFloorAsTheNextVersion) {
   EXPECT_TRUE(again->changed_tiles.empty());
 }
 
+// A dry run judges and computes like the job that follows it, and writes nothing: same changed
+// tiles and verdicts, the mosaic, the patches' state and the forger's standing untouched.
+TEST_F(RemapJobTest, ADryRunPreviewsTheJobAndWritesNothing) {
+  PutGenuine();
+  const int forged = PutForged();
+  const auto tiles_before = AllTiles();
+  RemapRequest preview{Everywhere(), RemapMode::kReplace};
+  preview.dry_run = true;
+  auto dry = RunRemap(*store_, *patches_, *standing_, preview);
+  ASSERT_TRUE(dry.ok()) << dry.status().message();
+  EXPECT_EQ(dry->new_version, 1);
+  EXPECT_FALSE(dry->changed_tiles.empty());
+  EXPECT_EQ(dry->patches_folded, 2);
+  EXPECT_EQ(dry->vehicles.at("forger").refused, forged);
+  EXPECT_EQ(*store_->Refresh(), 1);
+  EXPECT_EQ(AllTiles(), tiles_before);
+  EXPECT_EQ(patches_->Unfolded(Everywhere(), 1)->patches.size(), static_cast<size_t>(2 + forged));
+  EXPECT_FALSE(*standing_->IsQuarantined("forger"));
+  EXPECT_TRUE(standing_->All()->empty());
+  auto real = Remap(Everywhere(), RemapMode::kReplace);
+  ASSERT_TRUE(real.ok()) << real.status().message();
+  EXPECT_EQ(real->new_version, 2);
+  std::vector<TileKey> previewed = dry->changed_tiles, changed = real->changed_tiles;
+  std::sort(previewed.begin(), previewed.end()), std::sort(changed.begin(), changed.end());
+  EXPECT_EQ(previewed, changed);
+  EXPECT_EQ(real->patches_folded, dry->patches_folded);
+  EXPECT_EQ(RemapSummary(*real), RemapSummary(*dry));
+}
+
 class ForgedVehicle : public RemapJobTest, public ::testing::WithParamInterface<RemapMode> {};
 
 TEST_P(ForgedVehicle, ChangesNoMosaicPixelAndIsQuarantined) {

@@ -3,6 +3,8 @@
 // mosaic (each keeps its own replica when the mosaic is split across servers) and prints the
 // outcome as JSON: the worst server's outcome at the top (a single server's, as before), every
 // server's under "servers", and under "missing" those with no final status by the time-out.
+// With --dry-run it previews the job on a mosaic file instead (no DDS, nothing written): the
+// tiles it would change and what it would fold and refuse, judged by the map server's policy.
 #include <spdlog/fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
@@ -14,6 +16,8 @@
 #include <thread>
 
 #include "commands.h"
+#include "map_server/map_server_config.h"
+#include "mosaic/remap_job.h"
 #include "transport/remap_client.h"
 
 namespace fleetloc::fleetctl {
@@ -26,7 +30,47 @@ struct RemapArgs {
   int domain = 0;
   std::string dds_config;
   double timeout_s = 600;
+  bool dry_run = false;
+  std::string mosaic;         // with dry_run: the mosaic file
+  std::string server_config;  // with dry_run: the map server's configuration (its policy)
 };
+
+// The job previewed on the file (mosaic::RemapRequest::dry_run).
+Status RunRemapPreview(const RemapArgs& a) {
+  if (a.mosaic.empty()) return InvalidInput("--dry-run needs --mosaic FILE (the map server's)");
+  mosaic::RemapPolicy policy;
+  if (!a.server_config.empty()) {
+    Result<map_server::MapServerConfig> config = map_server::LoadMapServerConfig(a.server_config);
+    if (!config.ok()) return config.status();
+    policy = config->remap_policy;
+  }
+  auto store = mosaic::TileStore::Open(a.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!store.ok()) return store.status();
+  auto patches = mosaic::PatchStore::Open(a.mosaic);
+  if (!patches.ok()) return patches.status();
+  auto standing = mosaic::VehicleStandingStore::Open(a.mosaic);
+  if (!standing.ok()) return standing.status();
+  mosaic::RemapRequest request{{a.region[0], a.region[1], a.region[2], a.region[3]},
+                               a.mode == "replace" ? mosaic::RemapMode::kReplace
+                                                   : mosaic::RemapMode::kBlend,
+                               policy};
+  request.dry_run = true;
+  Result<mosaic::RemapResult> r = mosaic::RunRemap(**store, **patches, **standing, request);
+  if (!r.ok()) return r.status();
+  nlohmann::json tiles = nlohmann::json::array();
+  for (const mosaic::TileKey& key : r->changed_tiles) tiles.push_back(mosaic::ToString(key));
+  const nlohmann::json out = {{"state", "preview"},
+                              {"version", r->new_version},
+                              {"tiles_changed", r->changed_tiles.size()},
+                              {"tiles", tiles},
+                              {"patches_folded", r->patches_folded},
+                              {"patches_rejected", r->patches_rejected},
+                              {"patches_held", r->patches_held},
+                              {"would_quarantine", r->newly_quarantined},
+                              {"message", mosaic::RemapSummary(*r)}};
+  std::cout << out.dump(2) << "\n";
+  return Status::Ok();
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -76,6 +120,7 @@ nlohmann::json Outcome(const transport::RemapProgress& s) {
 // failed or rejected, or the time-out.
 Status RunRemap(const RemapArgs& a) {
   if (a.region.size() != 4) return InvalidInput("--region: give x_min,y_min,x_max,y_max");
+  if (a.dry_run) return RunRemapPreview(a);
   using namespace transport;
   auto participant = Participant::Create(a.domain, {"", a.dds_config});
   if (!participant.ok()) return participant.status();
@@ -149,6 +194,13 @@ void RegisterRemapCommand(CLI::App& app, Status* result) {
   remap->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
   remap->add_option("--dds-config", a->dds_config, "Cyclone DDS XML (default: built-in loopback)");
   remap->add_option("--timeout", a->timeout_s, "Seconds to wait for the job")->check(CLI::PositiveNumber);
+  remap->add_flag("--dry-run", a->dry_run,
+                  "Preview the job on --mosaic FILE: the tiles it would change and what it would "
+                  "fold and refuse; writes nothing, needs no DDS");
+  remap->add_option("--mosaic", a->mosaic, "With --dry-run: the mosaic file");
+  remap->add_option("--server-config", a->server_config,
+                    "With --dry-run: the map server's configuration, whose patch_admission policy "
+                    "judges the patches (default: the built-in policy)");
   remap->callback([a, result] { *result = RunRemap(*a); });
 }
 
