@@ -178,6 +178,18 @@ std::string RemapSummary(const RemapResult& r, size_t max_chars) {
   return text;
 }
 
+Result<RemapStores> OpenRemapStores(const std::string& path, OpenMode tile_mode) {
+  RemapStores stores;
+  auto tiles = TileStore::Open(path, tile_mode);
+  if (!tiles.ok()) return tiles.status();
+  auto patches = PatchStore::Open(path);
+  if (!patches.ok()) return patches.status();
+  auto standing = VehicleStandingStore::Open(path);
+  if (!standing.ok()) return standing.status();
+  return RemapStores{std::move(tiles).value(), std::move(patches).value(),
+                     std::move(standing).value()};
+}
+
 Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStandingStore& standing,
                              const RemapRequest& request,
                              const std::function<void(const RemapProgress&)>& progress,

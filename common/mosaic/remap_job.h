@@ -9,6 +9,7 @@
 #include <atomic>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,14 @@ struct RemapResult {
 // One line for operators (RemapStatus message, logs): per vehicle what was folded, refused (by
 // reason) and held, and who is quarantined; at most `max_chars`, ending "..." when cut.
 std::string RemapSummary(const RemapResult& result, size_t max_chars = 255);
+
+// The three stores of one mosaic file a job works with, each on its own connection.
+struct RemapStores {
+  std::unique_ptr<TileStore> tiles;
+  std::unique_ptr<PatchStore> patches;
+  std::unique_ptr<VehicleStandingStore> standing;
+};
+Result<RemapStores> OpenRemapStores(const std::string& path, OpenMode tile_mode);
 
 // InvalidInput for an empty, inverted or non-finite region or one outside the mosaic, bad policy
 // options, and when cancelled; Internal on storage errors. `store` must be writable.

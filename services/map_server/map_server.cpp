@@ -130,12 +130,9 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
                                             const std::atomic<bool>& cancel) {
   // The job writes through its own connections, so the DDS loop keeps serving the committed
   // version from store_ meanwhile.
-  auto store = mosaic::TileStore::Open(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
-  if (!store.ok()) return store.status();
-  auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
-  if (!patches.ok()) return patches.status();
-  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
-  if (!standing.ok()) return standing.status();
+  Result<mosaic::RemapStores> stores =
+      mosaic::OpenRemapStores(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
+  if (!stores.ok()) return stores.status();
   const mosaic::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
                                      job.replace ? mosaic::RemapMode::kReplace
                                                  : mosaic::RemapMode::kBlend,
@@ -145,7 +142,7 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
   // tile into the uncommitted version, so a test can kill the server inside the commit.
   const char* pause = std::getenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S");
   Result<mosaic::RemapResult> result = mosaic::RunRemap(
-      **store, **patches, **standing, request,
+      *stores->tiles, *stores->patches, *stores->standing, request,
       [&](const mosaic::RemapProgress& p) {
         const double fraction = p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0;
         if (pause != nullptr && p.phase == "commit" && p.done == 1 && p.total > 1) {

@@ -44,18 +44,14 @@ Status RunRemapPreview(const RemapArgs& a) {
     if (!config.ok()) return config.status();
     policy = config->remap_policy;
   }
-  auto store = mosaic::TileStore::Open(a.mosaic, mosaic::OpenMode::kReadOnly);
-  if (!store.ok()) return store.status();
-  auto patches = mosaic::PatchStore::Open(a.mosaic);
-  if (!patches.ok()) return patches.status();
-  auto standing = mosaic::VehicleStandingStore::Open(a.mosaic);
-  if (!standing.ok()) return standing.status();
+  Result<mosaic::RemapStores> stores = mosaic::OpenRemapStores(a.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!stores.ok()) return stores.status();
   mosaic::RemapRequest request{{a.region[0], a.region[1], a.region[2], a.region[3]},
                                a.mode == "replace" ? mosaic::RemapMode::kReplace
                                                    : mosaic::RemapMode::kBlend,
                                policy};
   request.dry_run = true;
-  Result<mosaic::RemapResult> r = mosaic::RunRemap(**store, **patches, **standing, request);
+  Result<mosaic::RemapResult> r = mosaic::RunRemap(*stores->tiles, *stores->patches, *stores->standing, request);
   if (!r.ok()) return r.status();
   nlohmann::json tiles = nlohmann::json::array();
   for (const mosaic::TileKey& key : r->changed_tiles) tiles.push_back(mosaic::ToString(key));
