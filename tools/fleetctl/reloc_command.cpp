@@ -1,6 +1,7 @@
 // fleetctl reloc: global relocalization of one frame of a run against a mosaic, with no prior
-// pose (issue 5). The mosaic's place index is loaded from its cache table or built and cached.
-// Prints JSON on stdout (the pose, or found: false and why; with truth.csv, the error); exit 1
+// pose (issue 5). The mosaic's place index is loaded from its cache table or built and cached; a
+// floor without detectable features has none, and is relocalized by the dense place search alone
+// (issue 17; a log line says so). Prints JSON on stdout (the pose, or found: false and why; with truth.csv, the error); exit 1
 // when the frame could not be relocalized.
 #include <spdlog/spdlog.h>
 
@@ -54,17 +55,26 @@ Status RunReloc(const RelocArgs& args) {
   Result<mosaic::LoadedPlaceIndex> index =
       mosaic::LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
                             args.no_cache ? mosaic::IndexCache::kIgnore : mosaic::IndexCache::kUse);
-  if (!index.ok()) return index.status();
-  auto relocalizer = mapmatch::Relocalizer::Create(&index->index, &view, run->camera.model,
+  // A mosaic the place index refuses (no distinctive features): the dense place search alone.
+  if (!index.ok() && index.status().code() != StatusCode::kInvalidInput) return index.status();
+  if (!index.ok())
+    spdlog::warn("{}; relocalizing by the dense place search alone", index.status().message());
+  auto relocalizer = mapmatch::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view,
+                                                   run->camera.model,
                                                    mapmatch::RelocalizerOptions{});
-  if (!relocalizer.ok()) return relocalizer.status();
+  if (!relocalizer.ok()) {
+    if (index.ok()) return relocalizer.status();
+    return InvalidInput(index.status().message() + "; and " + relocalizer.status().message());
+  }
   Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
   if (!result.ok()) return result.status();
   nlohmann::json json = RelocalizationJson(*result);
   json["frame"] = args.frame;
-  json["index"] = {{"features", index->index.size()},
-                   {"from_cache", index->from_cache},
-                   {"seconds", index->seconds}};
+  json["index"] = index.ok() ? nlohmann::json{{"features", index->index.size()},
+                                              {"from_cache", index->from_cache},
+                                              {"seconds", index->seconds}}
+                             : nlohmann::json{{"features", 0},
+                                              {"error", index.status().message()}};
   if (result->found && args.frame < static_cast<int>(run->truth.size()))
     json["error"] = TruthError(*run, args.frame, result->base_in_map.pose);
   std::cout << json.dump(2) << "\n";
