@@ -1,7 +1,7 @@
 // fleetctl reloc through the command line: a real floor photo imported as a mosaic, a simulated
 // run over it, frames relocalized with no prior (the place index built once, then loaded from the
 // mosaic's cache table), a floor without detectable features (the dense place search alone),
-// and bad input.
+// a floor that repeats itself (--self-similarity names its twins), and bad input.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -57,7 +57,8 @@ std::string WriteFeaturelessFloor(const ScratchDir& dir) {
 }
 
 // `fleetctl reloc` of the last of 4 simulated frames over `image` imported as a mosaic in `dir`.
-CommandResult RelocOnFloor(const ScratchDir& dir, const std::string& image) {
+CommandResult RelocOnFloor(const ScratchDir& dir, const std::string& image,
+                           const std::string& flags = "") {
   const std::string mosaic = dir / "floor.db", run = dir / "run";
   EXPECT_EQ(RunFleetctl("mosaic import " + Quote(image) + " --resolution 0.0005 --out " +
                         Quote(mosaic))
@@ -67,7 +68,8 @@ CommandResult RelocOnFloor(const ScratchDir& dir, const std::string& image) {
       RunFleetctl("sim --mosaic " + Quote(mosaic) + " --out " + Quote(run) + " --frames 4 --seed 4")
           .exit_code,
       0);
-  return RunFleetctl("reloc --mosaic " + Quote(mosaic) + " --run " + Quote(run) + " --frame 3");
+  return RunFleetctl("reloc --mosaic " + Quote(mosaic) + " --run " + Quote(run) + " --frame 3" +
+                     flags);
 }
 
 TEST(CliReloc, AFloorWithoutFeaturesIsRelocalizedByTheDenseSearchAlone) {
@@ -81,6 +83,30 @@ TEST(CliReloc, AFloorWithoutFeaturesIsRelocalizedByTheDenseSearchAlone) {
   EXPECT_TRUE(j["dense"].is_object());
   EXPECT_LT(j["error"]["position_m"].get<double>(), 0.002);
   EXPECT_LT(j["error"]["heading_rad"].get<double>(), 0.5 * M_PI / 180);
+}
+
+TEST(CliReloc, AFloorThatRepeatsItselfIsReportedWithItsTwins) {
+  const ScratchDir dir("cli_reloc_twice");
+  const cv::Mat smooth = cv::imread(WriteFeaturelessFloor(dir), cv::IMREAD_GRAYSCALE);
+  cv::Mat twice;
+  cv::hconcat(smooth, smooth, twice);
+  const std::string image = dir / "twice.png";
+  cv::imwrite(image, twice);
+  const CommandResult r = RelocOnFloor(dir, image, " --self-similarity");
+  EXPECT_NE(r.err.find("the floor repeats itself"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["self_similarity"]["sampled"].get<int>(), 9);
+  // 3 × 3 crops of 640 px over 2400: columns at x 293–933 and 1467–2107 lie inside a copy, each
+  // with its twin 1200 px = 0.6 m away.
+  int one_copy_apart = 0;
+  for (const nlohmann::json& p : j["self_similarity"]["ambiguous"]) {
+    const double dx = std::abs(p["twin"][0].get<double>() - p["place"][0].get<double>());
+    one_copy_apart += std::abs(dx - 0.6) < 0.002;
+  }
+  EXPECT_GE(one_copy_apart, 6);
+  if (j["found"].get<bool>()) {
+    EXPECT_LT(j["error"]["position_m"].get<double>(), 0.002);  // never a wrong pose
+  }
 }
 
 TEST(CliReloc, AFlatFloorIsSearchedDenselyAndNotFound) {

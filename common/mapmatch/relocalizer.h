@@ -112,6 +112,8 @@ class Relocalizer {
   // base_link in odom at the frame's time. A found pose starts a new trajectory.
   Result<Relocalization> Relocalize(const cv::Mat& frame, const geometry::Pose2& base_in_odom);
   void ResetTrajectory();
+  // The dense place search (null: off, or the mosaic is too large for it).
+  const DensePlaceSearch* dense_search() const { return dense_.get(); }
 
  private:
   Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,

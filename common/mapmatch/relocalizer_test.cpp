@@ -229,7 +229,9 @@ TEST(Relocalizer, MultiFrameOnAFloorThatRepeatsItselfIsAmbiguousAndTravelStartsA
     ASSERT_TRUE(r.ok());
     EXPECT_FALSE(r->found) << "frame " << k;
     EXPECT_EQ(r->trajectory_frames, k + 1);
-    if (k > 0) EXPECT_NE(r->reason.find("frames' mean peaks: ambiguous"), std::string::npos);
+    if (k > 0) {
+      EXPECT_NE(r->reason.find("frames' mean peaks: ambiguous"), std::string::npos) << r->reason;
+    }
   }
   // The odometry says the camera moved 2 m: a new trajectory, this frame alone.
   const Result<Relocalization> r = (*relocalizer)->Relocalize(
