@@ -221,30 +221,46 @@ geometry::Pose2 DensePlaceSearch::SweepPose(const Eigen::Vector2d& at, double th
   return PoseAt(camera_, LevelOf(level).geo, at, theta);
 }
 
+cv::Mat DensePlaceSearch::NormalizedFrame(const cv::Mat& frame, SweepLevel level) const {
+  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
+                 frame.rows == camera_.height_px);
+  const int shift = LevelOf(level).level;
+  cv::Mat small;
+  cv::resize(frame, small, cv::Size(frame.cols >> shift, frame.rows >> shift), 0, 0,
+             cv::INTER_AREA);
+  return NormalizeClipped(small, options_.normalize_window_px, options_.clip);
+}
+
+int DensePlaceSearch::ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level,
+                               cv::Mat* centred) const {
+  const Level& c = LevelOf(level);
+  centred->create(c.normalized.size(), CV_32F);
+  centred->setTo(0.0f);
+  const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
+  if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) return 0;
+  cv::Mat scores;
+  cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+  FiniteScores(&scores);
+  // Top-left → centre: the template's centre has integer coordinates (its sides are even).
+  scores.copyTo((*centred)(cv::Rect(
+      cv::Point(static_cast<int>(t.centre.x()), static_cast<int>(t.centre.y())), scores.size())));
+  return std::max(2, t.pixels.rows / 4);
+}
+
+Eigen::Vector2d DensePlaceSearch::SweepPixel(const Eigen::Vector2d& map_xy,
+                                             SweepLevel level) const {
+  return LevelOf(level).geo.MapToPixel(map_xy);
+}
+
 void DensePlaceSearch::Sweep(const cv::Mat& frame,
                              const std::function<void(const SweepMap&)>& visit,
                              SweepLevel level) const {
-  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
-                 frame.rows == camera_.height_px);
-  const Level& c = LevelOf(level);
-  cv::Mat small;
-  cv::resize(frame, small, cv::Size(frame.cols >> c.level, frame.rows >> c.level), 0, 0,
-             cv::INTER_AREA);
-  const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
-  cv::Mat centred(c.normalized.size(), CV_32F);
+  const cv::Mat normalized = NormalizedFrame(frame, level);
+  cv::Mat centred;
   for (int k = 0; k < heading_steps(level); ++k) {
     const double theta = sweep_heading_rad(k, level);
-    const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
-    if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) continue;
-    cv::Mat scores;
-    cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
-    FiniteScores(&scores);
-    // Top-left → centre: the template's centre has integer coordinates (its sides are even).
-    centred.setTo(0.0f);
-    scores.copyTo(centred(cv::Rect(cv::Point(static_cast<int>(t.centre.x()),
-                                             static_cast<int>(t.centre.y())),
-                                   scores.size())));
-    visit({k, theta, centred, std::max(2, t.pixels.rows / 4)});
+    const int suppress_px = ScoresAt(normalized, theta, level, &centred);
+    if (suppress_px > 0) visit({k, theta, centred, suppress_px});
   }
 }
 

@@ -67,6 +67,12 @@ class DensePlaceSearch {
   };
   void Sweep(const cv::Mat& frame, const std::function<void(const SweepMap&)>& visit,
              SweepLevel level = SweepLevel::kCoarse) const;
+  // One heading of a sweep: `frame` reduced to the level and normalized, then its map at any θ
+  // (the SweepMap layout; returns its suppress_px, 0 when the frame does not fit the mosaic).
+  cv::Mat NormalizedFrame(const cv::Mat& frame, SweepLevel level) const;
+  int ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred) const;
+  // Continuous pixel coordinates of a map point at the level (the SweepMap layout).
+  Eigen::Vector2d SweepPixel(const Eigen::Vector2d& map_xy, SweepLevel level) const;
 
   // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
   // `also`, when given, sees every map of the coarse sweep (the multi-frame search reuses it).

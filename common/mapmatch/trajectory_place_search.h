@@ -45,7 +45,12 @@ class TrajectoryPlaceSearch {
 
   // Up to the dense options' max_peaks distinct poses of the newest frame's camera, best first;
   // correlation: the mean over the frames of their refined correlations. Empty without frames.
+  // The best's alternatives include Alternative(best): its twin need not be among the coarse sums.
   std::vector<DensePeak> Search() const;
+  // The best place distinct from `first` (the first frame's camera) for the newest frame, with
+  // the frames' mean correlation, summed at the refine level over ±2 of its heading steps around
+  // first's heading: the best distinct alternative, measured at the level the best was.
+  DensePeak Alternative(const geometry::Pose2& first) const;
 
  private:
   const DensePlaceSearch* dense_;

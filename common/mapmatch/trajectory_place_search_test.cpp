@@ -1,6 +1,7 @@
 // TrajectoryPlaceSearch on a real plain-concrete photograph: three sim-rendered frames along a
 // short drive with drifting odometry put the newest frame within 2 mm and 1° of truth, the best
-// distinct alternative far below it.
+// distinct alternative far below it; on the photograph twice side by side, the best's alternative
+// is its twin one copy away, as good as the best (the caller's gate refuses it as ambiguous).
 #include "mapmatch/trajectory_place_search.h"
 
 #include <gtest/gtest.h>
@@ -67,6 +68,28 @@ TEST(TrajectoryPlaceSearch, ThreeFramesWithOdometryFindTheNewestPose) {
     EXPECT_GT(peaks[0].correlation, 0.3);
     EXPECT_LT(peaks[1].correlation, 0.5 * peaks[0].correlation);
   }
+}
+
+TEST(TrajectoryPlaceSearch, TheAlternativeOfAPlaceOnARepeatedFloorIsItsTwin) {
+  Fixture f;
+  cv::Mat twice;
+  cv::hconcat(f.photo, f.photo, twice);
+  mosaic::ImageRasterSource floor(twice, {0.0, twice.rows * kResolutionM, kResolutionM});
+  auto dense = DensePlaceSearch::Create(floor, f.camera, DensePlaceSearchOptions{});
+  ASSERT_TRUE(dense.ok()) << dense.status().message();
+  sim::CameraRenderer renderer(&floor, f.camera, sim::RenderOptions{}, 6);
+  TrajectoryPlaceSearch search(dense->get(), f.camera);
+  const std::vector<geometry::Pose2> cameras = Drive({0.2, 0.25, 1.0});  // inside the left copy
+  for (std::size_t j = 0; j < 2; ++j) {
+    const geometry::Pose2 base = cameras[j] * f.camera.mount.Inverse();
+    search.Add(renderer.Render(base, {0, 0}, j).image, cameras[0].Inverse() * cameras[j]);
+  }
+  const DensePeak twin = search.Alternative(cameras[0]);
+  const double copy_m = f.photo.cols * kResolutionM;
+  EXPECT_LT(Error(twin, geometry::Pose2{copy_m, 0, 0} * cameras[1]), 0.002);
+  const std::vector<DensePeak> peaks = search.Search();
+  ASSERT_GE(peaks.size(), 2u);
+  EXPECT_GT(peaks[1].correlation, 0.8 * peaks[0].correlation);
 }
 
 }  // namespace

@@ -22,12 +22,15 @@ namespace fs = std::filesystem;
 
 constexpr double kResolutionM = 0.0005;  // the stress suite's floors
 
-// The floor image of a layout: the scaled floor itself, or it twice side by side.
-Result<fs::path> LayoutImage(const fs::path& scaled, const std::string& layout) {
+// The floor image of a layout: the scaled floor itself, or it twice side by side (written to
+// `dir`, never next to a floor photo of the source tree).
+Result<fs::path> LayoutImage(const fs::path& scaled, const std::string& layout,
+                             const fs::path& dir) {
   if (layout == "single") return scaled;
-  const fs::path twice = scaled.parent_path() / (scaled.stem().string() + "_twice.png");
+  const fs::path twice = dir / (scaled.stem().string() + "_twice.png");
   std::error_code ec;
   if (fs::is_regular_file(twice, ec)) return twice;
+  fs::create_directories(dir, ec);
   Result<cv::Mat> image = io::ReadGrayImage(scaled);
   if (!image.ok()) return image.status();
   cv::Mat both;
@@ -103,7 +106,7 @@ Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
   Result<fs::path> scaled =
       FloorForFrame(*cell.floor, cell.size.width, cell.size.height, root / "floors");
   if (!scaled.ok()) return scaled.status();
-  Result<fs::path> image = LayoutImage(*scaled, cell.layout);
+  Result<fs::path> image = LayoutImage(*scaled, cell.layout, root / "floors");
   if (!image.ok()) return image.status();
   Result<std::shared_ptr<mosaic::TileStore>> store =
       OpenFloorMosaic(*image, kResolutionM, root / "mosaics" / image->stem());
