@@ -1,7 +1,11 @@
 // fleetctl reloc through the command line: a real floor photo imported as a mosaic, a simulated
 // run over it, frames relocalized with no prior (the place index built once, then loaded from the
-// mosaic's cache table), and bad input.
+// mosaic's cache table), a floor without detectable features (the dense place search alone),
+// a floor that repeats itself (--self-similarity names its twins), and bad input.
 #include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,6 +38,84 @@ TEST(CliReloc, FramesOfASimulatedRunAreFoundWithinTwoMillimetresAndTheIndexIsCac
     EXPECT_LT(j["error"]["heading_rad"].get<double>(), 0.5 * M_PI / 180);
     EXPECT_EQ(j["index"]["from_cache"].get<bool>(), frame != 0);  // built by the first call
   }
+}
+
+// A smooth floor (noise blurred over ~12 mm, ±8 grey levels): no FAST corner, so no place index,
+// but texture enough for the dense place search at its coarse levels.
+std::string WriteFeaturelessFloor(const ScratchDir& dir) {
+  cv::Mat noise(1000, 1200, CV_32F);
+  cv::RNG rng(17);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::GaussianBlur(noise, noise, cv::Size(), 12.0);
+  cv::Scalar mean, sigma;
+  cv::meanStdDev(noise, mean, sigma);
+  cv::Mat gray;
+  noise.convertTo(gray, CV_8U, 8.0 / sigma[0], 128.0 - 8.0 * mean[0] / sigma[0]);
+  const std::string path = dir / "smooth.png";
+  cv::imwrite(path, gray);
+  return path;
+}
+
+// `fleetctl reloc` of the last of 4 simulated frames over `image` imported as a mosaic in `dir`.
+CommandResult RelocOnFloor(const ScratchDir& dir, const std::string& image,
+                           const std::string& flags = "") {
+  const std::string mosaic = dir / "floor.db", run = dir / "run";
+  EXPECT_EQ(RunFleetctl("mosaic import " + Quote(image) + " --resolution 0.0005 --out " +
+                        Quote(mosaic))
+                .exit_code,
+            0);
+  EXPECT_EQ(
+      RunFleetctl("sim --mosaic " + Quote(mosaic) + " --out " + Quote(run) + " --frames 4 --seed 4")
+          .exit_code,
+      0);
+  return RunFleetctl("reloc --mosaic " + Quote(mosaic) + " --run " + Quote(run) + " --frame 3" +
+                     flags);
+}
+
+TEST(CliReloc, AFloorWithoutFeaturesIsRelocalizedByTheDenseSearchAlone) {
+  const ScratchDir dir("cli_reloc_smooth");
+  const CommandResult r = RelocOnFloor(dir, WriteFeaturelessFloor(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  EXPECT_NE(r.err.find("no distinctive features"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("dense place search alone"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["index"]["features"].get<int>(), 0);
+  EXPECT_TRUE(j["dense"].is_object());
+  EXPECT_LT(j["error"]["position_m"].get<double>(), 0.002);
+  EXPECT_LT(j["error"]["heading_rad"].get<double>(), 0.5 * M_PI / 180);
+}
+
+TEST(CliReloc, AFloorThatRepeatsItselfIsReportedWithItsTwins) {
+  const ScratchDir dir("cli_reloc_twice");
+  const cv::Mat smooth = cv::imread(WriteFeaturelessFloor(dir), cv::IMREAD_GRAYSCALE);
+  cv::Mat twice;
+  cv::hconcat(smooth, smooth, twice);
+  const std::string image = dir / "twice.png";
+  cv::imwrite(image, twice);
+  const CommandResult r = RelocOnFloor(dir, image, " --self-similarity");
+  EXPECT_NE(r.err.find("the floor repeats itself"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["self_similarity"]["sampled"].get<int>(), 9);
+  // 3 × 3 crops of 640 px over 2400: columns at x 293–933 and 1467–2107 lie inside a copy, each
+  // with its twin 1200 px = 0.6 m away.
+  int one_copy_apart = 0;
+  for (const nlohmann::json& p : j["self_similarity"]["ambiguous"]) {
+    const double dx = std::abs(p["twin"][0].get<double>() - p["place"][0].get<double>());
+    one_copy_apart += std::abs(dx - 0.6) < 0.002;
+  }
+  EXPECT_GE(one_copy_apart, 6);
+  if (j["found"].get<bool>()) {
+    EXPECT_LT(j["error"]["position_m"].get<double>(), 0.002);  // never a wrong pose
+  }
+}
+
+TEST(CliReloc, AFlatFloorIsSearchedDenselyAndNotFound) {
+  const ScratchDir dir("cli_reloc_flat");
+  const std::string image = dir / "flat.png";
+  cv::imwrite(image, cv::Mat(1000, 1200, CV_8UC1, cv::Scalar(128)));
+  const CommandResult r = RelocOnFloor(dir, image);
+  EXPECT_EQ(r.exit_code, 1) << r.err << r.out;  // searched: nothing found (not a crash)
+  EXPECT_NE(r.err.find("dense place search alone"), std::string::npos) << r.err;
 }
 
 TEST(CliReloc, MissingFilesAndFramesAreBadInput) {

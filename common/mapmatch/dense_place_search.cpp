@@ -196,30 +196,92 @@ std::size_t DensePlaceSearch::MemoryBytes() const {
   return (coarse_->normalized.total() + fine_->normalized.total()) * sizeof(float);
 }
 
-std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(const cv::Mat& frame) const {
-  const Level& c = *coarse_;
+const DensePlaceSearch::Level& DensePlaceSearch::LevelOf(SweepLevel level) const {
+  return level == SweepLevel::kCoarse ? *coarse_ : *fine_;
+}
+
+int DensePlaceSearch::heading_steps(SweepLevel level) const {
+  return static_cast<int>(std::ceil(2 * M_PI / LevelOf(level).heading_step_rad));
+}
+
+double DensePlaceSearch::sweep_heading_rad(int k, SweepLevel level) const {
+  return -M_PI + 2 * M_PI * k / heading_steps(level);
+}
+
+cv::Size DensePlaceSearch::sweep_size(SweepLevel level) const {
+  return LevelOf(level).normalized.size();
+}
+
+double DensePlaceSearch::sweep_resolution_m(SweepLevel level) const {
+  return LevelOf(level).geo.resolution;
+}
+
+geometry::Pose2 DensePlaceSearch::SweepPose(const Eigen::Vector2d& at, double theta,
+                                            SweepLevel level) const {
+  return PoseAt(camera_, LevelOf(level).geo, at, theta);
+}
+
+cv::Mat DensePlaceSearch::NormalizedFrame(const cv::Mat& frame, SweepLevel level) const {
+  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
+                 frame.rows == camera_.height_px);
+  const int shift = LevelOf(level).level;
   cv::Mat small;
-  cv::resize(frame, small, cv::Size(frame.cols >> c.level, frame.rows >> c.level), 0, 0,
+  cv::resize(frame, small, cv::Size(frame.cols >> shift, frame.rows >> shift), 0, 0,
              cv::INTER_AREA);
-  const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
-  std::vector<DensePeak> peaks;
-  const int steps = static_cast<int>(std::ceil(2 * M_PI / c.heading_step_rad));
-  for (int k = 0; k < steps; ++k) {
-    const double theta = -M_PI + 2 * M_PI * k / steps;
-    const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
-    if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) continue;
-    cv::Mat scores;
-    cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
-    FiniteScores(&scores);
-    for (int p = 0; p < 2; ++p) {  // the two best places at this heading
-      double best = 0;
-      cv::Point at;
-      cv::minMaxLoc(scores, nullptr, &best, nullptr, &at);
-      peaks.push_back({PoseAt(camera_, c.geo, Eigen::Vector2d(at.x, at.y) + t.centre, theta),
-                       best});
-      cv::circle(scores, at, std::max(2, t.pixels.rows / 4), cv::Scalar(-1), cv::FILLED);
-    }
+  return NormalizeClipped(small, options_.normalize_window_px, options_.clip);
+}
+
+int DensePlaceSearch::ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level,
+                               cv::Mat* centred) const {
+  const Level& c = LevelOf(level);
+  centred->create(c.normalized.size(), CV_32F);
+  centred->setTo(0.0f);
+  const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
+  if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) return 0;
+  cv::Mat scores;
+  cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+  FiniteScores(&scores);
+  // Top-left → centre: the template's centre has integer coordinates (its sides are even).
+  scores.copyTo((*centred)(cv::Rect(
+      cv::Point(static_cast<int>(t.centre.x()), static_cast<int>(t.centre.y())), scores.size())));
+  return std::max(2, t.pixels.rows / 4);
+}
+
+Eigen::Vector2d DensePlaceSearch::SweepPixel(const Eigen::Vector2d& map_xy,
+                                             SweepLevel level) const {
+  return LevelOf(level).geo.MapToPixel(map_xy);
+}
+
+void DensePlaceSearch::Sweep(const cv::Mat& frame,
+                             const std::function<void(const SweepMap&)>& visit,
+                             SweepLevel level) const {
+  const cv::Mat normalized = NormalizedFrame(frame, level);
+  cv::Mat centred;
+  for (int k = 0; k < heading_steps(level); ++k) {
+    const double theta = sweep_heading_rad(k, level);
+    const int suppress_px = ScoresAt(normalized, theta, level, &centred);
+    if (suppress_px > 0) visit({k, theta, centred, suppress_px});
   }
+}
+
+void DensePlaceSearch::AppendCoarsePeaks(cv::Mat scores, double theta, int suppress_px,
+                                         std::vector<DensePeak>* peaks, SweepLevel level) const {
+  for (int p = 0; p < 2; ++p) {
+    double best = 0;
+    cv::Point at;
+    cv::minMaxLoc(scores, nullptr, &best, nullptr, &at);
+    peaks->push_back({SweepPose(Eigen::Vector2d(at.x, at.y), theta, level), best});
+    cv::circle(scores, at, suppress_px, cv::Scalar(-1), cv::FILLED);
+  }
+}
+
+std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
+    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
+  std::vector<DensePeak> peaks;
+  Sweep(frame, [&](const SweepMap& map) {
+    if (also) also(map);
+    AppendCoarsePeaks(map.scores.clone(), map.theta, map.suppress_px, &peaks);
+  });
   std::sort(peaks.begin(), peaks.end(),
             [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
   return peaks;
@@ -257,32 +319,35 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
   return best;
 }
 
-std::vector<DensePeak> DensePlaceSearch::Search(const cv::Mat& frame) const {
-  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
-                 frame.rows == camera_.height_px);
-  const auto distinct = [&](const DensePeak& a, const std::vector<DensePeak>& kept) {
-    return std::none_of(kept.begin(), kept.end(), [&](const DensePeak& k) {
-      return std::hypot(a.camera_in_map.x - k.camera_in_map.x,
-                        a.camera_in_map.y - k.camera_in_map.y) < separation_m() &&
-             std::abs(geometry::WrapAngle(a.camera_in_map.theta - k.camera_in_map.theta)) <
-                 heading_separation_rad();
-    });
-  };
-  std::vector<DensePeak> coarse;
-  for (const DensePeak& p : CoarsePeaks(frame)) {
-    if (static_cast<int>(coarse.size()) >= options_.coarse_peaks) break;
-    if (distinct(p, coarse)) coarse.push_back(p);
-  }
-  std::vector<DensePeak> refined;
-  for (const DensePeak& p : coarse) refined.push_back(Refine(frame, p));
-  std::sort(refined.begin(), refined.end(),
-            [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
+bool DensePlaceSearch::Distinct(const DensePeak& a, const std::vector<DensePeak>& kept) const {
+  return std::none_of(kept.begin(), kept.end(), [&](const DensePeak& k) {
+    return std::hypot(a.camera_in_map.x - k.camera_in_map.x,
+                      a.camera_in_map.y - k.camera_in_map.y) < separation_m() &&
+           std::abs(geometry::WrapAngle(a.camera_in_map.theta - k.camera_in_map.theta)) <
+               heading_separation_rad();
+  });
+}
+
+std::vector<DensePeak> DensePlaceSearch::DistinctBest(std::vector<DensePeak> peaks, int n) const {
+  std::stable_sort(peaks.begin(), peaks.end(), [](const DensePeak& a, const DensePeak& b) {
+    return a.correlation > b.correlation;
+  });
   std::vector<DensePeak> out;
-  for (const DensePeak& p : refined) {
-    if (static_cast<int>(out.size()) >= options_.max_peaks) break;
-    if (distinct(p, out)) out.push_back(p);
+  for (const DensePeak& p : peaks) {
+    if (static_cast<int>(out.size()) >= n) break;
+    if (Distinct(p, out)) out.push_back(p);
   }
   return out;
+}
+
+std::vector<DensePeak> DensePlaceSearch::Search(
+    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
+  FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
+                 frame.rows == camera_.height_px);
+  std::vector<DensePeak> refined;
+  for (const DensePeak& p : DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks))
+    refined.push_back(Refine(frame, p));
+  return DistinctBest(std::move(refined), options_.max_peaks);
 }
 
 }  // namespace fleetloc::mapmatch

@@ -10,6 +10,7 @@
 // options bound it). Pure: reads the mosaic through a RasterSource once, at construction.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -51,8 +52,55 @@ class DensePlaceSearch {
                                                           const geometry::CameraModel& camera,
                                                           const DensePlaceSearchOptions& options);
 
+  // The heading sweep of `frame` (CV_8UC1, the camera's size) at the coarse level (or, slower,
+  // at the refine level), one heading at a time: heading k of heading_steps(level) is
+  // sweep_heading_rad(k, level); `scores` covers the padded mosaic at that level, its pixel (x, y)
+  // the masked correlation with the frame's centre at continuous coordinates (x, y) (0 where the
+  // frame does not fit); `suppress_px` the radius within which another maximum is the same peak.
+  // Search runs on the coarse one; the multi-frame search on either.
+  enum class SweepLevel { kCoarse, kRefine };
+  struct SweepMap {
+    int k = 0;
+    double theta = 0;
+    const cv::Mat& scores;
+    int suppress_px = 2;
+  };
+  void Sweep(const cv::Mat& frame, const std::function<void(const SweepMap&)>& visit,
+             SweepLevel level = SweepLevel::kCoarse) const;
+  // One heading of a sweep: `frame` reduced to the level and normalized, then its map at any θ
+  // (the SweepMap layout; returns its suppress_px, 0 when the frame does not fit the mosaic).
+  cv::Mat NormalizedFrame(const cv::Mat& frame, SweepLevel level) const;
+  int ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred) const;
+  // Continuous pixel coordinates of a map point at the level (the SweepMap layout).
+  Eigen::Vector2d SweepPixel(const Eigen::Vector2d& map_xy, SweepLevel level) const;
+
   // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
-  std::vector<DensePeak> Search(const cv::Mat& frame) const;
+  // `also`, when given, sees every map of the coarse sweep (the multi-frame search reuses it).
+  std::vector<DensePeak> Search(const cv::Mat& frame,
+                                const std::function<void(const SweepMap&)>& also = {}) const;
+
+  int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;
+  double sweep_heading_rad(int k, SweepLevel level = SweepLevel::kCoarse) const;
+  cv::Size sweep_size(SweepLevel level = SweepLevel::kCoarse) const;
+  double sweep_resolution_m(SweepLevel level = SweepLevel::kCoarse) const;
+  // The camera pose whose frame centre is at continuous coordinates `at` of the level, heading θ.
+  geometry::Pose2 SweepPose(const Eigen::Vector2d& at, double theta,
+                            SweepLevel level = SweepLevel::kCoarse) const;
+
+  // The two best places of a sweep map (scores with the SweepMap layout; overwritten) at heading
+  // θ, appended to *peaks.
+  void AppendCoarsePeaks(cv::Mat scores, double theta, int suppress_px,
+                         std::vector<DensePeak>* peaks,
+                         SweepLevel level = SweepLevel::kCoarse) const;
+
+  // The best pose one level finer within ±2 heading steps and ±4 pixels of `coarse`.
+  DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse) const;
+
+  // Whether `peak` is distinct (see below) from every one of `kept`; the best n of `peaks` that
+  // are distinct from each other, best first.
+  bool Distinct(const DensePeak& peak, const std::vector<DensePeak>& kept) const;
+  std::vector<DensePeak> DistinctBest(std::vector<DensePeak> peaks, int n) const;
+  const DensePlaceSearchOptions& options() const { return options_; }
 
   // Two peaks are distinct places when their positions differ by separation_m (a quarter of the
   // frame's short side, at least 4 refine-level pixels) or their headings by
@@ -65,8 +113,9 @@ class DensePlaceSearch {
  private:
   struct Level;
   DensePlaceSearch(const geometry::CameraModel& camera, const DensePlaceSearchOptions& options);
-  std::vector<DensePeak> CoarsePeaks(const cv::Mat& frame) const;
-  DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse) const;
+  std::vector<DensePeak> CoarsePeaks(const cv::Mat& frame,
+                                     const std::function<void(const SweepMap&)>& also) const;
+  const Level& LevelOf(SweepLevel level) const;
 
   geometry::CameraModel camera_;
   DensePlaceSearchOptions options_;

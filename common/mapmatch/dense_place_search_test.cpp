@@ -8,30 +8,16 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
+#include "mapmatch/test_floors.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
 
 namespace fleetloc::mapmatch {
 namespace {
 
-constexpr double kResolutionM = 0.0005;
-
-cv::Mat PlainConcrete() {
-  const cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
-                                   cv::IMREAD_GRAYSCALE);
-  EXPECT_FALSE(photo.empty());
-  return photo;
-}
-
-geometry::CameraModel SmallCamera() {
-  geometry::CameraModel camera;  // 320×240 at 0.5 mm/px, mounted 0.40 m ahead
-  camera.width_px = 320;
-  camera.height_px = 240;
-  camera.cx_px = 160;
-  camera.cy_px = 120;
-  camera.mount = {0.40, 0.0, 0.0};
-  return camera;
-}
+using testing::kResolutionM;
+using testing::PlainConcrete;
+using testing::SmallCamera;
 
 struct Errors {
   double m = 0, rad = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <opencv2/imgproc.hpp>
 
 namespace fleetloc::mapmatch {
@@ -47,6 +48,16 @@ Status Validate(const RelocalizerOptions& options) {
   if (!(options.dense_max_second_ratio > 0.0 && options.dense_max_second_ratio < 1.0))
     return InvalidInput("relocalizer: dense_max_second_ratio must be in (0, 1)");
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense));
+  if (options.trajectory_frames < 1 || options.trajectory_frames > 20)
+    return InvalidInput("relocalizer: trajectory_frames must be 1..20");
+  if (!(options.trajectory_max_travel_m > 0.0 && options.trajectory_max_travel_m <= 10.0))
+    return InvalidInput("relocalizer: trajectory_max_travel_m must be in (0, 10]");
+  if (!(options.trajectory_min_correlation > 0.0 && options.trajectory_min_correlation < 1.0))
+    return InvalidInput("relocalizer: trajectory_min_correlation must be in (0, 1)");
+  if (!(options.trajectory_max_second_ratio > 0.0 && options.trajectory_max_second_ratio < 1.0))
+    return InvalidInput("relocalizer: trajectory_max_second_ratio must be in (0, 1)");
+  if (!(options.trajectory_max_mb > 0.0))
+    return InvalidInput("relocalizer: trajectory_max_mb must be > 0");
   return tracking::Validate(options.tracker);
 }
 
@@ -78,6 +89,15 @@ Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index
     } else if (index == nullptr) {
       return InvalidInput("relocalizer: no place index, and " + dense.status().message());
     }
+  }
+  const auto level = options.trajectory_refine_level
+                         ? TrajectoryPlaceSearch::SweepLevel::kRefine
+                         : TrajectoryPlaceSearch::SweepLevel::kCoarse;
+  if (relocalizer->dense_ && options.trajectory_frames > 1 &&
+      TrajectoryPlaceSearch::MemoryBytes(*relocalizer->dense_, level) <=
+          options.trajectory_max_mb * 1e6) {
+    relocalizer->trajectory_ =
+        std::make_unique<TrajectoryPlaceSearch>(relocalizer->dense_.get(), camera, level);
   }
   if (index == nullptr && relocalizer->dense_ == nullptr)
     return InvalidInput("relocalizer: neither a place index nor the dense search");
@@ -175,41 +195,100 @@ void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) co
   out->candidate_inliers = best.candidate_inliers;
 }
 
+void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<DensePeak>& peaks,
+                                   Gate gate, Relocalization* out) {
+  const double best = peaks.empty() ? 0.0 : peaks[0].correlation;
+  const double second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
+  const std::string scores = std::to_string(best) + " and " + std::to_string(second);
+  if (best < gate.min_correlation) {
+    out->reason += ": " + scores + ", too weak";
+    return;
+  }
+  if (second > gate.max_second_ratio * best) {
+    out->reason += ": ambiguous, " + scores;
+    return;
+  }
+  PoseCandidate candidate;
+  candidate.camera_in_map = peaks[0].camera_in_map;
+  const double sigma_m = dense_->separation_m() / 4;
+  ++out->verified;
+  const std::optional<Verified> v =
+      Verify(frame, candidate, sigma_m, dense_->heading_separation_rad() / 8);
+  const geometry::Pose2 searched = candidate.camera_in_map * camera_.mount.Inverse();
+  if (v && std::hypot(v->base_in_map.pose.x - searched.x, v->base_in_map.pose.y - searched.y) <
+               dense_->separation_m()) {
+    out->found = true;
+    out->reason.clear();
+    out->base_in_map = v->base_in_map;
+    out->inliers = v->inliers;
+    out->templates = v->templates;
+  } else {
+    out->reason += ": " + scores + ", the tracker did not confirm the best";
+  }
+}
+
 void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<DensePeak> peaks = dense_->Search(frame);
+  std::function<void(const DensePlaceSearch::SweepMap&)> feed;
+  if (feed_trajectory_) {
+    feed = [this](const DensePlaceSearch::SweepMap& map) { trajectory_->Accumulate(map); };
+    trajectory_fed_ = true;
+  }
+  const std::vector<DensePeak> peaks = dense_->Search(frame, feed);
   out->dense = true;
   out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
   out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
-  const std::string scores = "dense peaks " + std::to_string(out->dense_best) + " and " +
-                             std::to_string(out->dense_second);
-  if (out->dense_best < options_.dense_min_correlation) {
-    out->reason += "; " + scores + ": too weak";
-  } else if (out->dense_second > options_.dense_max_second_ratio * out->dense_best) {
-    out->reason += "; ambiguous: " + scores;
-  } else {
-    PoseCandidate candidate;
-    candidate.camera_in_map = peaks[0].camera_in_map;
-    const double sigma_m = dense_->separation_m() / 4;
-    ++out->verified;
-    const std::optional<Verified> v =
-        Verify(frame, candidate, sigma_m, dense_->heading_separation_rad() / 8);
-    const geometry::Pose2 searched = candidate.camera_in_map * camera_.mount.Inverse();
-    if (v && std::hypot(v->base_in_map.pose.x - searched.x, v->base_in_map.pose.y - searched.y) <
-                 dense_->separation_m()) {
-      out->found = true;
-      out->reason.clear();
-      out->base_in_map = v->base_in_map;
-      out->inliers = v->inliers;
-      out->templates = v->templates;
-    } else {
-      out->reason += "; " + scores + ": the tracker did not confirm the best";
-    }
-  }
+  out->reason += "; dense peaks";
+  AcceptDensePeaks(frame, peaks, {options_.dense_min_correlation, options_.dense_max_second_ratio},
+                   out);
   out->dense_ms = MsSince(start);
 }
 
-Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
+void Relocalizer::ResetTrajectory() {
+  if (trajectory_) trajectory_->Reset();
+}
+
+void Relocalizer::TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out) {
+  const auto start = std::chrono::steady_clock::now();
+  // The single-frame path did not sweep it at the trajectory's level.
+  if (!trajectory_fed_) trajectory_->SweepNewest();
+  out->trajectory_frames = trajectory_->frames();
+  if (trajectory_->frames() >= 2) {
+    const std::vector<DensePeak> peaks = trajectory_->Search();
+    out->trajectory_best = peaks.empty() ? 0.0 : peaks[0].correlation;
+    out->trajectory_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
+    out->reason += "; " + std::to_string(trajectory_->frames()) + " frames' mean peaks";
+    AcceptDensePeaks(frame, peaks,
+                     {options_.trajectory_min_correlation, options_.trajectory_max_second_ratio},
+                     out);
+    out->from_trajectory = out->found;
+    if (out->found) trajectory_->Reset();
+  }
+  out->trajectory_ms = MsSince(start);
+}
+
+Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
+                                               const geometry::Pose2& base_in_odom) {
+  if (!trajectory_) return Relocalize(frame);
+  FLEETLOC_RETURN_IF_ERROR(CheckFrame(frame));
+  const geometry::Pose2 camera_in_odom = base_in_odom * camera_.mount;
+  if (trajectory_->frames() >= options_.trajectory_frames ||
+      trajectory_->TravelTo(camera_in_odom) > options_.trajectory_max_travel_m)
+    trajectory_->Reset();
+  trajectory_->Begin(frame, camera_in_odom);
+  feed_trajectory_ = trajectory_->level() == TrajectoryPlaceSearch::SweepLevel::kCoarse;
+  trajectory_fed_ = false;
+  Result<Relocalization> out = Relocalize(frame);
+  feed_trajectory_ = false;
+  if (out->found) {
+    trajectory_->Reset();
+    return out;
+  }
+  TrajectoryRelocalize(frame, &*out);
+  return out;
+}
+
+Status Relocalizer::CheckFrame(const cv::Mat& frame) const {
   if (frame.empty()) return InvalidInput("relocalize: the frame is empty");
   if (frame.type() != CV_8UC1 || frame.cols != camera_.width_px ||
       frame.rows != camera_.height_px) {
@@ -218,6 +297,11 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
                         ", got " + std::to_string(frame.cols) + "x" + std::to_string(frame.rows) +
                         " with " + std::to_string(frame.channels()) + " channel(s)");
   }
+  return Status::Ok();
+}
+
+Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
+  FLEETLOC_RETURN_IF_ERROR(CheckFrame(frame));
   Relocalization out;
   if (index_ == nullptr) {
     out.reason = "no place index";

@@ -17,6 +17,7 @@
 #include "mapmatch/dense_place_search.h"
 #include "mapmatch/place_index.h"
 #include "mapmatch/pose_votes.h"
+#include "mapmatch/trajectory_place_search.h"
 #include "mosaic/raster_source.h"
 #include "tracking/mosaic_tracker.h"
 #include "tracking/tracker_options.h"
@@ -52,6 +53,17 @@ struct RelocalizerOptions {
   DensePlaceSearchOptions dense;
   double dense_min_correlation = 0.2;
   double dense_max_second_ratio = 0.6;
+  // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
+  // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
+  // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
+  // best combined pose is verified by a tracker cycle and accepted under the gate below. Off when
+  // the summed sweep would need more than trajectory_max_mb.
+  int trajectory_frames = 1;
+  bool trajectory_refine_level = false;  // sum the sweeps at the refine level (slower)
+  double trajectory_max_travel_m = 1.0;
+  double trajectory_min_correlation = 0.1;
+  double trajectory_max_second_ratio = 0.6;
+  double trajectory_max_mb = 64;
 };
 
 // Flat range checks (and the tracker's); InvalidInput naming the field.
@@ -71,7 +83,13 @@ struct Relocalization {
   // The dense place search, when it ran: its best and second (distinct) peak's correlations.
   bool dense = false;
   double dense_best = 0, dense_second = 0;
+  // The multi-frame search, when it ran: frames combined, its best and second peaks (mean
+  // correlations), and whether the accepted pose came from it.
+  int trajectory_frames = 0;
+  double trajectory_best = 0, trajectory_second = 0;
+  bool from_trajectory = false;
   double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0, dense_ms = 0;
+  double trajectory_ms = 0;
 };
 
 class Relocalizer {
@@ -88,6 +106,14 @@ class Relocalizer {
   // base_link's pose in map at the frame's time. InvalidInput for an empty frame, or one that is
   // not CV_8UC1 of the camera's size. found == false with a reason when no candidate verifies.
   Result<Relocalization> Relocalize(const cv::Mat& frame);
+  // The same, and when that finds nothing, the frame joins the trajectory (a new one when it
+  // already holds trajectory_frames frames or the camera moved beyond trajectory_max_travel_m)
+  // and the trajectory's frames are searched together (from 2 frames on). `base_in_odom`:
+  // base_link in odom at the frame's time. A found pose starts a new trajectory.
+  Result<Relocalization> Relocalize(const cv::Mat& frame, const geometry::Pose2& base_in_odom);
+  void ResetTrajectory();
+  // The dense place search (null: off, or the mosaic is too large for it).
+  const DensePlaceSearch* dense_search() const { return dense_.get(); }
 
  private:
   Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
@@ -109,12 +135,25 @@ class Relocalizer {
   void Choose(std::vector<Verified> verified, Relocalization* out) const;
   // The dense place search and the verification of its best peak (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
+  // Accepts the best of `peaks` (poses of `frame`'s camera) when it correlates min_correlation,
+  // the second reaches at most max_second_ratio of it and a tracker cycle confirms it.
+  struct Gate {
+    double min_correlation, max_second_ratio;
+  };
+  void AcceptDensePeaks(const cv::Mat& frame, const std::vector<DensePeak>& peaks, Gate gate,
+                        Relocalization* out);
+  // The multi-frame search once the frame has joined the trajectory (see Relocalize).
+  void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
+  Status CheckFrame(const cv::Mat& frame) const;
 
   const PlaceIndex* index_;
   geometry::CameraModel camera_;
   RelocalizerOptions options_;
   tracking::MosaicTracker tracker_;
   std::unique_ptr<DensePlaceSearch> dense_;  // null: off, or the mosaic is too large for it
+  std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
+  bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
+  bool trajectory_fed_ = false;   // and it did, for the current frame
 };
 
 }  // namespace fleetloc::mapmatch

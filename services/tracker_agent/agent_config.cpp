@@ -38,6 +38,8 @@ Status Validate(const AgentConfig& c) {
     return bad("start_pose", "must be given or relocalize");
   }
   if (c.relocalize_after_coasting_frames < 1) return bad("relocalize_after_coasting_frames", "must be >= 1");
+  if (c.relocalize_trajectory_frames < 1 || c.relocalize_trajectory_frames > 20)
+    return bad("relocalize_trajectory_frames", "must be 1..20");
   if (!(c.relocalize_interval_s >= 0 && c.relocalize_interval_s <= 60)) {
     return bad("relocalize_interval_s", "must be in [0, 60]");
   }
@@ -63,7 +65,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
       "patch_min_interval_s", "patch_min_changed", "patch_retry_s", "drain_s", "source", "sim_floor",
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
       "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames",
-      "relocalize_interval_s", "landmarks", "position_update_period_s", "position_update_window_s",
+      "relocalize_interval_s", "relocalize_trajectory_frames", "landmarks", "position_update_period_s", "position_update_window_s",
       "position_update_half_life_s"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
@@ -82,7 +84,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
                                     {"sim_seed", &c.sim_seed},
                                     {"outbox_max_patches", &c.outbox_max_patches},
                                     {"outbox_max_mb", &c.outbox_max_mb},
-                                    {"relocalize_after_coasting_frames", &c.relocalize_after_coasting_frames}}) {
+                                    {"relocalize_after_coasting_frames", &c.relocalize_after_coasting_frames},
+                                    {"relocalize_trajectory_frames", &c.relocalize_trajectory_frames}}) {
     if (!fields.Has(key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));

@@ -48,6 +48,9 @@ struct AgentConfig {
   bool relocalize_on_lost = true;     // when lock is lost ("kidnapped vehicle")
   int relocalize_after_coasting_frames = 5;  // also after this many frames in a row without a fix
   double relocalize_interval_s = 0.5;  // frame time between two attempts
+  // Attempts whose single frame finds nothing are combined with odometry, up to this many within
+  // 1 m of travel (multi-frame relocalization, issue 17; 1: single frames only).
+  int relocalize_trajectory_frames = 3;
   // Global position update (DESIGN §4, docs/forward_camera.md): landmarks the forward camera sees
   // (a run's forward/) fitted to the landmark map; it corrects the pose when the downward camera
   // is not tracking.

@@ -87,10 +87,15 @@ void AgentRelocalizer::FinishLoading() {
   spdlog::info("place index of mosaic version {} ready: {} features", index_version_, index_->size());
 }
 
-Result<mapmatch::Relocalization> AgentRelocalizer::Relocalize(const cv::Mat& frame) {
+void AgentRelocalizer::ResetTrajectory() {
+  if (relocalizer_) relocalizer_->ResetTrajectory();
+}
+
+Result<mapmatch::Relocalization> AgentRelocalizer::Relocalize(const cv::Mat& frame,
+                                                              const geometry::Pose2& base_in_odom) {
   FLEETLOC_CHECK(ready());
   const auto start = std::chrono::steady_clock::now();
-  Result<mapmatch::Relocalization> result = relocalizer_->Relocalize(frame);
+  Result<mapmatch::Relocalization> result = relocalizer_->Relocalize(frame, base_in_odom);
   stats_.last_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats_.total_ms += stats_.last_ms;

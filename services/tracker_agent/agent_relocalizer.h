@@ -38,8 +38,12 @@ class AgentRelocalizer {
   void Poll();
   bool ready() const { return relocalizer_ != nullptr; }
   long long index_version() const { return index_version_; }
-  // Relocalizes `frame` (rectified, the camera's size). Requires ready().
-  Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame);
+  // Relocalizes `frame` (rectified, the camera's size) taken at `base_in_odom`; frames that find
+  // nothing alone are combined with odometry (Relocalizer's multi-frame search). Requires ready().
+  Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame,
+                                              const geometry::Pose2& base_in_odom);
+  // Forgets the frames held for the multi-frame search (the vehicle tracks again).
+  void ResetTrajectory();
   const RelocalizationStats& stats() const { return stats_; }
   std::uint64_t chunks_rejected() const { return receiver_->rejected(); }
 

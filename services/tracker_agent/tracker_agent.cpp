@@ -77,8 +77,10 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
   propagator_.emplace(options.odometry);
+  mapmatch::RelocalizerOptions relocalizer_options;
+  relocalizer_options.trajectory_frames = config_.relocalize_trajectory_frames;
   auto relocalizer = AgentRelocalizer::Create(p, layout_.mosaic_id, view_.get(), camera_.model,
-                                              mapmatch::RelocalizerOptions{});
+                                              relocalizer_options);
   if (!relocalizer.ok()) return relocalizer.status();
   relocalizer_ = std::move(relocalizer).value();
   auto patches = transport::PatchClient::Create(p, config_.vehicle_id);
@@ -181,6 +183,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     result.state = tracking::LockState::kLost;
   }
   coasting_in_a_row_ = result.state == tracking::LockState::kCoasting ? coasting_in_a_row_ + 1 : 0;
+  if (result.state == tracking::LockState::kTracking) relocalizer_->ResetTrajectory();
   health_.RecordFrame(result, ms);
   state_ = result.state;
   if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) return;  // published there
@@ -199,7 +202,7 @@ bool TrackerAgent::NeedsRelocalization(const tracking::FrameResult& result) cons
 bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom) {
   if (!relocalizer_->ready() || t - last_relocalize_t_ < config_.relocalize_interval_s) return false;
   last_relocalize_t_ = t;
-  Result<mapmatch::Relocalization> found = relocalizer_->Relocalize(frame);
+  Result<mapmatch::Relocalization> found = relocalizer_->Relocalize(frame, odom);
   if (!found.ok()) {
     health_.RecordError("relocalization: " + found.status().message());
     return false;
@@ -211,8 +214,10 @@ bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry:
     return false;
   }
   const geometry::PoseWithCovariance& base = found->base_in_map;
-  spdlog::info("relocalized at t={:.3f}: ({:.4f}, {:.4f}, {:.2f} deg), {} inliers, {:.0f} ms", t,
-               base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
+  spdlog::info("relocalized at t={:.3f}: ({:.4f}, {:.4f}, {:.2f} deg), {} inliers, {} frame(s), "
+               "{:.0f} ms",
+               t, base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
+               found->from_trajectory ? found->trajectory_frames : 1,
                relocalizer_->stats().last_ms);
   tracker_->Reset(base, odom);
   started_ = true, provisional_ = true, coasting_in_a_row_ = 0;

@@ -40,6 +40,12 @@ struct RelocTrial {
   double error_m = 0, error_rad = 0;
   double time_to_pose_s = 0;  // relocalizer time of all attempts + waiting for later frames
   std::vector<mapmatch::Relocalization> runs;  // one per attempt
+  int accepted_run = -1;                       // the run that returned the pose
+  // With multi-frame relocalization (relocalizer.trajectory_frames > 1; odometry 2 % long and
+  // 0.5° per metre off): the single-frame outcome of the same frames — the first attempt whose
+  // own frame was accepted — for side-by-side tables.
+  bool single_found = false, single_correct = false;
+  double single_time_s = 0;
 };
 
 // Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);

@@ -187,6 +187,17 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
   cmd->add_option("--lsh-multiprobe", args->index.lsh_multiprobe_level, "LSH multi-probe level");
   cmd->add_option("--max-verified", args->trials.relocalizer.max_verified_candidates,
                   "Candidates verified by a tracker cycle per frame");
+  cmd->add_option("--trajectory-frames", args->trials.relocalizer.trajectory_frames,
+                  "Frames combined with odometry when one is not enough (1: single frames; "
+                  "reports both)")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  cmd->add_flag("--trajectory-refine-level", args->trials.relocalizer.trajectory_refine_level,
+                "Sum the frames' heading sweeps at the dense search's refine level (slower)");
+  cmd->add_option("--trajectory-max-mb", args->trials.relocalizer.trajectory_max_mb,
+                  "Memory bound of the summed sweeps (multi-frame off above it)")
+      ->check(CLI::Range(1.0, 4096.0))
+      ->capture_default_str();
   cmd->add_flag("--stress", args->stress,
                 "The stress floors (data/stress_floors) × --sizes × --conditions × --layouts "
                 "instead of one large composed floor");

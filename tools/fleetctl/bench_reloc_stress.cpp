@@ -22,12 +22,15 @@ namespace fs = std::filesystem;
 
 constexpr double kResolutionM = 0.0005;  // the stress suite's floors
 
-// The floor image of a layout: the scaled floor itself, or it twice side by side.
-Result<fs::path> LayoutImage(const fs::path& scaled, const std::string& layout) {
+// The floor image of a layout: the scaled floor itself, or it twice side by side (written to
+// `dir`, never next to a floor photo of the source tree).
+Result<fs::path> LayoutImage(const fs::path& scaled, const std::string& layout,
+                             const fs::path& dir) {
   if (layout == "single") return scaled;
-  const fs::path twice = scaled.parent_path() / (scaled.stem().string() + "_twice.png");
+  const fs::path twice = dir / (scaled.stem().string() + "_twice.png");
   std::error_code ec;
   if (fs::is_regular_file(twice, ec)) return twice;
+  fs::create_directories(dir, ec);
   Result<cv::Mat> image = io::ReadGrayImage(scaled);
   if (!image.ok()) return image.status();
   cv::Mat both;
@@ -73,21 +76,29 @@ nlohmann::json IndexJson(const mapmatch::PlaceIndex& index, double seconds,
           {"megapixels", mpx}};
 }
 
+// "in 1 s/wrong" of the single-frame outcome, when the trials combined frames ("-" otherwise).
+std::string SingleFrame(const nlohmann::json& t) {
+  if (!t.contains("single_frame")) return "-";
+  const nlohmann::json& s = t["single_frame"];
+  return std::to_string(s["correct_within_target"].get<int>()) + "/" +
+         std::to_string(s["wrong_pose"].get<int>());
+}
+
 void PrintRow(const Cell& cell, const nlohmann::json& t, const nlohmann::json& index) {
-  std::printf("%-18s %-30s %-9s %-6s %-8s %6d %7d %7d %6d %6d %8.0f %8.0f %8.0f\n",
+  std::printf("%-18s %-30s %-9s %-6s %-8s %6d %7d %7d %6d %6d %8.0f %8.0f %8.0f %9s\n",
               cell.floor->floor_class.c_str(), cell.floor->file.c_str(), cell.size.label.c_str(),
               cell.condition.c_str(), cell.layout.c_str(), t["trials"].get<int>(),
               t["correct"].get<int>(), t["correct_within_target"].get<int>(),
               t["wrong_pose"].get<int>(), t["not_found"].get<int>(),
               t["attempt_ms"]["p95"].get<double>(), t["time_to_correct_pose_ms"]["p95"].get<double>(),
-              index["features"].get<double>());
+              index["features"].get<double>(), SingleFrame(t).c_str());
   std::fflush(stdout);
 }
 
 void PrintHeader() {
-  std::printf("%-18s %-30s %-9s %-6s %-8s %6s %7s %7s %6s %6s %8s %8s %8s\n", "class", "floor",
-              "size", "cond", "layout", "trials", "correct", "in 1 s", "wrong", "none",
-              "try p95", "pose p95", "features");
+  std::printf("%-18s %-30s %-9s %-6s %-8s %6s %7s %7s %6s %6s %8s %8s %8s %9s\n", "class",
+              "floor", "size", "cond", "layout", "trials", "correct", "in 1 s", "wrong", "none",
+              "try p95", "pose p95", "features", "1f 1s/wr");
 }
 
 Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
@@ -95,7 +106,7 @@ Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
   Result<fs::path> scaled =
       FloorForFrame(*cell.floor, cell.size.width, cell.size.height, root / "floors");
   if (!scaled.ok()) return scaled.status();
-  Result<fs::path> image = LayoutImage(*scaled, cell.layout);
+  Result<fs::path> image = LayoutImage(*scaled, cell.layout, root / "floors");
   if (!image.ok()) return image.status();
   Result<std::shared_ptr<mosaic::TileStore>> store =
       OpenFloorMosaic(*image, kResolutionM, root / "mosaics" / image->stem());
@@ -130,7 +141,7 @@ Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
 // slowest cell's attempt p95.
 void PrintSummary(const nlohmann::json& cells, const std::string& split) {
   struct Sum {
-    int trials = 0, within = 0, wrong = 0, none = 0;
+    int trials = 0, within = 0, wrong = 0, none = 0, single_within = 0, single_wrong = 0;
     double attempt_p95_ms = 0;
   };
   std::map<std::string, Sum> sums;
@@ -143,14 +154,19 @@ void PrintSummary(const nlohmann::json& cells, const std::string& split) {
     s.within += t["correct_within_target"].get<int>();
     s.wrong += t["wrong_pose"].get<int>();
     s.none += t["not_found"].get<int>();
+    if (t.contains("single_frame")) {
+      s.single_within += t["single_frame"]["correct_within_target"].get<int>();
+      s.single_wrong += t["single_frame"]["wrong_pose"].get<int>();
+    }
     s.attempt_p95_ms = std::max(s.attempt_p95_ms, t["attempt_ms"]["p95"].get<double>());
   }
   std::printf("\n-- %s summary: class condition layout: correct within 1 s / trials, wrong, none, "
-              "worst cell's attempt p95 ms\n",
+              "worst cell's attempt p95 ms; single frame: correct within 1 s, wrong\n",
               split.c_str());
   for (const auto& [key, s] : sums) {
-    std::printf("%-40s %5d/%-5d (%5.1f %%) wrong %d none %d  %6.0f ms\n", key.c_str(), s.within,
-                s.trials, 100.0 * s.within / s.trials, s.wrong, s.none, s.attempt_p95_ms);
+    std::printf("%-40s %5d/%-5d (%5.1f %%) wrong %d none %d  %6.0f ms  1f %d wrong %d\n",
+                key.c_str(), s.within, s.trials, 100.0 * s.within / s.trials, s.wrong, s.none,
+                s.attempt_p95_ms, s.single_within, s.single_wrong);
   }
 }
 

@@ -1,5 +1,7 @@
 // fleetctl reloc: global relocalization of one frame of a run against a mosaic, with no prior
-// pose (issue 5). The mosaic's place index is loaded from its cache table or built and cached.
+// pose (issue 5). The mosaic's place index is loaded from its cache table or built and cached; a
+// floor without detectable features has none, and is relocalized by the dense place search alone
+// (issue 17; a log line says so); --self-similarity also reports where the floor repeats itself.
 // Prints JSON on stdout (the pose, or found: false and why; with truth.csv, the error); exit 1
 // when the frame could not be relocalized.
 #include <spdlog/spdlog.h>
@@ -9,6 +11,7 @@
 
 #include "commands.h"
 #include "io/run.h"
+#include "mapmatch/self_similarity.h"
 #include "mosaic/tile_store.h"
 #include "mosaic/place_index_cache.h"
 #include "reloc_index.h"
@@ -21,6 +24,7 @@ struct RelocArgs {
   std::string run;
   int frame = 0;
   bool no_cache = false;
+  bool self_similarity = false;
   long long cache_mb = 256;
 };
 
@@ -30,6 +34,30 @@ Result<cv::Mat> ReadRunFrame(const io::Run& run, int k) {
                         std::to_string(run.frames.size()) + " frames");
   }
   return io::ReadFrame(run.frames[k], run.camera.model);
+}
+
+// Places where the floor repeats itself (mapmatch/self_similarity.h) as JSON, with a warning.
+Result<nlohmann::json> SelfSimilarityJson(const mapmatch::Relocalizer& relocalizer,
+                                          mosaic::RasterSource& mosaic,
+                                          const geometry::CameraModel& camera) {
+  if (relocalizer.dense_search() == nullptr)
+    return InvalidInput("--self-similarity: the mosaic is too large for the dense place search");
+  Result<mapmatch::SelfSimilarityReport> report = mapmatch::FindSelfSimilarity(
+      *relocalizer.dense_search(), mosaic, camera, mapmatch::SelfSimilarityOptions{});
+  if (!report.ok()) return report.status();
+  nlohmann::json places = nlohmann::json::array();
+  for (const mapmatch::SimilarPlace& p : report->ambiguous) {
+    places.push_back({{"place", {p.place.x, p.place.y}},
+                      {"twin", {p.twin.x, p.twin.y, p.twin.theta}},
+                      {"correlation", p.own},
+                      {"twin_correlation", p.twin_correlation}});
+  }
+  if (!places.empty()) {
+    spdlog::warn("the floor repeats itself: {} of {} sampled places have a twin (relocalization "
+                 "there is refused as ambiguous)",
+                 places.size(), report->sampled);
+  }
+  return nlohmann::json{{"sampled", report->sampled}, {"ambiguous", places}};
 }
 
 // Position and heading error against truth.csv's row of frame k.
@@ -54,17 +82,31 @@ Status RunReloc(const RelocArgs& args) {
   Result<mosaic::LoadedPlaceIndex> index =
       mosaic::LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
                             args.no_cache ? mosaic::IndexCache::kIgnore : mosaic::IndexCache::kUse);
-  if (!index.ok()) return index.status();
-  auto relocalizer = mapmatch::Relocalizer::Create(&index->index, &view, run->camera.model,
+  // A mosaic the place index refuses (no distinctive features): the dense place search alone.
+  if (!index.ok() && index.status().code() != StatusCode::kInvalidInput) return index.status();
+  if (!index.ok())
+    spdlog::warn("{}; relocalizing by the dense place search alone", index.status().message());
+  auto relocalizer = mapmatch::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view,
+                                                   run->camera.model,
                                                    mapmatch::RelocalizerOptions{});
-  if (!relocalizer.ok()) return relocalizer.status();
+  if (!relocalizer.ok()) {
+    if (index.ok()) return relocalizer.status();
+    return InvalidInput(index.status().message() + "; and " + relocalizer.status().message());
+  }
   Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
   if (!result.ok()) return result.status();
   nlohmann::json json = RelocalizationJson(*result);
+  if (args.self_similarity) {
+    Result<nlohmann::json> similar = SelfSimilarityJson(**relocalizer, view, run->camera.model);
+    if (!similar.ok()) return similar.status();
+    json["self_similarity"] = *similar;
+  }
   json["frame"] = args.frame;
-  json["index"] = {{"features", index->index.size()},
-                   {"from_cache", index->from_cache},
-                   {"seconds", index->seconds}};
+  json["index"] = index.ok() ? nlohmann::json{{"features", index->index.size()},
+                                              {"from_cache", index->from_cache},
+                                              {"seconds", index->seconds}}
+                             : nlohmann::json{{"features", 0},
+                                              {"error", index.status().message()}};
   if (result->found && args.frame < static_cast<int>(run->truth.size()))
     json["error"] = TruthError(*run, args.frame, result->base_in_map.pose);
   std::cout << json.dump(2) << "\n";
@@ -86,6 +128,9 @@ void RegisterRelocCommand(CLI::App& app, Status* result) {
       ->capture_default_str();
   cmd->add_flag("--no-cache", args->no_cache,
                 "Build the place index without reading or writing the mosaic's cache table");
+  cmd->add_flag("--self-similarity", args->self_similarity,
+                "Also report places where the floor repeats itself (frame-sized crops on a 3×3 "
+                "grid searched densely; a few seconds)");
   cmd->add_option("--cache-mb", args->cache_mb, "Tile cache bound in MiB")
       ->check(CLI::Range(1, 1 << 20));
   cmd->callback([args, result] { *result = RunReloc(*args); });

@@ -15,9 +15,16 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
                         {"cluster", r.cluster_ms},
                         {"verify", r.verify_ms},
                         {"dense", r.dense_ms},
+                        {"trajectory", r.trajectory_ms},
                         {"total", r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms +
-                                      r.dense_ms}}}};
+                                      r.dense_ms + r.trajectory_ms}}}};
   if (r.dense) json["dense"] = {{"best", r.dense_best}, {"second", r.dense_second}};
+  if (r.trajectory_frames > 0) {
+    json["trajectory"] = {{"frames", r.trajectory_frames},
+                          {"best", r.trajectory_best},
+                          {"second", r.trajectory_second},
+                          {"accepted", r.from_trajectory}};
+  }
   if (!r.found) {
     json["reason"] = r.reason;
     return json;

@@ -1,0 +1,136 @@
+// Multi-frame dense place search: shifted, summed heading sweeps (see trajectory_place_search.h).
+#include "mapmatch/trajectory_place_search.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace fleetloc::mapmatch {
+namespace {
+
+// moved(c) = scores(c + d): a frame's score map with the first frame's centre at c, `d` (map
+// metres) the frame's centre from the first's; pixels: x right, y down (north-up raster).
+cv::Mat Shifted(const cv::Mat& scores, const Eigen::Vector2d& d, double resolution) {
+  const cv::Matx23d shift(1, 0, d.x() / resolution, 0, 1, -d.y() / resolution);
+  cv::Mat moved;
+  cv::warpAffine(scores, moved, shift, scores.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_CONSTANT, 0);
+  return moved;
+}
+
+}  // namespace
+
+TrajectoryPlaceSearch::TrajectoryPlaceSearch(const DensePlaceSearch* dense,
+                                             const geometry::CameraModel& camera, SweepLevel level)
+    : dense_(dense),
+      level_(level),
+      centre_ground_(camera.PixelToGround({0.5 * camera.width_px, 0.5 * camera.height_px})) {}
+
+std::size_t TrajectoryPlaceSearch::MemoryBytes(const DensePlaceSearch& dense, SweepLevel level) {
+  return static_cast<std::size_t>(dense.heading_steps(level)) * dense.sweep_size(level).area() *
+         sizeof(float);
+}
+
+void TrajectoryPlaceSearch::Reset() {
+  sum_.clear();
+  frames_.clear();
+  motion_.clear();
+}
+
+double TrajectoryPlaceSearch::TravelTo(const geometry::Pose2& camera_in_odom) const {
+  if (frames_.empty()) return 0.0;
+  return std::hypot(camera_in_odom.x - first_in_odom_.x, camera_in_odom.y - first_in_odom_.y);
+}
+
+void TrajectoryPlaceSearch::Add(const cv::Mat& frame, const geometry::Pose2& camera_in_odom) {
+  Begin(frame, camera_in_odom);
+  SweepNewest();
+}
+
+void TrajectoryPlaceSearch::SweepNewest() {
+  dense_->Sweep(
+      frames_.back(), [&](const DensePlaceSearch::SweepMap& map) { Accumulate(map); }, level_);
+}
+
+void TrajectoryPlaceSearch::Begin(const cv::Mat& frame, const geometry::Pose2& camera_in_odom) {
+  if (frames_.empty()) {
+    first_in_odom_ = camera_in_odom;
+    sum_.resize(dense_->heading_steps(level_));
+    for (cv::Mat& m : sum_) m = cv::Mat::zeros(dense_->sweep_size(level_), CV_32F);
+  }
+  const geometry::Pose2 motion = first_in_odom_.Inverse() * camera_in_odom;
+  // This frame's heading step for the first frame's step k is k + turn.
+  turn_ = static_cast<int>(std::lround(motion.theta * sum_.size() / (2 * M_PI)));
+  offset_ = motion * centre_ground_ - centre_ground_;
+  frames_.push_back(frame.clone());
+  motion_.push_back(motion);
+}
+
+void TrajectoryPlaceSearch::Accumulate(const DensePlaceSearch::SweepMap& map) {
+  const int steps = static_cast<int>(sum_.size());
+  const int k = ((map.k - turn_) % steps + steps) % steps;
+  const Eigen::Vector2d d = Eigen::Rotation2Dd(dense_->sweep_heading_rad(k, level_)) * offset_;
+  sum_[k] += Shifted(map.scores, d, dense_->sweep_resolution_m(level_));
+}
+
+DensePeak TrajectoryPlaceSearch::Alternative(const geometry::Pose2& first) const {
+  const SweepLevel fine = SweepLevel::kRefine;
+  std::vector<cv::Mat> normalized;
+  for (const cv::Mat& frame : frames_) normalized.push_back(dense_->NormalizedFrame(frame, fine));
+  const double step = 2 * M_PI / dense_->heading_steps(fine);
+  const double resolution = dense_->sweep_resolution_m(fine);
+  const Eigen::Vector2d own = dense_->SweepPixel(first * centre_ground_, fine);
+  const int radius_px = static_cast<int>(std::ceil(dense_->separation_m() / resolution));
+  DensePeak best{first * motion_.back(), 0.0};
+  cv::Mat scores;
+  for (int j = -2; j <= 2; ++j) {
+    const double theta = first.theta + j * step;
+    cv::Mat sum = cv::Mat::zeros(dense_->sweep_size(fine), CV_32F);
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+      dense_->ScoresAt(normalized[i], theta + motion_[i].theta, fine, &scores);
+      const Eigen::Vector2d offset = motion_[i] * centre_ground_ - centre_ground_;
+      sum += Shifted(scores, Eigen::Rotation2Dd(theta) * offset, resolution);
+    }
+    sum /= static_cast<double>(frames_.size());
+    cv::circle(sum, cv::Point(static_cast<int>(std::lround(own.x())),
+                              static_cast<int>(std::lround(own.y()))),
+               radius_px, cv::Scalar(-1), cv::FILLED);
+    double value = 0;
+    cv::Point at;
+    cv::minMaxLoc(sum, nullptr, &value, nullptr, &at);
+    if (value <= best.correlation) continue;
+    best = {dense_->SweepPose(Eigen::Vector2d(at.x, at.y), theta, fine) * motion_.back(), value};
+  }
+  return best;
+}
+
+std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {
+  if (frames_.empty()) return {};
+  std::vector<DensePeak> coarse;  // the first frame's camera poses
+  for (int k = 0; k < static_cast<int>(sum_.size()); ++k) {
+    cv::Mat scores = sum_[k] / static_cast<double>(frames_.size());
+    const int suppress_px = std::max(2, static_cast<int>(std::lround(
+                                            0.25 * dense_->separation_m() /
+                                            dense_->sweep_resolution_m(level_))));
+    dense_->AppendCoarsePeaks(scores, dense_->sweep_heading_rad(k, level_), suppress_px, &coarse,
+                              level_);
+  }
+  std::vector<DensePeak> refined;
+  DensePeak best_first{{}, -1.0};  // the first frame's pose of the best refined candidate
+  for (const DensePeak& first : dense_->DistinctBest(coarse, dense_->options().coarse_peaks)) {
+    DensePeak newest{first.camera_in_map, 0.0};
+    for (std::size_t j = 0; j < frames_.size(); ++j) {
+      const DensePeak r = dense_->Refine(frames_[j], {first.camera_in_map * motion_[j], 0.0});
+      newest.correlation += std::max(0.0, r.correlation) / frames_.size();
+      if (j + 1 == frames_.size()) newest.camera_in_map = r.camera_in_map;
+    }
+    if (newest.correlation > best_first.correlation)
+      best_first = {first.camera_in_map, newest.correlation};
+    refined.push_back(newest);
+  }
+  // The coarse sums are near noise on weak floors: the best's twin may not be among them.
+  if (best_first.correlation >= 0) refined.push_back(Alternative(best_first.camera_in_map));
+  return dense_->DistinctBest(std::move(refined), dense_->options().max_peaks);
+}
+
+}  // namespace fleetloc::mapmatch
