@@ -12,6 +12,13 @@ double CorrelationSums::Correlation() const {
   return var_t > 0 && var_v > 0 ? (stv - st * sv / w) / std::sqrt(var_t * var_v) : 0.0;
 }
 
+double LeastSquaresGain(double stv, double svv) {
+  if (!(svv > 1e-9)) return 1.0;
+  return std::clamp(stv / svv, kMinGain, kMaxGain);
+}
+
+double CorrelationSums::Gain() const { return LeastSquaresGain(stv, svv); }
+
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total) {
   int pixels = 0, used_blocks = 0;
@@ -28,17 +35,32 @@ Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
 
 namespace {
 
-// 1.4826 × the median absolute residual over a sparse grid of the pixels (every third of every
-// third row: the scale needs a few thousand samples, not all of them).
-double RobustScale(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                   const std::vector<cv::Range>& spans) {
-  std::vector<float> magnitudes;
-  magnitudes.reserve((inner.width / 3 + 1) * (inner.height / 3 + 1));
+// Every third pixel of every third row of the spans: the scale and a starting gain need a few
+// thousand samples, not all of them.
+template <typename Visit>
+void VisitSparseGrid(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                     const std::vector<cv::Range>& spans, Visit visit) {
   for (int y = 0; y < inner.height; y += 3) {
     const float* t = frame.ptr<float>(inner.y + y) + inner.x;
     const float* v = view.ptr<float>(y + 1) + 1;
-    for (int x = spans[y].start; x < spans[y].end; x += 3) magnitudes.push_back(std::abs(t[x] - v[x]));
+    for (int x = spans[y].start; x < spans[y].end; x += 3) visit(t[x], v[x]);
   }
+}
+
+double SparseGain(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                  const std::vector<cv::Range>& spans) {
+  double stv = 0, svv = 0;
+  VisitSparseGrid(frame, view, inner, spans, [&](float t, float v) { stv += t * v, svv += v * v; });
+  return LeastSquaresGain(stv, svv);
+}
+
+// 1.4826 × the median absolute residual t − gain·v over the sparse grid.
+double RobustScale(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+                   const std::vector<cv::Range>& spans, float gain) {
+  std::vector<float> magnitudes;
+  magnitudes.reserve((inner.width / 3 + 1) * (inner.height / 3 + 1));
+  VisitSparseGrid(frame, view, inner, spans,
+                  [&](float t, float v) { magnitudes.push_back(std::abs(t - gain * v)); });
   if (magnitudes.empty()) return 1e-3;
   const auto mid = magnitudes.begin() + magnitudes.size() / 2;
   std::nth_element(magnitudes.begin(), mid, magnitudes.end());
@@ -58,12 +80,12 @@ enum RowSum { kH00, kH01, kH02, kH11, kH12, kH22, kSw, kSt, kSv, kStt, kSvv, kSt
 
 // One pixel's terms added to lane sums `acc[sum]`.
 inline void AddPixel(const float* t, const float* up, const float* mid, const float* down, int x,
-                     float du, float dv, float inv_cutoff_sq, float* score0, float* score1,
-                     float* score2, float* acc, int stride) {
-  const float gx = 0.5f * (mid[x + 1] - mid[x - 1]);
-  const float gy = 0.5f * (down[x] - up[x]);
+                     float du, float dv, float gain, float inv_cutoff_sq, float* score0,
+                     float* score1, float* score2, float* acc, int stride) {
+  const float gx = 0.5f * gain * (mid[x + 1] - mid[x - 1]);
+  const float gy = 0.5f * gain * (down[x] - up[x]);
   const float v = mid[x];
-  const float r = t[x] - v;
+  const float r = t[x] - gain * v;
   const float a = r * r * inv_cutoff_sq;
   // Branch-free so the lanes vectorize: max(0, 1 − a)², and 1 when w > 0.5 (a < 1 − √½).
   const float b = 0.5f * ((1.0f - a) + std::abs(1.0f - a));
@@ -88,20 +110,21 @@ inline void AddPixel(const float* t, const float* up, const float* mid, const fl
 // reorder); built for AVX2 as well as the baseline, the loader picks the best the CPU has.
 __attribute__((target_clones("avx2", "default"))) RowSums SumRow(
     const float* __restrict t, const float* __restrict up, const float* __restrict mid,
-    const float* __restrict down, int n, float du0, float dv, float inv_cutoff_sq,
+    const float* __restrict down, int n, float du0, float dv, float gain, float inv_cutoff_sq,
     float* __restrict score0, float* __restrict score1, float* __restrict score2) {
   constexpr int kLanes = 8;
   alignas(32) float lanes[kSums][kLanes] = {};
   int x = 0;
   for (; x + kLanes <= n; x += kLanes) {
     for (int k = 0; k < kLanes; ++k) {
-      AddPixel(t, up, mid, down, x + k, du0 + x + k, dv, inv_cutoff_sq, score0, score1, score2,
-               &lanes[0][k], kLanes);
+      AddPixel(t, up, mid, down, x + k, du0 + x + k, dv, gain, inv_cutoff_sq, score0, score1,
+               score2, &lanes[0][k], kLanes);
     }
   }
   float tail[kSums] = {};
   for (; x < n; ++x) {
-    AddPixel(t, up, mid, down, x, du0 + x, dv, inv_cutoff_sq, score0, score1, score2, tail, 1);
+    AddPixel(t, up, mid, down, x, du0 + x, dv, gain, inv_cutoff_sq, score0, score1, score2, tail,
+             1);
   }
   float sums[kSums];
   for (int s = 0; s < kSums; ++s) {
@@ -124,7 +147,7 @@ float Sum(const float* values, int n) {
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans_in,
                                   const Eigen::Vector2d& principal_px, double tukey_c,
-                                  double sigma) {
+                                  double sigma, double gain) {
   CV_Assert(frame.type() == CV_32F && view.type() == CV_32F);
   CV_Assert(view.cols == inner.width + 2 && view.rows == inner.height + 2);
   CV_Assert((cv::Rect(0, 0, frame.cols, frame.rows) & inner) == inner);
@@ -138,7 +161,8 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     if (span.end > span.start) lin.points += span.end - span.start;
   }
   if (lin.points < 3) return lin;
-  lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans);
+  lin.gain = gain > 0 ? gain : SparseGain(frame, view, inner, spans);
+  lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans, lin.gain);
   const float inv_cutoff_sq = static_cast<float>(1.0 / (tukey_c * tukey_c * lin.sigma * lin.sigma));
   std::vector<Eigen::Vector3d> block_scores(kScoreBlocks * kScoreBlocks, Eigen::Vector3d::Zero());
   std::vector<int> block_counts(kScoreBlocks * kScoreBlocks, 0);
@@ -155,7 +179,7 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     const float* down = view.ptr<float>(y + 2) + 1 + x0;
     const float dv = static_cast<float>(inner.y + y + 0.5 - principal_px.y());
     const float du0 = static_cast<float>(inner.x + x0 + 0.5 - principal_px.x());
-    const RowSums s = SumRow(t, up, mid, down, n, du0, dv, inv_cutoff_sq, score[0] + x0,
+    const RowSums s = SumRow(t, up, mid, down, n, du0, dv, lin.gain, inv_cutoff_sq, score[0] + x0,
                              score[1] + x0, score[2] + x0);
     lin.h(0, 0) += s.h00, lin.h(0, 1) += s.h01, lin.h(0, 2) += s.h02;
     lin.h(1, 1) += s.h11, lin.h(1, 2) += s.h12, lin.h(2, 2) += s.h22;
@@ -175,6 +199,7 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
   }
   lin.h(1, 0) = lin.h(0, 1), lin.h(2, 0) = lin.h(0, 2), lin.h(2, 1) = lin.h(1, 2);
   lin.correlation = c.Correlation();
+  lin.next_gain = c.Gain();
   lin.inlier_fraction = inliers / lin.points;
   lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
   return lin;

@@ -19,6 +19,9 @@ struct Linearization {
   Eigen::Vector3d g = Eigen::Vector3d::Zero();             // Σ w·J·r
   Eigen::Matrix3d score_spread = Eigen::Matrix3d::Zero();  // Σ over blocks of score outer products
   double sigma = 0.0;                                      // robust residual scale
+  // The frame's contrast against the view: residuals are t − gain·v. `next_gain` is its weighted
+  // least-squares estimate from this pass's weights, for the next pass.
+  double gain = 1.0, next_gain = 1.0;
   double correlation = 0.0, inlier_fraction = 0.0;
   int points = 0;
 };
@@ -27,7 +30,20 @@ struct Linearization {
 struct CorrelationSums {
   double sw = 0, st = 0, sv = 0, stt = 0, svv = 0, stv = 0;
   double Correlation() const;
+  // The weighted least-squares contrast of t against v (t ≈ gain·v; both are zero-mean
+  // normalized images), clamped to a sane range; 1 when v carries nothing.
+  double Gain() const;
 };
+
+// Local normalization divides each pixel by its neighbourhood's standard deviation. In a noisy
+// frame that deviation is mostly noise, so the frame's normalized texture has a fraction of the
+// clean mosaic's contrast; fitted against the view at full contrast, the (1 − contrast)·v part of
+// every residual pulls the pose wherever the robust weights change (occluder edges), a bias that
+// differs from frame to frame. Residuals against gain·v, with the gain fitted, remove it.
+inline constexpr double kMinGain = 0.05, kMaxGain = 2.0;
+
+// Unweighted least-squares contrast of t against v over samples: a starting gain.
+double LeastSquaresGain(double stv, double svv);
 
 // Residuals correlate within a block of the frame (blur, normalization windows, occluders) but
 // hardly across blocks: the frame is cut into kScoreBlocks² blocks and the spread of their score
@@ -50,11 +66,12 @@ inline double TukeyWeight(double r, double cutoff) {
 // central-difference gradient. `inner`: the frame pixels used (inside `frame`). `principal_px`:
 // the principal point (the rotation column's origin). `spans`: per row of `inner`, the columns
 // (relative to inner.x) whose view lies in the mosaic; empty: every column. sigma ≤ 0: estimated
-// from the residuals' MAD. The Jacobian takes the view's gradient (the clean mosaic's, see
-// Linearize in direct_aligner.cpp).
+// from the residuals' MAD. gain: residuals are t − gain·v; ≤ 0: estimated from a sparse grid of
+// the pixels. The Jacobian takes the view's gradient (the clean mosaic's, see Linearize in
+// direct_aligner.cpp), times the gain.
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans,
                                   const Eigen::Vector2d& principal_px, double tukey_c,
-                                  double sigma);
+                                  double sigma, double gain = 1.0);
 
 }  // namespace fleetloc::tracking

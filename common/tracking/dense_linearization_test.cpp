@@ -55,13 +55,16 @@ Eigen::Vector3d Step(const Linearization& lin) { return -lin.h.inverse() * lin.g
 // The shift found by Gauss–Newton steps, each from a view rendered at the estimate so far (q is
 // in camera_ground axes: frame x is ground −y, frame y is ground −x). One step alone overshoots
 // by the central difference's underestimate of the gradient (~15 % on this texture).
+// fit_gain: the frame's contrast is fitted (each step's gain from the last step's weights).
 cv::Point2d SolveShift(const cv::Mat& frame, const WaveTexture& texture, const cv::Rect& inner,
                        const std::vector<cv::Range>& spans, const cv::Point2d& shift,
-                       Linearization* last) {
+                       Linearization* last, bool fit_gain = false) {
   cv::Point2d estimate(0, 0);
+  double gain = fit_gain ? 0.0 : 1.0;
   for (int it = 0; it < 4; ++it) {
     *last = LinearizeWholeFrame(frame, ShiftedView(texture, inner, shift - estimate), inner, spans,
-                                {100.0, 80.0}, 4.685, 0.0);
+                                {100.0, 80.0}, 4.685, 0.0, gain);
+    if (fit_gain) gain = last->next_gain;
     const Eigen::Vector3d q = Step(*last);
     EXPECT_NEAR(q.z(), 0.0, 1e-3);
     estimate += cv::Point2d(-q.y(), -q.x());
@@ -105,6 +108,31 @@ TEST(LinearizeWholeFrame, AnOccluderTheViewLacksIsWeightedOut) {
   EXPECT_LT(lin.inlier_fraction, 0.9);
   EXPECT_NEAR(found.x, -0.2, 0.01);
   EXPECT_NEAR(found.y, 0.35, 0.01);
+}
+
+// A noisy frame, normalized, shows the floor at a fraction of the mosaic's contrast, and an
+// occluder the mosaic lacks shows none. Fitting the view at full contrast leaves (1 − contrast)·v
+// in every residual, which the occluder's edge turns into a pull on the pose; fitting the gain
+// removes it and lets the robust weights drop the occluder.
+TEST(LinearizeWholeFrame, AFittedGainRemovesTheBiasOfAFrameAtLowContrast) {
+  const WaveTexture texture;
+  const cv::Rect inner(10, 10, 180, 140);
+  cv::Mat frame = 0.5 * texture.Render({200, 160}, {0, 0});
+  cv::Mat noise(frame.size(), CV_32F);
+  cv::RNG(3).fill(noise, cv::RNG::NORMAL, 0.0, 0.02);
+  frame += noise;
+  frame(cv::Rect(20, 20, 90, 70)).setTo(0.0f);  // a flat occluder over a quarter of the frame
+  const cv::Point2d shift(0.3, -0.2);
+  Linearization fixed, fitted;
+  const cv::Point2d with_fixed = SolveShift(frame, texture, inner, {}, shift, &fixed, false);
+  const cv::Point2d with_fitted = SolveShift(frame, texture, inner, {}, shift, &fitted, true);
+  EXPECT_NEAR(fitted.gain, 0.5, 0.05);
+  EXPECT_LT(fitted.inlier_fraction, 0.85);  // the occluder is weighted out
+  EXPECT_NEAR(with_fitted.x, shift.x, 0.01);
+  EXPECT_NEAR(with_fitted.y, shift.y, 0.01);
+  const double error_fixed = std::hypot(with_fixed.x - shift.x, with_fixed.y - shift.y);
+  const double error_fitted = std::hypot(with_fitted.x - shift.x, with_fitted.y - shift.y);
+  EXPECT_LT(error_fitted, 0.5 * error_fixed) << "fixed gain: " << error_fixed;
 }
 
 }  // namespace

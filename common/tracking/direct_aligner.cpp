@@ -19,6 +19,7 @@
 #include "tracking/dense_linearization.h"
 #include "tracking/frame_mosaic_warp.h"
 #include "tracking/predicted_view.h"
+#include "tracking/view_blur.h"
 
 namespace fleetloc::tracking {
 
@@ -34,6 +35,10 @@ struct PixelPoint {
   float value = 0;
   float du0 = 0, dv0 = 0;
 };
+
+cv::Rect GrownBy(const cv::Rect& rect, int margin) {
+  return {rect.x - margin, rect.y - margin, rect.width + 2 * margin, rect.height + 2 * margin};
+}
 
 double Median(std::vector<float> values) {
   if (values.empty()) return 0.0;
@@ -295,7 +300,7 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   // 320×240 under `all`, peaks at 9–15 standard deviations, fits correlating 0.16–0.27, 0.1–1.3 px
   // off with a claimed sigma of 0.03–0.15 px).
   const bool significant = fit.searched && fit.peak_z >= o.min_significant_peak_z &&
-                           fit.correlation >= o.min_strong_correlation;
+                           fit.correlation >= o.min_significant_correlation;
   const bool distinct = clear_peak || significant ||
                         (fit.coarse_correlation >= o.min_distinct_correlation &&
                          ratio <= o.max_distinct_peak_ratio);
@@ -350,7 +355,7 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
 // estimated from the residuals' MAD), with the fit's quality and the per-block scores the
 // sandwich covariance needs.
 Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
-                                                      const Pose2& pose, double sigma) const {
+                                       const Pose2& pose, double sigma, double gain) const {
   const FrameMosaicWarp warp =
       FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level);
   // The Jacobian takes the gradient of the warped mosaic (clean, noise-free) in frame axes rather
@@ -365,21 +370,30 @@ Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& so
   std::vector<float> residuals(n);
   std::vector<Eigen::Vector3f> jacobians(n);
   std::vector<char> valid(n);
-  std::vector<float> magnitudes;
-  magnitudes.reserve(n);
+  std::vector<float> values(n);  // the view at each point
+  double stv = 0, svv = 0;
   for (size_t i = 0; i < n; ++i) {
     const PixelPoint& p = level.points[i];
     const Eigen::Vector2f m = linear * Eigen::Vector2f(p.u, p.v) + offset;
     float sample[3];
     valid[i] = source.Sample(m.x(), m.y(), sample);
     if (!valid[i]) continue;
-    residuals[i] = p.value - sample[0];
+    values[i] = sample[0];
+    stv += p.value * sample[0], svv += sample[0] * sample[0];
     const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
     jacobians[i] =
         Eigen::Vector3f(-g.y() * scale, -g.x() * scale, (g.x() * p.dv0 - g.y() * p.du0) * scale);
-    magnitudes.push_back(std::abs(residuals[i]));
   }
   Linearization lin;
+  lin.gain = gain > 0 ? gain : LeastSquaresGain(stv, svv);
+  std::vector<float> magnitudes;
+  magnitudes.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    residuals[i] = level.points[i].value - static_cast<float>(lin.gain) * values[i];
+    jacobians[i] *= static_cast<float>(lin.gain);
+    magnitudes.push_back(std::abs(residuals[i]));
+  }
   lin.points = static_cast<int>(magnitudes.size());
   if (lin.points < 3) return lin;
   lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(magnitudes));
@@ -392,7 +406,7 @@ Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& so
     if (!valid[i]) continue;
     const double w = TukeyWeight(residuals[i], cutoff);
     const PixelPoint& p = level.points[i];
-    const double t = p.value, v = p.value - residuals[i];
+    const double t = p.value, v = values[i];
     c.sw += w, c.st += w * t, c.sv += w * v, c.stt += w * t * t, c.svv += w * v * v;
     c.stv += w * t * v;
     if (w > 0.5) ++inliers;
@@ -409,6 +423,7 @@ Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& so
   }
   lin.inlier_fraction = double(inliers) / lin.points;
   lin.correlation = c.Correlation();
+  lin.next_gain = c.Gain();
   lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
   return lin;
 }
@@ -416,12 +431,15 @@ Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& so
 // Robust MAP Gauss–Newton at one level from `pose`: the level's final pose, its linearization
 // there in `final_fit`.
 Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& prior, Pose2 pose,
-                                double tolerance_px, int* iterations,
-                                Linearization* final_fit) const {
+                                double tolerance_px, int* iterations, Linearization* final_fit,
+                                bool fit_gain) const {
   const Source source = ReadSource(level, pose);
   return GaussNewton(
-      [&](const Pose2& at, double sigma) { return Linearize(level, *source, at, sigma); },
-      level.level, options_.max_iterations, prior, pose, tolerance_px, iterations, final_fit);
+      [&](const Pose2& at, double sigma, double gain) {
+        return Linearize(level, *source, at, sigma, gain);
+      },
+      level.level, options_.max_iterations, prior, pose, tolerance_px, iterations, final_fit,
+      fit_gain);
 }
 
 // Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the
@@ -429,17 +447,21 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
 // pixel of the level more than `tolerance_px`. The final linearization in `final_fit`.
 Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                                  const PoseWithCovariance& prior, Pose2 pose, double tolerance_px,
-                                 int* iterations, Linearization* final_fit) const {
+                                 int* iterations, Linearization* final_fit, bool fit_gain) const {
   const double res = camera_.resolution_m;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
   const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
   const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
   double sigma = 0.0;  // estimated at the first iteration, then kept
+  // The frame's contrast against the view: estimated at the first iteration, then re-fitted with
+  // each iteration's robust weights (see kMinGain in dense_linearization.h); 1 when not fitted.
+  double gain = fit_gain ? 0.0 : 1.0;
   for (int it = 0; it < max_iterations; ++it) {
     ++*iterations;
-    const Linearization lin = linearize(pose, sigma);
+    const Linearization lin = linearize(pose, sigma, gain);
     if (lin.points < 3) break;
     sigma = lin.sigma;
+    if (fit_gain) gain = lin.next_gain;
     // Maximum a posteriori step: image term (its information scaled by the residual variance and
     // the correlation factor) and the prior, whose map delta is ≈ −B·S·q.
     const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
@@ -452,7 +474,7 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
     const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level);
     if (moved_px < tolerance_px) break;
   }
-  *final_fit = linearize(pose, sigma);
+  *final_fit = linearize(pose, sigma, gain);
   return pose;
 }
 
@@ -496,7 +518,8 @@ void DirectAligner::RefineAtFullResolution(const Level& level, const PoseWithCov
                                            const Pose2& pose, DirectAlignment* out) const {
   Linearization fit;
   int iterations = 0;
-  const Pose2 refined = AlignLevel(level, prior, pose, options_.converged_px, &iterations, &fit);
+  const Pose2 refined = AlignLevel(level, prior, pose, options_.converged_px, &iterations, &fit,
+                                   options_.fit_contrast);
   DirectAlignment candidate = *out;
   Combine(fit, prior, refined, &candidate);
   const Eigen::Vector3d moved = Difference(candidate.posterior.pose, out->posterior.pose);
@@ -546,14 +569,29 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
   const cv::Mat normalized = mosaic_->Normalize(frame, 0);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal(camera_.cx_px, camera_.cy_px);
-  const auto linearize = [&](const Pose2& pose, double sigma) {
-    const cv::Mat view = RenderNormalizedView(
-        mosaic_, view_rect, FrameMosaicWarp::For(pose, camera_, layout.geo), 0);
-    return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma);
+  // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
+  double blur = 0.0;
+  if (options_.max_view_blur_px > 0) {
+    const int m = BlurMarginPx(options_.max_view_blur_px);
+    const cv::Mat wide = RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
+                                              FrameMosaicWarp::For(start, camera_, layout.geo), 0);
+    blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
+                        options_.view_blur_step_px, options_.tukey_c);
+  }
+  out.view_blur_px = blur;
+  const int m = BlurMarginPx(blur);
+  const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
+    const cv::Mat view = BlurredView(
+        RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
+                             FrameMosaicWarp::For(pose, camera_, layout.geo), 0),
+        blur, m);
+    return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma,
+                               gain);
   };
   Linearization fit;
   const Pose2 pose = GaussNewton(linearize, 0, options_.polish_iterations, prior, start,
-                                 options_.converged_px, &out.iterations, &fit);
+                                 options_.converged_px, &out.iterations, &fit,
+                                 options_.fit_contrast);
   out.points = fit.points;
   out.correlation = out.coarse_correlation = fit.correlation;
   out.inlier_fraction = fit.inlier_fraction;

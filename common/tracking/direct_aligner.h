@@ -35,6 +35,7 @@ struct DirectAlignment {
   double peak_z = 0.0;
   double prior_chi2 = 0.0;
   double sigma_px = 0.0;  // image-only worst-direction position sigma, level-0 px
+  double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
   int points = 0;         // pixels used at the finest level
   int iterations = 0;     // Gauss–Newton iterations over all levels
   bool searched = false;  // the coarse exhaustive search ran
@@ -71,22 +72,24 @@ class DirectAligner {
   struct Level;
   struct MosaicBlock;
   using Source = std::unique_ptr<MosaicBlock>;
-  using LinearizeAt = std::function<Linearization(const geometry::Pose2&, double sigma)>;
+  // A linearization at a pose with a residual scale (≤ 0: estimate) and gain (≤ 0: estimate).
+  using LinearizeAt =
+      std::function<Linearization(const geometry::Pose2&, double sigma, double gain)>;
   // The frame pyramid up to `coarsest`, normalized and with pixels chosen from finest_level_ up.
   std::vector<Level> BuildLevels(const cv::Mat& frame, int finest, int coarsest) const;
   geometry::Pose2 AlignLevel(const Level& level, const geometry::PoseWithCovariance& prior,
                              geometry::Pose2 pose, double tolerance_px, int* iterations,
-                             Linearization* final_fit) const;
+                             Linearization* final_fit, bool fit_gain = false) const;
   void RefineAtFullResolution(const Level& level, const geometry::PoseWithCovariance& prior,
                               const geometry::Pose2& pose, DirectAlignment* out) const;
   geometry::Pose2 GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                               const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
                               double tolerance_px, int* iterations,
-                              Linearization* final_fit) const;
+                              Linearization* final_fit, bool fit_gain) const;
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
-                          const geometry::Pose2& pose, double sigma) const;
+                          const geometry::Pose2& pose, double sigma, double gain) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
   int SearchLevel(double sigma_px) const;

@@ -31,6 +31,10 @@ Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_polish_correlation >= 0 && d.min_polish_correlation < 1,
                                  "direct.min_polish_correlation", "must be in [0, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.max_view_blur_px >= 0 && d.max_view_blur_px <= 5,
+                                 "direct.max_view_blur_px", "must be in [0, 5]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_step_px >= 0.1 && d.view_blur_step_px <= 2,
+                                 "direct.view_blur_step_px", "must be in [0.1, 2]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio", "must be > 1"));

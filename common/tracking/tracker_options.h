@@ -44,6 +44,13 @@ struct DirectAlignOptions {
   int max_iterations = 10;     // Gauss–Newton iterations per level
   double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
   double tukey_c = 4.685;      // Tukey biweight cut-off in robust sigmas (MAD)
+  // Fit the frame's contrast against the view (residuals t − gain·v) instead of taking it as 1
+  // (see kMinGain in tracking/dense_linearization.h for why noisy frames need it).
+  bool fit_contrast = false;
+  // The polish blurs the view to the frame's blur, estimated per frame between 0 and this (0:
+  // never) at steps of view_blur_step_px (see tracking/view_blur.h).
+  double max_view_blur_px = 0.0;
+  double view_blur_step_px = 0.5;
   // Pixels whose local contrast exceeds this multiple of the frame's median local contrast (and
   // their normalization window) are occluders the mosaic lacks and are not used.
   double occluder_contrast_ratio = 3.0;
@@ -96,6 +103,7 @@ struct DirectAlignOptions {
   // floor's mosaic (7400 such fits over every stress size and condition) reach at most 6.1; right
   // fits that the correlation rules refused, 9–27 (plain floors under dust, fast turns).
   double min_significant_peak_z = 8.0;
+  double min_significant_correlation = 0.3;  // the aligned frame's weighted NCC at the finest level
   double max_distinct_prior_chi2 = 400.0;
   // The weak rule was 0.2 / 0.65 when tuned on proxy floors; the first holdout run of the stress
   // suite found two false locks through it (3.2 and 5.7 px off at correlation 0.28 and 0.24,
