@@ -67,6 +67,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"fit_contrast", &d.fit_contrast},
           {"max_view_blur_px", &d.max_view_blur_px},
           {"view_blur_step_px", &d.view_blur_step_px},
+          {"view_blur_every_frames", &d.view_blur_every_frames},
           {"occluder_contrast_ratio", &d.occluder_contrast_ratio},
           {"correlation_factor", &d.correlation_factor},
           {"search_above_px", &d.search_above_px},

@@ -554,7 +554,7 @@ std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv:
 // Every pixel of the frame at full resolution, from a pose already within a fraction of a pixel
 // (see DirectAligner::Polish).
 DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
-                                      const Pose2& start) const {
+                                      const Pose2& start, double view_blur_px) const {
   DirectAlignment out;
   const int b = mosaic_->MarginAt(0);
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
@@ -570,8 +570,8 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal(camera_.cx_px, camera_.cy_px);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
-  double blur = 0.0;
-  if (options_.max_view_blur_px > 0) {
+  double blur = std::max(0.0, view_blur_px);
+  if (view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
     const cv::Mat wide = RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
                                               FrameMosaicWarp::For(start, camera_, layout.geo), 0);

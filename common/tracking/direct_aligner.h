@@ -61,9 +61,11 @@ class DirectAligner {
   // validated dense fit that ended above level 0): a few Gauss–Newton steps over every pixel of
   // the frame at full resolution, with the same robust weights, prior and sandwich covariance.
   // Valid when it moved at most max_polish_shift_px, still correlates and pins the position; the
-  // validation of the pose itself stays the caller's (the fit it starts from).
+  // validation of the pose itself stays the caller's (the fit it starts from). The view is blurred
+  // by `view_blur_px`, or (< 0) by the frame's blur estimated here when max_view_blur_px > 0; the
+  // blur used is in the result's view_blur_px.
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-                         const geometry::Pose2& start) const;
+                         const geometry::Pose2& start, double view_blur_px = -1.0) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }

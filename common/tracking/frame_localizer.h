@@ -33,6 +33,7 @@ struct FrameResult {
   // The full-resolution polish (TrackerOptions::polish): its time, and whether its fit was taken.
   double polish_ms = 0;
   bool polished = false;
+  double view_blur_px = 0.0;  // the polish's view blur (the frame's blur against the mosaic)
   DirectUse direct = DirectUse::kNotRun;
   const char* direct_reason = "";  // why it was refused (static text)
   // The dense fit's quality when it ran: finest and coarsest correlation, the coarse search's

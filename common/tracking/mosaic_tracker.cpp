@@ -85,6 +85,8 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   template_failures_ = 0;
   weak_templates_first_ = false;
   frames_on_weak_templates_ = 0;
+  view_blur_px_ = -1.0;
+  frames_since_blur_ = 0;
 }
 
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
@@ -372,6 +374,7 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.direct_ms = stats.direct_ms;
   result.polish_ms = stats.polish_ms;
   result.polished = stats.polished;
+  result.view_blur_px = stats.view_blur_px;
   result.direct = stats.direct;
   result.direct_reason = stats.direct_reason;
   result.direct_correlation = stats.direct_correlation;
@@ -416,11 +419,19 @@ bool MosaicTracker::Agree(const PoseWithCovariance& a, const PoseWithCovariance&
 // validates and agrees with it; else the fit as it was.
 PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithCovariance& prior,
                                            const PoseWithCovariance& fit,
-                                           FrameResult* stats) const {
+                                           FrameResult* stats) {
   const auto t_polish = std::chrono::steady_clock::now();
-  const DirectAlignment polished = direct_.Polish(frame, prior, fit.pose);
+  const bool estimate_blur = view_blur_px_ < 0 ||
+                             ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
+  const DirectAlignment polished =
+      direct_.Polish(frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_);
   stats->polish_ms += MsSince(t_polish);
+  stats->view_blur_px = polished.view_blur_px;
   if (!polished.valid || !Agree(polished.posterior, fit)) return fit;
+  if (estimate_blur) {
+    view_blur_px_ = polished.view_blur_px;
+    frames_since_blur_ = 0;
+  }
   stats->polished = true;
   return polished.posterior;
 }

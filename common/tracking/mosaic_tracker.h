@@ -91,7 +91,7 @@ class MosaicTracker : public FrameLocalizer {
   geometry::PoseWithCovariance Polished(const cv::Mat& frame,
                                         const geometry::PoseWithCovariance& prior,
                                         const geometry::PoseWithCovariance& fit,
-                                        FrameResult* stats) const;
+                                        FrameResult* stats);
   std::optional<geometry::PoseWithCovariance> Decide(
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,
@@ -112,6 +112,10 @@ class MosaicTracker : public FrameLocalizer {
   int template_failures_ = 0;       // frames in a row the templates were tried on and failed
   bool weak_templates_first_ = false;  // the weak-floor template size locked the last frame
   int frames_on_weak_templates_ = 0;
+  // The frame's blur against the mosaic as the polish last estimated it (< 0: not yet), and the
+  // frames polished since (DirectAlignOptions::view_blur_every_frames).
+  double view_blur_px_ = -1.0;
+  int frames_since_blur_ = 0;
   LockState state_ = LockState::kLost;
 };
 

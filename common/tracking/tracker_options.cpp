@@ -35,6 +35,8 @@ Status Validate(const DirectAlignOptions& d) {
                                  "direct.max_view_blur_px", "must be in [0, 5]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_step_px >= 0.1 && d.view_blur_step_px <= 2,
                                  "direct.view_blur_step_px", "must be in [0.1, 2]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_every_frames >= 1, "direct.view_blur_every_frames",
+                                 "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio", "must be > 1"));

@@ -44,13 +44,21 @@ struct DirectAlignOptions {
   int max_iterations = 10;     // Gauss–Newton iterations per level
   double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
   double tukey_c = 4.685;      // Tukey biweight cut-off in robust sigmas (MAD)
-  // Fit the frame's contrast against the view (residuals t − gain·v) instead of taking it as 1
-  // (see kMinGain in tracking/dense_linearization.h for why noisy frames need it).
-  bool fit_contrast = false;
-  // The polish blurs the view to the frame's blur, estimated per frame between 0 and this (0:
-  // never) at steps of view_blur_step_px (see tracking/view_blur.h).
-  double max_view_blur_px = 0.0;
+  // The final refinements (the polish, and the full-resolution refinement of small frames) fit
+  // the frame's contrast against the view (residuals t − gain·v) instead of taking it as 1 (see
+  // kMinGain in tracking/dense_linearization.h for why noisy frames need it), and the polish
+  // blurs the view to the frame's blur, estimated between 0 and max_view_blur_px (0: never) at
+  // steps of view_blur_step_px (see tracking/view_blur.h). Measured at 320×240 under `all`
+  // (fast and dusty): camera RMS 0.16 → 0.07 px on epoxy trak1a, 0.19 → 0.14 on painted pavement,
+  // 0.11 → 0.06 on painted floor 016 (docs/benchmarks.md, "Contrast and blur in the polish"). The
+  // coarse-to-fine alignment that validates a dense fit keeps gain 1: its thresholds were set on it.
+  bool fit_contrast = true;
+  double max_view_blur_px = 2.5;
   double view_blur_step_px = 0.5;
+  // The estimate costs a blur and a pass per step (≈ 2.5 ms per 320×240 frame): it is made on
+  // the first polished frame and then every this many frames, and kept in between (the lens's
+  // blur does not change; the motion's changes with the speed).
+  int view_blur_every_frames = 10;
   // Pixels whose local contrast exceeds this multiple of the frame's median local contrast (and
   // their normalization window) are occluders the mosaic lacks and are not used.
   double occluder_contrast_ratio = 3.0;
