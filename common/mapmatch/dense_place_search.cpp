@@ -383,14 +383,6 @@ std::vector<DensePeak> DensePlaceSearch::Search(
   std::vector<DensePeak> refined;
   for (const DensePeak& p : DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks))
     refined.push_back(Refine(frame, p));
-  // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
-  // itself need not be among them (the single-frame dense search gave 3 wrong poses on the
-  // repeated stress floors before this).
-  const auto best = std::max_element(
-      refined.begin(), refined.end(),
-      [](const DensePeak& a, const DensePeak& b) { return a.correlation < b.correlation; });
-  if (best != refined.end())
-    refined.push_back(Alternative({frame}, {geometry::Pose2{}}, best->camera_in_map));
   return DistinctBest(std::move(refined), options_.max_peaks);
 }
 

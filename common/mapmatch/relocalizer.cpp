@@ -276,7 +276,17 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
     feed = [this](const DensePlaceSearch::SweepMap& map) { trajectory_->Accumulate(map); };
     trajectory_fed_ = true;
   }
-  const std::vector<DensePeak> peaks = dense_->Search(frame, feed);
+  std::vector<DensePeak> peaks = dense_->Search(frame, feed);
+  // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
+  // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
+  // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
+  // correlations over the whole floor).
+  if (peaks.size() >= 1 && peaks[0].correlation >= options_.dense_min_correlation &&
+      (peaks.size() < 2 ||
+       peaks[1].correlation <= options_.dense_max_second_ratio * peaks[0].correlation)) {
+    peaks.push_back(dense_->Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
+    peaks = dense_->DistinctBest(std::move(peaks), dense_->options().max_peaks);
+  }
   out->dense = true;
   out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
   out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
@@ -327,7 +337,26 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
     return out;
   }
   TrajectoryRelocalize(frame, &*out);
+  RefuseNamedTwins(&*out);
   return out;
+}
+
+void Relocalizer::RefuseNamedTwins(Relocalization* out) const {
+  if (!out->found) return;
+  const geometry::Pose2 camera = out->base_in_map.pose * camera_.mount;
+  const double radius_m = 0.5 * std::min(camera_.width_px, camera_.height_px) * camera_.resolution_m;
+  for (const SimilarPlace& p : twin_places_) {
+    for (const geometry::Pose2& named : {p.place, p.twin}) {
+      if (std::hypot(camera.x - named.x, camera.y - named.y) >= radius_m) continue;
+      out->found = false;
+      out->ambiguous = true;
+      out->reason = "ambiguous: the self-similarity report names this place (" +
+                    std::to_string(p.place.x) + ", " + std::to_string(p.place.y) +
+                    ") and its twin (" + std::to_string(p.twin.x) + ", " +
+                    std::to_string(p.twin.y) + ")";
+      return;
+    }
+  }
 }
 
 Status Relocalizer::CheckFrame(const cv::Mat& frame) const {
@@ -348,6 +377,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   if (index_ == nullptr) {
     out.reason = "no place index";
     DenseRelocalize(frame, &out);
+    RefuseNamedTwins(&out);
     return out;
   }
   const std::vector<FeatureMatch> matches = MatchFrame(frame, &out);
@@ -365,6 +395,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   out.verify_ms = MsSince(verify_start);
   // A pose refused for its twin is ambiguous: the dense search would find one of the two.
   if (!out.found && dense_ && !out.twin_checked) DenseRelocalize(frame, &out);
+  RefuseNamedTwins(&out);
   return out;
 }
 

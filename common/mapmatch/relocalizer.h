@@ -17,6 +17,7 @@
 #include "mapmatch/dense_place_search.h"
 #include "mapmatch/place_index.h"
 #include "mapmatch/pose_votes.h"
+#include "mapmatch/self_similarity.h"
 #include "mapmatch/trajectory_place_search.h"
 #include "mosaic/raster_source.h"
 #include "tracking/mosaic_tracker.h"
@@ -130,6 +131,9 @@ class Relocalizer {
   // base_link in odom at the frame's time. A found pose starts a new trajectory.
   Result<Relocalization> Relocalize(const cv::Mat& frame, const geometry::Pose2& base_in_odom);
   void ResetTrajectory();
+  // Places a self-similarity report named (FindSelfSimilarity): a pose found with its camera
+  // within half a frame's short side of one of them or of its twin is refused as ambiguous.
+  void SetTwinPlaces(std::vector<SimilarPlace> places) { twin_places_ = std::move(places); }
   // The dense place search (null: off, or the mosaic is too large for it).
   const DensePlaceSearch* dense_search() const { return dense_.get(); }
 
@@ -169,6 +173,8 @@ class Relocalizer {
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
   void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
   Status CheckFrame(const cv::Mat& frame) const;
+  // Refuses a found pose in a place of twin_places_ (see SetTwinPlaces).
+  void RefuseNamedTwins(Relocalization* out) const;
 
   const PlaceIndex* index_;
   geometry::CameraModel camera_;
@@ -178,6 +184,7 @@ class Relocalizer {
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame
+  std::vector<SimilarPlace> twin_places_;
 };
 
 }  // namespace fleetloc::mapmatch

@@ -1,6 +1,7 @@
 // Relocalizer on a real floor photo: sim-rendered frames (noise, dust, lighting, blur, grain) at
 // random poses and headings are relocalized against the truth; bad frames give clear errors; on
-// the photo twice side by side the features never give a wrong pose (ambiguous inside a copy).
+// the photo twice side by side the features never give a wrong pose (ambiguous inside a copy);
+// a place the self-similarity report names is refused.
 // Multi-frame relocalization with odometry: a drive whose single frames are all refused is found
 // from the frames combined; on a floor that repeats itself it stays ambiguous; travel beyond the
 // bound starts a new trajectory.
@@ -189,6 +190,33 @@ TEST(Relocalizer, WithoutAnIndexTheDenseSearchFindsPosesOnPlainConcrete) {
     ++correct;
   }
   EXPECT_GE(correct, 5);
+}
+
+TEST(Relocalizer, APoseInAPlaceTheSelfSimilarityReportNamesIsRefused) {
+  PlainScene scene = PlainConcreteScene();
+  mosaic::ImageRasterSource floor(scene.photo,
+                                  {0.0, scene.photo.rows * kResolutionM, kResolutionM});
+  auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 26);
+  const geometry::Pose2 camera_pose{0.25, 0.26, 0.4};
+  const cv::Mat frame = renderer.Render(camera_pose * scene.camera.mount.Inverse(), {0, 0}, 0).image;
+  const Result<Relocalization> alone = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(alone.ok());
+  ASSERT_TRUE(alone->found) << alone->reason;
+  // Named as a twin 30 mm from the camera (within half the frame's 120 mm short side): refused.
+  const geometry::Pose2 elsewhere{0.1, 0.1, 0.0};
+  (*relocalizer)->SetTwinPlaces({{elsewhere, camera_pose * geometry::Pose2{0.03, 0.0, 0.0}}});
+  const Result<Relocalization> named = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(named.ok());
+  EXPECT_FALSE(named->found);
+  EXPECT_TRUE(named->ambiguous);
+  EXPECT_NE(named->reason.find("self-similarity report"), std::string::npos) << named->reason;
+  // Named 100 mm away: found again.
+  (*relocalizer)->SetTwinPlaces({{elsewhere, camera_pose * geometry::Pose2{0.1, 0.0, 0.0}}});
+  const Result<Relocalization> apart = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(apart.ok());
+  EXPECT_TRUE(apart->found) << apart->reason;
 }
 
 TEST(Relocalizer, AFloorThatRepeatsItselfIsAmbiguousNeverAWrongPose) {
