@@ -344,7 +344,8 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
 void Relocalizer::RefuseNamedTwins(Relocalization* out) const {
   if (!out->found) return;
   const geometry::Pose2 camera = out->base_in_map.pose * camera_.mount;
-  const double radius_m = 0.5 * std::min(camera_.width_px, camera_.height_px) * camera_.resolution_m;
+  const double radius_m =
+      0.5 * std::min(camera_.width_px, camera_.height_px) * camera_.resolution_m;
   for (const SimilarPlace& p : twin_places_) {
     for (const geometry::Pose2& named : {p.place, p.twin}) {
       if (std::hypot(camera.x - named.x, camera.y - named.y) >= radius_m) continue;
