@@ -319,6 +319,42 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
   return best;
 }
 
+DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
+                                        const std::vector<geometry::Pose2>& motions,
+                                        const geometry::Pose2& first) const {
+  FLEETLOC_CHECK(!frames.empty() && frames.size() == motions.size());
+  const SweepLevel fine = SweepLevel::kRefine;
+  std::vector<cv::Mat> normalized;
+  for (const cv::Mat& frame : frames) normalized.push_back(NormalizedFrame(frame, fine));
+  const Eigen::Vector2d centre_ground =
+      camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
+  const double step = 2 * M_PI / heading_steps(fine);
+  const double resolution = sweep_resolution_m(fine);
+  const Eigen::Vector2d own = SweepPixel(first * centre_ground, fine);
+  const int radius_px = static_cast<int>(std::ceil(separation_m() / resolution));
+  DensePeak best{first * motions.back(), 0.0};
+  cv::Mat scores;
+  for (int j = -2; j <= 2; ++j) {
+    const double theta = first.theta + j * step;
+    cv::Mat sum = cv::Mat::zeros(sweep_size(fine), CV_32F);
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      ScoresAt(normalized[i], theta + motions[i].theta, fine, &scores);
+      const Eigen::Vector2d offset = motions[i] * centre_ground - centre_ground;
+      sum += ShiftedScores(scores, Eigen::Rotation2Dd(theta) * offset, resolution);
+    }
+    sum /= static_cast<double>(frames.size());
+    cv::circle(sum, cv::Point(static_cast<int>(std::lround(own.x())),
+                              static_cast<int>(std::lround(own.y()))),
+               radius_px, cv::Scalar(-1), cv::FILLED);
+    double value = 0;
+    cv::Point at;
+    cv::minMaxLoc(sum, nullptr, &value, nullptr, &at);
+    if (value <= best.correlation) continue;
+    best = {SweepPose(Eigen::Vector2d(at.x, at.y), theta, fine) * motions.back(), value};
+  }
+  return best;
+}
+
 bool DensePlaceSearch::Distinct(const DensePeak& a, const std::vector<DensePeak>& kept) const {
   return std::none_of(kept.begin(), kept.end(), [&](const DensePeak& k) {
     return std::hypot(a.camera_in_map.x - k.camera_in_map.x,
@@ -348,6 +384,14 @@ std::vector<DensePeak> DensePlaceSearch::Search(
   for (const DensePeak& p : DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks))
     refined.push_back(Refine(frame, p));
   return DistinctBest(std::move(refined), options_.max_peaks);
+}
+
+cv::Mat ShiftedScores(const cv::Mat& scores, const Eigen::Vector2d& d, double resolution_m) {
+  const cv::Matx23d shift(1, 0, d.x() / resolution_m, 0, 1, -d.y() / resolution_m);
+  cv::Mat moved;
+  cv::warpAffine(scores, moved, shift, scores.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                 cv::BORDER_CONSTANT, 0);
+  return moved;
 }
 
 }  // namespace fleetloc::mapmatch

@@ -96,6 +96,15 @@ class DensePlaceSearch {
   // The best pose one level finer within ±2 heading steps and ±4 pixels of `coarse`.
   DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse) const;
 
+  // The best place distinct from `first` (the first frame's camera) for the newest of `frames`
+  // (frame i's camera is first ⊕ motions[i], motions[0] the identity; the same count), with the
+  // frames' mean correlation summed at the refine level over ±2 of its heading steps around
+  // first's heading, first's own place blanked: the best distinct alternative of a pose, measured
+  // at the level the pose was (on weak floors a twin need not be among the coarse peaks).
+  DensePeak Alternative(const std::vector<cv::Mat>& frames,
+                        const std::vector<geometry::Pose2>& motions,
+                        const geometry::Pose2& first) const;
+
   // Whether `peak` is distinct (see below) from every one of `kept`; the best n of `peaks` that
   // are distinct from each other, best first.
   bool Distinct(const DensePeak& peak, const std::vector<DensePeak>& kept) const;
@@ -122,5 +131,9 @@ class DensePlaceSearch {
   int refine_level_ = 0;
   std::shared_ptr<const Level> coarse_, fine_;
 };
+
+// moved(c) = scores(c + d): a score map (the SweepMap layout) moved so that a frame whose centre
+// is `d` (map metres) from another's lines up with it; pixels x right, y down (north-up raster).
+cv::Mat ShiftedScores(const cv::Mat& scores, const Eigen::Vector2d& d, double resolution_m);
 
 }  // namespace fleetloc::mapmatch

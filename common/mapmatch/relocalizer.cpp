@@ -43,6 +43,8 @@ Status Validate(const RelocalizerOptions& options) {
     return InvalidInput("relocalizer: confident_inliers must be >= min_verified_inliers");
   if (options.ambiguity_margin_inliers < 0)
     return InvalidInput("relocalizer: ambiguity_margin_inliers must be >= 0");
+  if (!(options.twin_ratio > 0.0 && options.twin_ratio <= 1.0))
+    return InvalidInput("relocalizer: twin_ratio must be in (0, 1]");
   if (!(options.dense_min_correlation > 0.0 && options.dense_min_correlation < 1.0))
     return InvalidInput("relocalizer: dense_min_correlation must be in (0, 1)");
   if (!(options.dense_max_second_ratio > 0.0 && options.dense_max_second_ratio < 1.0))
@@ -155,15 +157,25 @@ std::optional<Relocalizer::Verified> Relocalizer::Verify(const cv::Mat& frame,
 std::vector<Relocalizer::Verified> Relocalizer::VerifyCandidates(
     const cv::Mat& frame, const std::vector<PoseCandidate>& candidates, Relocalization* out) {
   std::vector<Verified> verified;
+  std::optional<geometry::Pose2> confident;  // the first confident pose
   for (const PoseCandidate& candidate : candidates) {
-    if (out->verified >= options_.max_verified_candidates) break;
+    if (!confident && out->verified >= options_.max_verified_candidates) break;
+    // Once one is confident, only its best distinct alternative is verified, then no more.
+    if (confident && !Distinct(*confident, candidate.camera_in_map * camera_.mount.Inverse()))
+      continue;
     ++out->verified;
     std::optional<Verified> v = Verify(frame, candidate);
-    if (!v) continue;
-    verified.push_back(*v);
-    if (v->inliers >= options_.confident_inliers) break;
+    if (v) verified.push_back(*v);
+    if (confident) break;
+    if (v && v->inliers >= options_.confident_inliers) confident = v->base_in_map.pose;
   }
   return verified;
+}
+
+bool Relocalizer::Distinct(const geometry::Pose2& a, const geometry::Pose2& b) const {
+  const geometry::Pose2 d = geometry::Between(a, b);
+  return std::hypot(d.x, d.y) > options_.clustering.radius_m ||
+         std::abs(d.theta) > options_.clustering.heading_tolerance_rad;
 }
 
 void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) const {
@@ -178,11 +190,9 @@ void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) co
   }
   const Verified& best = verified[0];
   for (std::size_t i = 1; i < verified.size(); ++i) {
-    const geometry::Pose2 d =
-        geometry::Between(best.base_in_map.pose, verified[i].base_in_map.pose);
-    const bool distinct = std::hypot(d.x, d.y) > options_.clustering.radius_m ||
-                          std::abs(d.theta) > options_.clustering.heading_tolerance_rad;
-    if (distinct && verified[i].inliers >= best.inliers - options_.ambiguity_margin_inliers) {
+    if (Distinct(best.base_in_map.pose, verified[i].base_in_map.pose) &&
+        verified[i].inliers >= best.inliers - options_.ambiguity_margin_inliers) {
+      out->ambiguous = true;
       out->reason = "ambiguous: two distinct poses confirmed with " + std::to_string(best.inliers) +
                     " and " + std::to_string(verified[i].inliers) + " inliers";
       return;
@@ -195,6 +205,36 @@ void Relocalizer::Choose(std::vector<Verified> verified, Relocalization* out) co
   out->candidate_inliers = best.candidate_inliers;
 }
 
+void Relocalizer::CheckDenseTwin(const cv::Mat& frame, Relocalization* out) {
+  const auto start = std::chrono::steady_clock::now();
+  const geometry::Pose2 camera = out->base_in_map.pose * camera_.mount;
+  const DensePeak own = dense_->Refine(frame, {camera, 0.0});
+  const DensePeak twin = dense_->Alternative({frame}, {geometry::Pose2{}}, camera);
+  out->twin_checked = true;
+  out->twin_own = own.correlation;
+  out->twin_correlation = twin.correlation;
+  const bool as_good = twin.correlation >= options_.dense_max_second_ratio * own.correlation;
+  if (as_good) {
+    PoseCandidate candidate;
+    candidate.camera_in_map = twin.camera_in_map;
+    ++out->verified;
+    const std::optional<Verified> v = Verify(frame, candidate, dense_->separation_m() / 4,
+                                             dense_->heading_separation_rad() / 8);
+    if (v && Distinct(v->base_in_map.pose, out->base_in_map.pose) &&
+        v->inliers >= out->inliers - options_.ambiguity_margin_inliers)
+      out->twin_inliers = v->inliers;
+  }
+  if (out->twin_inliers > 0 || twin.correlation >= options_.twin_ratio * own.correlation) {
+    out->found = false;
+    out->ambiguous = true;
+    out->reason = "ambiguous: the pose the features found (" + std::to_string(out->inliers) +
+                  " inliers, dense " + std::to_string(own.correlation) +
+                  ") has a distinct twin (dense " + std::to_string(twin.correlation) + ", " +
+                  std::to_string(out->twin_inliers) + " inliers)";
+  }
+  out->twin_ms = MsSince(start);
+}
+
 void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<DensePeak>& peaks,
                                    Gate gate, Relocalization* out) {
   const double best = peaks.empty() ? 0.0 : peaks[0].correlation;
@@ -205,6 +245,7 @@ void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<Dense
     return;
   }
   if (second > gate.max_second_ratio * best) {
+    out->ambiguous = true;
     out->reason += ": ambiguous, " + scores;
     return;
   }
@@ -218,6 +259,7 @@ void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<Dense
   if (v && std::hypot(v->base_in_map.pose.x - searched.x, v->base_in_map.pose.y - searched.y) <
                dense_->separation_m()) {
     out->found = true;
+    out->ambiguous = false;
     out->reason.clear();
     out->base_in_map = v->base_in_map;
     out->inliers = v->inliers;
@@ -234,7 +276,17 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
     feed = [this](const DensePlaceSearch::SweepMap& map) { trajectory_->Accumulate(map); };
     trajectory_fed_ = true;
   }
-  const std::vector<DensePeak> peaks = dense_->Search(frame, feed);
+  std::vector<DensePeak> peaks = dense_->Search(frame, feed);
+  // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
+  // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
+  // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
+  // correlations over the whole floor).
+  if (peaks.size() >= 1 && peaks[0].correlation >= options_.dense_min_correlation &&
+      (peaks.size() < 2 ||
+       peaks[1].correlation <= options_.dense_max_second_ratio * peaks[0].correlation)) {
+    peaks.push_back(dense_->Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
+    peaks = dense_->DistinctBest(std::move(peaks), dense_->options().max_peaks);
+  }
   out->dense = true;
   out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
   out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
@@ -285,7 +337,27 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
     return out;
   }
   TrajectoryRelocalize(frame, &*out);
+  RefuseNamedTwins(&*out);
   return out;
+}
+
+void Relocalizer::RefuseNamedTwins(Relocalization* out) const {
+  if (!out->found) return;
+  const geometry::Pose2 camera = out->base_in_map.pose * camera_.mount;
+  const double radius_m =
+      0.5 * std::min(camera_.width_px, camera_.height_px) * camera_.resolution_m;
+  for (const SimilarPlace& p : twin_places_) {
+    for (const geometry::Pose2& named : {p.place, p.twin}) {
+      if (std::hypot(camera.x - named.x, camera.y - named.y) >= radius_m) continue;
+      out->found = false;
+      out->ambiguous = true;
+      out->reason = "ambiguous: the self-similarity report names this place (" +
+                    std::to_string(p.place.x) + ", " + std::to_string(p.place.y) +
+                    ") and its twin (" + std::to_string(p.twin.x) + ", " +
+                    std::to_string(p.twin.y) + ")";
+      return;
+    }
+  }
 }
 
 Status Relocalizer::CheckFrame(const cv::Mat& frame) const {
@@ -306,6 +378,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   if (index_ == nullptr) {
     out.reason = "no place index";
     DenseRelocalize(frame, &out);
+    RefuseNamedTwins(&out);
     return out;
   }
   const std::vector<FeatureMatch> matches = MatchFrame(frame, &out);
@@ -318,9 +391,12 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
     out.reason = "no consistent pose votes (" + Describe(out) + ")";
   } else {
     Choose(VerifyCandidates(frame, candidates, &out), &out);
+    if (out.found && dense_) CheckDenseTwin(frame, &out);
   }
   out.verify_ms = MsSince(verify_start);
-  if (!out.found && dense_) DenseRelocalize(frame, &out);
+  // A pose refused for its twin is ambiguous: the dense search would find one of the two.
+  if (!out.found && dense_ && !out.twin_checked) DenseRelocalize(frame, &out);
+  RefuseNamedTwins(&out);
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "mapmatch/dense_place_search.h"
 #include "mapmatch/place_index.h"
 #include "mapmatch/pose_votes.h"
+#include "mapmatch/self_similarity.h"
 #include "mapmatch/trajectory_place_search.h"
 #include "mosaic/raster_source.h"
 #include "tracking/mosaic_tracker.h"
@@ -30,15 +31,25 @@ struct RelocalizerOptions {
   int neighbours = 2;                // index features matched per frame feature
   int max_descriptor_distance = 70;  // Hamming distance (of 256 bits) a match may have
   VoteClusterOptions clustering;
-  // Verification: candidates are tried best-supported first; one whose tracker cycle keeps
-  // confident_inliers correspondences is accepted at once, otherwise up to max_verified are tried
-  // and the one with most inliers wins — if it has min_verified_inliers and no other verified,
-  // distinct pose comes within ambiguity_margin_inliers of it (a floor that partly repeats itself
-  // confirms a wrong pose with the templates on the repeated part only).
+  // Verification: candidates are tried best-supported first, up to max_verified, until one's
+  // tracker cycle keeps confident_inliers correspondences; then its best distinct alternative
+  // (the next candidate distinct from it) is verified too, every time. The one with most inliers
+  // wins — if it has min_verified_inliers and no other verified, distinct pose comes within
+  // ambiguity_margin_inliers of it (a floor that repeats itself confirms its twin as well; one
+  // that partly repeats itself confirms a wrong pose with the templates on the repeated part).
+  // With the dense search, a pose the features found is also checked against its best distinct
+  // dense alternative (DensePlaceSearch::Alternative): when that reaches dense_max_second_ratio
+  // of the pose's own correlation, a tracker cycle verifies it, and the pose is refused as
+  // ambiguous when the cycle confirms the alternative within ambiguity_margin_inliers, or when
+  // the alternative reaches twin_ratio of the pose's own correlation (a twin the tracker missed).
+  // Measured on a photo repeated between two other strips (relocalizer_test): a frame across the
+  // copies' border, whose twin shares about half of it, 0.53–0.65 of the pose, its twin not
+  // confirmed by the tracker; an exact twin correlates like the pose itself.
   int max_verified_candidates = 6;
   int confident_inliers = 26;
   int min_verified_inliers = 18;
   int ambiguity_margin_inliers = 8;
+  double twin_ratio = 0.8;
   double verify_sigma_m = 0.002;  // candidate covariance the tracker searches (1-sigma)
   double verify_sigma_rad = 0.01;
   tracking::TrackerOptions tracker;  // the verifying tracker cycle
@@ -73,6 +84,7 @@ struct Relocalization {
   bool found = false;
   geometry::PoseWithCovariance base_in_map;  // when found
   std::string reason;                        // when not found: why
+  bool ambiguous = false;  // not found because a distinct place is (about) as good: a twin
   int frame_features = 0;
   int matches = 0;
   int candidates = 0;
@@ -88,8 +100,15 @@ struct Relocalization {
   int trajectory_frames = 0;
   double trajectory_best = 0, trajectory_second = 0;
   bool from_trajectory = false;
+  // The dense check of a pose the features found (see RelocalizerOptions): whether it ran, the
+  // pose's own refine-level correlation, its best distinct alternative's, and the inliers of the
+  // tracker cycle that confirmed the alternative (0: not run, or not confirmed); twin_ms is part
+  // of verify_ms.
+  bool twin_checked = false;
+  double twin_own = 0, twin_correlation = 0;
+  int twin_inliers = 0;
   double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0, dense_ms = 0;
-  double trajectory_ms = 0;
+  double trajectory_ms = 0, twin_ms = 0;
 };
 
 class Relocalizer {
@@ -112,6 +131,9 @@ class Relocalizer {
   // base_link in odom at the frame's time. A found pose starts a new trajectory.
   Result<Relocalization> Relocalize(const cv::Mat& frame, const geometry::Pose2& base_in_odom);
   void ResetTrajectory();
+  // Places a self-similarity report named (FindSelfSimilarity): a pose found with its camera
+  // within half a frame's short side of one of them or of its twin is refused as ambiguous.
+  void SetTwinPlaces(std::vector<SimilarPlace> places) { twin_places_ = std::move(places); }
   // The dense place search (null: off, or the mosaic is too large for it).
   const DensePlaceSearch* dense_search() const { return dense_.get(); }
 
@@ -133,6 +155,12 @@ class Relocalizer {
                                          Relocalization* out);
   // Accepts the best of `verified` into *out, or sets the reason why none is accepted.
   void Choose(std::vector<Verified> verified, Relocalization* out) const;
+  // Whether two base poses are distinct places for the verification (the clustering's radius and
+  // heading tolerance).
+  bool Distinct(const geometry::Pose2& a, const geometry::Pose2& b) const;
+  // Refuses the pose the features found in *out as ambiguous when its best distinct dense
+  // alternative is as good (see RelocalizerOptions).
+  void CheckDenseTwin(const cv::Mat& frame, Relocalization* out);
   // The dense place search and the verification of its best peak (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
   // Accepts the best of `peaks` (poses of `frame`'s camera) when it correlates min_correlation,
@@ -145,6 +173,8 @@ class Relocalizer {
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
   void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
   Status CheckFrame(const cv::Mat& frame) const;
+  // Refuses a found pose in a place of twin_places_ (see SetTwinPlaces).
+  void RefuseNamedTwins(Relocalization* out) const;
 
   const PlaceIndex* index_;
   geometry::CameraModel camera_;
@@ -154,6 +184,7 @@ class Relocalizer {
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame
+  std::vector<SimilarPlace> twin_places_;
 };
 
 }  // namespace fleetloc::mapmatch

@@ -1,5 +1,7 @@
 // Relocalizer on a real floor photo: sim-rendered frames (noise, dust, lighting, blur, grain) at
-// random poses and headings are relocalized against the truth; bad frames give clear errors.
+// random poses and headings are relocalized against the truth; bad frames give clear errors; on
+// the photo twice side by side the features never give a wrong pose (ambiguous inside a copy);
+// a place the self-similarity report names is refused.
 // Multi-frame relocalization with odometry: a drive whose single frames are all refused is found
 // from the frames combined; on a floor that repeats itself it stays ambiguous; travel beyond the
 // bound starts a new trajectory.
@@ -105,6 +107,49 @@ TEST(Relocalizer, BadOptionsAndMismatchedCameraAreRejected) {
   EXPECT_NE(mismatched.status().message().find("resolution"), std::string::npos);
 }
 
+// Poses found on a floor that repeats itself, against the truth: a strip of the photo, a part of
+// it twice, another strip (the twin of a frame across the copies' border is then wholly on the
+// floor, and differs). Frames wholly inside one copy have two true answers and must be refused as
+// ambiguous; frames across the border have one, and a pose found there must be it.
+TEST(Relocalizer, TheFeaturesOnAFloorThatRepeatsItselfAreAmbiguousNeverAWrongPose) {
+  Scene scene = MossScene();
+  const cv::Mat photo = scene.floor.ReadBlock(0, cv::Rect(0, 0, 1800, 1600));
+  const cv::Mat copy = photo(cv::Rect(0, 0, 1000, 1600));
+  cv::Mat floor_image;
+  cv::hconcat(std::vector<cv::Mat>{photo(cv::Rect(1000, 0, 400, 1600)), copy, copy,
+                                   photo(cv::Rect(1400, 0, 400, 1600))},
+              floor_image);
+  mosaic::ImageRasterSource floor(floor_image,
+                                  {0.0, floor_image.rows * kResolutionM, kResolutionM});
+  const Result<PlaceIndex> index = PlaceIndex::Build(floor, PlaceIndexOptions{});
+  ASSERT_TRUE(index.ok()) << index.status().message();
+  auto relocalizer = Relocalizer::Create(&*index, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 25);
+  const double border_m = 1400 * kResolutionM;  // between the copies, 0.5 m wide each
+  int across_found = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    // Even trials: the camera (frame centre) inside the left copy; odd: on the border.
+    const double x = trial % 2 == 0 ? 0.41 + 0.01 * trial : border_m - 0.04 + 0.01 * trial;
+    const geometry::Pose2 camera_pose{x, 0.2 + 0.025 * trial, 0.8 * trial - 3.0};
+    const geometry::Pose2 truth = camera_pose * scene.camera.mount.Inverse();
+    const Result<Relocalization> r =
+        (*relocalizer)->Relocalize(renderer.Render(truth, {0, 0}, trial).image);
+    ASSERT_TRUE(r.ok()) << r.status().message();
+    if (trial % 2 == 0) {
+      EXPECT_FALSE(r->found) << "trial " << trial << " found " << r->base_in_map.pose.x;
+      EXPECT_TRUE(r->ambiguous) << r->reason;
+      continue;
+    }
+    if (!r->found) continue;
+    ++across_found;
+    const geometry::Pose2 pose = r->base_in_map.pose;
+    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
+    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+  }
+  EXPECT_GE(across_found, 3);
+}
+
 // A plain-concrete photograph (data/stress_floors) with a 320×240 camera: too few features.
 struct PlainScene {
   cv::Mat photo;
@@ -145,6 +190,33 @@ TEST(Relocalizer, WithoutAnIndexTheDenseSearchFindsPosesOnPlainConcrete) {
     ++correct;
   }
   EXPECT_GE(correct, 5);
+}
+
+TEST(Relocalizer, APoseInAPlaceTheSelfSimilarityReportNamesIsRefused) {
+  PlainScene scene = PlainConcreteScene();
+  mosaic::ImageRasterSource floor(scene.photo,
+                                  {0.0, scene.photo.rows * kResolutionM, kResolutionM});
+  auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
+  sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 26);
+  const geometry::Pose2 camera_pose{0.25, 0.26, 0.4};
+  const cv::Mat frame = renderer.Render(camera_pose * scene.camera.mount.Inverse(), {0, 0}, 0).image;
+  const Result<Relocalization> alone = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(alone.ok());
+  ASSERT_TRUE(alone->found) << alone->reason;
+  // Named as a twin 30 mm from the camera (within half the frame's 120 mm short side): refused.
+  const geometry::Pose2 elsewhere{0.1, 0.1, 0.0};
+  (*relocalizer)->SetTwinPlaces({{elsewhere, camera_pose * geometry::Pose2{0.03, 0.0, 0.0}}});
+  const Result<Relocalization> named = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(named.ok());
+  EXPECT_FALSE(named->found);
+  EXPECT_TRUE(named->ambiguous);
+  EXPECT_NE(named->reason.find("self-similarity report"), std::string::npos) << named->reason;
+  // Named 100 mm away: found again.
+  (*relocalizer)->SetTwinPlaces({{elsewhere, camera_pose * geometry::Pose2{0.1, 0.0, 0.0}}});
+  const Result<Relocalization> apart = (*relocalizer)->Relocalize(frame);
+  ASSERT_TRUE(apart.ok());
+  EXPECT_TRUE(apart->found) << apart->reason;
 }
 
 TEST(Relocalizer, AFloorThatRepeatsItselfIsAmbiguousNeverAWrongPose) {

@@ -21,10 +21,10 @@ geometry::Pose2 CropPose(const mosaic::MosaicLayout& layout, const geometry::Cam
 
 }  // namespace
 
-Result<SelfSimilarityReport> FindSelfSimilarity(const DensePlaceSearch& search,
-                                                mosaic::RasterSource& mosaic,
-                                                const geometry::CameraModel& camera,
-                                                const SelfSimilarityOptions& options) {
+Result<SelfSimilarityReport> FindSelfSimilarity(
+    const DensePlaceSearch& search, mosaic::RasterSource& mosaic,
+    const geometry::CameraModel& camera, const SelfSimilarityOptions& options,
+    const std::function<bool(int done, int total)>& progress) {
   if (options.grid < 1 || options.grid > 32)
     return InvalidInput("self-similarity: grid must be 1..32");
   if (!(options.ambiguous_ratio > 0.0 && options.ambiguous_ratio < 1.0))
@@ -41,7 +41,11 @@ Result<SelfSimilarityReport> FindSelfSimilarity(const DensePlaceSearch& search,
                           (2 * j + 1) * spare_y / (2 * options.grid), camera.width_px,
                           camera.height_px);
       const geometry::Pose2 place = CropPose(layout, camera, rect);
-      const std::vector<DensePeak> peaks = search.Search(mosaic.ReadBlock(0, rect));
+      const cv::Mat crop = mosaic.ReadBlock(0, rect);
+      std::vector<DensePeak> peaks = search.Search(crop);
+      // The best place distinct from the crop's own at the refine level: a twin on a weak floor
+      // need not be among the coarse peaks.
+      peaks.push_back(search.Alternative({crop}, {geometry::Pose2{}}, place));
       ++report.sampled;
       // The crop's own place, and the best peak distinct from it.
       const DensePeak own{place, 0.0};
@@ -50,7 +54,7 @@ Result<SelfSimilarityReport> FindSelfSimilarity(const DensePlaceSearch& search,
       for (const DensePeak& p : peaks) {
         if (!search.Distinct(p, {own})) {
           own_correlation = std::max(own_correlation, p.correlation);
-        } else if (twin == nullptr) {
+        } else if (twin == nullptr || p.correlation > twin->correlation) {
           twin = &p;
         }
       }
@@ -58,6 +62,8 @@ Result<SelfSimilarityReport> FindSelfSimilarity(const DensePlaceSearch& search,
         report.ambiguous.push_back(
             {place, twin->camera_in_map, own_correlation, twin->correlation});
       }
+      if (progress && !progress(report.sampled, options.grid * options.grid))
+        return Internal("self-similarity: cancelled");
     }
   }
   return report;

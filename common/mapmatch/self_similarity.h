@@ -6,6 +6,7 @@
 // on it. Pure: reads the mosaic through a RasterSource.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "geometry/camera_model.h"
@@ -32,9 +33,11 @@ struct SelfSimilarityReport {
 };
 
 // InvalidInput when the mosaic is smaller than a frame or the options are out of range.
-Result<SelfSimilarityReport> FindSelfSimilarity(const DensePlaceSearch& search,
-                                                mosaic::RasterSource& mosaic,
-                                                const geometry::CameraModel& camera,
-                                                const SelfSimilarityOptions& options);
+// `progress`, when given, is called after each crop with (crops done, crops in all); returning
+// false cancels the search (Internal "self-similarity: cancelled").
+Result<SelfSimilarityReport> FindSelfSimilarity(
+    const DensePlaceSearch& search, mosaic::RasterSource& mosaic,
+    const geometry::CameraModel& camera, const SelfSimilarityOptions& options,
+    const std::function<bool(int done, int total)>& progress = {});
 
 }  // namespace fleetloc::mapmatch

@@ -6,20 +6,6 @@
 #include <opencv2/imgproc.hpp>
 
 namespace fleetloc::mapmatch {
-namespace {
-
-// moved(c) = scores(c + d): a frame's score map with the first frame's centre at c, `d` (map
-// metres) the frame's centre from the first's; pixels: x right, y down (north-up raster).
-cv::Mat Shifted(const cv::Mat& scores, const Eigen::Vector2d& d, double resolution) {
-  const cv::Matx23d shift(1, 0, d.x() / resolution, 0, 1, -d.y() / resolution);
-  cv::Mat moved;
-  cv::warpAffine(scores, moved, shift, scores.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                 cv::BORDER_CONSTANT, 0);
-  return moved;
-}
-
-}  // namespace
-
 TrajectoryPlaceSearch::TrajectoryPlaceSearch(const DensePlaceSearch* dense,
                                              const geometry::CameraModel& camera, SweepLevel level)
     : dense_(dense),
@@ -70,38 +56,11 @@ void TrajectoryPlaceSearch::Accumulate(const DensePlaceSearch::SweepMap& map) {
   const int steps = static_cast<int>(sum_.size());
   const int k = ((map.k - turn_) % steps + steps) % steps;
   const Eigen::Vector2d d = Eigen::Rotation2Dd(dense_->sweep_heading_rad(k, level_)) * offset_;
-  sum_[k] += Shifted(map.scores, d, dense_->sweep_resolution_m(level_));
+  sum_[k] += ShiftedScores(map.scores, d, dense_->sweep_resolution_m(level_));
 }
 
 DensePeak TrajectoryPlaceSearch::Alternative(const geometry::Pose2& first) const {
-  const SweepLevel fine = SweepLevel::kRefine;
-  std::vector<cv::Mat> normalized;
-  for (const cv::Mat& frame : frames_) normalized.push_back(dense_->NormalizedFrame(frame, fine));
-  const double step = 2 * M_PI / dense_->heading_steps(fine);
-  const double resolution = dense_->sweep_resolution_m(fine);
-  const Eigen::Vector2d own = dense_->SweepPixel(first * centre_ground_, fine);
-  const int radius_px = static_cast<int>(std::ceil(dense_->separation_m() / resolution));
-  DensePeak best{first * motion_.back(), 0.0};
-  cv::Mat scores;
-  for (int j = -2; j <= 2; ++j) {
-    const double theta = first.theta + j * step;
-    cv::Mat sum = cv::Mat::zeros(dense_->sweep_size(fine), CV_32F);
-    for (std::size_t i = 0; i < frames_.size(); ++i) {
-      dense_->ScoresAt(normalized[i], theta + motion_[i].theta, fine, &scores);
-      const Eigen::Vector2d offset = motion_[i] * centre_ground_ - centre_ground_;
-      sum += Shifted(scores, Eigen::Rotation2Dd(theta) * offset, resolution);
-    }
-    sum /= static_cast<double>(frames_.size());
-    cv::circle(sum, cv::Point(static_cast<int>(std::lround(own.x())),
-                              static_cast<int>(std::lround(own.y()))),
-               radius_px, cv::Scalar(-1), cv::FILLED);
-    double value = 0;
-    cv::Point at;
-    cv::minMaxLoc(sum, nullptr, &value, nullptr, &at);
-    if (value <= best.correlation) continue;
-    best = {dense_->SweepPose(Eigen::Vector2d(at.x, at.y), theta, fine) * motion_.back(), value};
-  }
-  return best;
+  return dense_->Alternative(frames_, motion_, first);
 }
 
 std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {

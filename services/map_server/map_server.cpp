@@ -120,8 +120,8 @@ Status MapServer::OpenServices() {
   auto publisher = transport::PlaceIndexPublisher::Create(*participant_, config_.server_id);
   if (!publisher.ok()) return publisher.status();
   place_index_publisher_ = std::move(publisher).value();
-  place_index_ = std::make_unique<PlaceIndexService>(config_.mosaic_path,
-                                                     place_index_publisher_.get(), &counters_);
+  place_index_ = std::make_unique<PlaceIndexService>(
+      config_.mosaic_path, place_index_publisher_.get(), &counters_, config_.self_similarity_grid);
   place_index_->RequestCurrent();
   return Status::Ok();
 }
@@ -242,6 +242,11 @@ std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   }
   if (!quarantined.empty()) return {{"vehicle_quarantined", fleetloc_HEALTH_WARN, quarantined}};
   if (new_rejects) return {{"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()}};
+  // The floor repeats itself: a vehicle lost there is refused as ambiguous until it moves on.
+  if (place_index_) {
+    if (std::optional<std::string> similar = place_index_->self_similarity_warning())
+      return {{"self_similar_floor", fleetloc_HEALTH_WARN, *similar}};
+  }
   return std::nullopt;
 }
 

@@ -25,6 +25,9 @@ Status Validate(const MapServerConfig& c) {
   if (c.max_patch_side_px < 16) return bad("max_patch_side_px", "must be >= 16");
   if (c.max_vehicles < 1) return bad("max_vehicles", "must be >= 1");
   if (c.tile_cache_mb < 0 || c.tile_cache_mb > 65536) return bad("tile_cache_mb", "must be in [0, 65536]");
+  if (c.self_similarity_grid < 0 || c.self_similarity_grid > 16) {
+    return bad("self_similarity_grid", "must be in [0, 16]");
+  }
   if (!(c.health_period_s >= 0.05 && c.health_period_s <= 60)) {
     return bad("health_period_s", "must be in [0.05, 60]");
   }
@@ -62,7 +65,8 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   static const std::set<std::string> known = {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
       "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
-      "serve_place_index", "patch_admission", "patch_intake", "retention"};
+      "serve_place_index", "self_similarity_grid", "patch_admission", "patch_intake",
+      "retention"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -78,7 +82,8 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
                             IntField{"max_patch_bytes", &c.max_patch_bytes},
                             IntField{"max_patch_side_px", &c.max_patch_side_px},
                             IntField{"max_vehicles", &c.max_vehicles},
-                            IntField{"tile_cache_mb", &c.tile_cache_mb}}) {
+                            IntField{"tile_cache_mb", &c.tile_cache_mb},
+                            IntField{"self_similarity_grid", &c.self_similarity_grid}}) {
     if (!fields.Has(f.key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(f.key, &value));

@@ -32,6 +32,9 @@ struct MapServerConfig {
   // Build (or load from the mosaic file) and publish the place index of each version served, so
   // vehicles can relocalize anywhere (global relocalization).
   bool serve_place_index = true;
+  // After each index: the floor's self-similarity on a grid × grid of frame-sized places (0: not
+  // checked); places with a twin are logged and reported in the health (self_similar_floor).
+  int self_similarity_grid = 3;
   // How re-mapping jobs judge patches and when a vehicle is quarantined ("patch_admission").
   mosaic::RemapPolicy remap_policy;
 };

@@ -50,6 +50,7 @@ TEST(MapServerConfig, ShippedSampleConfigLoads) {
   EXPECT_EQ(config->intake.queue, PatchIntake{}.queue);
   EXPECT_EQ(config->retention.policy.unfolded_patch_retention_s, mosaic::RetentionPolicy{}.unfolded_patch_retention_s);
   EXPECT_EQ(config->retention.prune_period_s, Retention{}.prune_period_s);
+  EXPECT_EQ(config->self_similarity_grid, MapServerConfig{}.self_similarity_grid);
 }
 
 struct BadCase {
@@ -80,6 +81,8 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
       {R"({"mosaic": "m.db", "patch_intake": {"flood": 1}})", "flood"},
       {R"({"mosaic": "m.db", "retention": {"tile_versions_kept": 0}})", "tile_versions_kept"},
       {R"({"mosaic": "m.db", "retention": {"prune_period_s": 1}})", "prune_period_s"},
+      {R"({"mosaic": "m.db", "self_similarity_grid": 17})", "self_similarity_grid"},
+      {R"({"mosaic": "m.db", "self_similarity_grid": 2.5})", "self_similarity_grid"},
   };
   int i = 0;
   for (const BadCase& c : cases) {

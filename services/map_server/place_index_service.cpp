@@ -3,6 +3,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "mapmatch/self_similarity.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/place_index_cache.h"
 #include "mosaic/tile_store.h"
@@ -14,15 +19,18 @@ constexpr std::size_t kBuildCacheBytes = std::size_t{64} << 20;  // tiles the bu
 }  // namespace
 
 std::vector<std::string> PlaceIndexService::CounterNames() {
-  return {"place_index_built", "place_index_loaded", "place_index_failed", "place_index_published"};
+  return {"place_index_built",       "place_index_loaded",       "place_index_failed",
+          "place_index_published",   "self_similarity_checked",  "self_similarity_skipped",
+          "self_similar_places"};
 }
 
 PlaceIndexService::PlaceIndexService(std::string mosaic_path,
                                      transport::PlaceIndexPublisher* publisher,
-                                     ServerCounters* counters)
+                                     ServerCounters* counters, int self_similarity_grid)
     : mosaic_path_(std::move(mosaic_path)),
       publisher_(publisher),
       counters_(counters),
+      self_similarity_grid_(self_similarity_grid),
       worker_([this] { Work(); }) {}
 
 PlaceIndexService::~PlaceIndexService() {
@@ -84,6 +92,87 @@ std::optional<PlaceIndexService::Ready> PlaceIndexService::LoadOrBuild() {
   return Ready{store->layout().mosaic_id, store->layout().version, std::move(index->blob)};
 }
 
+namespace {
+
+// The camera the check imagines: the default 640×480 frame at the mosaic's resolution.
+geometry::CameraModel CheckCamera(double resolution_m) {
+  geometry::CameraModel camera;
+  camera.width_px = 640;
+  camera.height_px = 480;
+  camera.cx_px = 320;
+  camera.cy_px = 240;
+  camera.resolution_m = resolution_m;
+  return camera;
+}
+
+std::string Describe(const mapmatch::SelfSimilarityReport& report) {
+  std::string text = std::to_string(report.ambiguous.size()) + " of " +
+                     std::to_string(report.sampled) + " places have a twin";
+  char pair[128];
+  constexpr std::size_t kNamed = 3;  // places named (the health message is bounded)
+  for (std::size_t i = 0; i < std::min(kNamed, report.ambiguous.size()); ++i) {
+    const mapmatch::SimilarPlace& p = report.ambiguous[i];
+    std::snprintf(pair, sizeof(pair), "%s(%.3f, %.3f) ~ (%.3f, %.3f)", i == 0 ? ": " : "; ",
+                  p.place.x, p.place.y, p.twin.x, p.twin.y);
+    text += pair;
+  }
+  if (report.ambiguous.size() > kNamed) text += "; ...";
+  return text + " (camera poses in map, m)";
+}
+
+}  // namespace
+
+std::optional<std::string> PlaceIndexService::self_similarity_warning() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return self_similarity_warning_;
+}
+
+void PlaceIndexService::CheckSelfSimilarity() {
+  const auto start = std::chrono::steady_clock::now();
+  auto opened = mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) {
+    spdlog::error("self-similarity: {}", opened.status().message());
+    return;
+  }
+  std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
+  mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
+                          std::make_shared<mosaic::TileCache>(kBuildCacheBytes));
+  const geometry::CameraModel camera = CheckCamera(store->layout().geo.resolution);
+  auto search = mapmatch::DensePlaceSearch::Create(view, camera, {});
+  if (!search.ok()) {
+    counters_->Add("self_similarity_skipped");
+    spdlog::info("self-similarity of version {} not checked: {}", store->layout().version,
+                 search.status().message());
+    return;
+  }
+  mapmatch::SelfSimilarityOptions options;
+  options.grid = self_similarity_grid_;
+  Result<mapmatch::SelfSimilarityReport> report = mapmatch::FindSelfSimilarity(
+      **search, view, camera, options, [&](int done, int total) {
+        spdlog::info("self-similarity: {} of {} places searched", done, total);
+        return !stopping_.load();
+      });
+  if (!report.ok()) {
+    if (!stopping_) spdlog::warn("self-similarity not checked: {}", report.status().message());
+    return;
+  }
+  counters_->Add("self_similarity_checked");
+  counters_->Add("self_similar_places", report->ambiguous.size());
+  const std::string text = Describe(*report);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (report->ambiguous.empty()) {
+    spdlog::info("self-similarity of version {}: {} ({:.2f} s)", store->layout().version, text,
+                 seconds);
+  } else {
+    spdlog::warn("self-similarity of version {}: {} ({:.2f} s): a frame there cannot be "
+                 "relocalized alone", store->layout().version, text, seconds);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  self_similarity_warning_ =
+      report->ambiguous.empty() ? std::nullopt : std::optional<std::string>(text);
+}
+
 void PlaceIndexService::Work() {
   for (;;) {
     {
@@ -94,8 +183,12 @@ void PlaceIndexService::Work() {
     }
     std::optional<Ready> ready = LoadOrBuild();
     if (!ready) continue;
-    std::lock_guard<std::mutex> lock(mutex_);
-    ready_ = std::move(ready);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      ready_ = std::move(ready);
+    }
+    // After the index is handed over: the vehicles need not wait for the check.
+    if (self_similarity_grid_ > 0) CheckSelfSimilarity();
   }
 }
 

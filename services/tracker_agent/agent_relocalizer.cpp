@@ -100,7 +100,10 @@ Result<mapmatch::Relocalization> AgentRelocalizer::Relocalize(const cv::Mat& fra
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats_.total_ms += stats_.last_ms;
   ++stats_.attempts;
-  if (result.ok() && result->found) ++stats_.found;
+  if (!result.ok()) return result;
+  if (result->found) ++stats_.found;
+  if (result->found && result->from_trajectory) ++stats_.found_from_trajectory;
+  if (!result->found && result->ambiguous) ++stats_.ambiguous;
   return result;
 }
 

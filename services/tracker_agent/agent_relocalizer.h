@@ -18,6 +18,8 @@ namespace fleetloc::tracker_agent {
 struct RelocalizationStats {
   long long attempts = 0;
   long long found = 0;
+  long long found_from_trajectory = 0;  // of those, by frames combined with odometry
+  long long ambiguous = 0;              // attempts refused as ambiguous (a self-similar floor)
   long long indexes_loaded = 0;
   long long indexes_rejected = 0;  // blobs that did not deserialize, or of another mosaic
   double last_ms = 0.0;

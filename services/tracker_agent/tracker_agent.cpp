@@ -291,6 +291,20 @@ void TrackerAgent::WaitForTileCoverage(std::chrono::steady_clock::time_point dea
   }
 }
 
+void TrackerAgent::WaitForPlaceIndex() {
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(config_.mosaic_wait_s));
+  while (!relocalizer_->ready() && std::chrono::steady_clock::now() < deadline) {
+    relocalizer_->Poll();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!relocalizer_->ready()) {
+    spdlog::warn("no place index after {} s: frames are dropped until one is loaded",
+                 config_.mosaic_wait_s);
+  }
+}
+
 void TrackerAgent::UpdateMapServerReachability() {
   map_servers_->Poll();
   map_server_reachable_ = map_servers_->AllReachable();
@@ -338,6 +352,8 @@ Status TrackerAgent::WriteSummary() const {
         {"chunks_rejected", relocalizer_->chunks_rejected()},
         {"attempts", reloc.attempts},
         {"found", reloc.found},
+        {"found_from_trajectory", reloc.found_from_trajectory},
+        {"ambiguous", reloc.ambiguous},
         {"mean_ms", reloc.attempts > 0 ? reloc.total_ms / reloc.attempts : 0.0}}}};
   summary["position_update"] =
       position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
@@ -349,6 +365,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(config_.health_period_s));
+  if (config_.start_pose == "relocalize") WaitForPlaceIndex();
   auto next_health = Clock::now();
   while (!stop.load()) {
     Result<std::optional<InputEvent>> event = input.Next();

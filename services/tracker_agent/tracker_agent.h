@@ -80,6 +80,9 @@ class TrackerAgent {
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
   // Until every tile of the mosaic has a map server announcing it, or `deadline`.
   void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
+  // A vehicle that starts without a pose can do nothing before the place index is loaded: waits
+  // for it (at most mosaic_wait_s) so that its first frames are relocalized, not dropped.
+  void WaitForPlaceIndex();
   // A map server is reachable when it reads our tile requests (DDS match) and was heard from
   // (ServiceHealth) within map_server_timeout_s; the tile loader stops waiting for the tiles of
   // one that is not. map_server_reachable_: every owning server is.

@@ -6,6 +6,7 @@
 // when the frame could not be relocalized.
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
 
@@ -36,15 +37,20 @@ Result<cv::Mat> ReadRunFrame(const io::Run& run, int k) {
   return io::ReadFrame(run.frames[k], run.camera.model);
 }
 
-// Places where the floor repeats itself (mapmatch/self_similarity.h) as JSON, with a warning.
-Result<nlohmann::json> SelfSimilarityJson(const mapmatch::Relocalizer& relocalizer,
+// Places where the floor repeats itself (mapmatch/self_similarity.h) as JSON, with a warning;
+// the relocalizer then refuses poses there (Relocalizer::SetTwinPlaces).
+Result<nlohmann::json> SelfSimilarityJson(mapmatch::Relocalizer& relocalizer,
                                           mosaic::RasterSource& mosaic,
                                           const geometry::CameraModel& camera) {
   if (relocalizer.dense_search() == nullptr)
     return InvalidInput("--self-similarity: the mosaic is too large for the dense place search");
+  const auto start = std::chrono::steady_clock::now();
   Result<mapmatch::SelfSimilarityReport> report = mapmatch::FindSelfSimilarity(
       *relocalizer.dense_search(), mosaic, camera, mapmatch::SelfSimilarityOptions{});
   if (!report.ok()) return report.status();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  relocalizer.SetTwinPlaces(report->ambiguous);
   nlohmann::json places = nlohmann::json::array();
   for (const mapmatch::SimilarPlace& p : report->ambiguous) {
     places.push_back({{"place", {p.place.x, p.place.y}},
@@ -57,7 +63,7 @@ Result<nlohmann::json> SelfSimilarityJson(const mapmatch::Relocalizer& relocaliz
                  "there is refused as ambiguous)",
                  places.size(), report->sampled);
   }
-  return nlohmann::json{{"sampled", report->sampled}, {"ambiguous", places}};
+  return nlohmann::json{{"sampled", report->sampled}, {"ambiguous", places}, {"seconds", seconds}};
 }
 
 // Position and heading error against truth.csv's row of frame k.
@@ -93,14 +99,16 @@ Status RunReloc(const RelocArgs& args) {
     if (index.ok()) return relocalizer.status();
     return InvalidInput(index.status().message() + "; and " + relocalizer.status().message());
   }
-  Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
-  if (!result.ok()) return result.status();
-  nlohmann::json json = RelocalizationJson(*result);
+  nlohmann::json similar_json;
   if (args.self_similarity) {
     Result<nlohmann::json> similar = SelfSimilarityJson(**relocalizer, view, run->camera.model);
     if (!similar.ok()) return similar.status();
-    json["self_similarity"] = *similar;
+    similar_json = *similar;
   }
+  Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
+  if (!result.ok()) return result.status();
+  nlohmann::json json = RelocalizationJson(*result);
+  if (args.self_similarity) json["self_similarity"] = similar_json;
   json["frame"] = args.frame;
   json["index"] = index.ok() ? nlohmann::json{{"features", index->index.size()},
                                               {"from_cache", index->from_cache},

@@ -19,6 +19,12 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
                         {"total", r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms +
                                       r.dense_ms + r.trajectory_ms}}}};
   if (r.dense) json["dense"] = {{"best", r.dense_best}, {"second", r.dense_second}};
+  if (r.twin_checked) {
+    json["twin"] = {{"own", r.twin_own},
+                    {"alternative", r.twin_correlation},
+                    {"inliers", r.twin_inliers},
+                    {"ms", r.twin_ms}};
+  }
   if (r.trajectory_frames > 0) {
     json["trajectory"] = {{"frames", r.trajectory_frames},
                           {"best", r.trajectory_best},
@@ -27,6 +33,7 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
   }
   if (!r.found) {
     json["reason"] = r.reason;
+    json["ambiguous"] = r.ambiguous;
     return json;
   }
   const geometry::Pose2& p = r.base_in_map.pose;
