@@ -4,6 +4,9 @@
 #include <prometheus/collectable.h>
 #include <prometheus/exposer.h>
 
+#include <spdlog/spdlog.h>
+
+#include <chrono>
 #include <exception>
 #include <fstream>
 #include <mutex>
@@ -66,5 +69,29 @@ Result<std::unique_ptr<MetricsExporter>> MetricsExporter::Start(const MetricsOpt
 MetricsExporter::~MetricsExporter() = default;
 
 void MetricsExporter::Publish(std::vector<prometheus::MetricFamily> families) { snapshot_->Set(std::move(families)); }
+
+ServiceMetrics::ServiceMetrics(const MetricsOptions& options, const std::string& service) : options_(options) {
+  if (!options.enabled) return;
+  Result<std::unique_ptr<MetricsExporter>> started = MetricsExporter::Start(options);
+  if (!started.ok()) {
+    error_ = started.status().message();
+    spdlog::error("{}: {}; running without /metrics", service, error_);
+    return;
+  }
+  exporter_ = std::move(started).value();
+  spdlog::info("{}: metrics at http://{}:{}/metrics", service, options.bind, exporter_->port());
+}
+
+bool ServiceMetrics::Due() {
+  if (!exporter_) return false;
+  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (now < next_refresh_) return false;
+  next_refresh_ = now + options_.refresh_period_s;
+  return true;
+}
+
+void ServiceMetrics::Publish(std::vector<prometheus::MetricFamily> families) {
+  if (exporter_) exporter_->Publish(std::move(families));
+}
 
 }  // namespace fleetloc::metrics

@@ -37,4 +37,26 @@ class MetricsExporter {
   int port_ = 0;
 };
 
+// A service's /metrics as configured: off, serving, or failed to start — then logged once, and
+// `error()` is what the service reports as its health issue "metrics_unavailable"; the service
+// runs on without metrics. Used from the service's own loop thread.
+class ServiceMetrics {
+ public:
+  // Starts the exporter when options.enabled; `service` names it in the log.
+  ServiceMetrics(const MetricsOptions& options, const std::string& service);
+
+  bool serving() const { return exporter_ != nullptr; }
+  // True at most once per refresh period while serving (the caller then builds and publishes).
+  bool Due();
+  void Publish(std::vector<prometheus::MetricFamily> families);
+  int port() const { return exporter_ ? exporter_->port() : 0; }
+  const std::string& error() const { return error_; }
+
+ private:
+  MetricsOptions options_;
+  std::unique_ptr<MetricsExporter> exporter_;
+  std::string error_;
+  double next_refresh_ = 0;  // steady clock seconds
+};
+
 }  // namespace fleetloc::metrics

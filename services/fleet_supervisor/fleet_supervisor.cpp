@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fleet_supervisor/supervisor_metrics.h"
 #include "io/child_process.h"
 #include "io/json_fields.h"
 #include "transport/service_health_messages.h"
@@ -101,7 +102,15 @@ Status FleetSupervisor::Open() {
   if (!config_.port_file.empty()) {
     std::ofstream(config_.port_file) << http_->port() << "\n";
   }
+  metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "fleet_supervisor");
   return Status::Ok();
+}
+
+void FleetSupervisor::RefreshMetrics(double now) {
+  metrics::FamilyBuilder b(kSupervisorMetricPrefix, {{"service_id", config_.supervisor_id}});
+  fleet_->AddMetrics(&b);
+  AddSupervisorFamilies(fleet_->counters().Snapshot(), fleet_->MapServerAlive(now, kMapServerTimeoutS), &b);
+  metrics_->Publish(b.Take());
 }
 
 Status FleetSupervisor::Restore() {
@@ -176,6 +185,7 @@ void FleetSupervisor::Step(double now) {
     stream_.Publish(io::DumpJson(snapshot));
     ++fleet_->counters().stream_snapshots;
   }
+  if (metrics_->Due()) RefreshMetrics(now);
   if (now >= next_health_) {
     next_health_ = now + config_.health_period_s;
     if (Status sent = PublishHealth(); !sent.ok()) spdlog::warn("{}", sent.message());
@@ -187,6 +197,8 @@ Status FleetSupervisor::PublishHealth() {
                                         fleet_->counters().Snapshot()};
   if (fleet_->counters().history_errors > 0) {
     report.issue = {"history_errors", fleetloc_HEALTH_ERROR, "the SQLite history could not be written"};
+  } else if (!metrics_->error().empty()) {
+    report.issue = {"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()};
   }
   return transport::WriteServiceHealth(*health_writer_, report);
 }

@@ -16,6 +16,7 @@
 #include "fleet_supervisor/overview_tiles.h"
 #include "fleet_supervisor/shared_fleet.h"
 #include "fleet_supervisor/supervisor_config.h"
+#include "metrics/metrics_exporter.h"
 #include "transport/remap_client.h"
 #include "transport/waitset.h"
 
@@ -30,6 +31,7 @@ class FleetSupervisor {
   // Runs until `stop` becomes true (checked every 10 ms); then stops the HTTP server.
   Status Run(const std::atomic<bool>& stop);
   int http_port() const { return http_->port(); }
+  int metrics_port() const { return metrics_ ? metrics_->port() : 0; }
 
  private:
   explicit FleetSupervisor(const SupervisorConfig& config);
@@ -39,6 +41,7 @@ class FleetSupervisor {
   void FlushHistory(double now);
   void StoreAlerts(const std::vector<fleet::Alert>& changes);
   Status PublishHealth();
+  void RefreshMetrics(double now);
   std::string ResolveWebDir() const;
 
   SupervisorConfig config_;
@@ -52,6 +55,9 @@ class FleetSupervisor {
   std::unique_ptr<transport::Topic<fleetloc_ServiceHealth>> health_topic_;
   std::unique_ptr<transport::Writer<fleetloc_ServiceHealth>> health_writer_;
   std::unique_ptr<transport::WaitSet> waitset_;
+  // /metrics (config "metrics"); a port that cannot be bound is the health issue
+  // "metrics_unavailable", and the supervisor runs on without metrics.
+  std::unique_ptr<metrics::ServiceMetrics> metrics_;
   std::unique_ptr<HttpApi> http_;  // declared last: stopped first
   std::vector<StoredPose> pending_poses_;
   std::vector<StoredHealth> pending_health_;

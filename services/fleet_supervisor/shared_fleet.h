@@ -19,6 +19,10 @@
 #include "fleet_supervisor/history_store.h"
 #include "transport/remap_client.h"
 
+namespace fleetloc::metrics {
+class FamilyBuilder;
+}
+
 namespace fleetloc::fleet_supervisor {
 
 // Event counters (served at /api/stats and in the supervisor's ServiceHealth).
@@ -62,6 +66,8 @@ class SharedFleet {
   std::optional<nlohmann::json> Vehicle(const std::string& id) const;
   nlohmann::json ActiveAlerts() const;
   nlohmann::json RemapJobs() const;
+  // Adds the fleet's Prometheus families (supervisor_metrics.h) to `b`.
+  void AddMetrics(metrics::FamilyBuilder* b) const;
   // Whether a map_server reported within `timeout_s` before `now`.
   bool MapServerAlive(double now, double timeout_s) const;
 

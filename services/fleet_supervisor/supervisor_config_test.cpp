@@ -96,6 +96,17 @@ TEST(SupervisorConfig, HttpLimitsAreReadAndChecked) {
   EXPECT_EQ(c->http.max_streams, HttpLimits{}.max_streams);  // default kept
 }
 
+TEST(SupervisorConfig, MetricsAreOnByDefaultAndConfigurable) {
+  EXPECT_TRUE(SupervisorConfig{}.metrics.enabled);
+  EXPECT_EQ(SupervisorConfig{}.metrics.port, 9472);
+  auto c = LoadSupervisorConfig(Write("metrics", R"({"metrics": {"enabled": false, "port": 9500, "threads": 2}})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_FALSE(c->metrics.enabled);
+  EXPECT_EQ(c->metrics.port, 9500);
+  EXPECT_EQ(c->metrics.threads, 2);
+  EXPECT_EQ(c->metrics.bind, "127.0.0.1");  // default kept
+}
+
 TEST(SupervisorConfig, BadFieldsAreNamed) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"colour": 1})", "colour"},
@@ -112,6 +123,8 @@ TEST(SupervisorConfig, BadFieldsAreNamed) {
       {R"({"http": {"max_conections": 5}})", "max_conections"},
       {R"({"http": {"allowed_hosts": "x"}})", "allowed_hosts"},
       {R"({"http": {"allowed_hosts": ["a b"]}})", "allowed_hosts"},
+      {R"({"metrics": {"prot": 1}})", "metrics.prot"},
+      {R"({"metrics": {"port": -1}})", "metrics.port"},
   };
   for (const auto& [json, field] : cases) {
     auto c = LoadSupervisorConfig(Write("bad", json));

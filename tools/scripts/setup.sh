@@ -8,6 +8,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
           cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev systemd curl
           clang libclang-rt-14-dev
+          prometheus-cpp-dev  # /metrics of every service (common/metrics/)
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
