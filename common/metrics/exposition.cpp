@@ -1,6 +1,7 @@
 // ParseExposition: a line-by-line reader of the text format.
 #include "metrics/exposition.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -21,10 +22,13 @@ size_t NameLength(std::string_view s, bool colons) {
   return n;
 }
 
+// A float as Prometheus reads it (Go's ParseFloat: NaN and Inf in any letter case).
 bool ParseValue(std::string_view text, double* out) {
-  if (text == "+Inf" || text == "Inf") return *out = std::numeric_limits<double>::infinity(), true;
-  if (text == "-Inf") return *out = -std::numeric_limits<double>::infinity(), true;
-  if (text == "NaN") return *out = std::numeric_limits<double>::quiet_NaN(), true;
+  std::string lower(text);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == "+inf" || lower == "inf") return *out = std::numeric_limits<double>::infinity(), true;
+  if (lower == "-inf") return *out = -std::numeric_limits<double>::infinity(), true;
+  if (lower == "nan") return *out = std::numeric_limits<double>::quiet_NaN(), true;
   if (text.empty()) return false;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), *out);
   return ec == std::errc() && ptr == text.data() + text.size();

@@ -11,10 +11,10 @@ namespace {
 TEST(ParseExposition, ReadsHelpTypeSamplesAndTimestamps) {
   const char* text =
       "# HELP a_total Things.\n# TYPE a_total counter\na_total{x=\"1\",y=\"2\",} 3 1700000000000\n"
-      "# a comment\n\n# TYPE g gauge\ng NaN\ng{k=\"v\"} -Inf\n";
+      "# a comment\n\n# TYPE g gauge\ng NaN\ng{k=\"v\"} -Inf\ng{k=\"w\"} Nan\n";
   Result<Exposition> e = ParseExposition(text);
   ASSERT_TRUE(e.ok()) << e.status().message();
-  ASSERT_EQ(e->samples.size(), 3u);
+  ASSERT_EQ(e->samples.size(), 4u);  // "Nan" as prometheus-cpp writes it: Prometheus reads it too
   EXPECT_EQ(*e->Value("a_total", {{"y", "2"}}), 3);
   EXPECT_TRUE(std::isinf(*e->Value("g", {{"k", "v"}})));
   EXPECT_FALSE(e->Value("a_total", {{"y", "3"}}).ok());
