@@ -103,13 +103,15 @@ Status FleetSupervisor::Open() {
     std::ofstream(config_.port_file) << http_->port() << "\n";
   }
   metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "fleet_supervisor");
+  if (config_.vda5050.enabled) FLEETLOC_RETURN_IF_ERROR(MoveTo(Vda5050Publisher::Start(config_.vda5050, config_.supervisor_id), &vda_));
   return Status::Ok();
 }
 
 void FleetSupervisor::RefreshMetrics(double now) {
   metrics::FamilyBuilder b(kSupervisorMetricPrefix, {{"service_id", config_.supervisor_id}});
   fleet_->AddMetrics(&b);
-  AddSupervisorFamilies(fleet_->counters().Snapshot(), fleet_->MapServerAlive(now, kMapServerTimeoutS), &b);
+  AddSupervisorFamilies(AllCounters(), fleet_->MapServerAlive(now, kMapServerTimeoutS), &b);
+  if (vda_) b.Gauge("vda5050_connected", "1 while connected to the MQTT broker", vda_->connected() ? 1 : 0);
   metrics_->Publish(b.Take());
 }
 
@@ -186,6 +188,10 @@ void FleetSupervisor::Step(double now) {
     ++fleet_->counters().stream_snapshots;
   }
   if (metrics_->Due()) RefreshMetrics(now);
+  if (vda_ && vda_->Due(now)) {
+    const std::optional<mosaic::MosaicLayout> layout = tiles_->Layout();
+    vda_->Publish(fleet_->LatestPoses(), layout ? layout->mosaic_id : "unknown", now);
+  }
   if (now >= next_health_) {
     next_health_ = now + config_.health_period_s;
     if (Status sent = PublishHealth(); !sent.ok()) spdlog::warn("{}", sent.message());
@@ -194,13 +200,23 @@ void FleetSupervisor::Step(double now) {
 
 Status FleetSupervisor::PublishHealth() {
   transport::ServiceHealthReport report{config_.supervisor_id, "fleet_supervisor", std::nullopt,
-                                        fleet_->counters().Snapshot()};
+                                        AllCounters()};
   if (fleet_->counters().history_errors > 0) {
     report.issue = {"history_errors", fleetloc_HEALTH_ERROR, "the SQLite history could not be written"};
+  } else if (vda_ && !vda_->connected()) {
+    report.issue = {"vda5050_broker_unreachable", fleetloc_HEALTH_WARN, vda_->problem()};
   } else if (!metrics_->error().empty()) {
     report.issue = {"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()};
   }
   return transport::WriteServiceHealth(*health_writer_, report);
+}
+
+std::vector<std::pair<std::string, uint64_t>> FleetSupervisor::AllCounters() const {
+  std::vector<std::pair<std::string, uint64_t>> counters = fleet_->counters().Snapshot();
+  if (vda_) {
+    for (auto& c : vda_->Counters()) counters.push_back(std::move(c));
+  }
+  return counters;
 }
 
 Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
@@ -210,6 +226,7 @@ Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
     Step(Now());
   }
   http_->Stop();
+  vda_.reset();  // OFFLINE, retained
   fleet_->NewestUnstored(&pending_poses_);
   FlushHistory(Now());
   spdlog::info("stopping: {} poses and {} health reports received, {} history rows written",

@@ -16,6 +16,7 @@
 #include "fleet_supervisor/overview_tiles.h"
 #include "fleet_supervisor/shared_fleet.h"
 #include "fleet_supervisor/supervisor_config.h"
+#include "fleet_supervisor/vda5050_publisher.h"
 #include "metrics/metrics_exporter.h"
 #include "transport/remap_client.h"
 #include "transport/waitset.h"
@@ -42,6 +43,8 @@ class FleetSupervisor {
   void StoreAlerts(const std::vector<fleet::Alert>& changes);
   Status PublishHealth();
   void RefreshMetrics(double now);
+  // Every counter of the supervisor's health: its own and the VDA 5050 publisher's.
+  std::vector<std::pair<std::string, uint64_t>> AllCounters() const;
   std::string ResolveWebDir() const;
 
   SupervisorConfig config_;
@@ -58,6 +61,7 @@ class FleetSupervisor {
   // /metrics (config "metrics"); a port that cannot be bound is the health issue
   // "metrics_unavailable", and the supervisor runs on without metrics.
   std::unique_ptr<metrics::ServiceMetrics> metrics_;
+  std::unique_ptr<Vda5050Publisher> vda_;  // null unless "vda5050" is enabled
   std::unique_ptr<HttpApi> http_;  // declared last: stopped first
   std::vector<StoredPose> pending_poses_;
   std::vector<StoredHealth> pending_health_;

@@ -172,6 +172,16 @@ json SharedFleet::RemapJobs() const {
   return JobsJson();
 }
 
+std::vector<LatestPose> SharedFleet::LatestPoses() const {
+  std::lock_guard lock(mutex_);
+  std::vector<LatestPose> out;
+  out.reserve(fleet_.size());
+  fleet_.ForEach([&](const fleet::VehicleState& v) {
+    if (v.pose) out.push_back({v.id, *v.pose, v.last_seen});
+  });
+  return out;
+}
+
 void SharedFleet::AddMetrics(metrics::FamilyBuilder* b) const {
   std::lock_guard<std::mutex> lock(mutex_);
   AddFleetFamilies(fleet_, b);

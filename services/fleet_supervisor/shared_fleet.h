@@ -42,6 +42,13 @@ struct SupervisorCounters {
   std::vector<std::pair<std::string, uint64_t>> Snapshot() const;
 };
 
+// A vehicle's newest pose and when the supervisor last heard from it (its clock).
+struct LatestPose {
+  std::string vehicle_id;
+  fleet::PoseSample pose;
+  double last_seen = 0;
+};
+
 class SharedFleet {
  public:
   SharedFleet(const fleet::AlertOptions& alerts, const fleet::TrailOptions& trail,
@@ -66,6 +73,8 @@ class SharedFleet {
   std::optional<nlohmann::json> Vehicle(const std::string& id) const;
   nlohmann::json ActiveAlerts() const;
   nlohmann::json RemapJobs() const;
+  // Every vehicle with a pose, in id order.
+  std::vector<LatestPose> LatestPoses() const;
   // Adds the fleet's Prometheus families (supervisor_metrics.h) to `b`.
   void AddMetrics(metrics::FamilyBuilder* b) const;
   // Whether a map_server reported within `timeout_s` before `now`.

@@ -9,6 +9,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev systemd curl
           clang libclang-rt-14-dev
           prometheus-cpp-dev  # /metrics of every service (common/metrics/)
+          libmosquitto-dev mosquitto mosquitto-clients  # VDA 5050 over MQTT (supervisor, its test)
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
