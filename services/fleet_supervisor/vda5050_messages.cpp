@@ -32,8 +32,10 @@ std::optional<Velocity> VelocityBetween(const fleet::PoseSample& a, const fleet:
   const double dt = b.t - a.t;
   if (!(dt >= 1e-3)) return std::nullopt;
   const double dx = (b.x - a.x) / dt, dy = (b.y - a.y) / dt;
-  const double c = std::cos(b.theta), s = std::sin(b.theta);
-  return Velocity{c * dx + s * dy, -s * dx + c * dy, geometry::WrapAngle(b.theta - a.theta) / dt};
+  const double turn = geometry::WrapAngle(b.theta - a.theta);
+  // The chord between the poses runs along the heading halfway through the turn.
+  const double mid = a.theta + turn / 2, c = std::cos(mid), s = std::sin(mid);
+  return Velocity{c * dx + s * dy, -s * dx + c * dy, turn / dt};
 }
 
 std::string Vda5050MapId(const std::string& mosaic_id, long long version) {

@@ -29,7 +29,8 @@ std::string Vda5050Topic(const Vda5050Header& header, const std::string& serial_
 std::string Iso8601(double unix_s);
 
 // A vehicle's velocity in its own frame (vx forward, vy left, omega counter-clockwise) from two
-// poses in the map frame; nullopt when the poses are not at least 1 ms apart in order.
+// poses in the map frame (the displacement taken along the mean heading, so driving an arc reads
+// as forward motion); nullopt when the poses are not at least 1 ms apart in order.
 struct Velocity {
   double vx = 0, vy = 0, omega = 0;
 };

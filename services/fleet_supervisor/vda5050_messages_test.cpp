@@ -35,6 +35,16 @@ TEST(Vda5050, VelocityIsInTheVehicleFrame) {
   EXPECT_NEAR(v->omega, 0.0, 1e-12);
   b.theta = M_PI / 2 + 0.1;
   EXPECT_NEAR(VelocityBetween(a, b)->omega, 0.2, 1e-12);
+  // A quarter circle of radius 1 m driven forward in 1 s: all forward, no sideways motion.
+  fleet::PoseSample s0, s1;
+  s0.t = 0, s1.t = 1;
+  s0.x = 1, s0.y = 0, s0.theta = M_PI / 2;
+  s1.x = 0, s1.y = 1, s1.theta = M_PI;
+  std::optional<Velocity> arc = VelocityBetween(s0, s1);
+  ASSERT_TRUE(arc);
+  EXPECT_NEAR(arc->vx, std::sqrt(2.0), 1e-12);  // the chord's length per second
+  EXPECT_NEAR(arc->vy, 0.0, 1e-12);
+  EXPECT_NEAR(arc->omega, M_PI / 2, 1e-12);
   EXPECT_FALSE(VelocityBetween(b, a));  // out of order
   b.t = a.t;
   EXPECT_FALSE(VelocityBetween(a, b));
