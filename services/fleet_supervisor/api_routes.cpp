@@ -10,6 +10,8 @@ namespace fleetloc::fleet_supervisor {
 const std::vector<ApiRoute>& ApiRoutes() {
   static const std::vector<ApiRoute> routes = {
       {"GET", "/api/openapi.json", R"(/api/openapi\.json)"},
+      {"GET", "/healthz", "/healthz"},
+      {"GET", "/readyz", "/readyz"},
       {"GET", "/api/fleet", "/api/fleet"},
       {"GET", "/api/vehicles/{vehicle_id}", R"(/api/vehicles/([^/]+))"},
       {"GET", "/api/vehicles/{vehicle_id}/history", R"(/api/vehicles/([^/]+)/history)"},

@@ -23,6 +23,7 @@ constexpr double kPrunePeriodS = 60.0;   // retention runs once a minute
 constexpr double kAlertPeriodS = 0.1;
 constexpr double kMapServerTimeoutS = 5.0;
 constexpr dds_attach_t kFleetData = 1;
+constexpr double kMaxStepGapS = 2.0;     // /readyz: the loop steps every 10 ms when healthy
 
 // Moves a created object into *out; its Status otherwise.
 template <typename T>
@@ -34,6 +35,10 @@ Status MoveTo(Result<std::unique_ptr<T>> created, std::unique_ptr<T>* out) {
 
 double Now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double SteadyNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -97,6 +102,7 @@ Status FleetSupervisor::Open() {
   context.stream = &stream_;
   context.start_remap = [this](const transport::RemapRequest& r) { return remap_->Send(r); };
   context.map_server_listening = [this] { return remap_->ServerMatched(); };
+  context.readiness = [this] { return Readiness(); };
   http_ = std::make_unique<HttpApi>(std::move(context));
   FLEETLOC_RETURN_IF_ERROR(http_->Start(ResolveWebDir()));
   if (!config_.port_file.empty()) {
@@ -142,11 +148,28 @@ void FleetSupervisor::StoreAlerts(const std::vector<fleet::Alert>& changes) {
   }
 }
 
+// Ready: the main loop takes DDS data (it stepped within kMaxStepGapS), the newest history flush
+// succeeded, and /metrics serves when configured.
+std::vector<ReadinessCheck> FleetSupervisor::Readiness() const {
+  const double gap = SteadyNow() - last_step_.load();
+  std::vector<ReadinessCheck> checks = {
+      {"dds", gap < kMaxStepGapS, gap < kMaxStepGapS ? "" : "the DDS loop has not run for " + std::to_string(gap) + " s"},
+      {"history", history_written_.load(), history_written_.load() ? "" : config_.history_db + ": the newest write failed"},
+  };
+  if (metrics_) {
+    const std::string error = metrics_->error();
+    checks.push_back({"metrics", error.empty(), error});
+  }
+  return checks;
+}
+
 void FleetSupervisor::FlushHistory(double now) {
   if (Status written = history_->Append(pending_poses_, pending_health_); !written.ok()) {
+    history_written_ = false;
     ++fleet_->counters().history_errors;
     spdlog::error("{}", written.message());
   } else {
+    history_written_ = true;
     fleet_->counters().history_rows += pending_poses_.size() + pending_health_.size();
   }
   pending_poses_.clear(), pending_health_.clear();
@@ -160,6 +183,7 @@ void FleetSupervisor::FlushHistory(double now) {
 }
 
 void FleetSupervisor::Step(double now) {
+  last_step_ = SteadyNow();
   Received received;
   if (Status taken = listener_->Take(&received); !taken.ok()) spdlog::error("{}", taken.message());
   fleet_->Apply(received, now, &pending_poses_, &pending_health_);

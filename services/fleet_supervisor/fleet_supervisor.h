@@ -65,6 +65,10 @@ class FleetSupervisor {
   std::unique_ptr<HttpApi> http_;  // declared last: stopped first
   std::vector<StoredPose> pending_poses_;
   std::vector<StoredHealth> pending_health_;
+  // For GET /readyz, written by the main loop and read by HTTP threads.
+  std::atomic<double> last_step_{0.0};     // steady seconds of the newest loop step (DDS taken)
+  std::atomic<bool> history_written_{true};  // the newest history flush succeeded
+  std::vector<ReadinessCheck> Readiness() const;
   double next_flush_ = 0, next_prune_ = 0, next_snapshot_ = 0, next_health_ = 0, next_alerts_ = 0;
 };
 

@@ -199,6 +199,12 @@ void HttpApi::Routes() {
   s.Get(route("GET", "/api/openapi.json"), [](const Request&, Response& res) {
     res.set_content(OpenApiDocument().data(), OpenApiDocument().size(), "application/json");
   });
+  s.Get(route("GET", "/healthz"), [](const Request&, Response& res) { Reply(res, 200, {{"alive", true}}); });
+  s.Get(route("GET", "/readyz"), [this](const Request&, Response& res) {
+    bool ready = true;
+    const json body = ReadinessJson(ctx_.readiness ? ctx_.readiness() : std::vector<ReadinessCheck>{}, &ready);
+    Reply(res, ready ? 200 : 503, body);
+  });
   s.Get(route("GET", "/api/fleet"), [&fleet](const Request& req, Response& res) {
     Reply(res, 200, fleet.Fleet(Now(), req.get_param_value("trails") == "1"));
   });
