@@ -5,6 +5,8 @@
 #include <spdlog/spdlog.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -114,9 +116,13 @@ Status HttpApi::Start(const std::string& web_dir) {
   if (!s.set_mount_point("/", web_dir)) return NotFound(web_dir + ": the dashboard's web directory is missing");
   Routes();
   const SupervisorConfig& c = *ctx_.config;
-  port_ = s.Bind(c.http_bind, c.http_port);
+  int error = 0;
+  port_ = s.Bind(c.http_bind, c.http_port, &error);
   if (port_ <= 0) {
-    return Internal("cannot listen on " + c.http_bind + ":" + std::to_string(c.http_port));
+    const std::string why = error == EADDRINUSE ? "the port is in use (another supervisor or service listens there)"
+                            : error != 0        ? std::strerror(error)
+                                                : "cannot bind";
+    return Internal("cannot listen on " + c.http_bind + ":" + std::to_string(c.http_port) + ": " + why);
   }
   const long files = io::RaiseOpenFileLimit();
   const long needed = static_cast<long>(c.http.max_connections) + c.http.max_streams + 256;
