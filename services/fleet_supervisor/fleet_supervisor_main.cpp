@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "fleet_supervisor/fleet_supervisor.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9472)");
   app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
   app.add_option("--web-dir", web_dir, "Dashboard files (default: installed beside the binary)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleet_supervisor", argc, argv)) return *exit_status;
 
   SupervisorConfig config;
   if (!config_path.empty()) {

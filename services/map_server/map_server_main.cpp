@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "map_server/map_server.h"
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
   app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9471)");
   app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "map_server", argc, argv)) return *exit_status;
 
   MapServerConfig config;
   if (!config_path.empty()) {

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "io/tracker_config.h"
@@ -93,7 +94,7 @@ int main(int argc, char** argv) {
   bool relocalize = false;
   app.add_flag("--relocalize", relocalize,
                "Start without the given initial pose: find it with the map server's place index");
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "tracker_agent", argc, argv)) return *exit_status;
   tracker_agent::AgentConfig config;
   if (!config_path.empty()) {
     auto loaded = tracker_agent::LoadAgentConfig(config_path);
