@@ -11,6 +11,7 @@
 #include "io/file_util.h"
 #include "replay/replay.h"
 #include "tracker_agent/agent_metrics.h"
+#include "tracking/camera_scale_check.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -65,6 +66,8 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   layout_ = *layout;
   spdlog::info("mosaic {} version {} from '{}'", layout_.mosaic_id, layout_.version,
                transport::GetBounded(info->server_id));
+  FLEETLOC_RETURN_IF_ERROR(tracking::CheckCameraResolution(camera_.model.resolution_m, layout_.geo.resolution,
+                                                           "vehicle " + config_.vehicle_id + "'s camera"));
   auto directory = MapServerDirectory::Create(
       p, tiles_.get(), layout_, std::chrono::duration<double>(config_.map_server_timeout_s));
   if (!directory.ok()) return directory.status();
