@@ -2,7 +2,8 @@
 // tilted, differently scaled camera of another size sees (a known homography), and camera.json's
 // `raw` block describing it. The agent rectifies each frame: its published poses equal `fleetctl
 // track`'s on the same raw run (to 1e-9, the same rectification) and agree with the offline
-// tracker's on the original top-view frames.
+// tracker's on the original top-view frames. A camera at twice the mosaic's resolution is refused
+// at start (exit 2, both values named) instead of losing every frame (issue 22).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -103,6 +104,28 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
     ++matched;
   }
   EXPECT_EQ(matched, 20u);
+}
+
+TEST(AgentRawCamera, ACameraAtTwiceTheMosaicsResolutionIsRefusedAtStart) {
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
+  testing::MapServerFixture server("agent_wrong_scale", floor, kDomain);
+  const fs::path run = server.dir() / "run";
+  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() + " --frames 5 --seed 4 --out " +
+                                 run.string()).exit_code, 0);
+  nlohmann::json camera = nlohmann::json::parse(std::ifstream(run / "camera.json"));
+  ASSERT_EQ(camera["resolution"].get<double>(), 0.0005);
+  camera["resolution"] = 0.001;
+  std::ofstream(run / "camera.json") << camera.dump(2);
+  const fs::path log = server.dir() / "agent.log";
+  io::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent", {"--run", run.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
+                        "--outbox", (server.dir() / "outbox.db").string()},
+      log.string());
+  ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 30)) << testing::ReadWhole(log);
+  EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 2);
+  const std::string text = testing::ReadWhole(log);
+  EXPECT_NE(text.find("camera resolution 0.001 m/px differs from the mosaic's 0.0005 m/px"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <random>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -175,6 +176,31 @@ TEST_F(CliBadInput, TrackConfigWithAnUnknownOption) {
   WriteText(config, "{\"template_size_px\": 48, \"no_such_option\": 1}\n");
   EXPECT_TRUE(IsBadInput(Track(run_, mosaic_, " --config " + Quote(config)),
                          {"tracker.json", "no_such_option"}));
+}
+
+// The base run's camera.json with `pattern` replaced by `replacement` (regex); the text replaced.
+std::string EditCameraJson(const fs::path& run, const std::string& pattern, const std::string& replacement) {
+  const fs::path camera = run / "camera.json";
+  const std::string text = testing::ReadWhole(camera);
+  std::smatch found;
+  EXPECT_TRUE(std::regex_search(text, found, std::regex(pattern))) << text;
+  WriteText(camera, std::regex_replace(text, std::regex(pattern), replacement));
+  return found.str(1);
+}
+
+TEST_F(CliBadInput, CameraJsonWithAnUnknownKeyNamesIt) {
+  EditCameraJson(run_, R"re(("width"))re", R"re("resolutoin": 0.001, $1)re");
+  EXPECT_TRUE(IsBadInput(TrackCopy(), {"camera.json", "resolutoin", "unknown key"}));
+}
+
+TEST_F(CliBadInput, CameraAtTwiceTheMosaicsResolutionIsRefusedWithBothValues) {
+  // Before issue 22 this lost almost every frame and exited 0.
+  const std::string mosaic_resolution =
+      EditCameraJson(run_, R"re("resolution": ([0-9.e-]+))re", R"re("resolution": 0.001)re");
+  ASSERT_EQ(mosaic_resolution, "0.0005") << "the base run is at the mosaic's resolution";
+  const CommandResult r = TrackCopy();
+  EXPECT_TRUE(IsBadInput(r, {"camera resolution 0.001 m/px", "the mosaic's 0.0005 m/px", "5 %"}));
+  EXPECT_FALSE(fs::exists(poses_));
 }
 
 TEST_F(CliBadInput, TrackFramesOutOntoADirectoryIsAnErrorNamingIt) {

@@ -36,15 +36,14 @@ inline std::string ReadWhole(const std::filesystem::path& path) {
   return s.str();
 }
 
-// Runs `fleetctl <args>` (args already shell-quoted by the caller) in a fresh temp directory for
-// its captured streams.
-inline CommandResult RunFleetctl(const std::string& args) {
+// Runs the shell command line `command_line` (already quoted by the caller) with its streams
+// captured in a fresh temp directory.
+inline CommandResult RunCommand(const std::string& command_line) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() /
       ("fleetctl_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
   std::filesystem::create_directories(dir);
-  const std::string command = std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl ") + args + " >" +
-                              (dir / "out").string() + " 2>" + (dir / "err").string();
+  const std::string command = command_line + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
   const int status = std::system(command.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -52,6 +51,11 @@ inline CommandResult RunFleetctl(const std::string& args) {
   r.err = ReadWhole(dir / "err");
   std::filesystem::remove_all(dir);
   return r;
+}
+
+// Runs `fleetctl <args>` (args already shell-quoted by the caller).
+inline CommandResult RunFleetctl(const std::string& args) {
+  return RunCommand(std::string(FLEETLOC_BINARY_DIR "/bin/fleetctl ") + args);
 }
 
 // Exit status 2 and exactly one non-empty line on stderr that contains every one of `parts`.

@@ -45,6 +45,12 @@ class SupervisorProcess {
     }
   }
 
+  // Kills the supervisor without letting it clean up (SIGKILL); the destructor then has nothing to stop.
+  void Crash() {
+    process_->Stop(SIGKILL);
+    process_.reset();
+  }
+
   int port() const { return port_; }
   pid_t pid() const { return process_->pid(); }
   std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }

@@ -107,9 +107,10 @@ FleetSummary FleetState::Summary() const {
   FleetSummary s;
   for (const auto& [id, entry] : entries_) {
     ++s.vehicles;
-    if (entry.alerts.active(AlertKind::kSilent)) ++s.silent;
     const std::optional<PoseSample>& pose = entry.state.pose;
-    if (!pose) {
+    if (entry.alerts.active(AlertKind::kSilent)) {
+      ++s.silent;  // STALE: its last lock state is history, not counted as current
+    } else if (!pose) {
       ++s.unknown;
     } else {
       switch (pose->lock) {

@@ -42,7 +42,9 @@ struct VehicleState {
 
 struct FleetSummary {
   int vehicles = 0;
-  int tracking = 0, coasting = 0, lost = 0, relocalized = 0, unknown = 0;  // by newest pose
+  // Vehicles heard from within the silence alert's time, by newest pose (unknown: no pose yet).
+  int tracking = 0, coasting = 0, lost = 0, relocalized = 0, unknown = 0;
+  // STALE vehicles (silence alert active): counted here only, never by their last lock state.
   int silent = 0;
   int critical_alerts = 0, warning_alerts = 0;
 };

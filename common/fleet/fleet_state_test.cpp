@@ -67,10 +67,24 @@ TEST(FleetState, ASilentVehicleIsRaisedAfterTheTimeoutAndClearedWhenItTalksAgain
   EXPECT_TRUE(fleet.Silent("agv-1"));
   EXPECT_EQ(fleet.Summary().silent, 1);
   changes = Drive(&fleet, 10, 13, tracking, healthy);
+  EXPECT_EQ(fleet.Summary().tracking, 1);
   ASSERT_EQ(changes.size(), 1u);
   EXPECT_TRUE(changes[0].cleared_t.has_value());
   EXPECT_NEAR(*changes[0].cleared_t - kT0, 11.0, 0.11);  // 1 s of data flowing again
   EXPECT_TRUE(fleet.ActiveAlerts().empty());
+}
+
+TEST(FleetState, AStaleVehicleIsCountedAsSilentNotByItsLastLockState) {
+  FleetState fleet({}, {});
+  Drive(&fleet, 0, 5, [](double t) { return Pose(t, 1.0); }, [](double t) { return Health(t, 2.0); });
+  fleet.OnPose("agv-2", Pose(kT0 + 4.9, 3.0, LockState::kCoasting), kT0 + 4.9);
+  EXPECT_EQ(fleet.Summary().tracking, 1);
+  EXPECT_EQ(fleet.Summary().coasting, 1);
+  fleet.Evaluate(kT0 + 8.5);  // both last seen at 4.9 s: silent after 3 s
+  const FleetSummary summary = fleet.Summary();
+  EXPECT_EQ(summary.vehicles, 2);
+  EXPECT_EQ(summary.silent, 2);
+  EXPECT_EQ(summary.tracking + summary.coasting + summary.lost + summary.relocalized + summary.unknown, 0);
 }
 
 TEST(FleetState, LostLockRaisesACriticalAlertAfterOneSecond) {

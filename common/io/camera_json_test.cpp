@@ -78,9 +78,18 @@ TEST_F(CameraJsonTest, RoundTripWithRawBlockIsExact) {
   EXPECT_EQ(read->raw->H_ground, camera.raw->H_ground);
 }
 
-TEST_F(CameraJsonTest, UnknownMembersAreIgnoredAndYawIsWrapped) {
-  EXPECT_TRUE(ReadWithMember("exposure_us", "1200").ok());
-  ASSERT_TRUE(ReadWithMember("mount", R"({"x": 0.4, "y": 0, "yaw": 4.0, "z": 0.3})").ok());
+TEST_F(CameraJsonTest, UnknownKeysAreRejectedNamingTheKey) {
+  // A typo must not silently leave a field at its default (issue 22).
+  EXPECT_TRUE(HasError(ReadWithMember("resolutoin", "0.001"), StatusCode::kInvalidInput, path_, 0, "resolutoin"));
+  EXPECT_TRUE(HasError(ReadWithMember("mount", R"({"x": 0.4, "y": 0, "yaw": 0, "z": 0.3})"),
+                       StatusCode::kInvalidInput, path_, 0, "mount.z"));
+  EXPECT_TRUE(HasError(ReadWithMember("raw", R"({"K": [1,0,0, 0,1,0, 0,0,1], "dist": [0,0,0,0],
+                                                  "H_ground": [1,0,0, 0,1,0, 0,0,1], "skew": 0})"),
+                       StatusCode::kInvalidInput, path_, 0, "raw.skew"));
+}
+
+TEST_F(CameraJsonTest, YawIsWrapped) {
+  ASSERT_TRUE(ReadWithMember("mount", R"({"x": 0.4, "y": 0, "yaw": 4.0})").ok());
   Result<CameraFile> camera = ReadCameraJson(path_);
   ASSERT_TRUE(camera.ok());
   EXPECT_NEAR(camera->model.mount.theta, 4.0 - 2 * M_PI, 1e-15);

@@ -51,7 +51,10 @@ bool DdsTileLoader::IsCurrent(const ReceivedTile& tile) {
 
 void DdsTileLoader::Keep(ReceivedTile tile) {
   ++stats_.received;
-  in_flight_.erase(tile.key);
+  if (auto asked = in_flight_.find(tile.key); asked != in_flight_.end()) {
+    if (round_trip_) round_trip_(std::chrono::duration<double>(Clock::now() - asked->second).count());
+    in_flight_.erase(asked);
+  }
   if (!IsCurrent(tile)) return;
   Result<cv::Mat> decoded = NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
   if (tile.status == fleetloc_TILE_OK) {

@@ -52,6 +52,9 @@ class DdsTileLoader {
   void SetServerReachable(bool reachable) {
     SetReachability([reachable](const mosaic::TileKey&) { return reachable; });
   }
+  // Called with the seconds from a tile's (last) request to its answer, for every answer.
+  using RoundTripObserver = std::function<void(double seconds)>;
+  void SetRoundTripObserver(RoundTripObserver observer) { round_trip_ = std::move(observer); }
   // A TileUpdate announced `version` of `keys`: buffered copies are dropped, and answers older
   // than `version` for them are refused (they were in flight before the update) and asked again.
   void Invalidate(const std::vector<mosaic::TileKey>& keys, long long version);
@@ -84,6 +87,7 @@ class DdsTileLoader {
   std::map<mosaic::TileKey, long long> min_version_;  // announced by TileUpdates, not yet received
   Reachability reachable_ = [](const mosaic::TileKey&) { return true; };
   DdsTileLoaderStats stats_;
+  RoundTripObserver round_trip_;
 };
 
 }  // namespace fleetloc::transport

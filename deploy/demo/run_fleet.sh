@@ -8,7 +8,9 @@
 # FLEETLOC_VEHICLES (default 3), FLEETLOC_SECURE=1 (DDS Security, the production setting: the
 # credentials are made once in out/fleet/security/ by deploy/security/make_security.sh, each
 # process runs as its own participant, and fleetctl needs the maintainer's configuration the
-# script prints); for tests: FLEETLOC_FLEET_DIR (default out/fleet) and FLEETLOC_SKIP_SETUP=1
+# script prints), FLEETLOC_MQTT=1 (VDA 5050: a local mosquitto broker on FLEETLOC_MQTT_PORT,
+# default 1883, and the supervisor publishing every vehicle's visualization to it; the script
+# prints the mosquitto_sub command that shows them); for tests: FLEETLOC_FLEET_DIR (default out/fleet) and FLEETLOC_SKIP_SETUP=1
 # (use the existing build).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -20,6 +22,8 @@ DOMAIN="${FLEETLOC_DOMAIN:-0}"
 PORT="${FLEETLOC_HTTP_PORT:-8080}"
 VEHICLES="${FLEETLOC_VEHICLES:-3}"
 SECURE="${FLEETLOC_SECURE:-0}"
+MQTT="${FLEETLOC_MQTT:-0}"
+MQTT_PORT="${FLEETLOC_MQTT_PORT:-1883}"
 F=deploy/demo/floors
 mkdir -p "$OUT/logs"
 
@@ -64,8 +68,16 @@ start() {  # name, then the command; output to out/fleet/logs/<name>.log
 
 start map_server "$BIN/map_server" --mosaic "$OUT/mosaic.db" --domain "$DOMAIN" --server-id map-1 \
   $(dds_config server map-1)
+supervisor_config=()
+if [ "$MQTT" = 1 ]; then  # a local broker, and VDA 5050 on in the supervisor's configuration
+  printf 'listener %s 127.0.0.1\nallow_anonymous true\npersistence false\n' "$MQTT_PORT" > "$OUT/mosquitto.conf"
+  start mosquitto /usr/sbin/mosquitto -c "$OUT/mosquitto.conf"
+  printf '{"vda5050": {"enabled": true, "host": "127.0.0.1", "port": %s, "rate_hz": 2}}\n' "$MQTT_PORT" \
+    > "$OUT/fleet_supervisor.json"
+  supervisor_config=(--config "$OUT/fleet_supervisor.json")
+fi
 start fleet_supervisor "$BIN/fleet_supervisor" --domain "$DOMAIN" --http-port "$PORT" \
-  --history "$OUT/fleet_history.db" --token-file "$OUT/maintainer.token" \
+  --history "$OUT/fleet_history.db" --token-file "$OUT/maintainer.token" "${supervisor_config[@]}" \
   $(dds_config supervisor sup-1)
 for i in $(seq 1 "$VEHICLES"); do
   id="agv-$i"
@@ -82,6 +94,9 @@ echo "fleet: dashboard  http://127.0.0.1:$PORT/" >&2
 echo "fleet: maintainer token (for re-mapping from the dashboard) in $OUT/maintainer.token" >&2
 if [ "$SECURE" = 1 ]; then
   echo "fleet: DDS Security on; as a maintainer: $BIN/fleetctl status --domain $DOMAIN $(dds_config maintainer ops-1)" >&2
+fi
+if [ "$MQTT" = 1 ]; then
+  echo "fleet: VDA 5050 on mqtt://127.0.0.1:$MQTT_PORT; watch: mosquitto_sub -p $MQTT_PORT -t 'uagv/v2/fleetloc/+/visualization' -v" >&2
 fi
 echo "fleet: logs in $OUT/logs/; Ctrl-C stops everything" >&2
 # Any process that exits on its own is reported; the rest keep running until Ctrl-C.

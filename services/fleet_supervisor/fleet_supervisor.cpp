@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fleet_supervisor/supervisor_metrics.h"
 #include "io/child_process.h"
 #include "io/json_fields.h"
 #include "transport/service_health_messages.h"
@@ -22,6 +23,7 @@ constexpr double kPrunePeriodS = 60.0;   // retention runs once a minute
 constexpr double kAlertPeriodS = 0.1;
 constexpr double kMapServerTimeoutS = 5.0;
 constexpr dds_attach_t kFleetData = 1;
+constexpr double kMaxStepGapS = 2.0;     // /readyz: the loop steps every 10 ms when healthy
 
 // Moves a created object into *out; its Status otherwise.
 template <typename T>
@@ -33,6 +35,10 @@ Status MoveTo(Result<std::unique_ptr<T>> created, std::unique_ptr<T>* out) {
 
 double Now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double SteadyNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 }  // namespace
@@ -96,12 +102,23 @@ Status FleetSupervisor::Open() {
   context.stream = &stream_;
   context.start_remap = [this](const transport::RemapRequest& r) { return remap_->Send(r); };
   context.map_server_listening = [this] { return remap_->ServerMatched(); };
+  context.readiness = [this] { return Readiness(); };
   http_ = std::make_unique<HttpApi>(std::move(context));
   FLEETLOC_RETURN_IF_ERROR(http_->Start(ResolveWebDir()));
   if (!config_.port_file.empty()) {
     std::ofstream(config_.port_file) << http_->port() << "\n";
   }
+  metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "fleet_supervisor");
+  if (config_.vda5050.enabled) FLEETLOC_RETURN_IF_ERROR(MoveTo(Vda5050Publisher::Start(config_.vda5050, config_.supervisor_id), &vda_));
   return Status::Ok();
+}
+
+void FleetSupervisor::RefreshMetrics(double now) {
+  metrics::FamilyBuilder b(kSupervisorMetricPrefix, {{"service_id", config_.supervisor_id}});
+  fleet_->AddMetrics(&b);
+  AddSupervisorFamilies(AllCounters(), fleet_->MapServerAlive(now, kMapServerTimeoutS), &b);
+  if (vda_) b.Gauge("vda5050_connected", "1 while connected to the MQTT broker", vda_->connected() ? 1 : 0);
+  metrics_->Publish(b.Take());
 }
 
 Status FleetSupervisor::Restore() {
@@ -131,11 +148,28 @@ void FleetSupervisor::StoreAlerts(const std::vector<fleet::Alert>& changes) {
   }
 }
 
+// Ready: the main loop takes DDS data (it stepped within kMaxStepGapS), the newest history flush
+// succeeded, and /metrics serves when configured.
+std::vector<ReadinessCheck> FleetSupervisor::Readiness() const {
+  const double gap = SteadyNow() - last_step_.load();
+  std::vector<ReadinessCheck> checks = {
+      {"dds", gap < kMaxStepGapS, gap < kMaxStepGapS ? "" : "the DDS loop has not run for " + std::to_string(gap) + " s"},
+      {"history", history_written_.load(), history_written_.load() ? "" : config_.history_db + ": the newest write failed"},
+  };
+  if (metrics_) {
+    const std::string error = metrics_->error();
+    checks.push_back({"metrics", error.empty(), error});
+  }
+  return checks;
+}
+
 void FleetSupervisor::FlushHistory(double now) {
   if (Status written = history_->Append(pending_poses_, pending_health_); !written.ok()) {
+    history_written_ = false;
     ++fleet_->counters().history_errors;
     spdlog::error("{}", written.message());
   } else {
+    history_written_ = true;
     fleet_->counters().history_rows += pending_poses_.size() + pending_health_.size();
   }
   pending_poses_.clear(), pending_health_.clear();
@@ -149,6 +183,7 @@ void FleetSupervisor::FlushHistory(double now) {
 }
 
 void FleetSupervisor::Step(double now) {
+  last_step_ = SteadyNow();
   Received received;
   if (Status taken = listener_->Take(&received); !taken.ok()) spdlog::error("{}", taken.message());
   fleet_->Apply(received, now, &pending_poses_, &pending_health_);
@@ -176,6 +211,11 @@ void FleetSupervisor::Step(double now) {
     stream_.Publish(io::DumpJson(snapshot));
     ++fleet_->counters().stream_snapshots;
   }
+  if (metrics_->Due()) RefreshMetrics(now);
+  if (vda_ && vda_->Due(now)) {
+    const std::optional<mosaic::MosaicLayout> layout = tiles_->Layout();
+    vda_->Publish(fleet_->LatestPoses(), layout ? layout->mosaic_id : "unknown", now);
+  }
   if (now >= next_health_) {
     next_health_ = now + config_.health_period_s;
     if (Status sent = PublishHealth(); !sent.ok()) spdlog::warn("{}", sent.message());
@@ -184,11 +224,23 @@ void FleetSupervisor::Step(double now) {
 
 Status FleetSupervisor::PublishHealth() {
   transport::ServiceHealthReport report{config_.supervisor_id, "fleet_supervisor", std::nullopt,
-                                        fleet_->counters().Snapshot()};
+                                        AllCounters()};
   if (fleet_->counters().history_errors > 0) {
     report.issue = {"history_errors", fleetloc_HEALTH_ERROR, "the SQLite history could not be written"};
+  } else if (vda_ && !vda_->connected()) {
+    report.issue = {"vda5050_broker_unreachable", fleetloc_HEALTH_WARN, vda_->problem()};
+  } else if (!metrics_->error().empty()) {
+    report.issue = {"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()};
   }
   return transport::WriteServiceHealth(*health_writer_, report);
+}
+
+std::vector<std::pair<std::string, uint64_t>> FleetSupervisor::AllCounters() const {
+  std::vector<std::pair<std::string, uint64_t>> counters = fleet_->counters().Snapshot();
+  if (vda_) {
+    for (auto& c : vda_->Counters()) counters.push_back(std::move(c));
+  }
+  return counters;
 }
 
 Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
@@ -198,6 +250,7 @@ Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
     Step(Now());
   }
   http_->Stop();
+  vda_.reset();  // OFFLINE, retained
   fleet_->NewestUnstored(&pending_poses_);
   FlushHistory(Now());
   spdlog::info("stopping: {} poses and {} health reports received, {} history rows written",

@@ -16,6 +16,8 @@
 #include "fleet_supervisor/overview_tiles.h"
 #include "fleet_supervisor/shared_fleet.h"
 #include "fleet_supervisor/supervisor_config.h"
+#include "fleet_supervisor/vda5050_publisher.h"
+#include "metrics/metrics_exporter.h"
 #include "transport/remap_client.h"
 #include "transport/waitset.h"
 
@@ -30,6 +32,7 @@ class FleetSupervisor {
   // Runs until `stop` becomes true (checked every 10 ms); then stops the HTTP server.
   Status Run(const std::atomic<bool>& stop);
   int http_port() const { return http_->port(); }
+  int metrics_port() const { return metrics_ ? metrics_->port() : 0; }
 
  private:
   explicit FleetSupervisor(const SupervisorConfig& config);
@@ -39,6 +42,9 @@ class FleetSupervisor {
   void FlushHistory(double now);
   void StoreAlerts(const std::vector<fleet::Alert>& changes);
   Status PublishHealth();
+  void RefreshMetrics(double now);
+  // Every counter of the supervisor's health: its own and the VDA 5050 publisher's.
+  std::vector<std::pair<std::string, uint64_t>> AllCounters() const;
   std::string ResolveWebDir() const;
 
   SupervisorConfig config_;
@@ -52,9 +58,17 @@ class FleetSupervisor {
   std::unique_ptr<transport::Topic<fleetloc_ServiceHealth>> health_topic_;
   std::unique_ptr<transport::Writer<fleetloc_ServiceHealth>> health_writer_;
   std::unique_ptr<transport::WaitSet> waitset_;
+  // /metrics (config "metrics"); a port that cannot be bound is the health issue
+  // "metrics_unavailable", and the supervisor runs on without metrics.
+  std::unique_ptr<metrics::ServiceMetrics> metrics_;
+  std::unique_ptr<Vda5050Publisher> vda_;  // null unless "vda5050" is enabled
   std::unique_ptr<HttpApi> http_;  // declared last: stopped first
   std::vector<StoredPose> pending_poses_;
   std::vector<StoredHealth> pending_health_;
+  // For GET /readyz, written by the main loop and read by HTTP threads.
+  std::atomic<double> last_step_{0.0};     // steady seconds of the newest loop step (DDS taken)
+  std::atomic<bool> history_written_{true};  // the newest history flush succeeded
+  std::vector<ReadinessCheck> Readiness() const;
   double next_flush_ = 0, next_prune_ = 0, next_snapshot_ = 0, next_health_ = 0, next_alerts_ = 0;
 };
 

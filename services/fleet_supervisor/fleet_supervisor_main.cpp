@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "fleet_supervisor/fleet_supervisor.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
@@ -11,7 +12,8 @@ int main(int argc, char** argv) {
   using namespace fleetloc::fleet_supervisor;
   CLI::App app{"fleetloc fleet supervisor: fleet state, alerts, history and the operators' dashboard"};
   std::string config_path, history, dds_config, bind, token_file, web_dir, port_file;
-  int domain = -1, port = -1;
+  std::string metrics_port_file;
+  int domain = -1, port = -1, metrics_port = -1;
   app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
@@ -20,8 +22,10 @@ int main(int argc, char** argv) {
   app.add_option("--http-port", port, "Port (0: any free one; see --port-file)");
   app.add_option("--port-file", port_file, "Write the bound port into this file");
   app.add_option("--token-file", token_file, "File whose first line is the maintainer token");
+  app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9472)");
+  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
   app.add_option("--web-dir", web_dir, "Dashboard files (default: installed beside the binary)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleet_supervisor", argc, argv)) return *exit_status;
 
   SupervisorConfig config;
   if (!config_path.empty()) {
@@ -37,6 +41,8 @@ int main(int argc, char** argv) {
   if (!port_file.empty()) config.port_file = port_file;
   if (!token_file.empty()) config.maintainer_token = "", config.maintainer_token_file = token_file;
   if (!web_dir.empty()) config.web_dir = web_dir;
+  if (metrics_port >= 0) config.metrics.port = metrics_port;
+  if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
   fleetloc::io::SetupLogging(config.supervisor_id);
   const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
   auto supervisor = FleetSupervisor::Create(config);

@@ -56,6 +56,10 @@ json VehicleJson(const fleet::VehicleState& v, bool silent, bool trail) {
               {"health_received", v.healths},
               {"pose", v.pose ? PoseJson(*v.pose) : json(nullptr)},
               {"health", v.health ? HealthJson(*v.health) : json(nullptr)}};
+  if (silent && v.health) {  // its last report is history: the level says so, the report is kept
+    out["health"]["reported_level"] = out["health"]["level"];
+    out["health"]["level"] = fleet::HealthLevelName(fleet::HealthLevel::kStale);
+  }
   if (trail) {
     json points = json::array();
     for (const fleet::TrailPoint& p : v.trail) points.push_back({p.t, p.x, p.y});
@@ -80,6 +84,17 @@ json SummaryJson(const fleet::FleetSummary& s) {
           {"lost", s.lost},         {"relocalized", s.relocalized}, {"unknown", s.unknown},
           {"silent", s.silent},     {"critical_alerts", s.critical_alerts},
           {"warning_alerts", s.warning_alerts}};
+}
+
+json ReadinessJson(const std::vector<ReadinessCheck>& checks, bool* ready) {
+  *ready = true;
+  json out = {{"checks", json::object()}};
+  for (const ReadinessCheck& c : checks) {
+    *ready = *ready && c.ok;
+    out["checks"][c.name] = {{"ok", c.ok}, {"detail", c.detail}};
+  }
+  out["ready"] = *ready;
+  return out;
 }
 
 json RemapJobJson(const transport::RemapProgress& job) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "fleet/fleet_state.h"
@@ -16,6 +17,15 @@ namespace fleetloc::fleet_supervisor {
 nlohmann::json VehicleJson(const fleet::VehicleState& vehicle, bool silent, bool trail);
 nlohmann::json AlertJson(const fleet::Alert& alert);
 nlohmann::json SummaryJson(const fleet::FleetSummary& summary);
+// One readiness condition of the supervisor (GET /readyz): its name, whether it holds, and why not.
+struct ReadinessCheck {
+  std::string name;
+  bool ok = false;
+  std::string detail;
+};
+// {"ready": all checks hold, "checks": {name: {"ok", "detail"}}}; *ready is set to the same.
+nlohmann::json ReadinessJson(const std::vector<ReadinessCheck>& checks, bool* ready);
+
 // A re-mapping job; the 64-bit command id as a string (JavaScript numbers hold 53 bits).
 nlohmann::json RemapJobJson(const transport::RemapProgress& job);
 

@@ -3,6 +3,8 @@
 
 #include <sys/socket.h>
 
+#include <cerrno>
+
 #include "fleet_supervisor/request_stream.h"
 
 namespace fleetloc::fleet_supervisor {
@@ -39,8 +41,17 @@ GuardedServer::GuardedServer(const HttpLimits& limits, RequestPolicy policy, Eve
 
 GuardedServer::~GuardedServer() { StopGuards(); }
 
-int GuardedServer::Bind(const std::string& host, int port) {
+int GuardedServer::Bind(const std::string& host, int port, int* error) {
+  // httplib's default sets SO_REUSEPORT, with which a second server on the same port binds too and
+  // the kernel splits the connections between them. SO_REUSEADDR alone still allows a restart
+  // while old connections linger in TIME_WAIT, but not two listeners.
+  set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  errno = 0;
   const int bound = port == 0 ? bind_to_any_port(host) : (bind_to_port(host, port) ? port : -1);
+  if (error) *error = bound > 0 ? 0 : errno;
   if (bound > 0) ::listen(svr_sock_, kListenBacklog);  // deepens httplib's backlog of 5
   return bound;
 }

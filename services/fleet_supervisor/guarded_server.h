@@ -39,8 +39,9 @@ class GuardedServer : public httplib::Server {
   ~GuardedServer() override;
 
   // Binds `host`:`port` (0: any free port) with a listen backlog deep enough for a burst of
-  // connections (httplib's is 5); the bound port, or -1.
-  int Bind(const std::string& host, int port);
+  // connections (httplib's is 5), never sharing the port with another listener (no SO_REUSEPORT);
+  // the bound port, or -1 with *error (when given) set to the errno of the failure.
+  int Bind(const std::string& host, int port, int* error = nullptr);
   // Starts the front, the stream hub and the workers (before listen_after_bind).
   Status StartGuards();
   // Closes every connection and joins the guards' threads: after stop() and once

@@ -5,10 +5,13 @@
 #include <spdlog/spdlog.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 
+#include "fleet_supervisor/api_routes.h"
 #include "fleet_supervisor/fleet_view.h"
 #include "fleet_supervisor/guarded_server.h"
 #include "io/file_util.h"
@@ -113,9 +116,13 @@ Status HttpApi::Start(const std::string& web_dir) {
   if (!s.set_mount_point("/", web_dir)) return NotFound(web_dir + ": the dashboard's web directory is missing");
   Routes();
   const SupervisorConfig& c = *ctx_.config;
-  port_ = s.Bind(c.http_bind, c.http_port);
+  int error = 0;
+  port_ = s.Bind(c.http_bind, c.http_port, &error);
   if (port_ <= 0) {
-    return Internal("cannot listen on " + c.http_bind + ":" + std::to_string(c.http_port));
+    const std::string why = error == EADDRINUSE ? "the port is in use (another supervisor or service listens there)"
+                            : error != 0        ? std::strerror(error)
+                                                : "cannot bind";
+    return Internal("cannot listen on " + c.http_bind + ":" + std::to_string(c.http_port) + ": " + why);
   }
   const long files = io::RaiseOpenFileLimit();
   const long needed = static_cast<long>(c.http.max_connections) + c.http.max_streams + 256;
@@ -188,15 +195,31 @@ void HttpApi::Routes() {
     return true;
   };
 
-  s.Get("/api/fleet", [&fleet](const Request& req, Response& res) {
+  // Every handler's path comes from the route table (api_routes.h), which the OpenAPI description
+  // documents; `route` counts them so that a table entry without a handler is caught too.
+  size_t registered = 0;
+  auto route = [&registered](const char* method, const char* path) {
+    ++registered;
+    return RoutePattern(method, path);
+  };
+  s.Get(route("GET", "/api/openapi.json"), [](const Request&, Response& res) {
+    res.set_content(OpenApiDocument().data(), OpenApiDocument().size(), "application/json");
+  });
+  s.Get(route("GET", "/healthz"), [](const Request&, Response& res) { Reply(res, 200, {{"alive", true}}); });
+  s.Get(route("GET", "/readyz"), [this](const Request&, Response& res) {
+    bool ready = true;
+    const json body = ReadinessJson(ctx_.readiness ? ctx_.readiness() : std::vector<ReadinessCheck>{}, &ready);
+    Reply(res, ready ? 200 : 503, body);
+  });
+  s.Get(route("GET", "/api/fleet"), [&fleet](const Request& req, Response& res) {
     Reply(res, 200, fleet.Fleet(Now(), req.get_param_value("trails") == "1"));
   });
-  s.Get(R"(/api/vehicles/([^/]+))", [&fleet, vehicle_id](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/vehicles/{vehicle_id}"), [&fleet, vehicle_id](const Request& req, Response& res) {
     std::string id;
     if (!vehicle_id(req, res, &id)) return;
     Reply(res, 200, fleet.Vehicle(id).value_or(json{{"id", id}, {"silent", true}, {"pose", nullptr}}));
   });
-  s.Get(R"(/api/vehicles/([^/]+)/history)", [this, &config, vehicle_id](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/vehicles/{vehicle_id}/history"), [this, &config, vehicle_id](const Request& req, Response& res) {
     std::string id;
     if (!vehicle_id(req, res, &id)) return;
     double to = 0, from = 0, points = 0;
@@ -219,7 +242,7 @@ void HttpApi::Routes() {
     Reply(res, 200, {{"vehicle", id}, {"from", from}, {"to", to},
                      {"poses", PoseHistoryJson(*poses, n)}, {"health", HealthHistoryJson(*health, n)}});
   });
-  s.Get("/api/alerts", [this, &fleet](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/alerts"), [this, &fleet](const Request& req, Response& res) {
     AlertQuery q;
     q.active_only = req.get_param_value("active") == "1";
     q.vehicle_id = req.get_param_value("vehicle");
@@ -237,7 +260,7 @@ void HttpApi::Routes() {
     for (const fleet::Alert& a : *alerts) list.push_back(AlertJson(a));
     Reply(res, 200, {{"active", fleet.ActiveAlerts()}, {"history", std::move(list)}});
   });
-  s.Get("/api/mosaic", [this](const Request&, Response& res) {
+  s.Get(route("GET", "/api/mosaic"), [this](const Request&, Response& res) {
     std::optional<mosaic::MosaicLayout> layout = ctx_.tiles->Layout();
     if (!layout) return Fail(res, 503, "no map server has announced a mosaic yet");
     Reply(res, 200, {{"mosaic_id", layout->mosaic_id}, {"version", layout->version},
@@ -246,7 +269,7 @@ void HttpApi::Routes() {
                      {"origin_x", layout->geo.origin_x}, {"origin_y", layout->geo.origin_y},
                      {"resolution", layout->geo.resolution}, {"min_level", ctx_.config->min_tile_level}});
   });
-  s.Get(R"(/api/tiles/([^/]+)/([^/]+)/([^/]+)\.png)", [this, &fleet](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/tiles/{level}/{col}/{row}.png"), [this, &fleet](const Request& req, Response& res) {
     long long v[3];
     for (int i = 0; i < 3; ++i) {
       if (!ParseInt(req.matches[i + 1], &v[i]) || v[i] < 0 || v[i] > (1 << 24)) {
@@ -268,8 +291,8 @@ void HttpApi::Routes() {
       case Outcome::kError: return Fail(res, 502, answer.error);
     }
   });
-  s.Get("/api/remap", [&fleet](const Request&, Response& res) { Reply(res, 200, {{"jobs", fleet.RemapJobs()}}); });
-  s.Post("/api/remap", [this, &fleet, authorized](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/remap"), [&fleet](const Request&, Response& res) { Reply(res, 200, {{"jobs", fleet.RemapJobs()}}); });
+  s.Post(route("POST", "/api/remap"), [this, &fleet, authorized](const Request& req, Response& res) {
     if (!authorized(req, res)) return;
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded() || !body.is_object()) return Fail(res, 400, "the body must be a JSON object");
@@ -290,15 +313,22 @@ void HttpApi::Routes() {
                  request.y_min, request.x_max, request.y_max, mode);
     Reply(res, 202, {{"command_id", std::to_string(*id)}});
   });
-  s.Get("/api/auth", [authorized](const Request& req, Response& res) {
+  s.Get(route("GET", "/api/auth"), [authorized](const Request& req, Response& res) {
     if (authorized(req, res)) Reply(res, 200, {{"maintainer", true}});
   });
-  s.Get("/api/stats", [&fleet](const Request&, Response& res) {
+  s.Get(route("GET", "/api/stats"), [&fleet](const Request&, Response& res) {
     json counters;
     for (const auto& [name, value] : fleet.counters().Snapshot()) counters[name] = value;
     Reply(res, 200, counters);
   });
-  // GET /api/events never reaches here: the connection front hands it to the stream hub.
+  // GET /api/events never reaches here: the connection front hands it to the stream hub; "/" and
+  // "/{file}" are the static mount (Start).
+  size_t expected = 0;
+  for (const ApiRoute& r : ApiRoutes()) expected += std::string(r.pattern).empty() ? 0 : 1;
+  if (registered != expected) {
+    spdlog::critical("HttpApi: {} handlers for {} routes in api_routes.cpp", registered, expected);
+    std::abort();
+  }
 }
 
 }  // namespace fleetloc::fleet_supervisor

@@ -3,7 +3,8 @@
 // static files. Reads are open; every change (starting a re-mapping job) needs the maintainer
 // token as "Authorization: Bearer <token>" — 401 without it, 403 with a wrong one or when no token
 // is configured (read-only), 429 while the client must wait after repeated wrong tokens
-// (auth_throttle.h). Bad input gets a 4xx JSON {"error": "..."} and is counted. The API is listed
+// (auth_throttle.h). GET /healthz answers 200 while the process serves HTTP; GET /readyz 200 when
+// every readiness check holds, else 503 naming the failing ones. Bad input gets a 4xx JSON {"error": "..."} and is counted. The API is listed
 // in docs/architecture.md; what a client may cost the server, in http_limits.h.
 #pragma once
 
@@ -15,6 +16,7 @@
 #include "base/status.h"
 #include "fleet_supervisor/auth_throttle.h"
 #include "fleet_supervisor/event_stream.h"
+#include "fleet_supervisor/fleet_view.h"
 #include "fleet_supervisor/history_store.h"
 #include "fleet_supervisor/overview_tiles.h"
 #include "fleet_supervisor/shared_fleet.h"
@@ -36,6 +38,8 @@ struct ApiContext {
   // Sends a RemapCommand; Unavailable-like Internal when no map server listens.
   std::function<Result<uint64_t>(const transport::RemapRequest&)> start_remap;
   std::function<bool()> map_server_listening;
+  // The conditions GET /readyz reports (see fleet_supervisor.cpp); none: ready once serving.
+  std::function<std::vector<ReadinessCheck>()> readiness;
 };
 
 class HttpApi {

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "fleet_supervisor/fleet_view.h"
+#include "fleet_supervisor/supervisor_metrics.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -169,6 +170,21 @@ json SharedFleet::ActiveAlerts() const {
 json SharedFleet::RemapJobs() const {
   std::lock_guard lock(mutex_);
   return JobsJson();
+}
+
+std::vector<LatestPose> SharedFleet::LatestPoses() const {
+  std::lock_guard lock(mutex_);
+  std::vector<LatestPose> out;
+  out.reserve(fleet_.size());
+  fleet_.ForEach([&](const fleet::VehicleState& v) {
+    if (v.pose) out.push_back({v.id, *v.pose, v.last_seen});
+  });
+  return out;
+}
+
+void SharedFleet::AddMetrics(metrics::FamilyBuilder* b) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  AddFleetFamilies(fleet_, b);
 }
 
 bool SharedFleet::MapServerAlive(double now, double timeout_s) const {

@@ -19,6 +19,10 @@
 #include "fleet_supervisor/history_store.h"
 #include "transport/remap_client.h"
 
+namespace fleetloc::metrics {
+class FamilyBuilder;
+}
+
 namespace fleetloc::fleet_supervisor {
 
 // Event counters (served at /api/stats and in the supervisor's ServiceHealth).
@@ -36,6 +40,13 @@ struct SupervisorCounters {
   std::atomic<int64_t> http_connections_open{0}, http_streams_open{0};
   // (name, value) pairs in a fixed order.
   std::vector<std::pair<std::string, uint64_t>> Snapshot() const;
+};
+
+// A vehicle's newest pose and when the supervisor last heard from it (its clock).
+struct LatestPose {
+  std::string vehicle_id;
+  fleet::PoseSample pose;
+  double last_seen = 0;
 };
 
 class SharedFleet {
@@ -62,6 +73,10 @@ class SharedFleet {
   std::optional<nlohmann::json> Vehicle(const std::string& id) const;
   nlohmann::json ActiveAlerts() const;
   nlohmann::json RemapJobs() const;
+  // Every vehicle with a pose, in id order.
+  std::vector<LatestPose> LatestPoses() const;
+  // Adds the fleet's Prometheus families (supervisor_metrics.h) to `b`.
+  void AddMetrics(metrics::FamilyBuilder* b) const;
   // Whether a map_server reported within `timeout_s` before `now`.
   bool MapServerAlive(double now, double timeout_s) const;
 

@@ -1,5 +1,6 @@
 // SharedFleet's re-mapping jobs: with the mosaic split across map servers every server runs each
 // command, and the supervisor keeps (and the dashboard shows) one job per command and server.
+// A vehicle that stopped talking is STALE in every view (fleet summary, its health).
 #include "fleet_supervisor/shared_fleet.h"
 
 #include <gtest/gtest.h>
@@ -33,6 +34,31 @@ TEST(SharedFleet, KeepsOneRemapJobPerCommandAndServer) {
   }
   EXPECT_EQ(state_by_server["ms-east"], "done");
   EXPECT_EQ(state_by_server["ms-west"], "failed");
+}
+
+TEST(SharedFleet, AVehicleThatStoppedTalkingIsStaleInTheSummaryAndItsHealth) {
+  SharedFleet fleet(fleet::AlertOptions{}, fleet::TrailOptions{}, 1.0);  // silent after 3 s
+  constexpr double kT0 = 1.7e9;
+  fleet::VehicleState v;
+  v.id = "agv-1";
+  v.pose = fleet::PoseSample{};
+  v.pose->t = kT0, v.pose->lock = tracking::LockState::kTracking;
+  v.health = fleet::HealthSample{};
+  v.health->t = kT0, v.health->level = fleet::HealthLevel::kOk;
+  v.last_seen = kT0;
+  fleet.Restore({v}, {});
+  fleet.Evaluate(kT0 + 1.0);
+  nlohmann::json now = fleet.Fleet(kT0 + 1.0, false);
+  EXPECT_EQ(now["summary"]["tracking"], 1) << now.dump();
+  EXPECT_EQ(now["vehicles"][0]["health"]["level"], "ok");
+  fleet.Evaluate(kT0 + 4.0);
+  now = fleet.Fleet(kT0 + 4.0, false);
+  EXPECT_EQ(now["summary"]["tracking"], 0) << now.dump();
+  EXPECT_EQ(now["summary"]["silent"], 1);
+  EXPECT_EQ(now["vehicles"][0]["silent"], true);
+  EXPECT_EQ(now["vehicles"][0]["health"]["level"], "stale");
+  EXPECT_EQ(now["vehicles"][0]["health"]["reported_level"], "ok");
+  EXPECT_EQ((*fleet.Vehicle("agv-1"))["health"]["level"], "stale");
 }
 
 }  // namespace

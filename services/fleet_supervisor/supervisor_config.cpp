@@ -37,7 +37,8 @@ Status Validate(const SupervisorConfig& c) {
   }
   if (Status alerts = fleet::Validate(c.alerts); !alerts.ok()) return bad("alerts", alerts.message());
   if (const std::string problem = LimitsProblem(c.http); !problem.empty()) return bad("http", problem);
-  return Status::Ok();
+  if (c.vda5050.enabled) FLEETLOC_RETURN_IF_ERROR(Validate(c.vda5050));
+  return metrics::Validate(c.metrics, "fleet supervisor config");
 }
 
 namespace {
@@ -150,7 +151,7 @@ Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path) {
       {"max_query_range_s", &c.max_query_range_s}, {"stream_period_s", &c.stream_period_s},
       {"tile_timeout_s", &c.tile_timeout_s}, {"health_period_s", &c.health_period_s}};
   for (const auto& [key, value] : json->items()) {
-    bool known = key == "alerts" || key == "trail" || key == "http";
+    bool known = key == "alerts" || key == "trail" || key == "http" || key == "metrics" || key == "vda5050";
     for (const auto& [name, out] : strings) known |= key == name;
     for (const auto& [name, out] : ints) known |= key == name;
     for (const auto& [name, out] : numbers) known |= key == name;
@@ -172,6 +173,8 @@ Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path) {
   if (fields.Has("alerts")) FLEETLOC_RETURN_IF_ERROR(ReadAlerts(fields, (*json)["alerts"], &c.alerts));
   if (fields.Has("trail")) FLEETLOC_RETURN_IF_ERROR(ReadTrail(fields, (*json)["trail"], &c.trail));
   if (fields.Has("http")) FLEETLOC_RETURN_IF_ERROR(ReadHttp(fields, (*json)["http"], &c.http));
+  if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
+  if (fields.Has("vda5050")) FLEETLOC_RETURN_IF_ERROR(ReadVda5050Options(fields, *json, &c.vda5050));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

@@ -7,6 +7,8 @@
 #include "base/status.h"
 #include "fleet/fleet_state.h"
 #include "fleet_supervisor/http_limits.h"
+#include "fleet_supervisor/vda5050_options.h"
+#include "metrics/metrics_options.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -36,6 +38,17 @@ struct SupervisorConfig {
   fleet::AlertOptions alerts;
   fleet::TrailOptions trail;
   HttpLimits http;                          // connection, stream, head and auth limits ("http")
+  // Prometheus /metrics on a port of its own ("metrics"; on by default at 127.0.0.1:9472).
+  metrics::MetricsOptions metrics = DefaultMetrics();
+  // VDA 5050 visualization over MQTT for a fleet manager ("vda5050"; off by default).
+  Vda5050Options vda5050;
+
+  static metrics::MetricsOptions DefaultMetrics() {
+    metrics::MetricsOptions m;
+    m.enabled = true;
+    m.port = 9472;
+    return m;
+  }
 };
 
 Status Validate(const SupervisorConfig& config);

@@ -96,6 +96,37 @@ TEST(SupervisorConfig, HttpLimitsAreReadAndChecked) {
   EXPECT_EQ(c->http.max_streams, HttpLimits{}.max_streams);  // default kept
 }
 
+TEST(SupervisorConfig, MetricsAreOnByDefaultAndConfigurable) {
+  EXPECT_TRUE(SupervisorConfig{}.metrics.enabled);
+  EXPECT_EQ(SupervisorConfig{}.metrics.port, 9472);
+  auto c = LoadSupervisorConfig(Write("metrics", R"({"metrics": {"enabled": false, "port": 9500, "threads": 2}})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_FALSE(c->metrics.enabled);
+  EXPECT_EQ(c->metrics.port, 9500);
+  EXPECT_EQ(c->metrics.threads, 2);
+  EXPECT_EQ(c->metrics.bind, "127.0.0.1");  // default kept
+}
+
+TEST(SupervisorConfig, Vda5050IsOffByDefaultAndReadWithItsSerialNumbers) {
+  EXPECT_FALSE(SupervisorConfig{}.vda5050.enabled);
+  auto c = LoadSupervisorConfig(Write("vda", R"({"vda5050": {"enabled": true, "host": "broker.site", "port": 8883,
+      "username": "fleet", "password_file": "/etc/fleetloc/mqtt_password", "tls": true, "ca_file": "/etc/ca.pem",
+      "interface_name": "site-a", "manufacturer": "acme", "rate_hz": 2, "max_pose_age_s": 5,
+      "serial_numbers": {"agv-1": "SN-001"}, "connection_serial": "fleetloc-sup"}})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  const Vda5050Options& v = c->vda5050;
+  EXPECT_TRUE(v.enabled);
+  EXPECT_EQ(v.host, "broker.site");
+  EXPECT_EQ(v.port, 8883);
+  EXPECT_TRUE(v.tls);
+  EXPECT_EQ(v.header.interface_name, "site-a");
+  EXPECT_EQ(v.header.manufacturer, "acme");
+  EXPECT_EQ(v.rate_hz, 2);
+  EXPECT_EQ(v.serial_numbers.at("agv-1"), "SN-001");
+  EXPECT_EQ(v.connection_serial, "fleetloc-sup");
+  EXPECT_EQ(v.keepalive_s, 10);  // default kept
+}
+
 TEST(SupervisorConfig, BadFieldsAreNamed) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"colour": 1})", "colour"},
@@ -112,6 +143,16 @@ TEST(SupervisorConfig, BadFieldsAreNamed) {
       {R"({"http": {"max_conections": 5}})", "max_conections"},
       {R"({"http": {"allowed_hosts": "x"}})", "allowed_hosts"},
       {R"({"http": {"allowed_hosts": ["a b"]}})", "allowed_hosts"},
+      {R"({"metrics": {"prot": 1}})", "metrics.prot"},
+      {R"({"metrics": {"port": -1}})", "metrics.port"},
+      {R"({"vda5050": {"brokr": "x"}})", "vda5050.brokr"},
+      {R"({"vda5050": {"enabled": true, "port": 0}})", "vda5050.port"},
+      {R"({"vda5050": {"enabled": true, "rate_hz": 100}})", "vda5050.rate_hz"},
+      {R"({"vda5050": {"enabled": true, "manufacturer": "a/b"}})", "vda5050.manufacturer"},
+      {R"({"vda5050": {"enabled": true, "password": "p"}})", "vda5050.username"},
+      {R"({"vda5050": {"enabled": true, "tls": true}})", "vda5050.ca_file"},
+      {R"({"vda5050": {"enabled": true, "serial_numbers": {"agv-1": "a#b"}}})", "serial_numbers.agv-1"},
+      {R"({"vda5050": {"serial_numbers": ["x"]}})", "serial_numbers"},
   };
   for (const auto& [json, field] : cases) {
     auto c = LoadSupervisorConfig(Write("bad", json));

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "map_server/server_metrics.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -67,6 +68,7 @@ Status MapServer::Open() {
       &participant_));
   FLEETLOC_RETURN_IF_ERROR(OpenTopics());
   FLEETLOC_RETURN_IF_ERROR(OpenServices());
+  metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "map_server");
   return PublishMosaicInfo();
 }
 
@@ -242,6 +244,7 @@ std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   }
   if (!quarantined.empty()) return {{"vehicle_quarantined", fleetloc_HEALTH_WARN, quarantined}};
   if (new_rejects) return {{"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()}};
+  if (!metrics_->error().empty()) return {{"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()}};
   // The floor repeats itself: a vehicle lost there is refused as ambiguous until it moves on.
   if (place_index_) {
     if (std::optional<std::string> similar = place_index_->self_similarity_warning())
@@ -254,6 +257,14 @@ Status MapServer::PublishHealth() {
   transport::ServiceHealthReport report{config_.server_id, "map_server", HealthIssue(),
                                         counters_.Snapshot()};
   return transport::WriteServiceHealth(*health_writer_, report);
+}
+
+void MapServer::RefreshMetrics() {
+  MapServerMetricsInput in{counters_.Snapshot(), tiles_->reply_latency().Snapshot(), tiles_->cache_stats(),
+                           tiles_->pending(), store_->layout().version};
+  metrics::FamilyBuilder b(kMapServerMetricPrefix, {{"service_id", config_.server_id}});
+  AddMapServerFamilies(in, &b);
+  metrics_->Publish(b.Take());
 }
 
 Status MapServer::ServeOnce() {
@@ -295,6 +306,7 @@ Status MapServer::Run(const std::atomic<bool>& stop) {
   auto next_health = Clock::now();
   while (!stop.load()) {
     if (Status served = ServeOnce(); !served.ok()) spdlog::error("{}", served.message());
+    if (metrics_->Due()) RefreshMetrics();
     if (Clock::now() >= next_health) {
       if (Status sent = PublishHealth(); !sent.ok()) spdlog::warn("{}", sent.message());
       next_health += std::chrono::duration_cast<Clock::duration>(period);

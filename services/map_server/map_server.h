@@ -18,6 +18,7 @@
 #include "map_server/server_counters.h"
 #include "map_server/tile_service.h"
 #include "map_server/vehicle_channels.h"
+#include "metrics/metrics_exporter.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/mosaic_retention.h"
 #include "mosaic/remap_job.h"
@@ -41,12 +42,14 @@ class MapServer {
   Status Run(const std::atomic<bool>& stop);
 
   const ServerCounters& counters() const { return counters_; }
+  int metrics_port() const { return metrics_ ? metrics_->port() : 0; }
 
  private:
   explicit MapServer(const MapServerConfig& config);
   Status Open();
   Status PublishMosaicInfo();
   Status PublishHealth();
+  void RefreshMetrics();
   Status ServeOnce();
   Status OpenTopics();
   Status OpenServices();
@@ -92,6 +95,9 @@ class MapServer {
   std::unique_ptr<PatchService> patch_service_;
   std::unique_ptr<transport::PlaceIndexPublisher> place_index_publisher_;
   std::unique_ptr<PlaceIndexService> place_index_;  // null unless config_.serve_place_index
+  // /metrics (config "metrics"); a port that cannot be bound is the health issue
+  // "metrics_unavailable", and the server runs on without metrics.
+  std::unique_ptr<metrics::ServiceMetrics> metrics_;
   std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
   // The health report's issue, worst first: tile read errors, quarantined vehicles, rejects.
   std::optional<transport::ServiceHealthReport::Issue> HealthIssue();

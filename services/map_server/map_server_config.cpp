@@ -36,7 +36,7 @@ Status Validate(const MapServerConfig& c) {
   }
   if (const std::string problem = IntakeProblem(c.intake); !problem.empty()) return bad("patch_intake", problem);
   if (const std::string problem = RetentionProblem(c.retention); !problem.empty()) return bad("retention", problem);
-  return Status::Ok();
+  return metrics::Validate(c.metrics, "map server config");
 }
 
 namespace {
@@ -66,7 +66,7 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
       "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
       "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
       "serve_place_index", "self_similarity_grid", "patch_admission", "patch_intake",
-      "retention"};
+      "retention", "metrics"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -111,6 +111,7 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
     if (!admission.ok()) return admission.status();
     FLEETLOC_RETURN_IF_ERROR(ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
   }
+  if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

@@ -7,6 +7,7 @@
 
 #include "base/status.h"
 #include "map_server/resource_config.h"
+#include "metrics/metrics_options.h"
 #include "mosaic/remap_job.h"
 #include "mosaic/tile_ownership.h"
 
@@ -37,6 +38,15 @@ struct MapServerConfig {
   int self_similarity_grid = 3;
   // How re-mapping jobs judge patches and when a vehicle is quarantined ("patch_admission").
   mosaic::RemapPolicy remap_policy;
+  // Prometheus /metrics on a port of its own ("metrics"; on by default at 127.0.0.1:9471).
+  metrics::MetricsOptions metrics = DefaultMetrics();
+
+  static metrics::MetricsOptions DefaultMetrics() {
+    metrics::MetricsOptions m;
+    m.enabled = true;
+    m.port = 9471;
+    return m;
+  }
 };
 
 Status Validate(const MapServerConfig& config);

@@ -58,6 +58,16 @@ struct BadCase {
   const char* field;
 };
 
+TEST(MapServerConfig, MetricsAreOnByDefaultAndConfigurable) {
+  EXPECT_TRUE(MapServerConfig{}.metrics.enabled);
+  EXPECT_EQ(MapServerConfig{}.metrics.port, 9471);
+  auto config = LoadMapServerConfig(WriteConfig("metrics", R"({"mosaic": "m.db", "metrics": {"port": 0, "bind": "::1"}})"));
+  ASSERT_TRUE(config.ok()) << config.status().message();
+  EXPECT_EQ(config->metrics.port, 0);
+  EXPECT_EQ(config->metrics.bind, "::1");
+  EXPECT_TRUE(config->metrics.enabled);
+}
+
 TEST(MapServerConfig, BadFieldsAreNamed) {
   const BadCase cases[] = {
       {R"({"mosaic": "m.db", "colour": 1})", "colour"},
@@ -83,6 +93,8 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
       {R"({"mosaic": "m.db", "retention": {"prune_period_s": 1}})", "prune_period_s"},
       {R"({"mosaic": "m.db", "self_similarity_grid": 17})", "self_similarity_grid"},
       {R"({"mosaic": "m.db", "self_similarity_grid": 2.5})", "self_similarity_grid"},
+      {R"({"mosaic": "m.db", "metrics": {"ports": 1}})", "metrics.ports"},
+      {R"({"mosaic": "m.db", "metrics": {"threads": 0}})", "metrics.threads"},
   };
   int i = 0;
   for (const BadCase& c : cases) {

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "map_server/map_server.h"
@@ -9,14 +10,16 @@
 int main(int argc, char** argv) {
   using fleetloc::map_server::MapServerConfig;
   CLI::App app{"fleetloc map server: the shared mosaic over DDS"};
-  std::string config_path, mosaic, server_id, dds_config;
-  int domain = -1;
+  std::string config_path, mosaic, server_id, dds_config, metrics_port_file;
+  int domain = -1, metrics_port = -1;
   app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
   app.add_option("--mosaic", mosaic, "Mosaic file (overrides the configuration)");
   app.add_option("--server-id", server_id, "Server id (overrides the configuration)");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9471)");
+  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "map_server", argc, argv)) return *exit_status;
 
   MapServerConfig config;
   if (!config_path.empty()) {
@@ -28,6 +31,8 @@ int main(int argc, char** argv) {
   if (!server_id.empty()) config.server_id = server_id;
   if (domain >= 0) config.domain_id = domain;
   if (!dds_config.empty()) config.dds_config_path = dds_config;
+  if (metrics_port >= 0) config.metrics.port = metrics_port;
+  if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
   fleetloc::io::SetupLogging(config.server_id);
   const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
   auto server = fleetloc::map_server::MapServer::Create(config);

@@ -48,7 +48,8 @@ void TileService::Receive(const fleetloc_TileRequest& sample) {
                           std::to_string(max_tiles_per_request_));
     return;
   }
-  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {}};
+  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {},
+                  std::chrono::steady_clock::now()};
   for (uint32_t i = 0; i < sample.tiles._length; ++i) {
     request.tiles.push_back(transport::FromIdl(sample.tiles._buffer[i]));
   }
@@ -93,6 +94,7 @@ void TileService::Answer(const Request& request, VehicleChannel& channel) {
       counters_->Add("tile_bytes_served", bytes->total());
     }
   }
+  reply_latency_.Observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - request.received).count());
 }
 
 Result<mosaic::TilePtr> TileService::EncodedTile(const mosaic::TileKey& key) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "map_server/pending_replies.h"
+#include "metrics/histogram.h"
 #include "map_server/server_counters.h"
 #include "map_server/vehicle_channels.h"
 #include "mosaic/tile_cache.h"
@@ -35,6 +36,9 @@ class TileService {
   size_t pending() const { return pending_.size(); }
   // Forgets every cached tile (after the store moved to a new mosaic version).
   void DropCache() { cache_.Clear(); }
+  mosaic::TileCacheStats cache_stats() const { return cache_.stats(); }
+  // Seconds from a request's arrival to its last tile written (answered requests only).
+  const metrics::Histogram& reply_latency() const { return reply_latency_; }
 
  private:
   struct Request {
@@ -42,6 +46,7 @@ class TileService {
     uint32_t request_id = 0;
     std::string mosaic_id;
     std::vector<mosaic::TileKey> tiles;
+    std::chrono::steady_clock::time_point received;
   };
   void Answer(const Request& request, VehicleChannel& channel);
   // One Tile reply for `key` (status and bytes filled in); `bytes` keeps the payload alive.
@@ -56,6 +61,7 @@ class TileService {
   int max_tiles_per_request_;
   PendingReplies<Request> pending_;
   mosaic::TileCache cache_;  // encoded tiles as 1×N CV_8U rows
+  metrics::Histogram reply_latency_{metrics::Histogram::LatencyBoundsS()};
 };
 
 }  // namespace fleetloc::map_server

@@ -52,7 +52,7 @@ Status Validate(const AgentConfig& c) {
   if (!(c.position_update_half_life_s >= 0 && c.position_update_half_life_s <= 60)) {
     return bad("position_update_half_life_s", "must be in [0, 60]");
   }
-  return Status::Ok();
+  return metrics::Validate(c.metrics, "tracker agent config");
 }
 
 Result<AgentConfig> LoadAgentConfig(const std::string& path) {
@@ -66,7 +66,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
       "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames",
       "relocalize_interval_s", "relocalize_trajectory_frames", "landmarks", "position_update_period_s", "position_update_window_s",
-      "position_update_half_life_s"};
+      "position_update_half_life_s", "metrics"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -119,6 +119,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
     FLEETLOC_RETURN_IF_ERROR(fields.Bool("relocalize_on_lost", &c.relocalize_on_lost));
   }
   if (fields.Has("paced")) FLEETLOC_RETURN_IF_ERROR(fields.Bool("paced", &c.paced));
+  if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

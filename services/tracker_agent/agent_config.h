@@ -5,6 +5,7 @@
 #include <string>
 
 #include "base/status.h"
+#include "metrics/metrics_options.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -59,6 +60,14 @@ struct AgentConfig {
   double position_update_period_s = 1.0;     // one map fit per this much forward-camera time
   double position_update_window_s = 2.0;     // ... over the detections of this last stretch
   double position_update_half_life_s = 1.0;  // older detections count less (0: all alike)
+  // Prometheus /metrics ("metrics"; off by default; port 9473 when enabled without one).
+  metrics::MetricsOptions metrics = DefaultMetrics();
+
+  static metrics::MetricsOptions DefaultMetrics() {
+    metrics::MetricsOptions m;
+    m.port = 9473;
+    return m;
+  }
 };
 
 Status Validate(const AgentConfig& config);

@@ -69,6 +69,14 @@ TEST(AgentConfig, ShippedSampleLoads) {
   ASSERT_TRUE(c.ok()) << c.status().message();
 }
 
+TEST(AgentConfig, MetricsAreOffByDefaultAndConfigurable) {
+  EXPECT_FALSE(AgentConfig{}.metrics.enabled);
+  auto c = LoadAgentConfig(Write("metrics", R"({"run": "r", "metrics": {"enabled": true, "port": 9600}})"));
+  ASSERT_TRUE(c.ok()) << c.status().message();
+  EXPECT_TRUE(c->metrics.enabled);
+  EXPECT_EQ(c->metrics.port, 9600);
+}
+
 TEST(AgentConfig, BadFieldsAreNamed) {
   const std::pair<const char*, const char*> cases[] = {
       {R"({"run": "r", "wheels": 4})", "wheels"},
@@ -89,6 +97,8 @@ TEST(AgentConfig, BadFieldsAreNamed) {
       {R"({"run": "r", "position_update_period_s": 0})", "position_update_period_s"},
       {R"({"run": "r", "position_update_window_s": 100})", "position_update_window_s"},
       {R"({"run": "r", "position_update_half_life_s": -1})", "position_update_half_life_s"},
+      {R"({"run": "r", "metrics": {"enabled": true, "colour": 1}})", "metrics.colour"},
+      {R"({"run": "r", "metrics": {"request_timeout_s": 100}})", "metrics.request_timeout_s"},
   };
   int i = 0;
   for (const auto& [json, field] : cases) {

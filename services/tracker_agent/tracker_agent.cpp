@@ -10,6 +10,8 @@
 
 #include "io/file_util.h"
 #include "replay/replay.h"
+#include "tracker_agent/agent_metrics.h"
+#include "tracking/camera_scale_check.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -64,6 +66,8 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   layout_ = *layout;
   spdlog::info("mosaic {} version {} from '{}'", layout_.mosaic_id, layout_.version,
                transport::GetBounded(info->server_id));
+  FLEETLOC_RETURN_IF_ERROR(tracking::CheckCameraResolution(camera_.model.resolution_m, layout_.geo.resolution,
+                                                           "vehicle " + config_.vehicle_id + "'s camera"));
   auto directory = MapServerDirectory::Create(
       p, tiles_.get(), layout_, std::chrono::duration<double>(config_.map_server_timeout_s));
   if (!directory.ok()) return directory.status();
@@ -73,6 +77,7 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
       tiles_.get(), layout_.mosaic_id, layout_.tile_size_px,
       std::chrono::milliseconds(config_.tile_timeout_ms));
   loader_->SetReachability([this](const mosaic::TileKey& key) { return map_servers_->Reachable(key); });
+  loader_->SetRoundTripObserver([this](double seconds) { tile_round_trip_.Observe(seconds); });
   tile_cache_ = std::make_shared<mosaic::TileCache>(static_cast<size_t>(config_.tile_cache_mb) << 20);
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   tracker_ = std::make_unique<tracking::MosaicTracker>(options, camera_.model, view_.get());
@@ -94,6 +99,8 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   if (!outbox.ok()) return outbox.status();
   outbox_ = std::move(outbox).value();
   rectifier_ = replay::RectifierFor(camera_);
+  metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "tracker_agent");
+  if (!metrics_->error().empty()) health_.RecordError(metrics_->error());  // the health's last error
   return Status::Ok();
 }
 
@@ -185,6 +192,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   coasting_in_a_row_ = result.state == tracking::LockState::kCoasting ? coasting_in_a_row_ + 1 : 0;
   if (result.state == tracking::LockState::kTracking) relocalizer_->ResetTrajectory();
   health_.RecordFrame(result, ms);
+  cycle_seconds_.Observe(ms / 1000.0);
   state_ = result.state;
   if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) return;  // published there
   propagator_->SetAnchor(t, *odom, result.base_in_map);
@@ -325,6 +333,27 @@ void TrackerAgent::PublishHealth() {
   if (Status sent = health_writer_->Write(health); !sent.ok()) health_.RecordError(sent.message());
 }
 
+void TrackerAgent::RefreshMetrics() {
+  AgentMetricsInput in;
+  in.lock_state = state_;
+  in.frames = health_.frames();
+  in.cycle_seconds = cycle_seconds_.Snapshot();
+  in.tile_round_trip_seconds = tile_round_trip_.Snapshot();
+  in.cache = tile_cache_->stats();
+  in.loader = loader_->stats();
+  in.tiles_pending = loader_->pending();
+  const Result<long long> outbox = outbox_->Size();
+  const Result<long long> dropped = outbox_->Dropped();
+  in.outbox_patches = outbox.ok() ? *outbox : 0;
+  in.outbox_dropped = dropped.ok() ? *dropped : 0;
+  in.map_server_reachable = map_server_reachable_;
+  in.relocalization_attempts = relocalizer_->stats().attempts;
+  in.relocalization_found = relocalizer_->stats().found;
+  metrics::FamilyBuilder b(kAgentMetricPrefix, {{"vehicle_id", config_.vehicle_id}});
+  AddAgentFamilies(in, &b);
+  metrics_->Publish(b.Take());
+}
+
 Status TrackerAgent::WriteSummary() const {
   const RelocalizationStats& reloc = relocalizer_->stats();
   nlohmann::json summary{
@@ -390,6 +419,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     relocalizer_->Poll();
     PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
+    if (metrics_->Due()) RefreshMetrics();
   }
   DrainPatches(stop);
   PublishHealth();

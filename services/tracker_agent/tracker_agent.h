@@ -21,6 +21,8 @@
 #include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "tracker_agent/agent_config.h"
+#include "metrics/histogram.h"
+#include "metrics/metrics_exporter.h"
 #include "tracker_agent/agent_health.h"
 #include "tracker_agent/agent_position_update.h"
 #include "tracker_agent/agent_relocalizer.h"
@@ -88,6 +90,7 @@ class TrackerAgent {
   // one that is not. map_server_reachable_: every owning server is.
   void UpdateMapServerReachability();
   void PublishHealth();
+  void RefreshMetrics();
   // Queues the frame as a patch when it shows floor the mosaic does not (rate-limited).
   void MaybeCollectPatch(double t, const cv::Mat& frame, const tracking::FrameResult& result);
   // One acknowledgement (DecideAck): counts it for its replica, or drops a rejected patch.
@@ -136,6 +139,10 @@ class TrackerAgent {
   bool started_ = false;
   bool map_server_reachable_ = true;
   AgentHealth health_;
+  // Prometheus /metrics (config "metrics", off by default): refreshed from the loop.
+  metrics::Histogram cycle_seconds_{metrics::Histogram::LatencyBoundsS()};
+  metrics::Histogram tile_round_trip_{metrics::Histogram::LatencyBoundsS()};
+  std::unique_ptr<metrics::ServiceMetrics> metrics_;
 };
 
 }  // namespace fleetloc::tracker_agent

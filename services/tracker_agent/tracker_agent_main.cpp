@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "cli/command_line.h"
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "io/tracker_config.h"
@@ -72,7 +73,8 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
 int main(int argc, char** argv) {
   CLI::App app{"fleetloc tracker agent: one vehicle's pose over the shared mosaic, live over DDS"};
   std::string config_path, vehicle_id, run, dds_config, outbox, summary;
-  int domain = -1;
+  int domain = -1, metrics_port = -1;
+  std::string metrics_port_file;
   bool fast = false;
   app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
   app.add_option("--vehicle-id", vehicle_id, "Vehicle id (overrides the configuration)");
@@ -84,13 +86,15 @@ int main(int argc, char** argv) {
   app.add_option("--sim-floor", sim_floor, "Drive a live simulated vehicle over this floor image forever");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
+  app.add_option("--metrics-port", metrics_port, "Serve Prometheus /metrics on this port (0: any free one; off by default)");
+  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
   app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
   app.add_option("--summary", summary, "Write a JSON summary (frames, cycle times) at exit");
   app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
   bool relocalize = false;
   app.add_flag("--relocalize", relocalize,
                "Start without the given initial pose: find it with the map server's place index");
-  CLI11_PARSE(app, argc, argv);
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "tracker_agent", argc, argv)) return *exit_status;
   tracker_agent::AgentConfig config;
   if (!config_path.empty()) {
     auto loaded = tracker_agent::LoadAgentConfig(config_path);
@@ -110,6 +114,8 @@ int main(int argc, char** argv) {
   if (!outbox.empty()) config.outbox_path = outbox;
   if (!summary.empty()) config.summary_path = summary;
   if (!landmarks.empty()) config.landmarks_path = landmarks;
+  if (metrics_port >= 0) config.metrics.enabled = true, config.metrics.port = metrics_port;
+  if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
   io::SetupLogging(config.vehicle_id);
   const Status ran = RunAgent(config, io::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());

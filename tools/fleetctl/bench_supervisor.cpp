@@ -41,6 +41,7 @@ struct SupervisorBenchArgs {
   int domain = 102;
   std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-supervisor").string();
   std::string json;
+  std::string supervisor_config;  // passed to the supervisor as --config (e.g. VDA 5050 on)
 };
 
 double Now() {
@@ -127,10 +128,11 @@ Status RunSupervisorBench(const SupervisorBenchArgs& a) {
   fs::create_directories(a.work_dir);
   const std::string port_file = a.work_dir + "/port", history = a.work_dir + "/history.db";
   fs::remove(port_file), fs::remove(history);
-  auto supervisor = io::ChildProcess::Start(
-      io::ExecutableDir() + "/fleet_supervisor",
-      {"--domain", std::to_string(a.domain), "--history", history, "--http-port", "0", "--port-file", port_file},
-      a.work_dir + "/fleet_supervisor.log");
+  std::vector<std::string> args = {"--domain", std::to_string(a.domain), "--history", history, "--http-port", "0",
+                                   "--port-file", port_file, "--metrics-port", "0"};
+  if (!a.supervisor_config.empty()) args.insert(args.end(), {"--config", a.supervisor_config});
+  auto supervisor = io::ChildProcess::Start(io::ExecutableDir() + "/fleet_supervisor", args,
+                                            a.work_dir + "/fleet_supervisor.log");
   if (!supervisor.ok()) return supervisor.status();
   int port = 0;
   for (int i = 0; i < 200 && port <= 0; ++i) {
@@ -207,6 +209,8 @@ void RegisterBenchSupervisor(CLI::App& bench, Status* result) {
   cmd->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
   cmd->add_option("--work-dir", a->work_dir, "Directory for the supervisor's history and log");
   cmd->add_option("--json", a->json, "Write every number as JSON");
+  cmd->add_option("--supervisor-config", a->supervisor_config,
+                  "The supervisor's configuration (JSON), e.g. with \"vda5050\" enabled");
   cmd->callback([a, result] { *result = RunSupervisorBench(*a); });
 }
 

@@ -6,6 +6,7 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/command_line.h"
 #include "commands.h"
 
 int main(int argc, char** argv) {
@@ -32,10 +33,7 @@ int main(int argc, char** argv) {
   fleetloc::fleetctl::RegisterStatusCommand(app, &result);
   spdlog::set_default_logger(spdlog::stderr_color_mt("fleetctl"));
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? 0 : 2;
+    if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleetctl", argc, argv)) return *exit_status;
   } catch (const std::exception& e) {
     std::cerr << "fleetctl: " << e.what() << "\n";
     return 1;

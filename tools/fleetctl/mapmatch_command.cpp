@@ -1,7 +1,6 @@
 // fleetctl mapmatch: the robust SE(2) map fit (CONTRACT §6–7, mapmatch/robust_map_fit.h) of
 // points.csv against landmarks.csv, searching within --radius of --init; prints the correction as
 // JSON on stdout: the contract's keys, then the fit's evidence (support, ambiguity, reason).
-#include <spdlog/spdlog.h>
 
 #include <iostream>
 #include <memory>
@@ -69,8 +68,9 @@ Result<mapmatch::RobustMapFitOptions> FitOptions(const MapmatchArgs& args) {
   return options;
 }
 
-// Reads the files, fits around --init and prints the JSON. A fit that cannot be trusted is a
-// result (converged false, the reason, the --init correction), not an error.
+// Reads the files, fits around --init and prints the JSON. A fit that cannot be trusted is still
+// printed (converged false, the reason, the --init correction) but is "no result": Internal, so
+// exit status 1, as `reloc` when it finds nothing (docs/cli.md).
 Status RunMapmatch(const MapmatchArgs& args) {
   Result<mapmatch::RobustMapFitOptions> options = FitOptions(args);
   if (!options.ok()) return options.status();
@@ -86,8 +86,8 @@ Status RunMapmatch(const MapmatchArgs& args) {
   Result<mapmatch::MapFitResult> fit =
       mapmatch::RobustFitMap(landmarks->positions, *points, {}, start, *options);
   if (!fit.ok()) return fit.status();
-  if (!fit->converged) spdlog::warn("map fit did not converge: {}", fit->reason);
   std::cout << FitJson(*fit).dump(2) << "\n";
+  if (!fit->converged) return Internal("map fit did not converge: " + fit->reason);
   return Status::Ok();
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <functional>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "mosaic/export_georef.h"
 #include "mosaic/exporter.h"
 #include "mosaic/importer.h"
 #include "mosaic/mosaic_info.h"
@@ -23,6 +25,7 @@
 #include "mosaic/tile_store.h"
 #include "mosaic_build.h"
 #include "parse_numbers.h"
+#include "io/file_util.h"
 #include "io/progress_log.h"
 
 namespace fleetloc::fleetctl {
@@ -40,6 +43,7 @@ struct ExportArgs {
   std::string out;
   int level = 0;
   std::string region;  // "x0,y0,x1,y1" or empty
+  std::string nav2_yaml;  // also write a Nav2 map.yaml there
 };
 
 Status RunImport(const ImportArgs& args) {
@@ -116,6 +120,19 @@ Status RunExport(const ExportArgs& args) {
   }
   spdlog::info("wrote {}: level {}, pixels x {}..{}, y {}..{}", args.out, args.level, rect->x,
                rect->x + rect->width, rect->y, rect->y + rect->height);
+  // Georeference beside it: the world file always, the Nav2 map.yaml on request.
+  const std::string world = mosaic::WorldFilePath(args.out);
+  FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(world, mosaic::WorldFileText(layout, args.level, *rect)));
+  spdlog::info("wrote {} (world file: map coordinates of the pixels)", world);
+  if (!args.nav2_yaml.empty()) {
+    // The image as Nav2 finds it: relative to the yaml's directory when beside it.
+    namespace fs = std::filesystem;
+    const fs::path image = fs::absolute(args.out), yaml_dir = fs::absolute(args.nav2_yaml).parent_path();
+    const std::string ref = image.parent_path() == yaml_dir ? image.filename().string() : image.string();
+    FLEETLOC_RETURN_IF_ERROR(
+        io::WriteFileAtomically(args.nav2_yaml, mosaic::Nav2MapYaml(layout, args.level, *rect, ref)));
+    spdlog::info("wrote {} (Nav2 map_server)", args.nav2_yaml);
+  }
   return Status::Ok();
 }
 
@@ -178,6 +195,8 @@ void AddExport(CLI::App& mosaic, Status* result) {
       ->required();
   cmd->add_option("--level", args->level, "Pyramid level (0 = full resolution)");
   cmd->add_option("--region", args->region, "Map region x0,y0,x1,y1 in metres (default: all)");
+  cmd->add_option("--nav2-yaml", args->nav2_yaml,
+                  "Also write a Nav2/ROS map_server map.yaml for the image (a world file is always written beside it)");
   cmd->callback([args, result] { *result = RunExport(*args); });
 }
 

@@ -1,6 +1,12 @@
 // fleetctl status: listens to the running fleet over DDS for a moment (VehiclePose, VehicleHealth,
 // ServiceHealth, MosaicInfo) and prints a fleet summary — a table, or JSON with --json (the same
-// vehicle fields as the supervisor's /api/fleet).
+// vehicle fields as the supervisor's /api/fleet). With --supervisor URL it prints the supervisor's
+// view instead (GET /api/fleet), which includes vehicles that stopped talking, shown STALE.
+// Eigen (through the supervisor's headers) before httplib: see guarded_server.h.
+#include "fleet_supervisor/fleet_listener.h"
+#include "fleet_supervisor/fleet_view.h"
+
+#include <httplib.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -12,8 +18,6 @@
 
 #include "commands.h"
 #include "io/json_fields.h"
-#include "fleet_supervisor/fleet_listener.h"
-#include "fleet_supervisor/fleet_view.h"
 #include "served_mosaics.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
@@ -27,6 +31,7 @@ struct StatusArgs {
   std::string dds_config;
   double wait_s = 2.0;
   bool json = false;
+  std::string supervisor;  // base URL of a fleet supervisor's HTTP API; empty: listen to DDS
 };
 
 double Now() {
@@ -35,9 +40,11 @@ double Now() {
 
 void PrintTable(const nlohmann::json& out) {
   const nlohmann::json& s = out["summary"];
-  std::printf("fleet on domain %d: %d vehicles (%d tracking, %d coasting, %d lost, %d relocalized)\n",
-              out["domain"].get<int>(), s["vehicles"].get<int>(), s["tracking"].get<int>(),
-              s["coasting"].get<int>(), s["lost"].get<int>(), s["relocalized"].get<int>());
+  const std::string where = out.contains("supervisor") ? "from supervisor " + out["supervisor"].get<std::string>()
+                                                       : "on domain " + std::to_string(out["domain"].get<int>());
+  std::printf("fleet %s: %d vehicles (%d tracking, %d coasting, %d lost, %d relocalized, %d stale)\n",
+              where.c_str(), s["vehicles"].get<int>(), s["tracking"].get<int>(), s["coasting"].get<int>(),
+              s["lost"].get<int>(), s["relocalized"].get<int>(), s["silent"].get<int>());
   for (const nlohmann::json& m : out["mosaics"]) {
     std::printf("mosaic %s version %lld from %s\n", m["mosaic_id"].get<std::string>().c_str(),
                 m["version"].get<long long>(), m["server_id"].get<std::string>().c_str());
@@ -55,8 +62,9 @@ void PrintTable(const nlohmann::json& out) {
     if (!h.is_null()) {
       for (const auto& issue : h["issues"]) issues += (issues.empty() ? "" : ",") + issue.get<std::string>();
     }
+    const std::string lock = v.value("silent", false) ? "STALE" : p.is_null() ? "-" : p["lock"].get<std::string>();
     std::printf("%-11s %-11s %10.4f %10.4f %8.3f %7.2f %8.2f %-6s %s\n", v["id"].get<std::string>().c_str(),
-                p.is_null() ? "-" : p["lock"].get<std::string>().c_str(), p.is_null() ? 0.0 : p["x"].get<double>(),
+                lock.c_str(), p.is_null() ? 0.0 : p["x"].get<double>(),
                 p.is_null() ? 0.0 : p["y"].get<double>(), p.is_null() ? 0.0 : p["theta"].get<double>(),
                 p.is_null() ? 0.0 : p["deviation_m"].get<double>() * 1e3 / 3,
                 h.is_null() ? 0.0 : h["cycle_ms"][1].get<double>(),
@@ -64,8 +72,43 @@ void PrintTable(const nlohmann::json& out) {
   }
 }
 
+// The supervisor's /api/fleet as the status JSON. InvalidInput for a malformed URL; Internal when
+// the supervisor does not answer or answers with an error.
+Result<nlohmann::json> SupervisorStatus(const std::string& url) {
+  if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0) {
+    return InvalidInput("--supervisor " + url + ": not an http:// or https:// URL");
+  }
+  httplib::Client client(url);
+  if (!client.is_valid()) return InvalidInput("--supervisor " + url + ": not a usable URL");
+  client.set_connection_timeout(5);
+  client.set_read_timeout(10);
+  httplib::Result r = client.Get("/api/fleet");
+  if (!r) return Internal("supervisor " + url + " did not answer: " + httplib::to_string(r.error()));
+  nlohmann::json body = nlohmann::json::parse(r->body, nullptr, false);
+  if (r->status != 200 || !body.is_object() || !body.contains("summary") || !body.contains("vehicles")) {
+    return Internal("supervisor " + url + " answered GET /api/fleet with HTTP " + std::to_string(r->status));
+  }
+  return nlohmann::json{{"supervisor", url}, {"summary", body["summary"]}, {"vehicles", body["vehicles"]},
+                        {"services", body.value("services", nlohmann::json::array())},
+                        {"mosaics", nlohmann::json::array()}};
+}
+
+void Print(const StatusArgs& a, const nlohmann::json& out) {
+  if (a.json) {
+    std::cout << io::DumpJson(out, 2) << "\n";
+  } else {
+    PrintTable(out);
+  }
+}
+
 Status RunStatus(const StatusArgs& a) {
   using namespace transport;
+  if (!a.supervisor.empty()) {
+    Result<nlohmann::json> out = SupervisorStatus(a.supervisor);
+    if (!out.ok()) return out.status();
+    Print(a, *out);
+    return Status::Ok();
+  }
   auto participant = Participant::Create(a.domain, {"", a.dds_config});
   if (!participant.ok()) return participant.status();
   auto listener = fleet_supervisor::FleetListener::Create(*participant);
@@ -91,21 +134,18 @@ Status RunStatus(const StatusArgs& a) {
       mosaics[GetBounded(info.server_id)] = MosaicInfoJson(info);
     });
   } while (std::chrono::steady_clock::now() < end);
+  (void)fleet.Evaluate(Now());  // vehicles heard at the start but not since are STALE (silent_s)
   nlohmann::json out = {{"domain", a.domain}, {"summary", fleet_supervisor::SummaryJson(fleet.Summary())},
                         {"vehicles", nlohmann::json::array()}, {"services", nlohmann::json::array()},
                         {"mosaics", nlohmann::json::array()}};
-  fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_supervisor::VehicleJson(v, false, false)); });
+  fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_supervisor::VehicleJson(v, fleet.Silent(v.id), false)); });
   for (const auto& [id, entry] : services) {
     out["services"].push_back({{"id", id}, {"kind", entry.first.kind},
                                {"level", fleet::HealthLevelName(entry.first.level)},
                                {"counters", entry.first.counters}});
   }
   for (const auto& [id, m] : mosaics) out["mosaics"].push_back(m);
-  if (a.json) {
-    std::cout << io::DumpJson(out, 2) << "\n";
-  } else {
-    PrintTable(out);
-  }
+  Print(a, out);
   return Status::Ok();
 }
 
@@ -119,6 +159,9 @@ void RegisterStatusCommand(CLI::App& app, Status* result) {
   status->add_option("--dds-config", a->dds_config, "Cyclone DDS XML (default: built-in loopback)");
   status->add_option("--wait", a->wait_s, "Seconds to listen before printing")->check(CLI::Range(0.1, 600.0));
   status->add_flag("--json", a->json, "Print JSON instead of a table");
+  status->add_option("--supervisor", a->supervisor,
+                     "Ask this fleet supervisor (e.g. http://127.0.0.1:8080) instead of listening to DDS: "
+                     "every vehicle it knows, silent ones shown STALE");
   status->callback([a, result] { *result = RunStatus(*a); });
 }
 

@@ -12,6 +12,7 @@
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
 #include "tracker_summary.h"
+#include "tracking/camera_scale_check.h"
 #include "tracking/mosaic_tracker.h"
 
 namespace fleetloc::fleetctl {
@@ -35,6 +36,8 @@ Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const 
       mosaic::TileStore::Open(mosaic_path, mosaic::OpenMode::kReadOnly);
   if (!opened.ok()) return opened.status();
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
+  FLEETLOC_RETURN_IF_ERROR(tracking::CheckCameraResolution(
+      run.camera.model.resolution_m, store->layout().geo.resolution, (run.dir / "run.json").string() + " (its camera)"));
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(cache_mb << 20));
   tracking::MosaicTracker tracker(options, run.camera.model, &view);

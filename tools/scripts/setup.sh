@@ -8,6 +8,9 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
           cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev systemd curl
           clang libclang-rt-14-dev
+          prometheus-cpp-dev  # /metrics of every service (common/metrics/)
+          libmosquitto-dev mosquitto mosquitto-clients  # VDA 5050 over MQTT (supervisor, its test)
+          gdal-bin  # gdalinfo reads back fleetctl mosaic export's world file (tests/cli_mosaic_export_test)
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()

@@ -193,7 +193,7 @@ function renderVehicles(vehicles) {
     const h = v.health || {}, p = v.pose || {};
     const lock = v.silent ? 'silent' : lockOf(v);
     return `<tr data-vehicle="${esc(v.id)}" data-lock="${esc(lock)}" class="${v.silent ? 'silent-row' : ''} ${state.selected === v.id ? 'selected' : ''}">
-      <td>${esc(v.id)}</td><td class="lock-${esc(lockOf(v))}">${esc(lock)}</td>
+      <td>${esc(v.id)}</td><td class="lock-${esc(lockOf(v))}">${esc(v.silent ? 'STALE' : lock)}</td>
       <td class="level-${esc(h.level || '')}">${esc(h.level || '–')}</td>
       <td>${p.deviation_m !== undefined ? (p.deviation_m * 1e3 / 3).toFixed(2) : '–'}</td>
       <td>${h.inliers ?? '–'}</td><td>${h.cycle_ms ? h.cycle_ms[1].toFixed(1) + ' ms' : '–'}</td>
