@@ -91,13 +91,15 @@ INSTANTIATE_TEST_SUITE_P(FloorClasses, TrackerStress,
 // Small frames under fast motion and dust at once (320×240, `all`): in the run's sharp turns the
 // right dense fit lies beyond the odometry model's χ² bound for a strong fit, and only its clear
 // coarse peak tells it is right (before, those frames coasted: lock 0.93 over these 30 frames).
+// The polish fits the frame's contrast and blurs the view to the frame's blur: camera RMS 0.060 px
+// over these frames, 0.088 without either (direct.fit_contrast, direct.max_view_blur_px).
 TEST(TrackerStressSmallFrames, EpoxyAt320x240TracksThroughFastMotionAndDustAtOnce) {
   const nlohmann::json cells = RunCells("epoxy", "tuning", "all", "320x240");
   ASSERT_EQ(cells.size(), 1u);
   const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
   EXPECT_GE(f["lock_rate"].get<double>(), 0.95);
   EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
-  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.2);
+  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.075);
 }
 
 // One column of `fleetctl track --frames-out`, by its header name.
