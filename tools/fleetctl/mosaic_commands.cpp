@@ -1,4 +1,4 @@
-// fleetctl mosaic import | build | info | export (CONTRACT section 6; `vehicles` lives in
+// fleetctl mosaic import | build | info | export | export-mbtiles (CONTRACT section 6; `vehicles` lives in
 // mosaic_upkeep_commands.cpp): thin wrappers over the
 // mosaic store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and
 // `build` print JSON on stdout.
@@ -18,6 +18,7 @@
 #include "commands.h"
 #include "mosaic/export_georef.h"
 #include "mosaic/exporter.h"
+#include "mosaic/mbtiles_writer.h"
 #include "mosaic/importer.h"
 #include "mosaic/mosaic_info.h"
 #include "served_mosaics.h"
@@ -136,6 +137,58 @@ Status RunExport(const ExportArgs& args) {
   return Status::Ok();
 }
 
+struct MbtilesArgs {
+  std::string mosaic;
+  std::string out;
+  mosaic::MbtilesOptions options;
+};
+
+Status RunExportMbtiles(const MbtilesArgs& args) {
+  Result<std::unique_ptr<mosaic::TileStore>> opened =
+      mosaic::TileStore::Open(args.mosaic, mosaic::OpenMode::kReadOnly);
+  if (!opened.ok()) return opened.status();
+  std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
+  const mosaic::MosaicLayout layout = store->layout();
+  // A tile needs about one tile of the source level (a few when it straddles tile borders).
+  const std::size_t cache_bytes = 16 * static_cast<std::size_t>(layout.tile_size_px) * layout.tile_size_px;
+  mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
+                          std::make_shared<mosaic::TileCache>(cache_bytes));
+  io::PercentLog progress("export-mbtiles " + args.out, "tiles", 10);
+  Result<mosaic::MbtilesPlan> plan = mosaic::ExportMbtiles(view, args.options, args.out, std::ref(progress));
+  if (!plan.ok()) return Status(plan.status().code(), args.mosaic + ": " + plan.status().message());
+  if (view.missing_tiles() + view.unreadable_tiles() > 0) {
+    spdlog::warn("{}: {} missing and {} unreadable tiles exported as black", args.mosaic,
+                 view.missing_tiles(), view.unreadable_tiles());
+  }
+  if (plan->zooms.full_detail_zoom > plan->zooms.max_zoom) {
+    spdlog::warn("{}: the mosaic's full detail needs zoom {}; written up to zoom {} ({} m/px)",
+                 args.mosaic, plan->zooms.full_detail_zoom, plan->zooms.max_zoom,
+                 mosaic::MapMetresPerPixel(plan->zooms.max_zoom, plan->placement));
+  }
+  spdlog::info("wrote {}: {} tiles, zooms {}..{}, map origin at lat {} lon {}", args.out,
+               plan->total_tiles, plan->zooms.min_zoom, plan->zooms.max_zoom,
+               args.options.anchor.lat_deg, args.options.anchor.lon_deg);
+  return Status::Ok();
+}
+
+void AddExportMbtiles(CLI::App& mosaic, Status* result) {
+  auto args = std::make_shared<MbtilesArgs>();
+  CLI::App* cmd = mosaic.add_subcommand(
+      "export-mbtiles", "Write a mosaic as MBTiles (Web Mercator PNG tiles for QGIS or a web map)");
+  cmd->add_option("MOSAIC", args->mosaic, "Mosaic file")->required();
+  cmd->add_option("--out", args->out, "MBTiles file to write (replaced when complete)")->required();
+  cmd->add_option("--anchor-lat", args->options.anchor.lat_deg,
+                  "Latitude of the map origin, degrees (default 0; |lat| <= 85)");
+  cmd->add_option("--anchor-lon", args->options.anchor.lon_deg,
+                  "Longitude of the map origin, degrees (default 0)");
+  cmd->add_option("--max-tiles", args->options.max_tiles,
+                  "Refuse an export of more tiles (default 100000)");
+  cmd->add_option("--max-zoom", args->options.max_zoom,
+                  "Finest zoom written (default 22: GDAL and QGIS open no finer; at most 30)");
+  cmd->add_option("--name", args->options.name, "Metadata name (default: the mosaic id)");
+  cmd->callback([args, result] { *result = RunExportMbtiles(*args); });
+}
+
 void AddImport(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<ImportArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
@@ -209,6 +262,7 @@ void RegisterMosaicCommands(CLI::App& app, Status* result) {
   AddBuild(*mosaic, result);
   AddInfo(*mosaic, result);
   AddExport(*mosaic, result);
+  AddExportMbtiles(*mosaic, result);
   AddMosaicUpkeepCommands(*mosaic, result);
 }
 
