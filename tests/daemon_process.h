@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -12,10 +13,18 @@
 
 namespace fleetloc::testing {
 
+// The map server and the supervisor serve /metrics on a fixed port by default; here they get any
+// free one unless the test names a port, so servers in one test and tests running side by side
+// never contend for it (the loser would report metrics_unavailable as its health issue).
 inline io::ChildProcess StartDaemon(const std::string& program,
                                     const std::vector<std::string>& args,
                                     const std::string& log_path) {
-  auto child = io::ChildProcess::Start(std::string(FLEETLOC_BINARY_DIR "/bin/") + program, args,
+  std::vector<std::string> all = args;
+  const bool metrics_on_by_default = program == "map_server" || program == "fleet_supervisor";
+  if (metrics_on_by_default && std::find(args.begin(), args.end(), "--metrics-port") == args.end()) {
+    all.insert(all.end(), {"--metrics-port", "0"});
+  }
+  auto child = io::ChildProcess::Start(std::string(FLEETLOC_BINARY_DIR "/bin/") + program, all,
                                        log_path);
   if (!child.ok()) {
     ADD_FAILURE() << child.status().message();

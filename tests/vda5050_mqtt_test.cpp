@@ -1,7 +1,8 @@
 // VDA 5050 visualization over MQTT from the fleet supervisor, against a real mosquitto broker the
 // test starts on a free loopback port: the vehicles' visualization messages and the supervisor's
 // retained connection state read back with mosquitto_sub and checked against the VDA 5050 (v2)
-// schema's fields and types; the broker killed and started again (reconnect, counted, the named
+// schema's fields and types, and validated by an independent JSON Schema validator against
+// schemas written from the standard's (tests/data/vda5050/); the broker killed and started again (reconnect, counted, the named
 // health issue meanwhile, the dashboard API unaffected); wrong credentials refused and counted;
 // the last will (CONNECTIONBROKEN) when the supervisor dies.
 // Eigen (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
@@ -15,11 +16,14 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 
 #include "metrics/exposition.h"
+#include "transport/qos.h"
 
 namespace fleetloc {
 namespace {
@@ -27,6 +31,25 @@ namespace {
 using nlohmann::json;
 using testing::Eventually;
 constexpr uint32_t kDomain = 123;
+
+// Whether a ServiceHealth report on `participant`'s domain names `issue` (waits up to 15 s).
+bool HealthNames(transport::Participant& participant, const std::string& issue) {
+  auto topic =
+      transport::Topic<fleetloc_ServiceHealth>::Create(participant, transport::topics::kServiceHealth);
+  auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
+      participant.get(), *topic, transport::PeriodicStateQos(3, 5));
+  if (!topic.ok() || !reader.ok()) return false;
+  bool named = false;
+  Eventually([&] {
+    (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+      for (uint32_t i = 0; i < h.issues._length; ++i) {
+        if (transport::GetBounded(h.issues._buffer[i].name) == issue) named = true;
+      }
+    });
+    return named;
+  }, 15.0);
+  return named;
+}
 
 int FreePort() {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -120,6 +143,20 @@ std::string VisualizationMisfit(const json& m, const std::string& serial) {
   return "";
 }
 
+// What an independent JSON Schema validator (Debian's python3-jsonschema, draft 2020-12) finds
+// wrong with `message` against tests/data/vda5050/`schema` ("" when valid). The schemas are
+// written from the standard's published ones, stricter where fleetloc promises more.
+std::string SchemaMisfit(const std::filesystem::path& scratch, const std::string& schema,
+                         const json& message) {
+  static int serial = 0;
+  const std::filesystem::path file = scratch / ("message_" + std::to_string(serial++) + ".json");
+  std::ofstream(file) << message.dump();
+  const std::string data = FLEETLOC_SOURCE_DIR "/tests/data/vda5050/";
+  const testing::CommandResult r = testing::RunCommand(
+      "/usr/bin/python3 " + data + "validate.py " + data + schema + " " + file.string());
+  return r.exit_code == 0 ? "" : r.err + r.out;
+}
+
 double Metric(int port, const std::string& name) {
   httplib::Client c("127.0.0.1", port);
   auto r = c.Get("/metrics");
@@ -173,13 +210,17 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
     connection = broker.Subscribe("uagv/v2/acme/sup-v/connection", 1, 2);
     return connection.size() == 1 && Payload(connection[0]).value("connectionState", "") == "ONLINE";
   }, 15)) << supervisor->log();
-  if (!connection.empty()) EXPECT_EQ(HeaderMisfit(Payload(connection[0]), "sup-v"), "");
+  if (!connection.empty()) {
+    EXPECT_EQ(HeaderMisfit(Payload(connection[0]), "sup-v"), "");
+    EXPECT_EQ(SchemaMisfit(dir_->path(), "connection.schema.json", Payload(connection[0])), "");
+  }
   const std::vector<std::string> lines = broker.Subscribe("uagv/v2/acme/SN-001/visualization", 3, 10);
   ASSERT_EQ(lines.size(), 3u) << supervisor->log();
   long long last_id = -1;
   for (const std::string& line : lines) {
     const json m = Payload(line);
     EXPECT_EQ(VisualizationMisfit(m, "SN-001"), "") << line;
+    EXPECT_EQ(SchemaMisfit(dir_->path(), "visualization.schema.json", m), "") << line;
     EXPECT_GT(m.value("headerId", -1LL), last_id) << "headerId must grow per topic";
     last_id = m.value("headerId", -1LL);
     EXPECT_EQ(m["agvPosition"].value("positionInitialized", false), true);
@@ -194,6 +235,7 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
   EXPECT_TRUE(Eventually([&] { return supervisor->log().find("vda5050_broker_unreachable") != std::string::npos ||
                                       supervisor->log().find("lost the connection") != std::string::npos; }, 5));
   EXPECT_EQ(Metric(metrics_port, "fleetloc_supervisor_vda5050_connected"), 0);
+  EXPECT_TRUE(HealthNames(*participant, "vda5050_broker_unreachable"));
   httplib::Client api("127.0.0.1", supervisor->port());
   auto fleet = api.Get("/api/fleet");
   ASSERT_TRUE(fleet);
@@ -213,6 +255,7 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
     will = broker.Subscribe("uagv/v2/acme/sup-v/connection", 1, 2);
     return will.size() == 1 && Payload(will[0]).value("connectionState", "") == "CONNECTIONBROKEN";
   }, 20)) << (will.empty() ? "" : will[0]);
+  if (!will.empty()) EXPECT_EQ(SchemaMisfit(dir_->path(), "connection.schema.json", Payload(will[0])), "");
   driving = false;
   drive.join();
 }

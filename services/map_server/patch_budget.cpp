@@ -21,7 +21,8 @@ const char* BudgetVerdictName(BudgetVerdict verdict) {
 
 BudgetVerdict PatchBudget::Admit(const std::string& vehicle, long long bytes, double now_s) {
   std::lock_guard lock(mutex_);
-  const PatchUsage& used = usage_[vehicle];
+  const PatchUsage stored = usage_[vehicle], pending = pending_[vehicle];
+  const PatchUsage used{stored.patches + pending.patches, stored.bytes + pending.bytes};
   if (used.patches + 1 > options_.max_patches_per_vehicle ||
       used.bytes + bytes > options_.max_bytes_per_vehicle) {
     return BudgetVerdict::kOverVehicleQuota;
@@ -42,16 +43,25 @@ BudgetVerdict PatchBudget::Admit(const std::string& vehicle, long long bytes, do
   b.last_s = now_s;
   if (b.tokens < 1.0) return BudgetVerdict::kRateLimited;
   b.tokens -= 1.0;
-  PatchUsage& u = usage_[vehicle];
-  ++u.patches, u.bytes += bytes;
+  Add(&pending_[vehicle], 1, bytes);
   total_bytes_ += bytes;
   return BudgetVerdict::kAccept;
 }
 
+void PatchBudget::Add(PatchUsage* usage, long long patches, long long bytes) {
+  usage->patches = std::max(0LL, usage->patches + patches);
+  usage->bytes = std::max(0LL, usage->bytes + bytes);
+}
+
+void PatchBudget::Commit(const std::string& vehicle, long long bytes) {
+  std::lock_guard lock(mutex_);
+  Add(&pending_[vehicle], -1, -bytes);
+  Add(&usage_[vehicle], 1, bytes);
+}
+
 void PatchBudget::Unreserve(const std::string& vehicle, long long bytes) {
   std::lock_guard lock(mutex_);
-  PatchUsage& u = usage_[vehicle];
-  u.patches = std::max(0LL, u.patches - 1), u.bytes = std::max(0LL, u.bytes - bytes);
+  Add(&pending_[vehicle], -1, -bytes);
   total_bytes_ = std::max(0LL, total_bytes_ - bytes);
 }
 
@@ -60,12 +70,17 @@ void PatchBudget::SetUsage(std::map<std::string, PatchUsage> usage) {
   usage_ = std::move(usage);
   total_bytes_ = 0;
   for (const auto& [vehicle, u] : usage_) total_bytes_ += u.bytes;
+  for (const auto& [vehicle, u] : pending_) total_bytes_ += u.bytes;
 }
 
 PatchUsage PatchBudget::Usage(const std::string& vehicle) const {
   std::lock_guard lock(mutex_);
-  const auto it = usage_.find(vehicle);
-  return it == usage_.end() ? PatchUsage{} : it->second;
+  PatchUsage sum;
+  if (const auto it = usage_.find(vehicle); it != usage_.end()) sum = it->second;
+  if (const auto it = pending_.find(vehicle); it != pending_.end()) {
+    Add(&sum, it->second.patches, it->second.bytes);
+  }
+  return sum;
 }
 
 }  // namespace fleetloc::map_server

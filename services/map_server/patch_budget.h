@@ -34,11 +34,15 @@ class PatchBudget {
   explicit PatchBudget(PatchBudgetOptions options) : options_(options) {}
 
   // Decides on a patch of `bytes` from `vehicle` at `now_s`. kAccept takes a token and reserves
-  // the patch in the vehicle's usage (Unreserve if it is not stored after all).
+  // the patch: Commit once it is stored, Unreserve if it is not stored after all.
   BudgetVerdict Admit(const std::string& vehicle, long long bytes, double now_s);
+  void Commit(const std::string& vehicle, long long bytes);
   void Unreserve(const std::string& vehicle, long long bytes);
-  // Replaces the usage with what the store holds (at start, after re-maps and prunes).
+  // Replaces the stored usage with what the store holds (at start, after re-maps and prunes).
+  // Reservations still in flight are kept: the store does not hold them yet (before, a prune
+  // while a flood was queued forgot them, and the vehicle got past its quota by a patch).
   void SetUsage(std::map<std::string, PatchUsage> usage);
+  // Stored and reserved.
   PatchUsage Usage(const std::string& vehicle) const;
 
  private:
@@ -46,11 +50,14 @@ class PatchBudget {
     double tokens = 0;
     double last_s = 0;
   };
+  static void Add(PatchUsage* usage, long long patches, long long bytes);  // clamped at 0
+
   const PatchBudgetOptions options_;
   mutable std::mutex mutex_;
   std::map<std::string, Bucket> buckets_;
-  std::map<std::string, PatchUsage> usage_;
-  long long total_bytes_ = 0;
+  std::map<std::string, PatchUsage> usage_;    // stored
+  std::map<std::string, PatchUsage> pending_;  // admitted, neither stored nor refused yet
+  long long total_bytes_ = 0;                  // stored and pending, every vehicle
 };
 
 }  // namespace fleetloc::map_server

@@ -33,10 +33,32 @@ TEST(PatchBudget, QuotasStopAVehicleAndEveryone) {
   EXPECT_EQ(budget.Admit("agv-2", 200, 0), BudgetVerdict::kAccept);
   EXPECT_EQ(budget.Admit("agv-3", 200, 0), BudgetVerdict::kAccept);
   EXPECT_EQ(budget.Admit("agv-4", 200, 0), BudgetVerdict::kOverTotalQuota);  // 800 > 600
+  for (const auto& [vehicle, bytes] : {std::pair{"agv-1", 100}, {"agv-1", 100}, {"agv-2", 200},
+                                       {"agv-3", 200}}) {
+    budget.Commit(vehicle, bytes);  // all stored
+  }
   budget.SetUsage({{"agv-1", {3, 10}}});  // what the store says after a prune
   EXPECT_EQ(budget.Admit("agv-1", 10, 0), BudgetVerdict::kOverVehicleQuota);  // 4 patches > 3
   EXPECT_EQ(budget.Admit("agv-4", 200, 0), BudgetVerdict::kAccept);
   EXPECT_STREQ(BudgetVerdictName(BudgetVerdict::kRateLimited), "patches_rate_limited");
+}
+
+// A prune refreshes the usage from the store while patches are still queued for it: those
+// reservations must survive, or a flooding vehicle gets past its quota (seen under load: 8
+// patches stored of a quota of 7).
+TEST(PatchBudget, ReservationsInFlightSurviveARefreshFromTheStore) {
+  PatchBudget budget({1000.0, 1000, 1000, 300, 1LL << 40, 16});
+  EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);
+  budget.Commit("agv-1", 100);                                     // stored
+  EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);  // queued
+  EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);  // queued
+  budget.SetUsage({{"agv-1", {1, 100}}});  // the store holds the first only
+  EXPECT_EQ(budget.Usage("agv-1").bytes, 300);
+  EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kOverVehicleQuota);
+  budget.Unreserve("agv-1", 100);  // one queued patch was not stored after all
+  budget.Commit("agv-1", 100);     // the other was
+  EXPECT_EQ(budget.Usage("agv-1").bytes, 200);
+  EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);
 }
 
 }  // namespace

@@ -139,7 +139,11 @@ void PatchService::Store(mosaic::PatchRecord& record) {
     return;  // not acknowledged: the vehicle keeps it in its outbox and retries
   }
   const bool duplicate = *stored == mosaic::PutOutcome::kDuplicate;
-  if (duplicate) budget_.Unreserve(record.vehicle_id, bytes);
+  if (duplicate) {
+    budget_.Unreserve(record.vehicle_id, bytes);
+  } else {
+    budget_.Commit(record.vehicle_id, bytes);
+  }
   counters_->Add(duplicate ? "patches_duplicate" : "patches_stored");
   PushAck(record.vehicle_id, {sequence, duplicate ? fleetloc_PATCH_DUPLICATE : fleetloc_PATCH_STORED, ""});
 }
