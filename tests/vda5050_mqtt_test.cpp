@@ -63,10 +63,13 @@ int FreePort() {
   return ntohs(addr.sin_port);
 }
 
-// A mosquitto broker on 127.0.0.1:port; `extra` lines go into its configuration.
+// A mosquitto broker on 127.0.0.1:port; `extra` lines go into its configuration, `client_args`
+// (e.g. TLS options) into every mosquitto_sub that reads from it.
 class Broker {
  public:
-  Broker(const std::filesystem::path& dir, int port, const std::string& extra = "") : dir_(dir), port_(port) {
+  Broker(const std::filesystem::path& dir, int port, const std::string& extra = "",
+         std::vector<std::string> client_args = {})
+      : dir_(dir), port_(port), client_args_(std::move(client_args)) {
     std::ofstream(dir / "mosquitto.conf") << "listener " << port << " 127.0.0.1\n"
                                           << "persistence false\n" << extra
                                           << (extra.find("allow_anonymous") == std::string::npos ? "allow_anonymous true\n" : "");
@@ -86,6 +89,7 @@ class Broker {
     std::vector<std::string> args = {"-h", "127.0.0.1", "-p", std::to_string(port_), "-t", topic, "-v",
                                      "-C", std::to_string(count), "-W", std::to_string(timeout_s)};
     args.insert(args.end(), extra.begin(), extra.end());
+    args.insert(args.end(), client_args_.begin(), client_args_.end());
     auto sub = io::ChildProcess::Start("/usr/bin/mosquitto_sub", args, out);
     if (!sub.ok()) return {};
     sub->Wait(std::chrono::seconds(timeout_s + 5));
@@ -101,8 +105,24 @@ class Broker {
  private:
   std::filesystem::path dir_;
   int port_;
+  std::vector<std::string> client_args_;
   std::unique_ptr<io::ChildProcess> process_;
 };
+
+// A test CA and a certificate for 127.0.0.1 signed by it in `dir` (ca.crt, server.crt,
+// server.key), made with openssl as a site's own PKI would; true when made.
+bool MakeTlsFiles(const std::filesystem::path& dir) {
+  const std::string quiet = " >/dev/null 2>&1";
+  const std::string script =
+      "cd '" + dir.string() + "' && " +
+      "openssl req -x509 -newkey rsa:2048 -nodes -keyout ca.key -out ca.crt -days 2 "
+      "-subj /CN=fleetloc-test-ca" + quiet + " && " +
+      "openssl req -newkey rsa:2048 -nodes -keyout server.key -out server.csr -subj /CN=127.0.0.1" +
+      quiet + " && printf 'subjectAltName=IP:127.0.0.1\\n' > san.ext && " +
+      "openssl x509 -req -in server.csr -CA ca.crt -CAkey ca.key -CAcreateserial -out server.crt "
+      "-days 2 -extfile san.ext" + quiet + " && chmod 644 server.key";
+  return std::system(script.c_str()) == 0;
+}
 
 // The payload of a "topic payload" line, parsed.
 json Payload(const std::string& line) {
@@ -255,7 +275,52 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
     will = broker.Subscribe("uagv/v2/acme/sup-v/connection", 1, 2);
     return will.size() == 1 && Payload(will[0]).value("connectionState", "") == "CONNECTIONBROKEN";
   }, 20)) << (will.empty() ? "" : will[0]);
-  if (!will.empty()) EXPECT_EQ(SchemaMisfit(dir_->path(), "connection.schema.json", Payload(will[0])), "");
+  if (!will.empty()) {
+    EXPECT_EQ(SchemaMisfit(dir_->path(), "connection.schema.json", Payload(will[0])), "");
+  }
+  driving = false;
+  drive.join();
+}
+
+// A broker that speaks only TLS: the supervisor verifies it against the site's CA and publishes;
+// a reader with the CA gets valid messages, one without TLS gets nothing from that listener.
+TEST_F(Vda5050Mqtt, PublishesOverTlsToABrokerVerifiedByTheSitesCa) {
+  const std::filesystem::path d = dir_->path();
+  ASSERT_TRUE(MakeTlsFiles(d));
+  const int port = FreePort();
+  Broker broker(d, port,
+                "cafile " + (d / "ca.crt").string() + "\ncertfile " + (d / "server.crt").string() +
+                    "\nkeyfile " + (d / "server.key").string() + "\n",
+                {"--cafile", (d / "ca.crt").string()});
+  auto supervisor = Supervisor("tls", port, R"(, "tls": true, "ca_file": ")" + (d / "ca.crt").string() + "\"");
+  auto participant = transport::Participant::Create(kDomain);
+  ASSERT_TRUE(participant.ok());
+  testing::FakeVehicle vehicle(*participant, "agv-v1");
+  std::atomic<bool> driving{true};
+  std::thread drive([&] {
+    for (double x = 0; driving; x += 0.01) {
+      vehicle.Publish(x);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  std::vector<std::string> lines;
+  EXPECT_TRUE(Eventually([&] {
+    lines = broker.Subscribe("uagv/v2/acme/SN-001/visualization", 1, 2);
+    return lines.size() == 1;
+  }, 20)) << supervisor->log();
+  if (!lines.empty()) {
+    EXPECT_EQ(SchemaMisfit(d, "visualization.schema.json", Payload(lines[0])), "") << lines[0];
+  }
+  // Without TLS the listener answers nothing: the messages above went over TLS.
+  const std::string out = (d / "plain.out").string();
+  auto plain = io::ChildProcess::Start(
+      "/usr/bin/mosquitto_sub",
+      {"-h", "127.0.0.1", "-p", std::to_string(port), "-t", "uagv/#", "-C", "1", "-W", "2"}, out);
+  ASSERT_TRUE(plain.ok());
+  plain->Wait(std::chrono::seconds(7));
+  std::ifstream in(out);
+  const std::string got((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(got.find("agvPosition"), std::string::npos) << got;
   driving = false;
   drive.join();
 }
