@@ -16,6 +16,7 @@
 #include <fstream>
 #include <regex>
 
+#include "io/loopback_socket.h"
 #include "metrics/exposition.h"
 
 namespace fleetloc {
@@ -59,12 +60,8 @@ double ValueOr(const metrics::Exposition& e, const std::string& name,
 }
 
 int ConnectSilently(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const int fd = io::ConnectLoopback(port);
+  EXPECT_GE(fd, 0);
   return fd;
 }
 

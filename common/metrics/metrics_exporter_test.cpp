@@ -13,24 +13,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "io/loopback_socket.h"
 #include "metrics/exposition.h"
 #include "metrics/metric_families.h"
 
 namespace fleetloc::metrics {
 namespace {
 
-int Connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
+int Connect(int port) { return io::ConnectLoopback(port); }
 
 // GET `path`; the whole answer ("" if none within `timeout_s`).
 std::string Get(int port, const std::string& path, double timeout_s = 10) {

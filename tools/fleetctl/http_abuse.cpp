@@ -11,25 +11,14 @@
 #include <cstring>
 #include <string>
 
+#include "io/loopback_socket.h"
+
 namespace fleetloc::fleetctl {
 namespace {
 
 using namespace std::chrono_literals;
 
-// A blocking loopback connection to `port` (-1 on failure).
-int Connect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return -1;
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
+int Connect(int port) { return io::ConnectLoopback(port); }
 
 // True when the server closed `fd` (or reset it), without reading what it sent.
 bool ClosedByServer(int fd) {
