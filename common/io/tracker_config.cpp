@@ -76,6 +76,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"search_sigma_multiple", &d.search_sigma_multiple},
           {"peak_exclusion_px", &d.peak_exclusion_px},
           {"max_heading_steps", &d.max_heading_steps},
+          {"significant_peak_ends_search", &d.significant_peak_ends_search},
           {"max_sigma_px", &d.max_sigma_px},
           {"min_correlation", &d.min_correlation},
           {"min_strong_correlation", &d.min_strong_correlation},

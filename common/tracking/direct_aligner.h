@@ -39,6 +39,7 @@ struct DirectAlignment {
   int points = 0;         // pixels used at the finest level
   int iterations = 0;     // Gauss–Newton iterations over all levels
   bool searched = false;  // the coarse exhaustive search ran
+  int searches = 0;       // how many times (one per heading tried)
 };
 
 class DirectAligner {

@@ -139,6 +139,31 @@ TEST(DirectAligner, FindsAPredictionTurnedByTwiceItsHeadingSigma) {
       0.001);
 }
 
+// A significant, unambiguous peak at the predicted heading ends the coarse search: the alignment
+// fits the rest of the turn, as accurately as after the climb over headings it saves.
+TEST(DirectAligner, ASignificantPeakEndsTheSearchAndTheAlignmentFitsTheTurn) {
+  Fixture f;
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = f.scene.Render(base, 1.0, 0.0);
+  // 12 px and 0.6° off, heading sigma 1.1°: the climb would try a heading step each side.
+  const PoseWithCovariance prior =
+      Prior(f.scene, base, {0.004, -0.004, 0.01}, {0.004, 0.004, 0.02});
+  DirectAlignOptions options = SmallCameraOptions();
+  options.min_strong_correlation = 0.99;  // only significance can make the peak clear
+  for (const bool ends : {true, false}) {
+    options.significant_peak_ends_search = ends;
+    const DirectAligner aligner(options, f.scene.camera, &f.normalized);
+    const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
+    ASSERT_TRUE(fit.valid) << fit.reason;
+    EXPECT_GE(fit.peak_z, options.min_significant_peak_z);
+    EXPECT_EQ(fit.searches == 1, ends) << fit.searches << " searches";
+    EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+    EXPECT_LT(std::abs(geometry::WrapAngle(fit.posterior.pose.theta -
+                                           (base * f.scene.camera.mount).theta)),
+              0.001);
+  }
+}
+
 TEST(DirectAligner, IgnoresOccludersVignettingAndUnevenLight) {
   Fixture f;
   cv::RNG rng(3);

@@ -81,6 +81,10 @@ struct DirectAlignOptions {
   // headings each side, spread over the prediction's ±3 sigma (one per level pixel of turn at the
   // frame's corners).
   int max_heading_steps = 3;
+  // A peak at the predicted heading that is significant (min_significant_peak_z) and distinct
+  // (second peak ≤ max_distinct_peak_ratio of it) ends the search there: the alignment fits the
+  // rest of the turn (docs/benchmarks.md, "Significant peaks end the heading search").
+  bool significant_peak_ends_search = true;
   // Validation of the final fit. Always: the image pins the position (max_sigma_px) and the
   // finest level correlates at all. Then either a strong fit (a distinct coarse peak, a clear
   // coarse correlation, an innovation up to max_prior_chi2) or a weak one that the prediction

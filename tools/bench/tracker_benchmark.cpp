@@ -154,6 +154,33 @@ void BM_NccSurface(benchmark::State& state) {
 }
 BENCHMARK(BM_NccSurface)->Args({48, 2})->Args({16, 8})->Args({16, 13})->Unit(benchmark::kMicrosecond);
 
+// The dense alignment's coarse search: a whole 640×480 frame at pyramid level 2 (inner 152×112)
+// correlated over ±r, ours against OpenCV's matchTemplate (the peer it replaced), same inputs.
+struct SearchInputs {
+  cv::Mat window, templ;
+};
+SearchInputs CoarseSearchInputs(int r) {
+  cv::Mat f;
+  Shared().frames[0].convertTo(f, CV_32F);
+  const cv::Size inner(152, 112);
+  return {f(cv::Rect(60, 60, inner.width + 2 * r, inner.height + 2 * r)).clone(),
+          f(cv::Rect(60 + r, 60 + r, inner.width, inner.height)).clone()};
+}
+void BM_CoarseSearchNccSurface(benchmark::State& state) {
+  const SearchInputs in = CoarseSearchInputs(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(imaging::NccSurface(in.window, in.templ));
+}
+BENCHMARK(BM_CoarseSearchNccSurface)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+void BM_CoarseSearchOpenCvMatchTemplate(benchmark::State& state) {
+  const SearchInputs in = CoarseSearchInputs(static_cast<int>(state.range(0)));
+  cv::Mat surface;
+  for (auto _ : state) {
+    cv::matchTemplate(in.window, in.templ, surface, cv::TM_CCOEFF_NORMED);
+    benchmark::DoNotOptimize(surface.data);
+  }
+}
+BENCHMARK(BM_CoarseSearchOpenCvMatchTemplate)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace fleetloc
 
