@@ -193,6 +193,15 @@ TEST_F(CliBadInput, CameraJsonWithAnUnknownKeyNamesIt) {
   EXPECT_TRUE(IsBadInput(TrackCopy(), {"camera.json", "resolutoin", "unknown key"}));
 }
 
+TEST_F(CliBadInput, RunJsonWithAnUnknownKeyNamesIt) {
+  // Before issue 22 a mistyped key in run.json was ignored.
+  const fs::path run_json = fs::path(run_) / "run.json";
+  const std::string text = testing::ReadWhole(run_json);
+  WriteText(run_json, std::regex_replace(text, std::regex(R"re("vehicle_id")re"),
+                                         R"re("vehicle_name": "agv-x", "vehicle_id")re"));
+  EXPECT_TRUE(IsBadInput(TrackCopy(), {"run.json", "vehicle_name", "unknown key"}));
+}
+
 TEST_F(CliBadInput, CameraAtTwiceTheMosaicsResolutionIsRefusedWithBothValues) {
   // Before issue 22 this lost almost every frame and exited 0.
   const std::string mosaic_resolution =

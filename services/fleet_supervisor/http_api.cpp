@@ -296,6 +296,9 @@ void HttpApi::Routes() {
     if (!authorized(req, res)) return;
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded() || !body.is_object()) return Fail(res, 400, "the body must be a JSON object");
+    for (const auto& [key, value] : body.items()) {
+      if (key != "region" && key != "mode") return Fail(res, 400, "unknown key '" + key + "' (known: region, mode)");
+    }
     const auto region = body.find("region");
     if (region == body.end() || !region->is_array() || region->size() != 4 ||
         !std::all_of(region->begin(), region->end(), [](const json& v) { return v.is_number(); })) {
