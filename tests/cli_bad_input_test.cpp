@@ -1,4 +1,4 @@
-// Bad input through the fleetctl command line (CONTRACT §6): every broken file must end the
+// Bad input through the fleetctl command line (docs/cli.md): every broken file must end the
 // command with exit status 2 and one line on stderr naming the file (and line and field where
 // there are such) — never a crash, a hang or a silently wrong result. Each test breaks one thing
 // in a fresh copy of a valid run over a valid mosaic, built once per test suite.

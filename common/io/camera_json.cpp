@@ -1,4 +1,4 @@
-// camera.json (CONTRACT section 3): the rectified camera model, its mount and the optional raw
+// camera.json (docs/formats.md): the rectified camera model, its mount and the optional raw
 // block. Unknown keys are rejected, naming the key (issue 22).
 #include <algorithm>
 #include <initializer_list>

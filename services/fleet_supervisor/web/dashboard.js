@@ -1,6 +1,6 @@
 // fleetloc dashboard: live fleet state from the supervisor's event stream (/api/events), the
 // mosaic overview from /api/tiles, history plots from /api/vehicles/ID/history, re-mapping with
-// the maintainer token. Map frame per CONTRACT §1: x right, y up, theta counter-clockwise.
+// the maintainer token. Map frame per docs/formats.md: x right, y up, theta counter-clockwise.
 'use strict';
 
 const LOCK_COLOURS = { tracking: '#2ecc71', relocalized: '#1abc9c', coasting: '#f39c12', lost: '#e74c3c' };
