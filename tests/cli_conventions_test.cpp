@@ -55,14 +55,15 @@ TEST(CliConventions, AMistypedSubcommandGetsADidYouMean) {
 // document a user who clones the project cannot read).
 TEST(CliConventions, HelpTextsCiteOnlyDocumentsInTheRepository) {
   std::vector<std::string> helps = {"--help"};
-  for (const char* sub : {"mosaic", "sim", "sim-forward", "track", "remap", "calibrate", "mapmatch",
-                          "reloc", "status", "compose-floor", "mosaic import", "mosaic build",
-                          "mosaic info", "mosaic export", "mosaic export-mbtiles", "mosaic prune",
-                          "mosaic rollback", "mosaic vehicles"}) {
+  for (const char* sub :
+       {"mosaic", "sim", "sim-forward", "track", "remap", "calibrate", "mapmatch", "reloc",
+        "status", "compose-floor", "mosaic import", "mosaic build", "mosaic info", "mosaic export",
+        "mosaic export-mbtiles", "mosaic prune", "mosaic rollback", "mosaic vehicles"}) {
     helps.push_back(std::string(sub) + " --help");
   }
   std::vector<std::pair<std::string, std::string>> texts;  // (what, help text)
-  for (const std::string& help : helps) texts.emplace_back("fleetctl " + help, RunFleetctl(help).out);
+  for (const std::string& help : helps)
+    texts.emplace_back("fleetctl " + help, RunFleetctl(help).out);
   for (const char* service : kServices) {
     texts.emplace_back(service, RunCommand(Binary(service) + " --help").out);
   }

@@ -28,7 +28,8 @@ constexpr uint32_t kDomain = 131;
 // The environment systemd gives a Type=notify service with WatchdogSec=1, plus the hang hook.
 std::vector<std::string> SystemdEnvironment(const NotifyListener& listener, double hang_after_s) {
   std::vector<std::string> env = {"NOTIFY_SOCKET=" + listener.path(), "WATCHDOG_USEC=1000000"};
-  if (hang_after_s > 0) env.push_back("FLEETLOC_FAULT_HANG_AFTER_S=" + std::to_string(hang_after_s));
+  if (hang_after_s > 0)
+    env.push_back("FLEETLOC_FAULT_HANG_AFTER_S=" + std::to_string(hang_after_s));
   return env;
 }
 
@@ -39,7 +40,8 @@ int CountLine(const std::vector<std::string>& messages, const std::string& line)
 
 // A 2048 px square floor (gravel.png repeated) imported as a mosaic `dir/floor.db`.
 void MakeFloor(const testing::ScratchDir& dir) {
-  const cv::Mat gravel = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat gravel =
+      cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
   cv::Mat floor;
   cv::repeat(gravel, 4, 4, floor);
   ASSERT_TRUE(cv::imwrite(dir / "floor.png", floor));
@@ -49,7 +51,8 @@ void MakeFloor(const testing::ScratchDir& dir) {
   ASSERT_TRUE(imported.ok()) << imported.status().message();
 }
 
-io::ChildProcess StartMapServer(const testing::ScratchDir& dir, const std::vector<std::string>& env) {
+io::ChildProcess StartMapServer(const testing::ScratchDir& dir,
+                                const std::vector<std::string>& env) {
   return testing::StartDaemon("map_server",
                               {"--mosaic", dir / "floor.db", "--domain", std::to_string(kDomain)},
                               dir / "map_server.log", env);
@@ -98,8 +101,11 @@ TEST(ServiceWatchdog, TrackerAgentFeedsTheWatchdogUntilItsLoopHangs) {
   testing::ScratchDir dir("watchdog_agent");
   MakeFloor(dir);
   io::ChildProcess server = StartMapServer(dir, {});
-  const nlohmann::json config{{"vehicle_id", "agv-w"}, {"domain", kDomain}, {"source", "sim"},
-                              {"sim_floor", dir / "floor.png"}, {"mosaic_wait_s", 20}};
+  const nlohmann::json config{{"vehicle_id", "agv-w"},
+                              {"domain", kDomain},
+                              {"source", "sim"},
+                              {"sim_floor", dir / "floor.png"},
+                              {"mosaic_wait_s", 20}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   NotifyListener listener;
   io::ChildProcess agent = testing::StartDaemon(

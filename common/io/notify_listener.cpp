@@ -45,9 +45,9 @@ std::string NotifyListener::Receive(std::chrono::milliseconds limit) {
 std::vector<std::string> NotifyListener::ReceiveFor(std::chrono::milliseconds window) {
   std::vector<std::string> messages;
   const auto end = std::chrono::steady_clock::now() + window;
-  for (auto now = std::chrono::steady_clock::now(); now < end; now = std::chrono::steady_clock::now()) {
-    std::string message =
-        Receive(std::chrono::duration_cast<std::chrono::milliseconds>(end - now));
+  for (auto now = std::chrono::steady_clock::now(); now < end;
+       now = std::chrono::steady_clock::now()) {
+    std::string message = Receive(std::chrono::duration_cast<std::chrono::milliseconds>(end - now));
     if (!message.empty()) messages.push_back(std::move(message));
   }
   return messages;

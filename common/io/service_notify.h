@@ -1,7 +1,7 @@
 // systemd's service notification protocol for the daemons: READY=1 once the main loop runs,
-// WATCHDOG=1 fed from that loop (so systemd restarts a hung service, WatchdogSec= in deploy/systemd)
-// and STOPPING=1 on a clean stop. Without NOTIFY_SOCKET (not started by systemd with Type=notify)
-// every call does nothing.
+// WATCHDOG=1 fed from that loop (so systemd restarts a hung service, WatchdogSec= in
+// deploy/systemd) and STOPPING=1 on a clean stop. Without NOTIFY_SOCKET (not started by systemd
+// with Type=notify) every call does nothing.
 #pragma once
 
 #include <chrono>

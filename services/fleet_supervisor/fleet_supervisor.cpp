@@ -9,8 +9,8 @@
 
 #include "fleet_supervisor/supervisor_metrics.h"
 #include "io/child_process.h"
-#include "io/service_notify.h"
 #include "io/json_fields.h"
+#include "io/service_notify.h"
 #include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"

@@ -121,7 +121,8 @@ void MountVendorLibraries(GuardedServer& s, const std::string& js_dir) {
     const char* package;
     const char* gives;
   };
-  for (const Library& l : {Library{"leaflet", "libjs-leaflet", "map"}, Library{"chart.js", "libjs-chart.js", "plots"}}) {
+  for (const Library& l : {Library{"leaflet", "libjs-leaflet", "map"},
+                           Library{"chart.js", "libjs-chart.js", "plots"}}) {
     const std::string dir = js_dir + "/" + l.name;
     if (!s.set_mount_point(std::string("/vendor/") + l.name, dir)) {
       spdlog::warn("{}: missing (install {}): the dashboard has no {}", dir, l.package, l.gives);
@@ -321,7 +322,8 @@ void HttpApi::Routes() {
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded() || !body.is_object()) return Fail(res, 400, "the body must be a JSON object");
     for (const auto& [key, value] : body.items()) {
-      if (key != "region" && key != "mode") return Fail(res, 400, "unknown key '" + key + "' (known: region, mode)");
+      if (key != "region" && key != "mode")
+        return Fail(res, 400, "unknown key '" + key + "' (known: region, mode)");
     }
     const auto region = body.find("region");
     if (region == body.end() || !region->is_array() || region->size() != 4 ||
