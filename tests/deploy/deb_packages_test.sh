@@ -9,7 +9,8 @@
 # `ctest -R DebPackages.InstallIntoAFreshDebianRootAndStart` with FLEETLOC_DEB_ROOT_TEST=1) the
 # packages are also installed with apt into a fresh Debian 12 root made by debootstrap, and the
 # services are started there as the fleetloc user with their shipped configurations: the map
-# server and the supervisor must come up (mosaic announced, /readyz 200).
+# server, the supervisor and an agent must come up (mosaic announced, /readyz 200, the vehicle
+# tracking).
 # Usage: deb_packages_test.sh SOURCE_DIR BUILD_DIR [install]
 set -euo pipefail
 src="$1"; build="$2"; mode="${3:-}"
@@ -18,9 +19,10 @@ if [ "$mode" = install ] && [ -z "${FLEETLOC_DEB_ROOT_TEST:-}" ] && [ -n "${CTES
   echo "skipped: set FLEETLOC_DEB_ROOT_TEST=1 to install into a fresh Debian 12 root"; exit 77
 fi
 
-# Starts the installed map server and supervisor in root $1 as their units would (no systemd runs
-# as PID 1 here): the shipped configurations, the fleetloc user, the unit's CYCLONEDDS_URI; both
-# must come up (mosaic announced over DDS, /readyz 200) and stop cleanly on SIGTERM.
+# Starts the installed map server, supervisor and agent in root $1 as their units would (no systemd
+# runs as PID 1 here): the shipped configurations, the fleetloc user, the unit's CYCLONEDDS_URI;
+# they must come up (mosaic announced over DDS, /readyz 200, the vehicle tracking in the
+# supervisor's API) and stop cleanly on SIGTERM.
 start_services() {
   local r="$1" work="$2"
   ip link set lo up
@@ -31,16 +33,21 @@ start_services() {
   run_as fleetctl mosaic import /tmp/floor.png --resolution 0.0005 --out /var/lib/fleetloc/mosaic.db >/dev/null 2>&1
   start_as map_server --config /etc/fleetloc/map_server.json >"$work/map_server.log" 2>&1 & ms=$!
   start_as fleet_supervisor --config /etc/fleetloc/fleet_supervisor.json >"$work/supervisor.log" 2>&1 & sv=$!
-  trap 'kill $ms $sv 2>/dev/null || true' EXIT
+  # The agent's shipped configuration replays a recorded run; here it drives a simulated vehicle.
+  start_as tracker_agent --config /etc/fleetloc/tracker_agent.json --sim-floor /tmp/floor.png \
+    --outbox /var/lib/fleetloc/outbox-agv-1.db >"$work/agent.log" 2>&1 & ag=$!
+  trap 'kill $ms $sv $ag 2>/dev/null || true' EXIT
   ok=""
   for _ in $(seq 60); do
     sleep 1
     if run_as fleetctl mosaic info --domain 0 --wait 1 2>/dev/null | grep -q mosaic_id &&
-       curl -sf http://127.0.0.1:8080/readyz >/dev/null; then ok=1; break; fi
+       curl -sf http://127.0.0.1:8080/readyz >/dev/null &&
+       curl -sf http://127.0.0.1:8080/api/vehicles/agv-1 | grep -q '"lock": *"tracking"'; then ok=1; break; fi
   done
-  [ -n "$ok" ] || { tail -20 "$work/map_server.log" "$work/supervisor.log"; fail "the services did not come up"; }
-  echo "map server and supervisor up"
-  kill -TERM $ms $sv
+  [ -n "$ok" ] || { tail -20 "$work/map_server.log" "$work/supervisor.log" "$work/agent.log"; fail "the services did not come up"; }
+  echo "map server, supervisor and agent up; agv-1 tracking on the supervisor"
+  kill -TERM $ag $ms $sv
+  wait $ag || fail "the agent did not stop cleanly: $(tail -3 "$work/agent.log")"
   wait $ms || fail "the map server did not stop cleanly: $(tail -3 "$work/map_server.log")"
   wait $sv || fail "the supervisor did not stop cleanly: $(tail -3 "$work/supervisor.log")"
 }
@@ -110,4 +117,4 @@ chroot "$r" getent passwd fleetloc >/dev/null || fail "no fleetloc user after in
 # The services run in a network namespace of their own (their ports are the shipped defaults,
 # 8080 and 9471/9472, which something on this host may hold).
 unshare -n "$0" "$src" "$build" start-services "$r" "$work"
-echo "installed into a fresh Debian 12 root; map server and supervisor came up as fleetloc"
+echo "installed into a fresh Debian 12 root; the three services came up as fleetloc"
