@@ -38,7 +38,7 @@ void MakeRaw(const fs::path& run) {
     cv::warpPerspective(rect, raw, cv::Mat(RectToRaw()), kRawSize, cv::INTER_CUBIC);
     ASSERT_TRUE(cv::imwrite(frame.file.string(), raw));
   }
-  // Rectified pixel (u, v) → camera_ground (a, b) = (-(v - cy) r, -(u - cx) r) (CONTRACT §3).
+  // Rectified pixel (u, v) → camera_ground (a, b) = (-(v - cy) r, -(u - cx) r) (docs/formats.md).
   const double r = model.resolution_m, cx = model.cx_px, cy = model.cy_px;
   const cv::Matx33d rect_to_ground(0, -r, cy * r, -r, 0, cx * r, 0, 0, 1);
   const cv::Matx33d h_ground = rect_to_ground * RectToRaw().inv();

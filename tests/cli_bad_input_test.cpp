@@ -1,4 +1,4 @@
-// Bad input through the fleetctl command line (CONTRACT §6): every broken file must end the
+// Bad input through the fleetctl command line (docs/cli.md): every broken file must end the
 // command with exit status 2 and one line on stderr naming the file (and line and field where
 // there are such) — never a crash, a hang or a silently wrong result. Each test breaks one thing
 // in a fresh copy of a valid run over a valid mosaic, built once per test suite.
@@ -191,6 +191,15 @@ std::string EditCameraJson(const fs::path& run, const std::string& pattern, cons
 TEST_F(CliBadInput, CameraJsonWithAnUnknownKeyNamesIt) {
   EditCameraJson(run_, R"re(("width"))re", R"re("resolutoin": 0.001, $1)re");
   EXPECT_TRUE(IsBadInput(TrackCopy(), {"camera.json", "resolutoin", "unknown key"}));
+}
+
+TEST_F(CliBadInput, RunJsonWithAnUnknownKeyNamesIt) {
+  // Before issue 22 a mistyped key in run.json was ignored.
+  const fs::path run_json = fs::path(run_) / "run.json";
+  const std::string text = testing::ReadWhole(run_json);
+  WriteText(run_json, std::regex_replace(text, std::regex(R"re("vehicle_id")re"),
+                                         R"re("vehicle_name": "agv-x", "vehicle_id")re"));
+  EXPECT_TRUE(IsBadInput(TrackCopy(), {"run.json", "vehicle_name", "unknown key"}));
 }
 
 TEST_F(CliBadInput, CameraAtTwiceTheMosaicsResolutionIsRefusedWithBothValues) {

@@ -3,6 +3,9 @@
 // "did you mean" for a mistyped fleetctl subcommand.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <regex>
+
 #include "cli_runner.h"
 
 namespace fleetloc {
@@ -46,6 +49,37 @@ TEST(CliConventions, AMistypedSubcommandGetsADidYouMean) {
   const testing::CommandResult far = RunFleetctl("frobnicate");
   EXPECT_TRUE(IsBadInput(far, {"fleetctl"}));
   EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << far.err;
+}
+
+// Every help text names only documents in the repository (issue 22: "CONTRACT §4" pointed at a
+// document a user who clones the project cannot read).
+TEST(CliConventions, HelpTextsCiteOnlyDocumentsInTheRepository) {
+  std::vector<std::string> helps = {"--help"};
+  for (const char* sub :
+       {"mosaic", "sim", "sim-forward", "track", "remap", "calibrate", "mapmatch", "reloc",
+        "status", "compose-floor", "mosaic import", "mosaic build", "mosaic info", "mosaic export",
+        "mosaic export-mbtiles", "mosaic prune", "mosaic rollback", "mosaic vehicles"}) {
+    helps.push_back(std::string(sub) + " --help");
+  }
+  std::vector<std::pair<std::string, std::string>> texts;  // (what, help text)
+  for (const std::string& help : helps)
+    texts.emplace_back("fleetctl " + help, RunFleetctl(help).out);
+  for (const char* service : kServices) {
+    texts.emplace_back(service, RunCommand(Binary(service) + " --help").out);
+  }
+  const std::regex doc(R"(docs/[A-Za-z0-9_-]+\.md)");
+  int cited = 0;
+  for (const auto& [what, text] : texts) {
+    EXPECT_FALSE(text.empty()) << what;
+    for (const char* outside : {"CONTRACT", "DESIGN"}) {
+      EXPECT_EQ(text.find(outside), std::string::npos) << what << " cites " << outside;
+    }
+    for (std::sregex_iterator m(text.begin(), text.end(), doc), end; m != end; ++m, ++cited) {
+      EXPECT_TRUE(std::filesystem::is_regular_file(std::string(FLEETLOC_SOURCE_DIR "/") + m->str()))
+          << what << " cites " << m->str() << ", which is not in the repository";
+    }
+  }
+  EXPECT_GE(cited, 3) << "the run-taking commands point to docs/formats.md";
 }
 
 }  // namespace

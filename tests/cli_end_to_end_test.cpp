@@ -1,4 +1,4 @@
-// End to end through the fleetctl command line (CONTRACT §6): a real floor photo imported as a
+// End to end through the fleetctl command line (docs/cli.md): a real floor photo imported as a
 // mosaic, a simulated run over it, the tracker replayed over the run, the tracker benchmark, a
 // floor composed from blocks of the photos and the mosaic store benchmark.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// fleetctl mapmatch end to end (CONTRACT §6–7): a figure-3-like problem written as landmarks.csv
+// fleetctl mapmatch end to end (docs/cli.md–7): a figure-3-like problem written as landmarks.csv
 // and points.csv, the JSON correction checked against the truth; --init centres the search; an
 // unobservable rotation reported as converged false; a room seen through clutter that the fit
 // before issue 16 got confidently wrong; and every bad input ending with exit status 2 and one

@@ -1,4 +1,4 @@
-// End to end through the fleetctl command line (CONTRACT §6, issue 3): a slow mapping run
+// End to end through the fleetctl command line (docs/cli.md, issue 3): a slow mapping run
 // simulated over a real floor photo is built into a mosaic with `fleetctl mosaic build`; the
 // mosaic's distortion against the true photo is measured, and a second, fast run with another
 // seed is tracked against the built mosaic and scored against its truth.

@@ -1,6 +1,7 @@
 // fleetctl mosaic export with its georeference, read back by independent readers: GDAL's gdalinfo
 // places the exported PNG by its world file exactly where the mosaic's geotransform says
-// (CONTRACT §2), and the Nav2 map.yaml names the image, its resolution and its bottom-left corner.
+// (docs/formats.md), and the Nav2 map.yaml names the image, its resolution and its bottom-left
+// corner.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>

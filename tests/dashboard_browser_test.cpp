@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "supervisor_fixture.h"
@@ -31,23 +32,29 @@ TEST(DashboardBrowser, VehiclesMoveAKilledAgentRaisesAnAlertAndARemapFromThePage
                           "--outbox", (server.dir() / (id + "_outbox.db")).string()},
         (server.dir() / (id + ".log")).string()));
   }
-  testing::SupervisorProcess supervisor(server.dir(), kDomain, "maint-7f3a9c-7f3a9c");
+  const std::string config = (server.dir() / "supervisor.json").string();
+  std::ofstream(config) << R"({"mosaic_name": "Hall 3 floor"})";
+  testing::SupervisorProcess supervisor(server.dir(), kDomain, "maint-7f3a9c-7f3a9c",
+                                        {"--config", config});
   ASSERT_GT(supervisor.port(), 0);
 
   const std::string artifacts = FLEETLOC_BINARY_DIR "/test-artifacts/dashboard";
   const std::string log = (server.dir() / "browser.log").string();
   auto browser = io::ChildProcess::Start(
       "/usr/bin/env",
-      {"node", FLEETLOC_SOURCE_DIR "/tests/browser/dashboard_test.mjs", "--url", supervisor.url(), "--token",
-       supervisor.token(), "--kill-pid", std::to_string(agents[1].pid()), "--kill-vehicle", "agv-b2", "--out",
-       artifacts},
+      {"node", FLEETLOC_SOURCE_DIR "/tests/browser/dashboard_test.mjs", "--url", supervisor.url(),
+       "--token", supervisor.token(), "--kill-pid", std::to_string(agents[1].pid()),
+       "--kill-vehicle", "agv-b2", "--out", artifacts, "--mosaic-name", "Hall 3 floor"},
       log, {"FLEETLOC_NODE_MODULES=" + node_dir + "/node_modules"});
   ASSERT_TRUE(browser.ok()) << browser.status().message();
   const int status = browser->Wait(std::chrono::seconds(240));
   const std::string output = testing::ReadWhole(log);
   std::cout << output;
   EXPECT_EQ(status, 0) << "browser test failed; supervisor log:\n" << supervisor.log();
-  EXPECT_TRUE(std::filesystem::exists(artifacts + "/03_remap_done.png"));
+  for (const char* shot : {"03_remap_done.png", "05_map_checks.png", "06_ellipse_zoom_max.png",
+                           "07_follow.png", "08_plots.png", "09_1024px.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(artifacts + "/" + shot)) << shot;
+  }
   EXPECT_EQ(agents[0].Stop(SIGINT), 0);
 }
 

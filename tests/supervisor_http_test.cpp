@@ -100,6 +100,12 @@ TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
     EXPECT_FALSE(error.empty()) << bad;
   }
   EXPECT_EQ(Status(http.Post("/api/remap", right, good, "application/json")).first, 503);  // no map server
+  // A mistyped key is refused by name, not ignored (issue 22; it had started a blend re-map).
+  const auto [typo_status, typo_error] =
+      Status(http.Post("/api/remap", right, R"({"region": [0, 0, 0.1, 0.1], "mdoe": "replace"})",
+                       "application/json"));
+  EXPECT_EQ(typo_status, 400);
+  EXPECT_NE(typo_error.find("'mdoe'"), std::string::npos) << typo_error;
   EXPECT_EQ(Status(http.Post("/api/remap", right, std::string(100000, ' '), "application/json")).first, 413);
   EXPECT_EQ(RawRequest(supervisor.port(), "GARBAGE\r\n\r\n").substr(0, 12), "HTTP/1.1 400");
 

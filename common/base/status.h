@@ -28,7 +28,7 @@ class Status {
   StatusCode code() const { return code_; }
   const std::string& message() const { return message_; }
 
-  // Exit status per CONTRACT section 6: 0 success, 2 bad input, 1 otherwise.
+  // Exit status per docs/formats.md: 0 success, 2 bad input, 1 otherwise.
   int ExitCode() const {
     switch (code_) {
       case StatusCode::kOk: return 0;

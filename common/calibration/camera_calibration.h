@@ -1,4 +1,4 @@
-// Calibration of a raw downward camera from chessboard photographs (CONTRACT §3 `raw` block):
+// Calibration of a raw downward camera from chessboard photographs (docs/formats.md `raw` block):
 // intrinsics and distortion from several views, and the ground homography (undistorted pixels →
 // camera_ground metres) from one view of the board lying on the floor.
 #pragma once
@@ -33,7 +33,7 @@ Result<Intrinsics> CalibrateIntrinsics(const std::vector<cv::Mat>& gray_views,
 
 // H with camera_ground (a, b, 1) ~ H · (undistorted u, v, 1): the board's plane is the floor, the
 // origin is the floor point under the principal point, +a toward the top of the image and +b
-// toward its left (CONTRACT §1). InvalidInput if the board is not found in `floor_view`.
+// toward its left (docs/formats.md). InvalidInput if the board is not found in `floor_view`.
 Result<cv::Matx33d> GroundHomography(const cv::Mat& floor_view, const Intrinsics& intrinsics,
                                      const ChessboardSpec& board);
 

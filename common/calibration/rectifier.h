@@ -1,4 +1,4 @@
-// Rectification of raw camera frames into the top view the tracker expects (CONTRACT §3): each
+// Rectification of raw camera frames into the top view the tracker expects (docs/formats.md): each
 // rectified pixel's floor point goes through the inverse ground homography and the lens
 // distortion to its raw pixel; the maps are computed once, each frame is one cv::remap.
 #pragma once

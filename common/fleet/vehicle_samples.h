@@ -10,7 +10,8 @@
 
 namespace fleetloc::fleet {
 
-// base_link in map (CONTRACT §1) with the position and heading covariance, at time of validity t.
+// base_link in map (docs/formats.md) with the position and heading covariance, at time of validity
+// t.
 struct PoseSample {
   double t = 0.0;  // Unix seconds (the publisher's stamp)
   double x = 0.0, y = 0.0, theta = 0.0;

@@ -1,4 +1,4 @@
-// The rectified downward camera (CONTRACT section 3): image pixels ↔ camera_ground metres, and the
+// The rectified downward camera (docs/formats.md): image pixels ↔ camera_ground metres, and the
 // camera's mount pose in base_link.
 #pragma once
 

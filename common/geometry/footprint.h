@@ -1,5 +1,5 @@
 // A camera frame's footprint on the floor: its outline in camera_ground and placed in map
-// (CONTRACT sections 1 and 3). Shared by the simulator's route fitting and the mapping run's
+// (docs/formats.md). Shared by the simulator's route fitting and the mapping run's
 // overlap tests.
 #pragma once
 

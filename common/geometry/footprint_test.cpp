@@ -1,4 +1,4 @@
-// Tests for camera footprints: outline per CONTRACT section 3 and overlap fractions.
+// Tests for camera footprints: outline per docs/formats.md
 #include "geometry/footprint.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The mosaic raster ↔ map transform (CONTRACT section 2, GDAL geotransform convention).
+// The mosaic raster ↔ map transform (docs/formats.md, GDAL geotransform convention).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,4 +1,4 @@
-// Tests for the mosaic geotransform (CONTRACT section 2).
+// Tests for the mosaic geotransform (docs/formats.md).
 #include "geometry/geotransform.h"
 
 #include <gtest/gtest.h>

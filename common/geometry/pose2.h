@@ -1,4 +1,4 @@
-// SE(2) poses: composition (⊕), inverse, Jacobians and covariance propagation (CONTRACT section 1).
+// SE(2) poses: composition (⊕), inverse, Jacobians and covariance propagation (docs/formats.md).
 #pragma once
 
 #include <Eigen/Core>

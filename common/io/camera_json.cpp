@@ -1,4 +1,4 @@
-// camera.json (CONTRACT section 3): the rectified camera model, its mount and the optional raw
+// camera.json (docs/formats.md): the rectified camera model, its mount and the optional raw
 // block. Unknown keys are rejected, naming the key (issue 22).
 #include <algorithm>
 #include <initializer_list>
@@ -15,23 +15,10 @@ using nlohmann::json;
 
 constexpr char kCameraFormat[] = "fleetloc-camera/1";
 
-// InvalidInput naming the first member of `object` not in `known` (typos must not silently leave
-// a field at its default); `fields` names the file and the object's prefix.
-Status RejectUnknownKeys(const json& object, const JsonFields& fields, std::initializer_list<std::string_view> known) {
-  for (const auto& [key, value] : object.items()) {
-    if (std::find(known.begin(), known.end(), key) == known.end()) {
-      std::string list;
-      for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      return fields.Error(key, "unknown key (known: " + list + ")");
-    }
-  }
-  return Status::Ok();
-}
-
-Status ReadMount(const json& document, const JsonFields& root, geometry::Pose2* mount) {
+Status ReadMount(const JsonFields& root, geometry::Pose2* mount) {
   Result<JsonFields> fields = root.Object("mount");
   if (!fields.ok()) return fields.status();
-  FLEETLOC_RETURN_IF_ERROR(RejectUnknownKeys(document["mount"], *fields, {"x", "y", "yaw"}));
+  FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"x", "y", "yaw"}));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("x", &mount->x));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("y", &mount->y));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("yaw", &mount->theta));
@@ -46,12 +33,12 @@ std::array<double, 9> ToArray9(const std::vector<double>& values) {
   return out;
 }
 
-Status ReadRaw(const json& document, const JsonFields& root, std::optional<RawCamera>* raw) {
+Status ReadRaw(const JsonFields& root, std::optional<RawCamera>* raw) {
   raw->reset();
   if (!root.Has("raw")) return Status::Ok();
   Result<JsonFields> fields = root.Object("raw");
   if (!fields.ok()) return fields.status();
-  FLEETLOC_RETURN_IF_ERROR(RejectUnknownKeys(document["raw"], *fields, {"K", "dist", "H_ground"}));
+  FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"K", "dist", "H_ground"}));
   RawCamera camera;
   std::vector<double> values;
   FLEETLOC_RETURN_IF_ERROR(fields->Numbers("K", {9}, &values));
@@ -70,8 +57,8 @@ Status ReadRaw(const json& document, const JsonFields& root, std::optional<RawCa
 Result<CameraFile> ParseCamera(const json& document, const std::filesystem::path& path) {
   const JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kCameraFormat));
-  FLEETLOC_RETURN_IF_ERROR(RejectUnknownKeys(
-      document, root, {"format", "width", "height", "resolution", "principal_point", "mount", "raw"}));
+  FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown(
+      {"format", "width", "height", "resolution", "principal_point", "mount", "raw"}));
   CameraFile camera;
   geometry::CameraModel& model = camera.model;
   FLEETLOC_RETURN_IF_ERROR(root.PositiveInt("width", &model.width_px));
@@ -81,8 +68,8 @@ Result<CameraFile> ParseCamera(const json& document, const std::filesystem::path
   FLEETLOC_RETURN_IF_ERROR(root.Numbers("principal_point", {2}, &principal_point));
   model.cx_px = principal_point[0];
   model.cy_px = principal_point[1];
-  FLEETLOC_RETURN_IF_ERROR(ReadMount(document, root, &model.mount));
-  FLEETLOC_RETURN_IF_ERROR(ReadRaw(document, root, &camera.raw));
+  FLEETLOC_RETURN_IF_ERROR(ReadMount(root, &model.mount));
+  FLEETLOC_RETURN_IF_ERROR(ReadRaw(root, &camera.raw));
   return camera;
 }
 

@@ -14,7 +14,7 @@ using testing::HasError;
 using testing::TempDir;
 using testing::WriteText;
 
-// CONTRACT section 3's example, verbatim.
+// docs/formats.md, verbatim.
 constexpr char kContractExample[] = R"({
   "format": "fleetloc-camera/1",
   "width": 640, "height": 480,

@@ -1,4 +1,4 @@
-// A small strict reader and writer for the project's CSV files (CONTRACT sections 4, 5 and 7).
+// A small strict reader and writer for the project's CSV files (docs/formats.md, 5 and 7).
 // Written by hand on purpose: Debian 12, whose packages we build with, ships no C++ CSV library we
 // use, and our format is plain comma-separated fields with a fixed header and no quoting, so a
 // few dozen lines give exact file:line:field messages that a general parser would not.

@@ -1,4 +1,5 @@
-// forward_camera.json reader and writer (see forward_camera_json.h).
+// forward_camera.json reader and writer (see forward_camera_json.h). Unknown keys are rejected,
+// naming the key (issue 22).
 #include "io/forward_camera_json.h"
 
 #include <algorithm>
@@ -26,6 +27,7 @@ Status ReadArray(const JsonFields& fields, std::string_view key, std::array<doub
 Status ReadMount(const JsonFields& root, mapmatch::ForwardMount* mount) {
   Result<JsonFields> fields = root.Object("mount");
   if (!fields.ok()) return fields.status();
+  FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"x", "y", "yaw", "height", "pitch", "roll"}));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("x", &mount->x_m));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("y", &mount->y_m));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("yaw", &mount->yaw_rad));
@@ -40,6 +42,7 @@ Status ReadMount(const JsonFields& root, mapmatch::ForwardMount* mount) {
 Result<ForwardCameraParams> Parse(const json& document, const std::filesystem::path& path) {
   const JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kForwardCameraFormat));
+  FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown({"format", "width", "height", "K", "dist", "mount"}));
   ForwardCameraParams params;
   FLEETLOC_RETURN_IF_ERROR(root.PositiveInt("width", &params.width_px));
   FLEETLOC_RETURN_IF_ERROR(root.PositiveInt("height", &params.height_px));

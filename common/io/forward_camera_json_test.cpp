@@ -131,7 +131,9 @@ INSTANTIATE_TEST_SUITE_P(
                       BadMember{"mount.pitch", "1.6", "mount.pitch"},
                       BadMember{"mount.pitch", R"("0.2")", "mount.pitch"},
                       BadMember{"mount.x", "null", "mount.x"},
-                      BadMember{"mount.roll", "true", "mount.roll"}));
+                      BadMember{"mount.roll", "true", "mount.roll"},
+                      // Unknown keys, at the top and in the mount (issue 22).
+                      BadMember{"fov", "60", "fov"}, BadMember{"mount.z", "0.5", "mount.z"}));
 
 TEST_F(ForwardCameraJsonTest, WriterRefusesNanParameters) {
   mapmatch::ForwardCameraParams params;

@@ -69,6 +69,16 @@ bool JsonFields::Has(std::string_view key) const {
   return it != object_->end() && !it->is_null();
 }
 
+Status JsonFields::RejectUnknown(std::initializer_list<std::string_view> known) const {
+  for (const auto& [key, value] : object_->items()) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string list;
+    for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+    return Error(key, "unknown key (known: " + list + ")");
+  }
+  return Status::Ok();
+}
+
 Status JsonFields::Error(std::string_view key, std::string_view what) const {
   return BadField(file_, 0, prefix_ + std::string(key), what);
 }

@@ -1,6 +1,6 @@
 // Typed, validated access to the members of a JSON object for the io readers, with one-line errors
-// "<file>: field '<dotted.name>': <what>". Unknown members are ignored (CONTRACT: extend, never
-// break); a known member of the wrong type or range is an error.
+// "<file>: field '<dotted.name>': <what>". A known member of the wrong type or range is an error;
+// readers reject unknown members with RejectUnknown (a typo must not leave a field at its default).
 #pragma once
 
 #include <cstddef>
@@ -48,6 +48,8 @@ class JsonFields {
   Result<JsonFields> Object(std::string_view key) const;
   // The member "format" must be the string `expected`.
   Status CheckFormat(std::string_view expected) const;
+  // InvalidInput naming the first member not in `known`: "field '<key>': unknown key (known: ...)".
+  Status RejectUnknown(std::initializer_list<std::string_view> known) const;
 
   // InvalidInput "<file>: field '<prefix><key>': <what>".
   Status Error(std::string_view key, std::string_view what) const;

@@ -17,5 +17,16 @@ TEST(DumpJson, InvalidUtf8IsReplacedNotThrown) {
   EXPECT_EQ(DumpJson({{"a", 1}}, 2), "{\n  \"a\": 1\n}");
 }
 
+TEST(JsonFields, RejectUnknownNamesTheFirstUnknownKeyAndListsTheKnownOnes) {
+  const nlohmann::json object = {{"mount", {{"x", 1}, {"yaw", 0}, {"z", 2}}}};
+  const JsonFields root(object, "cam.json");
+  EXPECT_TRUE(root.RejectUnknown({"mount"}).ok());
+  Result<JsonFields> mount = root.Object("mount");
+  ASSERT_TRUE(mount.ok());
+  EXPECT_EQ(mount->RejectUnknown({"x", "y", "yaw"}).message(),
+            "cam.json: field 'mount.z': unknown key (known: x, y, yaw)");
+  EXPECT_EQ(mount->RejectUnknown({"x", "y", "yaw"}).code(), StatusCode::kInvalidInput);
+}
+
 }  // namespace
 }  // namespace fleetloc::io

@@ -1,4 +1,4 @@
-// landmarks.csv and points.csv (CONTRACT §7; see mapmatch_files.h).
+// landmarks.csv and points.csv (docs/formats.md; see mapmatch_files.h).
 #include "io/mapmatch_files.h"
 
 #include <map>

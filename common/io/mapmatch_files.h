@@ -1,4 +1,5 @@
-// The map-matching files of CONTRACT §7: landmarks.csv (`id,x,y`, the landmark map) and points.csv
+// The map-matching files of docs/formats.md: landmarks.csv (`id,x,y`, the landmark map) and
+// points.csv
 // (`x,y`, measured floor points placed in the map frame). Errors name file, line and field.
 #pragma once
 

@@ -1,4 +1,5 @@
-// The one-line error format shared by every io reader (CONTRACT: name the file, line and field).
+// The one-line error format shared by every io reader (docs/formats.md: name the file, line and
+// field).
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-// poses.csv (CONTRACT section 5): the tracker's output, one row per frame.
+// poses.csv (docs/formats.md): the tracker's output, one row per frame.
 #include <algorithm>
 #include <array>
 #include <string_view>

@@ -1,4 +1,4 @@
-// Readers and writers for the files of CONTRACT sections 3–5: camera.json, a run directory
+// Readers and writers for the files of docs/formats.md: camera.json, a run directory
 // (run.json, frames.csv, odometry.csv, truth.csv, the optional forward/) and poses.csv. Every
 // reader rejects a file that breaks the contract with a one-line message naming the file, the line
 // and the field.
@@ -36,7 +36,7 @@ struct FrameRef {
   std::filesystem::path file;  // absolute (resolved against the run directory)
 };
 
-// The optional forward (landmark) camera of a run: its `forward/` directory (CONTRACT §4,
+// The optional forward (landmark) camera of a run: its `forward/` directory (docs/formats.md,
 // docs/forward_camera.md).
 struct ForwardStream {
   mapmatch::ForwardCameraParams camera;      // forward/forward_camera.json
@@ -56,7 +56,7 @@ struct Run {
   std::optional<ForwardStream> forward;         // when the run has a forward/ directory
 };
 
-// One row of poses.csv (CONTRACT section 5).
+// One row of poses.csv (docs/formats.md).
 struct PoseRecord {
   double t = 0.0;
   geometry::Pose2 pose;

@@ -1,4 +1,4 @@
-// run.json reading and writing.
+// run.json reading and writing. Unknown keys are rejected, naming the key (issue 22).
 #include "io/run_json.h"
 
 #include "io/json_fields.h"
@@ -14,6 +14,7 @@ constexpr char kRunFormat[] = "fleetloc-run/1";
 Status ReadInitialPose(const JsonFields& root, RunJson* run) {
   Result<JsonFields> pose = root.Object("initial_pose");
   if (!pose.ok()) return pose.status();
+  FLEETLOC_RETURN_IF_ERROR(pose->RejectUnknown({"x", "y", "theta", "sigma"}));
   FLEETLOC_RETURN_IF_ERROR(pose->Number("x", &run->initial_pose.x));
   FLEETLOC_RETURN_IF_ERROR(pose->Number("y", &run->initial_pose.y));
   FLEETLOC_RETURN_IF_ERROR(pose->Number("theta", &run->initial_pose.theta));
@@ -33,6 +34,7 @@ Status ReadInitialPose(const JsonFields& root, RunJson* run) {
 Result<RunJson> ParseRun(const json& document, const std::filesystem::path& path) {
   const JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kRunFormat));
+  FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown({"format", "vehicle_id", "camera", "initial_pose"}));
   RunJson run;
   FLEETLOC_RETURN_IF_ERROR(root.NonEmptyString("vehicle_id", &run.vehicle_id));
   std::string camera;

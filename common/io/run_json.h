@@ -1,4 +1,4 @@
-// run.json (CONTRACT section 4): vehicle id, camera file and initial pose of a run.
+// run.json (docs/formats.md): vehicle id, camera file and initial pose of a run.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
-// ReadRun: a whole run directory, each file validated, then the cross-file rules of CONTRACT
-// section 4 (odometry covers the frames of both cameras, truth has one row per frame).
+// ReadRun: a whole run directory, each file validated, then the cross-file rules of
+// docs/formats.md, runs (odometry covers the frames of both cameras, truth has one row per frame).
 #include <cmath>
 
 #include "io/file_util.h"
@@ -75,7 +75,7 @@ Status ReadTruthOfFrames(const fs::path& truth_csv, const std::vector<FrameRef>&
   return Status::Ok();
 }
 
-// forward/ (CONTRACT §4): forward_camera.json, forward.csv and, in simulated runs, truth.csv.
+// forward/ (docs/formats.md): forward_camera.json, forward.csv and, in simulated runs, truth.csv.
 Result<std::optional<ForwardStream>> ReadForwardStream(const fs::path& run_dir) {
   const fs::path dir = run_dir / "forward";
   std::error_code ec;

@@ -102,6 +102,17 @@ TEST_F(ReadRunTest, RunJsonErrorsNameTheField) {
                        bad, File("run.json"), 0, "initial_pose.sigma"));
 }
 
+// A mistyped key must not be silently ignored (issue 22).
+TEST_F(ReadRunTest, UnknownRunJsonKeysAreRejectedByName) {
+  const StatusCode bad = StatusCode::kInvalidInput;
+  const Status top = ReadWithRunJson("vehicle", R"("agv-8")");
+  EXPECT_TRUE(HasError(top, bad, File("run.json"), 0, "vehicle"));
+  EXPECT_NE(top.message().find("unknown key"), std::string::npos) << top.message();
+  EXPECT_TRUE(HasError(
+      ReadWithRunJson("initial_pose", R"({"x":1,"y":2,"theta":0,"sigma":[0,0,0],"yaw":1})"), bad,
+      File("run.json"), 0, "initial_pose.yaw"));
+}
+
 TEST_F(ReadRunTest, NegativeSigmaNamesTheElement) {
   EXPECT_TRUE(
       HasError(ReadWithRunJson("initial_pose", R"({"x":1,"y":2,"theta":0,"sigma":[0.1,-0.2,0.1]})"),

@@ -1,4 +1,4 @@
-// The CSV tables of a run (CONTRACT section 4): `t,file` (frames.csv, forward/forward.csv) and
+// The CSV tables of a run (docs/formats.md): `t,file` (frames.csv, forward/forward.csv) and
 // `t,x,y,theta` (odometry.csv, truth.csv). Data row i of any of them is on line i + 2.
 #pragma once
 

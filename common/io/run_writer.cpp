@@ -1,4 +1,4 @@
-// WriteRun: a run directory in the layout of CONTRACT section 4.
+// WriteRun: a run directory in the layout of docs/formats.md
 #include "io/file_util.h"
 #include "io/run.h"
 #include "io/run_json.h"

@@ -1,8 +1,9 @@
-// Global position update (paper 001 §5, DESIGN §4): floor points detected over a short time window,
-// in which odometry is still good, are placed in the map frame with the odometry-propagated pose
-// estimate at their detection time; the robust map fit (robust_map_fit.h) of those points against
-// the landmark map, searching within its search radius of the estimate, gives the correction T of
-// the estimate, and the vehicle pose becomes T ⊕ pose — only when the fit passed its validation.
+// Global position update (paper 001 §5, docs/architecture.md): floor points detected over a short
+// time window, in which odometry is still good, are placed in the map frame with the
+// odometry-propagated pose estimate at their detection time; the robust map fit (robust_map_fit.h)
+// of those points against the landmark map, searching within its search radius of the estimate,
+// gives the correction T of the estimate, and the vehicle pose becomes T ⊕ pose — only when the fit
+// passed its validation.
 #pragma once
 
 #include <Eigen/Core>

@@ -1,8 +1,8 @@
-// Landmark detection from a forward-camera image (paper 001 §6.1, DESIGN §4): near-vertical edges
-// (Canny + probabilistic Hough, kept when they point at the nadir vanishing point), their lowest
-// points refined to sub-pixel, back-projected to the floor by inverse perspective mapping. The
-// result is floor points in base_link, many of them outliers (clutter, edges that end above the
-// floor); the robust map fit sorts them out.
+// Landmark detection from a forward-camera image (paper 001 §6.1, docs/architecture.md):
+// near-vertical edges (Canny + probabilistic Hough, kept when they point at the nadir vanishing
+// point), their lowest points refined to sub-pixel, back-projected to the floor by inverse
+// perspective mapping. The result is floor points in base_link, many of them outliers (clutter,
+// edges that end above the floor); the robust map fit sorts them out.
 #pragma once
 
 #include <Eigen/Core>

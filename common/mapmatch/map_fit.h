@@ -1,9 +1,9 @@
-// Robust SE(2) map fit (paper 001 §4, DESIGN §4): the correction T = (dx, dy, dθ) that moves
-// measured floor points onto a landmark map. Each landmark attracts the transformed points within
-// the kernel radius h; one iteration solves the linearised weighted least-squares step over those
-// pairs, Δ = (Σ w JᵀJ)⁻¹ Σ w Jᵀ(m_j − T(p_i)), and T ← T + Δ. Outliers farther than h from every
-// landmark and landmarks with no measurement nearby drop out by themselves. The fit is local: it
-// converges to the truth from a start within about h of it, and to whatever mode is nearest from
+// Robust SE(2) map fit (paper 001 §4, docs/architecture.md): the correction T = (dx, dy, dθ) that
+// moves measured floor points onto a landmark map. Each landmark attracts the transformed points
+// within the kernel radius h; one iteration solves the linearised weighted least-squares step over
+// those pairs, Δ = (Σ w JᵀJ)⁻¹ Σ w Jᵀ(m_j − T(p_i)), and T ← T + Δ. Outliers farther than h from
+// every landmark and landmarks with no measurement nearby drop out by themselves. The fit is local:
+// it converges to the truth from a start within about h of it, and to whatever mode is nearest from
 // anywhere else — robust_map_fit.h gives it good starts and checks what it converged to.
 #pragma once
 

@@ -1,7 +1,7 @@
-// Mean-shift mode search (paper 001, DESIGN §4): with the Epanechnikov kernel of radius h the mode
-// estimate moves to the (weighted) mean of the points within h of it, until it stops moving. It
-// finds the densest cluster near the start even when most points are outliers. Used for single
-// points (paper figure 2) and for clustering relocalization votes.
+// Mean-shift mode search (paper 001, docs/architecture.md): with the Epanechnikov kernel of radius
+// h the mode estimate moves to the (weighted) mean of the points within h of it, until it stops
+// moving. It finds the densest cluster near the start even when most points are outliers. Used for
+// single points (paper figure 2) and for clustering relocalization votes.
 #pragma once
 
 #include <Eigen/Core>

@@ -31,7 +31,7 @@ TEST(MeanShift, Figure2ConvergesFromTheSampleMeanDespite70PercentOutliers) {
     const Eigen::Vector2d start = SampleMean(points).value();
     EXPECT_GT((start - truth).norm(), 0.3) << "the naive estimate (1) is far off";
     // A wide window finds the cluster from afar; the ~90 outliers inside it bias the mode by up
-    // to ~0.1, so a narrow window (DESIGN §4: shrink h) then centres it on the inliers.
+    // to ~0.1, so a narrow window (docs/architecture.md: shrink h) then centres it on the inliers.
     const MeanShiftResult wide = MeanShiftMode(points, {}, start, {.radius = 2.0}).value();
     ASSERT_TRUE(wide.converged) << "seed " << seed;
     EXPECT_LT((wide.mode - truth).norm(), 0.15) << "seed " << seed;

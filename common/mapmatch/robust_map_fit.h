@@ -1,6 +1,6 @@
-// The robust map fit (issue 16, DESIGN §4): the mean-shift SE(2) fit of map_fit.h given good
-// starts and a check. Starts: the initial correction and the best corrections voted by pairs of
-// dense spots whose distance matches a pair of landmarks (pair_votes.h), all within the search
+// The robust map fit (issue 16, docs/architecture.md): the mean-shift SE(2) fit of map_fit.h given
+// good starts and a check. Starts: the initial correction and the best corrections voted by pairs
+// of dense spots whose distance matches a pair of landmarks (pair_votes.h), all within the search
 // radius. Each start is refined by the mean-shift fit with h shrinking to the final radius. The
 // converged modes are compared by their kernel support at the final radius; the best one must pass
 // a validation gate (it lands on enough landmarks, each with enough points, with a residual well

@@ -11,7 +11,7 @@
 namespace fleetloc::mapping {
 namespace {
 
-// Camera_ground point of pixel index (j, i) of an image of `size` (CONTRACT §3).
+// Camera_ground point of pixel index (j, i) of an image of `size` (docs/formats.md).
 Eigen::Vector2d GroundOf(cv::Size size, double j, double i, double res) {
   return {-(i + 0.5 - size.height / 2.0) * res, -(j + 0.5 - size.width / 2.0) * res};
 }

@@ -33,8 +33,8 @@ std::vector<bool> CorroborateChanges(const std::vector<ObservedChange>& changes,
                                      double resolution_m, const CorroborationOptions& options);
 
 // The affine map from pixel indices of an image of `from_size` at `from` to pixel indices of an
-// image of `to_size` at `to` (both camera_ground poses in map, CONTRACT §3), for warpAffine with
-// WARP_INVERSE_MAP when rendering the `to` image in the `from` image's grid.
+// image of `to_size` at `to` (both camera_ground poses in map, docs/formats.md), for warpAffine
+// with WARP_INVERSE_MAP when rendering the `to` image in the `from` image's grid.
 cv::Matx23d PatchToPatch(cv::Size from_size, const geometry::Pose2& from, cv::Size to_size,
                          const geometry::Pose2& to, double resolution_m);
 

@@ -19,7 +19,7 @@ using geometry::PoseWithCovariance;
 
 // The reference frame seen as a mosaic lives in a local frame L with the image's axes (x right,
 // y up) and its origin at the principal point, so level-0 mosaic pixels are the frame's pixels.
-// By CONTRACT §3 (a up the image, b to its left) the reference's camera_ground is then the pose
+// By docs/formats.md (a up the image, b to its left) the reference's camera_ground is then the pose
 // (0, 0, π/2) in L.
 const Pose2 kReferenceInLocal{0.0, 0.0, M_PI / 2};
 

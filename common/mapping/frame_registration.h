@@ -1,9 +1,9 @@
-// Frame-to-frame registration for mapping (DESIGN §5: "register overlapping frames with the same
-// correlation machinery"): one camera frame is treated as a small mosaic and the other is tracked
-// over it by the mosaic tracker itself — texture-scored, spread feature selection, normalized
-// templates, NCC with sub-pixel peaks and quality gates, coarse to fine, and the Kalman pose update
-// with outlier rejection. The result is the relative SE(2) pose of the two camera_ground frames
-// with the covariance of the image measurement alone.
+// Frame-to-frame registration for mapping (docs/architecture.md: "register overlapping frames with
+// the same correlation machinery"): one camera frame is treated as a small mosaic and the other is
+// tracked over it by the mosaic tracker itself — texture-scored, spread feature selection,
+// normalized templates, NCC with sub-pixel peaks and quality gates, coarse to fine, and the Kalman
+// pose update with outlier rejection. The result is the relative SE(2) pose of the two
+// camera_ground frames with the covariance of the image measurement alone.
 #pragma once
 
 #include <opencv2/core.hpp>

@@ -1,7 +1,7 @@
-// Blending registered frames into a mosaic raster (DESIGN §5): each frame is resampled into a
-// float canvas over the bounding box of all footprints with feathered weights (falling to zero at
-// the frame's border, so seams fade instead of stepping), optionally after fitting its gain and
-// bias to what is already accumulated; the canvas is then read row by row as 8-bit gray.
+// Blending registered frames into a mosaic raster (docs/architecture.md): each frame is resampled
+// into a float canvas over the bounding box of all footprints with feathered weights (falling to
+// zero at the frame's border, so seams fade instead of stepping), optionally after fitting its gain
+// and bias to what is already accumulated; the canvas is then read row by row as 8-bit gray.
 #pragma once
 
 #include <cstdint>
@@ -28,7 +28,7 @@ struct BlendOptions {
 // Flat range checks; InvalidInput naming the field.
 Status Validate(const BlendOptions& options);
 
-// A level-0 pixel grid in map (CONTRACT §2).
+// A level-0 pixel grid in map (docs/formats.md).
 struct Canvas {
   geometry::Geotransform geo;
   int width_px = 0;

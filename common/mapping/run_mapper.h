@@ -1,5 +1,5 @@
-// The camera poses of a mapping run (DESIGN §5, "register overlapping frames ..., make the
-// result locally smooth"): successive frames registered with predictions from the odometry
+// The camera poses of a mapping run (docs/architecture.md, "register overlapping frames ..., make
+// the result locally smooth"): successive frames registered with predictions from the odometry
 // increments, an SE(2) pose graph of registration edges (and odometry edges bridging the pairs
 // that did not register) solved; loop closures found where the route revisits itself, registered,
 // added and solved again with robust pruning. Anchored at the first frame's pose, so the result

@@ -1,6 +1,6 @@
 // Georeference files that go with an exported mosaic image so that other tools place it in the
 // map frame: an ESRI world file (GDAL, QGIS) and a Nav2 / ROS map_server map.yaml. Pure: text from
-// the mosaic layout, the exported level and the pixel rectangle written (CONTRACT §2).
+// the mosaic layout, the exported level and the pixel rectangle written (docs/formats.md).
 #pragma once
 
 #include <opencv2/core/types.hpp>

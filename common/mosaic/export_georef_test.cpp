@@ -1,4 +1,4 @@
-// World file and Nav2 map.yaml: numbers against the geotransform (CONTRACT §2) by hand.
+// World file and Nav2 map.yaml: numbers against the geotransform (docs/formats.md) by hand.
 #include "mosaic/export_georef.h"
 
 #include <gtest/gtest.h>

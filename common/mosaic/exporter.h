@@ -10,7 +10,8 @@
 
 namespace fleetloc::mosaic {
 
-// An axis-aligned map region given by two opposite corners, metres (CONTRACT: x0,y0,x1,y1).
+// An axis-aligned map region given by two opposite corners, metres (docs/cli.md, mosaic export
+// --region: x0,y0,x1,y1).
 struct MapRegion {
   double x0_m = 0, y0_m = 0, x1_m = 0, y1_m = 0;
 };

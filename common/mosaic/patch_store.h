@@ -31,7 +31,7 @@ struct PatchRecord {
   std::string vehicle_id;
   int64_t sequence = 0;
   double stamp_s = 0;
-  geometry::Pose2 pose;  // camera_ground of the image centre in map (CONTRACT §1, §3)
+  geometry::Pose2 pose;  // camera_ground of the image centre in map (docs/formats.md)
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   double quality = 0;
   cv::Mat image;  // CV_8UC1 at the mosaic's level-0 resolution

@@ -3,7 +3,7 @@
 // marks and debris on the floor, the vehicle's shadow, uneven lighting, lens
 // and motion blur, vignetting, sensor noise, response curve, gain and bias, 8-bit output.
 //
-// Image pixel convention (the same as the mosaic's, CONTRACT section 2): pixel (i, j) covers
+// Image pixel convention (the same as the mosaic's, docs/formats.md): pixel (i, j) covers
 // [i, i + 1) × [j, j + 1) in continuous image coordinates; its centre is (i + 0.5, j + 0.5).
 #pragma once
 

@@ -1,4 +1,4 @@
-// A simulated vehicle run (CONTRACT section 4) over a floor: the route, frame and odometry times,
+// A simulated vehicle run (docs/formats.md) over a floor: the route, frame and odometry times,
 // ground truth, drifting odometry, the perturbed initial pose and, frame by frame, the rendered
 // camera images. Pure: the caller writes the files.
 #pragma once

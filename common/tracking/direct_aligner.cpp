@@ -1,9 +1,9 @@
 // Robust coarse-to-fine inverse-compositional alignment of the whole frame (see direct_aligner.h).
 //
 // Parametrization: the warp increment q = (qx, qy, qθ) acts on camera_ground points, g ↦ q ⊕ g,
-// and is carried in level-0 pixels and radians. With frame pixel u ↔ ground g (CONTRACT §3), the
-// inverse-compositional step (Baker & Matthews 2004) minimizes Σ ρ(T(W(u; q)) − I(A(u))) where T
-// is the normalized frame, I the normalized mosaic and A the current frame → mosaic warp; the
+// and is carried in level-0 pixels and radians. With frame pixel u ↔ ground g (docs/formats.md),
+// the inverse-compositional step (Baker & Matthews 2004) minimizes Σ ρ(T(W(u; q)) − I(A(u))) where
+// T is the normalized frame, I the normalized mosaic and A the current frame → mosaic warp; the
 // Jacobian of T(W(u; q)) at q = 0 is fixed per pixel, and the update is pose ← pose ⊕ q⁻¹.
 #include "tracking/direct_aligner.h"
 

@@ -1,6 +1,7 @@
 // The affine map between a frame's continuous pixel coordinates and the mosaic's level-0
 // continuous pixel coordinates for a camera pose (camera_ground in map): frame pixel → ground
-// (CONTRACT §3) → map (pose) → mosaic pixel (CONTRACT §2). Both use pixel centres at i + 0.5.
+// (docs/formats.md) → map (pose) → mosaic pixel (docs/formats.md). Both use pixel centres at i +
+// 0.5.
 #pragma once
 
 #include <Eigen/Core>

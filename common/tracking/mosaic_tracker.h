@@ -1,5 +1,5 @@
-// The mosaic tracker cycle (paper 000 §2, DESIGN §3): one call per camera frame turns the frame,
-// its capture time and the odometry pose at that time into base_link's pose in map.
+// The mosaic tracker cycle (paper 000 §2, docs/architecture.md): one call per camera frame turns
+// the frame, its capture time and the odometry pose at that time into base_link's pose in map.
 #pragma once
 
 #include <opencv2/core.hpp>

@@ -1,6 +1,6 @@
 // End-to-end tests of the tracker cycle on a real photo (tracking/test_scene.h: frames rendered
-// at known poses from the CONTRACT formulas), drifting odometry, photometric change. Checks
-// accuracy against ground truth and the lock states.
+// at known poses from the formulas of docs/formats.md), drifting odometry, photometric change.
+// Checks accuracy against ground truth and the lock states.
 #include "tracking/mosaic_tracker.h"
 
 #include <gtest/gtest.h>

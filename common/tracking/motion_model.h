@@ -1,6 +1,6 @@
-// Covariance propagation with odometry (paper 000 §2.2.3, DESIGN §3 step 1): the prediction is the
-// tracker's own last estimate plus the odometry increment, and its uncertainty grows with the
-// distance driven, the angle turned and the time elapsed.
+// Covariance propagation with odometry (paper 000 §2.2.3, docs/architecture.md step 1): the
+// prediction is the tracker's own last estimate plus the odometry increment, and its uncertainty
+// grows with the distance driven, the angle turned and the time elapsed.
 #pragma once
 
 #include "geometry/pose2.h"

@@ -1,6 +1,6 @@
-// base_link in map at any odometry time after the last tracked frame (DESIGN §3 step 8: the agent
-// propagates the frame's pose to "now" with odometry when it publishes): the frame's pose ⊕ the
-// odometry increment since, with covariance grown by the odometry noise model.
+// base_link in map at any odometry time after the last tracked frame (docs/architecture.md step 8:
+// the agent propagates the frame's pose to "now" with odometry when it publishes): the frame's pose
+// ⊕ the odometry increment since, with covariance grown by the odometry noise model.
 #pragma once
 
 #include "geometry/pose2.h"

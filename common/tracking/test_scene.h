@@ -1,6 +1,6 @@
 // Test helper (tests only): a real floor photo as the mosaic and a 160×120 camera, with frames
-// rendered at known poses straight from the CONTRACT formulas (cv::remap, independent of the
-// tracker's own warp code). Needs FLEETLOC_SOURCE_DIR, which fleetloc_test() defines.
+// rendered at known poses straight from the formulas of docs/formats.md (cv::remap, independent of
+// the tracker's own warp code). Needs FLEETLOC_SOURCE_DIR, which fleetloc_test() defines.
 #pragma once
 
 #include <opencv2/imgcodecs.hpp>
@@ -27,7 +27,7 @@ struct TestScene {
     camera.mount = {0.1, 0.0, 0.0};
   }
 
-  // The frame base_link at `base` sees: pixel centre → ground → map → mosaic, per CONTRACT;
+  // The frame base_link at `base` sees: pixel centre → ground → map → mosaic, per docs/formats.md;
   // bicubic, then gain and bias, a slight blur and Gaussian noise (sigma 2 grey levels, from the
   // scene's own seeded generator, so results do not depend on which tests ran before).
   cv::Mat Render(const geometry::Pose2& base, double gain, double bias) {

@@ -10,6 +10,7 @@
 #include "fleet_supervisor/supervisor_metrics.h"
 #include "io/child_process.h"
 #include "io/json_fields.h"
+#include "io/service_notify.h"
 #include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -245,10 +246,12 @@ std::vector<std::pair<std::string, uint64_t>> FleetSupervisor::AllCounters() con
 
 Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
   while (!stop.load()) {
+    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     Result<std::vector<dds_attach_t>> woke = waitset_->Wait(0.01);
     if (!woke.ok()) return woke.status();
     Step(Now());
   }
+  io::NotifyServiceStopping();
   http_->Stop();
   vda_.reset();  // OFFLINE, retained
   fleet_->NewestUnstored(&pending_poses_);

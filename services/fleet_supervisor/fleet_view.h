@@ -1,5 +1,5 @@
 // The JSON the HTTP API and the live stream serve (field names are the dashboard's and any
-// script's interface; times are Unix seconds, lengths metres, angles radians, CONTRACT §1).
+// script's interface; times are Unix seconds, lengths metres, angles radians, docs/formats.md).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -110,10 +110,33 @@ void HttpApi::Stop() {
   if (server_) server_->StopGuards();
 }
 
+namespace {
+
+// The dashboard's libraries from the system's packages (libjs-leaflet, libjs-chart.js): served
+// from there, not copied into the project, so security updates reach them. Without them the
+// dashboard still shows the fleet, without its map and plots (warned).
+void MountVendorLibraries(GuardedServer& s, const std::string& js_dir) {
+  struct Library {
+    const char* name;
+    const char* package;
+    const char* gives;
+  };
+  for (const Library& l : {Library{"leaflet", "libjs-leaflet", "map"},
+                           Library{"chart.js", "libjs-chart.js", "plots"}}) {
+    const std::string dir = js_dir + "/" + l.name;
+    if (!s.set_mount_point(std::string("/vendor/") + l.name, dir)) {
+      spdlog::warn("{}: missing (install {}): the dashboard has no {}", dir, l.package, l.gives);
+    }
+  }
+}
+
+}  // namespace
+
 Status HttpApi::Start(const std::string& web_dir) {
   GuardedServer& s = *server_;
   s.set_payload_max_length(static_cast<size_t>(ctx_.config->http.max_body_bytes));  // the front checks first
   if (!s.set_mount_point("/", web_dir)) return NotFound(web_dir + ": the dashboard's web directory is missing");
+  MountVendorLibraries(s, ctx_.config->js_dir);
   Routes();
   const SupervisorConfig& c = *ctx_.config;
   int error = 0;
@@ -263,7 +286,9 @@ void HttpApi::Routes() {
   s.Get(route("GET", "/api/mosaic"), [this](const Request&, Response& res) {
     std::optional<mosaic::MosaicLayout> layout = ctx_.tiles->Layout();
     if (!layout) return Fail(res, 503, "no map server has announced a mosaic yet");
+    const std::string& name = ctx_.config->mosaic_name;
     Reply(res, 200, {{"mosaic_id", layout->mosaic_id}, {"version", layout->version},
+                     {"name", name.empty() ? "floor" : name},
                      {"width_px", layout->width_px}, {"height_px", layout->height_px},
                      {"tile_size_px", layout->tile_size_px}, {"levels", layout->levels},
                      {"origin_x", layout->geo.origin_x}, {"origin_y", layout->geo.origin_y},
@@ -296,6 +321,10 @@ void HttpApi::Routes() {
     if (!authorized(req, res)) return;
     const json body = json::parse(req.body, nullptr, false);
     if (body.is_discarded() || !body.is_object()) return Fail(res, 400, "the body must be a JSON object");
+    for (const auto& [key, value] : body.items()) {
+      if (key != "region" && key != "mode")
+        return Fail(res, 400, "unknown key '" + key + "' (known: region, mode)");
+    }
     const auto region = body.find("region");
     if (region == body.end() || !region->is_array() || region->size() != 4 ||
         !std::all_of(region->begin(), region->end(), [](const json& v) { return v.is_number(); })) {

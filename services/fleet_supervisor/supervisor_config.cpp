@@ -141,7 +141,8 @@ Result<SupervisorConfig> LoadSupervisorConfig(const std::string& path) {
       {"supervisor_id", &c.supervisor_id}, {"dds_config", &c.dds_config_path},
       {"http_bind", &c.http_bind}, {"port_file", &c.port_file},
       {"maintainer_token", &c.maintainer_token}, {"maintainer_token_file", &c.maintainer_token_file},
-      {"history_db", &c.history_db}, {"web_dir", &c.web_dir}};
+      {"history_db", &c.history_db}, {"web_dir", &c.web_dir}, {"js_dir", &c.js_dir},
+      {"mosaic_name", &c.mosaic_name}};
   const std::pair<const char*, int*> ints[] = {
       {"domain", &c.domain_id}, {"http_port", &c.http_port},
       {"max_history_points", &c.max_history_points}, {"tile_cache_mb", &c.tile_cache_mb},

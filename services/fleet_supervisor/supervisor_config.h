@@ -31,6 +31,10 @@ struct SupervisorConfig {
   int max_history_points = 5000;            // per series in one answer
   double stream_period_s = 0.1;             // live stream snapshots at most this often
   std::string web_dir;                      // empty: found beside the binary or in the source tree
+  // The dashboard's map and chart libraries, Debian's libjs-leaflet and libjs-chart.js, served at
+  // /vendor/leaflet/ and /vendor/chart.js/ from here.
+  std::string js_dir = "/usr/share/javascript";
+  std::string mosaic_name;                  // shown with the version on the dashboard; empty: "floor"
   int tile_cache_mb = 32;
   int min_tile_level = 0;                   // overview tiles below this level are refused
   double tile_timeout_s = 3.0;

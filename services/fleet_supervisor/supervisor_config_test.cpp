@@ -31,6 +31,8 @@ TEST(SupervisorConfig, ShippedSampleLoads) {
   EXPECT_EQ(config->http.max_header_bytes, defaults.max_header_bytes);
   EXPECT_EQ(config->http.header_timeout_s, defaults.header_timeout_s);
   EXPECT_TRUE(config->http.allowed_hosts.empty());
+  EXPECT_EQ(config->mosaic_name, "floor");
+  EXPECT_EQ(config->js_dir, "/usr/share/javascript");  // Debian's libjs-leaflet and libjs-chart.js
 }
 
 TEST(SupervisorConfig, FieldsAndAlertRulesAreRead) {

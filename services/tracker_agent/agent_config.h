@@ -14,7 +14,7 @@ struct AgentConfig {
   int domain_id = 0;
   std::string dds_config_path;        // empty: CYCLONEDDS_URI or the compiled-in loopback
   std::string source = "replay";      // "replay" (a recorded run) or "sim" (a live simulated vehicle)
-  std::string run_path;               // replay source: a run directory (CONTRACT §4)
+  std::string run_path;               // replay source: a run directory (docs/formats.md)
   // sim source: a vehicle driving forever over a floor image (origin at (0, height · resolution)).
   std::string sim_floor;              // the floor image (the map server's mosaic is imported from it)
   double sim_resolution_m = 0.0005;
@@ -52,10 +52,10 @@ struct AgentConfig {
   // Attempts whose single frame finds nothing are combined with odometry, up to this many within
   // 1 m of travel (multi-frame relocalization, issue 17; 1: single frames only).
   int relocalize_trajectory_frames = 3;
-  // Global position update (DESIGN §4, docs/forward_camera.md): landmarks the forward camera sees
-  // (a run's forward/) fitted to the landmark map; it corrects the pose when the downward camera
-  // is not tracking.
-  std::string landmarks_path;                // landmarks.csv (CONTRACT §7); empty: the run's own
+  // Global position update (docs/architecture.md, docs/forward_camera.md): landmarks the forward
+  // camera sees (a run's forward/) fitted to the landmark map; it corrects the pose when the
+  // downward camera is not tracking.
+  std::string landmarks_path;                // landmarks.csv (docs/formats.md); empty: the run's own
                                              // landmarks.csv if it has one
   double position_update_period_s = 1.0;     // one map fit per this much forward-camera time
   double position_update_window_s = 2.0;     // ... over the detections of this last stretch

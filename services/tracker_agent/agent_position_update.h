@@ -1,9 +1,10 @@
-// The global position update in the tracker agent (DESIGN §4, paper 001 §5): each forward-camera
-// image → LandmarkDetector → floor points in base_link, added to a DetectionWindow placed with the
-// agent's pose estimate at the image's time; every period_s of image time the robust map fit of
-// the window against the landmark map corrects the estimate. The agent decides whether to use the
-// correction (not while the downward camera tracks: the mosaic is millimetre-accurate, the map fit
-// centimetre-accurate) and applies it. No DDS, no files; fits are logged.
+// The global position update in the tracker agent (docs/architecture.md, paper 001 §5): each
+// forward-camera image → LandmarkDetector → floor points in base_link, added to a DetectionWindow
+// placed with the agent's pose estimate at the image's time; every period_s of image time the
+// robust map fit of the window against the landmark map corrects the estimate. The agent decides
+// whether to use the correction (not while the downward camera tracks: the mosaic is
+// millimetre-accurate, the map fit centimetre-accurate) and applies it. No DDS, no files; fits are
+// logged.
 #pragma once
 
 #include <Eigen/Core>

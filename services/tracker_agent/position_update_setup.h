@@ -1,6 +1,7 @@
 // The agent's global position update for a replayed run, set up at start: the run's forward
-// camera (forward/, CONTRACT §4) and the landmark map (CONTRACT §7: the configured `landmarks`
-// file, else the run's own landmarks.csv), both read and validated before the agent starts.
+// camera (forward/, docs/formats.md) and the landmark map (docs/formats.md: the configured
+// `landmarks` file, else the run's own landmarks.csv), both read and validated before the agent
+// starts.
 #pragma once
 
 #include <memory>

@@ -1,5 +1,5 @@
-// A recorded run (CONTRACT §4) as vehicle input: odometry samples, frames and the forward/ images
-// merged in time order, either as fast as possible or paced to their recorded times.
+// A recorded run (docs/formats.md) as vehicle input: odometry samples, frames and the forward/
+// images merged in time order, either as fast as possible or paced to their recorded times.
 #pragma once
 
 #include <chrono>

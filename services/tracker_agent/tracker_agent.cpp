@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "io/file_util.h"
+#include "io/service_notify.h"
 #include "replay/replay.h"
 #include "tracker_agent/agent_metrics.h"
 #include "tracking/camera_scale_check.h"
@@ -397,6 +398,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   if (config_.start_pose == "relocalize") WaitForPlaceIndex();
   auto next_health = Clock::now();
   while (!stop.load()) {
+    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     Result<std::optional<InputEvent>> event = input.Next();
     if (!event.ok()) {
       health_.RecordDroppedFrame(event.status().message());
@@ -421,6 +423,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
     if (metrics_->Due()) RefreshMetrics();
   }
+  io::NotifyServiceStopping();
   DrainPatches(stop);
   PublishHealth();
   if (!config_.summary_path.empty()) FLEETLOC_RETURN_IF_ERROR(WriteSummary());

@@ -14,7 +14,7 @@
 namespace fleetloc::tracker_agent {
 
 struct InputEvent {
-  // kForwardFrame: an image of the forward (landmark) camera (forward/, CONTRACT §4).
+  // kForwardFrame: an image of the forward (landmark) camera (forward/, docs/formats.md).
   enum class Kind { kOdometry, kFrame, kForwardFrame };
   Kind kind = Kind::kOdometry;
   double t = 0.0;            // capture time, seconds (the source's clock)

@@ -55,7 +55,7 @@ Result<std::string> MosaicWithPatches(const RemapBenchArgs& a) {
     p.vehicle_id = "v" + std::to_string(i % 10);
     p.sequence = i + 1;
     p.stamp_s = i;
-    // The crop's centre in map (CONTRACT §2: y up), the camera looking along the image's up.
+    // The crop's centre in map (docs/formats.md: y up), the camera looking along the image's up.
     const double cx = crop.x + 160.0, cy = crop.y + 120.0;
     p.pose = {cx * kRes + error(rng) * kRes, (2048 - cy) * kRes + error(rng) * kRes, M_PI / 2};
     p.covariance = Eigen::Vector3d(std::pow(3 * kRes, 2), std::pow(3 * kRes, 2), 1e-4).asDiagonal();

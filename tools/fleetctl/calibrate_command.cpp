@@ -1,5 +1,5 @@
 // fleetctl calibrate: chessboard photographs of a raw downward camera → the `raw` block of
-// camera.json (K, dist, H_ground; CONTRACT §3). Prints a JSON summary on stdout.
+// camera.json (K, dist, H_ground; docs/formats.md). Prints a JSON summary on stdout.
 #include <spdlog/spdlog.h>
 
 #include <iostream>

@@ -1,5 +1,5 @@
 // fleetctl subcommand registration. Each Register* adds its subcommands to the app; a subcommand's
-// callback stores its outcome in *result (main turns it into the exit status of CONTRACT §6).
+// callback stores its outcome in *result (main turns it into the exit status of docs/cli.md).
 #pragma once
 
 #include <CLI/CLI.hpp>

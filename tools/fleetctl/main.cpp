@@ -1,4 +1,4 @@
-// fleetctl: one CLI with git-style subcommands (CONTRACT section 6).
+// fleetctl: one CLI with git-style subcommands (docs/formats.md).
 #include <malloc.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>

@@ -1,4 +1,4 @@
-// fleetctl mapmatch: the robust SE(2) map fit (CONTRACT §6–7, mapmatch/robust_map_fit.h) of
+// fleetctl mapmatch: the robust SE(2) map fit (docs/cli.md–7, mapmatch/robust_map_fit.h) of
 // points.csv against landmarks.csv, searching within --radius of --init; prints the correction as
 // JSON on stdout: the contract's keys, then the fit's evidence (support, ambiguity, reason).
 

@@ -1,7 +1,7 @@
-// `fleetctl mosaic build` (CONTRACT §6): the file side of building a mosaic from a mapping run —
-// read the run (CONTRACT §4), interpolate odometry at the frame times, hand frames to the mapping
-// library for registration and the pose graph, blend, and write the rows through the importer's
-// .partial path as version 1 of a new tile store. Progress goes to spdlog.
+// `fleetctl mosaic build` (docs/cli.md): the file side of building a mosaic from a mapping run —
+// read the run (docs/formats.md), interpolate odometry at the frame times, hand frames to the
+// mapping library for registration and the pose graph, blend, and write the rows through the
+// importer's .partial path as version 1 of a new tile store. Progress goes to spdlog.
 #pragma once
 
 #include <filesystem>
@@ -39,7 +39,7 @@ struct MosaicBuildSummary {
 };
 
 // Builds `out_db` from the run in `run_dir`. NotFound / InvalidInput (exit status 2) naming the
-// file, line and field for a run that breaks CONTRACT §4, an unreadable frame, or a run whose
+// file, line and field for a run that breaks docs/formats.md, an unreadable frame, or a run whose
 // frames cannot be registered; InvalidInput if `out_db` exists; Internal on I/O errors.
 Result<MosaicBuildSummary> BuildMosaicFromRun(const std::filesystem::path& run_dir,
                                               const std::string& out_db,

@@ -1,7 +1,6 @@
-// fleetctl mosaic import | build | info | export | export-mbtiles (CONTRACT section 6; `vehicles` lives in
-// mosaic_upkeep_commands.cpp): thin wrappers over the
-// mosaic store and mapping libraries. Progress and diagnostics go to stderr (spdlog); `info` and
-// `build` print JSON on stdout.
+// fleetctl mosaic import | build | info | export | export-mbtiles (docs/formats.md; `vehicles`
+// lives in mosaic_upkeep_commands.cpp): thin wrappers over the mosaic store and mapping libraries.
+// Progress and diagnostics go to stderr (spdlog); `info` and `build` print JSON on stdout.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -205,7 +204,7 @@ void AddBuild(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<BuildArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "build", "Build a mosaic from a mapping run (overlapping frames + odometry)");
-  cmd->add_option("--run", args->run, "Mapping run directory (CONTRACT §4)")->required();
+  cmd->add_option("--run", args->run, "Mapping run directory (docs/formats.md)")->required();
   cmd->add_option("--out", args->out, "Mosaic file to create (must not exist)")->required();
   cmd->callback([args, result] { *result = RunBuild(*args); });
 }

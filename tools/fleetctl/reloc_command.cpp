@@ -130,7 +130,7 @@ void RegisterRelocCommand(CLI::App& app, Status* result) {
   CLI::App* cmd = app.add_subcommand(
       "reloc", "Find a run frame's pose on a mosaic with no prior (global relocalization)");
   cmd->add_option("--mosaic", args->mosaic, "Mosaic file (SQLite)")->required();
-  cmd->add_option("--run", args->run, "Run directory (CONTRACT §4)")->required();
+  cmd->add_option("--run", args->run, "Run directory (docs/formats.md)")->required();
   cmd->add_option("--frame", args->frame, "Index of the frame in frames.csv")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

@@ -1,4 +1,4 @@
-// fleetctl sim: make a simulated run (CONTRACT section 4) over a floor given as a mosaic or as an
+// fleetctl sim: make a simulated run (docs/formats.md) over a floor given as a mosaic or as an
 // image with its resolution. Frames, odometry and truth come from the sim library; the run files
 // are written with the io library. Progress goes to stderr, a JSON summary to stdout.
 #include <spdlog/spdlog.h>

@@ -1,8 +1,8 @@
 // fleetctl sim-forward: a simulated forward-camera drive down a corridor (docs/forward_camera.md) —
-// a run without downward frames (CONTRACT §4: run.json, camera.json, an empty frames.csv and the
-// drive's drifting odometry.csv) with its `forward/` directory (forward_camera.json, forward.csv,
-// images, the truth at each image) and the corridor's landmarks.csv (CONTRACT §7), for end-to-end
-// tests of the global position update.
+// a run without downward frames (docs/formats.md: run.json, camera.json, an empty frames.csv and
+// the drive's drifting odometry.csv) with its `forward/` directory (forward_camera.json,
+// forward.csv, images, the truth at each image) and the corridor's landmarks.csv (docs/formats.md),
+// for end-to-end tests of the global position update.
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -80,7 +80,7 @@ Status WriteImage(const fs::path& path, const cv::Mat& image) {
   return Internal(path.string() + ": cannot write image");
 }
 
-// CONTRACT §7: header `id,x,y`, one floor-level corner per row, in map.
+// docs/formats.md: header `id,x,y`, one floor-level corner per row, in map.
 Status WriteLandmarksCsv(const fs::path& path, const std::vector<Eigen::Vector2d>& landmarks) {
   std::ostringstream text;
   text << "id,x,y\n";

@@ -1,6 +1,6 @@
-// Writing a simulated run to disk (CONTRACT §4): every frame rendered and written as a PNG, then
-// the run's tables with the io library. Shared by `fleetctl sim` and `fleetctl bench tracker` so a
-// benchmark run is exactly what `fleetctl sim` would have written.
+// Writing a simulated run to disk (docs/formats.md): every frame rendered and written as a PNG,
+// then the run's tables with the io library. Shared by `fleetctl sim` and `fleetctl bench tracker`
+// so a benchmark run is exactly what `fleetctl sim` would have written.
 #pragma once
 
 #include <filesystem>

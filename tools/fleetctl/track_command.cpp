@@ -1,5 +1,5 @@
 // fleetctl track: run the vehicle tracker offline over a run, exactly as the agent would; write
-// poses.csv and print a JSON summary (CONTRACT §6).
+// poses.csv and print a JSON summary (docs/cli.md).
 #include <spdlog/spdlog.h>
 
 #include <iostream>
@@ -98,7 +98,7 @@ void RegisterTrackCommand(CLI::App& app, Status* result) {
   auto args = std::make_shared<TrackArgs>();
   CLI::App* track = app.add_subcommand("track", "Track a run offline against a mosaic");
   track->add_option("--mosaic", args->mosaic, "Mosaic file (SQLite)")->required();
-  track->add_option("--run", args->run, "Run directory (CONTRACT §4)")->required();
+  track->add_option("--run", args->run, "Run directory (docs/formats.md)")->required();
   track->add_option("--out", args->out, "Output poses.csv")->required();
   track->add_option("--config", args->config, "Tracker options (JSON; defaults for absent keys)");
   track->add_option("--frames-out", args->frames_out,

@@ -1,4 +1,4 @@
-// Fuzz target: the camera files — camera.json (CONTRACT §3, with its optional raw block) and
+// Fuzz target: the camera files — camera.json (docs/formats.md, with its optional raw block) and
 // forward_camera.json (docs/forward_camera.md). Never a crash, whatever the bytes.
 #include "fuzz_input.h"
 #include "io/forward_camera_json.h"

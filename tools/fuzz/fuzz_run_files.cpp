@@ -1,6 +1,6 @@
-// Fuzz target: a run directory (CONTRACT §4) — run.json, camera.json, frames.csv, odometry.csv and
-// truth.csv from one input (parts separated by "\n--\n") — read by io::ReadRun, and a landmark and
-// a points file (CONTRACT §7). Any input must give a value or an error, never a crash.
+// Fuzz target: a run directory (docs/formats.md) — run.json, camera.json, frames.csv, odometry.csv
+// and truth.csv from one input (parts separated by "\n--\n") — read by io::ReadRun, and a landmark
+// and a points file (docs/formats.md). Any input must give a value or an error, never a crash.
 #include "fuzz_input.h"
 #include "io/mapmatch_files.h"
 #include "io/run.h"
