@@ -12,6 +12,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libmosquitto-dev mosquitto mosquitto-clients  # VDA 5050 over MQTT (supervisor, its test)
           python3-jsonschema  # validates the VDA 5050 messages in tests/vda5050_mqtt_test.cpp
           gdal-bin  # gdalinfo reads back fleetctl mosaic export's world file (tests/cli_mosaic_export_test)
+          libaravis-dev libusb-1.0-0-dev  # GenICam cameras (common/camera_io/aravis_camera.*); aravis-0.8.pc needs libusb's .pc
+          aravis-tools  # arv-tool / arv-fake-gv-camera-0.8: look at a camera by hand (docs/vehicle_integration.md)
+          libgstreamer1.0-dev gstreamer1.0-plugins-base gstreamer1.0-plugins-good  # GStreamer camera pipelines via OpenCV (multifilesrc, pngdec, v4l2src)
+          libfastrtps-dev fastddsgen  # the ROS 2 interop test node (tests/ros2_nav_stack_node.cpp), as rmw_fastrtps sees the wire
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
