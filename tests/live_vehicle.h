@@ -74,9 +74,11 @@ class PlannedDrive {
 class OdometryPublisher {
  public:
   using Mangle = std::function<bool(size_t index, nav_msgs_msg_dds__Odometry_* message)>;  // false: skip
+  // `min_gap_s`: at least this long between two writes (samples stamped in the past go out
+  // at this pace instead of in one burst).
   OdometryPublisher(const transport::Participant& p, const std::vector<geometry::StampedPose>& samples,
-                    Mangle mangle = nullptr)
-      : samples_(samples), mangle_(std::move(mangle)) {
+                    Mangle mangle = nullptr, double min_gap_s = 0.0)
+      : samples_(samples), mangle_(std::move(mangle)), min_gap_s_(min_gap_s) {
     auto topic = transport::Topic<nav_msgs_msg_dds__Odometry_>::Create(p, "rt/odom");
     EXPECT_TRUE(topic.ok());
     topic_ = std::make_unique<transport::Topic<nav_msgs_msg_dds__Odometry_>>(std::move(topic).value());
@@ -96,6 +98,7 @@ class OdometryPublisher {
     static char odom[] = "odom", base[] = "base_link";
     for (size_t i = 0; i < samples_.size() && !stop_; ++i) {
       SleepUntilHost(samples_[i].t);
+      if (min_gap_s_ > 0) std::this_thread::sleep_for(std::chrono::duration<double>(min_gap_s_));
       nav_msgs_msg_dds__Odometry_ m{};
       m.header.stamp = transport::ToRosTime(samples_[i].t);
       m.header.frame_id = odom;
@@ -109,6 +112,7 @@ class OdometryPublisher {
   }
   std::vector<geometry::StampedPose> samples_;
   Mangle mangle_;
+  double min_gap_s_;
   std::unique_ptr<transport::Topic<nav_msgs_msg_dds__Odometry_>> topic_;
   std::unique_ptr<transport::Writer<nav_msgs_msg_dds__Odometry_>> writer_;
   std::atomic<bool> stop_{false}, done_{false};

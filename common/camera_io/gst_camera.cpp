@@ -1,6 +1,7 @@
 // OpenCV's CAP_GSTREAMER behind CameraSource.
 #include "camera_io/gst_camera.h"
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace fleetloc::camera_io {
@@ -9,9 +10,10 @@ Status Validate(const GstOptions& o) {
   if (o.pipeline.find("appsink") == std::string::npos) {
     return InvalidInput("field 'gstreamer.pipeline': must end in an appsink");
   }
-  if (o.timestamps != "buffer" && o.timestamps != "arrival") {
-    return InvalidInput("field 'gstreamer.timestamps': must be buffer or arrival");
+  if (o.timestamps != "buffer" && o.timestamps != "arrival" && o.timestamps != "frame_rate") {
+    return InvalidInput("field 'gstreamer.timestamps': must be buffer, arrival or frame_rate");
   }
+  if (!std::isfinite(o.epoch_s)) return InvalidInput("field 'gstreamer.epoch_s': must be finite");
   return Status::Ok();
 }
 
@@ -21,6 +23,10 @@ Result<std::unique_ptr<GstCamera>> GstCamera::Open(const GstOptions& options) {
   try {
     if (!cam->capture_.open(options.pipeline, cv::CAP_GSTREAMER)) {
       return Internal("gstreamer: cannot start pipeline '" + options.pipeline + "'");
+    }
+    cam->fps_ = cam->capture_.get(cv::CAP_PROP_FPS);
+    if (options.timestamps == "frame_rate" && !(cam->fps_ > 0)) {
+      return Internal("gstreamer: pipeline '" + options.pipeline + "' has no framerate in its caps");
     }
   } catch (const cv::Exception& e) {
     return Internal("gstreamer: pipeline '" + options.pipeline + "': " + e.what());
@@ -35,6 +41,8 @@ Result<std::optional<CapturedFrame>> GstCamera::Grab(double /*timeout_s*/) {
   } catch (const cv::Exception& e) {
     return Internal(Describe() + ": " + e.what());
   }
+  ++read_;  // frames read since the pipeline started, dropped or not
+  const long long n = read_ - 1;
   CapturedFrame frame;
   frame.arrival_t = HostNow();
   if (image.channels() == 3) {
@@ -47,8 +55,12 @@ Result<std::optional<CapturedFrame>> GstCamera::Grab(double /*timeout_s*/) {
     return std::optional<CapturedFrame>();
   }
   // The buffer's stream position (OpenCV's POS_MSEC), when the pipeline stamps its buffers.
-  const double position_ms = options_.timestamps == "buffer" ? capture_.get(cv::CAP_PROP_POS_MSEC) : -1;
-  frame.t = position_ms >= 0 ? clock_.Map(position_ms / 1000.0, frame.arrival_t) : frame.arrival_t;
+  if (options_.timestamps == "frame_rate") {
+    frame.t = options_.epoch_s + static_cast<double>(n) / fps_;
+  } else {
+    const double position_ms = options_.timestamps == "buffer" ? capture_.get(cv::CAP_PROP_POS_MSEC) : -1;
+    frame.t = position_ms >= 0 ? clock_.Map(position_ms / 1000.0, frame.arrival_t) : frame.arrival_t;
+  }
   ++stats_.frames;
   return std::optional<CapturedFrame>(std::move(frame));
 }

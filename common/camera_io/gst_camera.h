@@ -16,7 +16,14 @@ namespace fleetloc::camera_io {
 
 struct GstOptions {
   std::string pipeline;                // a gst-launch description ending in "appsink"
-  std::string timestamps = "buffer";   // "buffer" (mapped to the host clock) or "arrival"
+  // "buffer": the stream position OpenCV reports for the frame, mapped to the host clock;
+  // "arrival": when it reached us; "frame_rate": the n-th frame (from 0) at
+  // epoch_s + n / the caps' framerate, as multifilesrc stamps its buffers (files of a recorded run
+  // whose first frame's time is known: its frames keep their recorded times, like replay).
+  // OpenCV's position is the pipeline's, not the buffer's (opencv/opencv#19025): with sync=true
+  // it trails the buffer by the processing delay (~10 ms measured here), hence the mapping.
+  std::string timestamps = "buffer";
+  double epoch_s = 0.0;
 };
 
 Status Validate(const GstOptions& options);
@@ -39,6 +46,8 @@ class GstCamera : public CameraSource {
   cv::VideoCapture capture_;
   timing::ClockMapper clock_;
   CameraStats stats_;
+  double fps_ = 0.0;    // the caps' framerate (frame_rate timestamps)
+  long long read_ = 0;  // frames read since the pipeline started
 };
 
 }  // namespace fleetloc::camera_io

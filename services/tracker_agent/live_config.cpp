@@ -53,8 +53,9 @@ Status ReadAravis(const io::JsonFields& fields, const nlohmann::json& parent, ca
 }
 
 Status ReadGstreamer(const io::JsonFields& fields, const nlohmann::json& parent, camera_io::GstOptions* o) {
-  auto f = Nested(fields, parent, "gstreamer", {"pipeline", "timestamps"});
+  auto f = Nested(fields, parent, "gstreamer", {"pipeline", "timestamps", "epoch_s"});
   if (!f.ok()) return f.status();
+  if (f->Has("epoch_s")) FLEETLOC_RETURN_IF_ERROR(f->Number("epoch_s", &o->epoch_s));
   if (f->Has("pipeline")) FLEETLOC_RETURN_IF_ERROR(f->NonEmptyString("pipeline", &o->pipeline));
   if (f->Has("timestamps")) FLEETLOC_RETURN_IF_ERROR(f->NonEmptyString("timestamps", &o->timestamps));
   return Status::Ok();
