@@ -39,8 +39,17 @@ struct LiveRun {
   std::string log;
 };
 
-// Drives `frames` frames at 10 Hz with the fake camera (`lost_ratio` of GVSP packets dropped).
-LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames, double lost_ratio) {
+// What goes wrong during a drive.
+struct Faults {
+  double lost_ratio = 0.0;          // of the GVSP packets
+  double camera_gone_at = -1;       // seconds after the first frame the camera disappears (< 0: never)
+  double camera_back_at = -1;       // ... and comes back
+  testing::OdometryPublisher::Mangle odometry;  // changes or skips odometry samples
+};
+
+// Drives `frames` frames at 10 Hz with the fake camera.
+LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames, const Faults& faults,
+                  std::function<void(testing::PlannedDrive&, const LiveRun&)> check = nullptr) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
   testing::PlannedDrive drive(floor, kResolution, frames, 10.0, start, 1.0, 1000.0, 20);
@@ -50,7 +59,7 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   nlohmann::json config = {
       {"vehicle_id", "agv-20"}, {"domain", kDomain}, {"source", "aravis"},
       {"camera", (dir / "camera.json").string()}, {"outbox", (dir / "outbox.db").string()},
-      {"health_period_s", 0.2}, {"drain_s", 0.0},
+      {"health_period_s", 0.2}, {"drain_s", 0.0}, {"live", {{"camera_reopen_s", 1.0}}},
       {"aravis", {{"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", 10.0}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
@@ -86,9 +95,10 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     });
   };
   {
-    testing::OdometryPublisher odometry(p, drive.sim().odometry());
+    testing::OdometryPublisher odometry(p, drive.sim().odometry(), faults.odometry);
     testing::SleepUntilHost(start + 0.2);
-    testing::FakeGigECamera camera(&drive, start - 100.0, lost_ratio);
+    auto camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
+    long long filled = 0;
     // The start pose, as RViz's "2D Pose Estimate" sends it (a few mm and a few tenths of a
     // degree off), half a second before the first frame.
     testing::SleepUntilHost(start + 0.5);
@@ -98,11 +108,22 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
     const transport::RosPoseMessage initial(start + 0.5, "map", given);
     EXPECT_TRUE(init_writer->Write(initial.get()).ok());
-    while (!odometry.done()) take(), std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    while (!odometry.done()) {
+      take();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      const double since_first = camera_io::HostNow() - drive.first_frame_t();
+      if (camera && faults.camera_gone_at >= 0 && since_first > faults.camera_gone_at && since_first < faults.camera_back_at) {
+        filled += camera->filled();
+        camera.reset();  // unplugged
+      }
+      if (!camera && since_first > faults.camera_back_at) {
+        camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
+      }
+    }
     driving = false;
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
     take();
-    EXPECT_GT(camera.filled(), frames / 2);
+    EXPECT_GT(filled + camera->filled(), frames / 2);
   }
   EXPECT_EQ(agent.Stop(SIGTERM), 0);
   take();
@@ -115,6 +136,7 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     out.frame_poses.push_back({offset, std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y),
                                std::abs(geometry::WrapAngle(pose.pose.theta - truth.theta))});
   }
+  if (check) check(drive, out);
   std::ifstream in(summary);
   if (in) out.summary = nlohmann::json::parse(in);
   return out;
@@ -139,7 +161,7 @@ void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
 TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServer) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_live", floor, kDomain);
-  const LiveRun run = DriveLive(server, "clean", 60, 0.0);
+  const LiveRun run = DriveLive(server, "clean", 60, {});
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   std::cerr << run.summary.dump(2) << "\n";
   EXPECT_NE(run.log.find("camera open: aravis camera"), std::string::npos) << run.log;
@@ -159,7 +181,9 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
 TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_loss", floor, kDomain);
-  const LiveRun run = DriveLive(server, "loss", 50, 0.002);
+  Faults faults;
+  faults.lost_ratio = 0.002;
+  const LiveRun run = DriveLive(server, "loss", 50, faults);
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), "camera_packet_loss"),
             run.health_issues.end()) << ::testing::PrintToString(run.health_issues);
@@ -169,6 +193,47 @@ TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
   EXPECT_GE(static_cast<long long>(run.frame_poses.size()), 45 - dropped) << run.log;
   ExpectOnTruth(run, 0.0001);
   std::cerr << "frames dropped: " << dropped << ", poses " << run.frame_poses.size() << "\n";
+}
+
+TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers) {
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
+  Faults faults;
+  faults.camera_gone_at = 3.0, faults.camera_back_at = 4.5;
+  // Odometry 1.0-1.1 s after the first frame carries NaN; 2.0-2.05 s it is stamped 1 s back.
+  std::vector<double> odometry_t;
+  faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
+    const double t = transport::FromRosTime(m->header.stamp);
+    if (odometry_t.empty()) odometry_t.push_back(t + 1.0);  // the first frame's time
+    const double since_first = t - odometry_t.front();
+    if (since_first >= 1.0 && since_first < 1.1) m->pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
+    if (since_first >= 2.0 && since_first < 2.05) m->header.stamp = transport::ToRosTime(t - 1.0);
+    return true;
+  };
+  int after_return = 0;
+  const LiveRun run = DriveLive(server, "faults", 80, faults, [&](testing::PlannedDrive& drive, const LiveRun& r) {
+    for (const auto& [t, pose] : r.ros_poses) {
+      const int i = drive.FrameAt(t);
+      if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
+      const geometry::Pose2 truth = drive.sim().truth()[i].pose;
+      EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0001) << "t=" << t;
+      ++after_return;
+    }
+  });
+  ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
+  for (const char* issue : {"odometry_not_finite", "odometry_back_in_time", "camera_stalled", "camera_unavailable"}) {
+    EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue), run.health_issues.end())
+        << issue << " in " << ::testing::PrintToString(run.health_issues);
+  }
+  for (const char* line : {"odometry sample dropped (not_finite)", "odometry sample dropped (back_in_time)",
+                           "camera stalled: no frame for", "camera unavailable: aravis: camera '127.0.0.1'",
+                           "camera available again"}) {
+    EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
+  }
+  // Back on the truth within a second of the camera's return.
+  EXPECT_GE(after_return, 15) << run.log;
+  EXPECT_TRUE(run.issues_at_end.empty() || run.issues_at_end == std::vector<std::string>{"camera_frame_drops"})
+      << ::testing::PrintToString(run.issues_at_end);
 }
 
 }  // namespace
