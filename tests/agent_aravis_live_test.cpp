@@ -44,15 +44,16 @@ struct Faults {
   double lost_ratio = 0.0;          // of the GVSP packets
   double camera_gone_at = -1;       // seconds after the first frame the camera disappears (< 0: never)
   double camera_back_at = -1;       // ... and comes back
-  testing::OdometryPublisher::Mangle odometry;  // changes or skips odometry samples
+  live_sim::OdometryPublisher::Mangle odometry;  // changes or skips odometry samples
 };
 
 // Drives `frames` frames at 10 Hz with the fake camera.
 LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames, const Faults& faults,
-                  std::function<void(testing::PlannedDrive&, const LiveRun&)> check = nullptr) {
+                  std::function<void(live_sim::PlannedDrive&, const LiveRun&)> check = nullptr) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
-  testing::PlannedDrive drive(floor, kResolution, frames, 10.0, start, 1.0, 1000.0, 20);
+  auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 1.0, 1000.0, 20);
+  live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir() / name;
   fs::create_directories(dir);
   EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
@@ -95,7 +96,8 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     });
   };
   {
-    testing::OdometryPublisher odometry(p, drive.sim().odometry(), faults.odometry);
+    auto odometry_ptr = testing::PublishOdometry(p, drive.sim().odometry(), faults.odometry);
+    live_sim::OdometryPublisher& odometry = *odometry_ptr;
     testing::SleepUntilHost(start + 0.2);
     auto camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
     long long filled = 0;
@@ -211,7 +213,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
     return true;
   };
   int after_return = 0;
-  const LiveRun run = DriveLive(server, "faults", 80, faults, [&](testing::PlannedDrive& drive, const LiveRun& r) {
+  const LiveRun run = DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
     for (const auto& [t, pose] : r.ros_poses) {
       const int i = drive.FrameAt(t);
       if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;

@@ -25,7 +25,8 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_gstreamer", floor, kDomain);
   const double start = 1000.0;  // the run's own clock: PTS 0 is its first frame
-  testing::PlannedDrive drive(floor, 0.0005, kFrames, 10.0, start, 0.5, 1000.0, 22);
+  auto drive_ptr = testing::PlanDrive(floor, 0.0005, kFrames, 10.0, start, 0.5, 1000.0, 22);
+  live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir(), run_dir = dir / "run", live = dir / "live";
   fs::create_directories(run_dir / "frames");
   fs::create_directories(live);
@@ -70,8 +71,8 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   auto init_writer = transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
   ASSERT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 30));
   {
-    testing::OdometryPublisher odometry(p, run.odometry, nullptr, 0.0005);
-    ASSERT_TRUE(Eventually([&] { return odometry.done(); }, 20));
+    auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, 0.0005);
+    ASSERT_TRUE(Eventually([&] { return odometry->done(); }, 20));
   }
   // The run's initial pose, at its first frame; then the frames appear for the pipeline.
   const Eigen::Vector3d sigma = run.initial_sigma;

@@ -41,7 +41,8 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_ros2_interop", floor, kDomain);
   const double start = std::ceil(camera_io::HostNow() + 4.0);
-  testing::PlannedDrive drive(floor, 0.0005, 40, 10.0, start, 1.0, 1000.0, 21);
+  auto drive_ptr = testing::PlanDrive(floor, 0.0005, 40, 10.0, start, 1.0, 1000.0, 21);
+  live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir();
   ASSERT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   {
