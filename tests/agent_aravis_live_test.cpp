@@ -96,20 +96,20 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     });
   };
   {
-    auto odometry_ptr = testing::PublishOdometry(p, drive.sim().odometry(), faults.odometry);
+    auto odometry_ptr = testing::PublishOdometry(p, drive.odometry(), faults.odometry);
     live_sim::OdometryPublisher& odometry = *odometry_ptr;
-    testing::SleepUntilHost(start + 0.2);
-    auto camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
-    long long filled = 0;
     // The start pose, as RViz's "2D Pose Estimate" sends it (a few mm and a few tenths of a
-    // degree off), half a second before the first frame.
-    testing::SleepUntilHost(start + 0.5);
+    // degree off), while the vehicle stands; then the camera starts.
+    testing::SleepUntilHost(start + 0.3);
     EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
-    const geometry::Pose2 truth = drive.sim().TruthAt(start + 0.5);
+    const geometry::Pose2 truth = drive.TruthAt(start + 0.3);
     geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003}, Eigen::Matrix3d::Zero()};
     given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
-    const transport::RosPoseMessage initial(start + 0.5, "map", given);
+    const transport::RosPoseMessage initial(start + 0.3, "map", given);
     EXPECT_TRUE(init_writer->Write(initial.get()).ok());
+    testing::SleepUntilHost(start + 0.5);
+    auto camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
+    long long filled = 0;
     while (!odometry.done()) {
       take();
       std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -36,7 +36,7 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   run.camera = drive.camera();
   run.initial_pose = drive.sim().initial_pose();
   run.initial_sigma = drive.sim().initial_sigma();
-  run.odometry = drive.sim().odometry();
+  run.odometry = drive.odometry();
   for (int i = 0; i < kFrames; ++i) {
     char name[32];
     std::snprintf(name, sizeof name, "frames/frame_%05d.png", i);

@@ -49,7 +49,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
     std::ofstream odometry(dir / "odometry.csv");
     odometry.precision(17);
     odometry << "t,x,y,theta\n";
-    for (const geometry::StampedPose& s : drive.sim().odometry()) odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
+    for (const geometry::StampedPose& s : drive.odometry()) odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
   }
   const nlohmann::json config = {
       {"vehicle_id", "agv-21"}, {"domain", kDomain}, {"source", "aravis"},
@@ -59,8 +59,8 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   std::ofstream(dir / "agent.json") << config.dump(2);
   io::ChildProcess agent = testing::StartDaemon("tracker_agent", {"--config", (dir / "agent.json").string()},
                                                 (dir / "agent.log").string());
-  const double initial_t = start + 0.5;
-  const geometry::Pose2 truth0 = drive.sim().TruthAt(initial_t);
+  const double initial_t = start + 0.3;  // while the vehicle stands, before the camera starts
+  const geometry::Pose2 truth0 = drive.TruthAt(initial_t);
   std::ostringstream initial;
   initial.precision(17);
   initial << initial_t << "," << truth0.x + 0.002 << "," << truth0.y - 0.001 << "," << truth0.theta + 0.003 << ",4e-6,4e-6,3e-5";
@@ -72,7 +72,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
        "--out", dir.string()},
       (dir / "node.log").string());
   {
-    testing::SleepUntilHost(start + 0.2);
+    testing::SleepUntilHost(start + 0.5);
     testing::FakeGigECamera camera(&drive, start - 100.0);
     ASSERT_TRUE(testing::Eventually([&] { return !node.Running(); }, until - camera_io::HostNow() + 10));
   }
@@ -83,7 +83,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
 
   // Poses at the frames' times, on the truth, with the covariance where ROS wants it.
   tracking::OdometryHistory odometry(100.0, 0.0);
-  for (const geometry::StampedPose& s : drive.sim().odometry()) ASSERT_TRUE(odometry.Add(s).ok());
+  for (const geometry::StampedPose& s : drive.odometry()) ASSERT_TRUE(odometry.Add(s).ok());
   int at_frames = 0;
   std::map<double, geometry::Pose2> poses;
   for (const auto& row : ReadCsvRows(dir / "poses.csv")) {

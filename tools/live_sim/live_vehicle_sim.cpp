@@ -19,15 +19,15 @@ void SleepUntilHost(double t) {
 }
 
 Result<std::unique_ptr<PlannedDrive>> PlannedDrive::Create(const cv::Mat& floor, double resolution_m, int frames,
-                                                           double rate_hz, double start_t, double frame_delay_s,
+                                                           double rate_hz, double start_t, double lead_s,
                                                            double speed_px_s, uint64_t seed) {
   std::unique_ptr<PlannedDrive> d(new PlannedDrive(floor, resolution_m, rate_hz));
   d->camera_.model = sim::DefaultSimCameraModel(640, 480, resolution_m);
   sim::SimOptions o;
   o.timing.frames = frames;
   o.timing.frame_rate_hz = rate_hz;
-  o.timing.start_time_s = start_t;
-  o.timing.frame_delay_s = frame_delay_s;
+  o.timing.start_time_s = start_t + lead_s;
+  o.timing.frame_delay_s = 0.0;
   o.timing.frame_jitter_s = 0.0;  // on the camera's grid
   o.route.speed_px_s = speed_px_s;
   o.render.supersample = 2;
@@ -36,6 +36,9 @@ Result<std::unique_ptr<PlannedDrive>> PlannedDrive::Create(const cv::Mat& floor,
   if (!sim.ok()) return sim.status();
   d->sim_ = std::move(sim).value();
   for (int i = 0; i < d->sim_->frame_count(); ++i) d->images_.push_back(d->sim_->RenderFrame(i).image);
+  const std::vector<geometry::StampedPose>& wheels = d->sim_->odometry();
+  for (double t = start_t; t < wheels.front().t - 0.005; t += 0.01) d->odometry_.push_back({t, wheels.front().pose});
+  d->odometry_.insert(d->odometry_.end(), wheels.begin(), wheels.end());
   return d;
 }
 

@@ -27,12 +27,18 @@ void SleepUntilHost(double t);
 
 class PlannedDrive {
  public:
-  // Odometry from `start_t` (on the frame-period grid), frames from start_t + frame_delay_s,
-  // 640×480 at `resolution_m`. InvalidInput when the simulator refuses the plan.
+  // The vehicle stands still from `start_t` and drives from start_t + lead_s (on the frame-period
+  // grid), its first frame then; odometry covers both, frames before the drive show where it
+  // stands (so a camera serving them before the drive shows the truth). 640×480 at
+  // `resolution_m`. InvalidInput when the simulator refuses the plan.
   static Result<std::unique_ptr<PlannedDrive>> Create(const cv::Mat& floor, double resolution_m, int frames,
-                                                      double rate_hz, double start_t, double frame_delay_s,
+                                                      double rate_hz, double start_t, double lead_s,
                                                       double speed_px_s, uint64_t seed);
   const io::CameraFile& camera() const { return camera_; }
+  // base_link in odom from start_t: standing still, then the simulator's wheel odometry.
+  const std::vector<geometry::StampedPose>& odometry() const { return odometry_; }
+  // base_link in map at host time t (where it stands before the drive).
+  geometry::Pose2 TruthAt(double t) { return sim_->TruthAt(std::max(t, first_frame_t())); }
   sim::RunSimulator& sim() { return *sim_; }
   double first_frame_t() const { return sim_->truth().front().t; }
   double last_frame_t() const { return sim_->truth().back().t; }
@@ -50,6 +56,7 @@ class PlannedDrive {
   io::CameraFile camera_;
   std::unique_ptr<sim::RunSimulator> sim_;
   std::vector<cv::Mat> images_;
+  std::vector<geometry::StampedPose> odometry_;
 };
 
 // Publishes odometry samples (base_link in odom) on `topic` at each sample's own host time,
