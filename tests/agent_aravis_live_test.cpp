@@ -41,16 +41,18 @@ struct LiveRun {
 
 // What goes wrong during a drive.
 struct Faults {
-  double lost_ratio = 0.0;          // of the GVSP packets
-  double camera_gone_at = -1;       // seconds after the first frame the camera disappears (< 0: never)
-  double camera_back_at = -1;       // ... and comes back
+  double lost_ratio = 0.0;     // of the GVSP packets
+  double camera_gone_at = -1;  // seconds after the first frame the camera disappears (< 0: never)
+  double camera_back_at = -1;  // ... and comes back
   live_sim::OdometryPublisher::Mangle odometry;  // changes or skips odometry samples
 };
 
 // Drives `frames` frames at 10 Hz with the fake camera.
-LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames, const Faults& faults,
+LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames,
+                  const Faults& faults,
                   std::function<void(live_sim::PlannedDrive&, const LiveRun&)> check = nullptr) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
   auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 1.0, 1000.0, 20);
   live_sim::PlannedDrive& drive = *drive_ptr;
@@ -58,22 +60,31 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   fs::create_directories(dir);
   EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   nlohmann::json config = {
-      {"vehicle_id", "agv-20"}, {"domain", kDomain}, {"source", "aravis"},
-      {"camera", (dir / "camera.json").string()}, {"outbox", (dir / "outbox.db").string()},
-      {"health_period_s", 0.2}, {"drain_s", 0.0}, {"live", {{"camera_reopen_s", 1.0}}},
+      {"vehicle_id", "agv-20"},
+      {"domain", kDomain},
+      {"source", "aravis"},
+      {"camera", (dir / "camera.json").string()},
+      {"outbox", (dir / "outbox.db").string()},
+      {"health_period_s", 0.2},
+      {"drain_s", 0.0},
+      {"live", {{"camera_reopen_s", 1.0}}},
       {"aravis", {{"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", 10.0}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
   io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--config", (dir / "agent.json").string(), "--summary", summary.string()}, log.string());
+      "tracker_agent", {"--config", (dir / "agent.json").string(), "--summary", summary.string()},
+      log.string());
 
   transport::Participant& p = server.participant();
   using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
   auto pose_topic = transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose");
-  auto pose_reader = transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
+  auto pose_reader =
+      transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
   auto init_topic = transport::Topic<PoseMsg>::Create(p, "rt/initialpose");
-  auto init_writer = transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
-  auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
+  auto init_writer =
+      transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
+  auto health_topic =
+      transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
   auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
       p, *health_topic, transport::Qos().Reliable().KeepAll());
   LiveRun out;
@@ -88,7 +99,8 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
       for (uint32_t i = 0; i < h.issues._length; ++i) {
         if (driving) out.issues_at_end.push_back(transport::GetBounded(h.issues._buffer[i].name));
         const std::string issue = transport::GetBounded(h.issues._buffer[i].name);
-        if (std::find(out.health_issues.begin(), out.health_issues.end(), issue) == out.health_issues.end()) {
+        if (std::find(out.health_issues.begin(), out.health_issues.end(), issue) ==
+            out.health_issues.end()) {
           out.health_issues.push_back(issue);
         }
       }
@@ -103,23 +115,27 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     testing::SleepUntilHost(start + 0.3);
     EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
     const geometry::Pose2 truth = drive.TruthAt(start + 0.3);
-    geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003}, Eigen::Matrix3d::Zero()};
+    geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003},
+                                       Eigen::Matrix3d::Zero()};
     given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
     const transport::RosPoseMessage initial(start + 0.3, "map", given);
     EXPECT_TRUE(init_writer->Write(initial.get()).ok());
     testing::SleepUntilHost(start + 0.5);
-    auto camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
+    auto camera =
+        std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
     long long filled = 0;
     while (!odometry.done()) {
       take();
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
       const double since_first = camera_io::HostNow() - drive.first_frame_t();
-      if (camera && faults.camera_gone_at >= 0 && since_first > faults.camera_gone_at && since_first < faults.camera_back_at) {
+      if (camera && faults.camera_gone_at >= 0 && since_first > faults.camera_gone_at &&
+          since_first < faults.camera_back_at) {
         filled += camera->filled();
         camera.reset();  // unplugged
       }
       if (!camera && since_first > faults.camera_back_at) {
-        camera = std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
+        camera =
+            std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
       }
     }
     driving = false;
@@ -144,7 +160,6 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   return out;
 }
 
-
 // The poses at the frames' times: stamped with the capture time (the device clock mapped to the
 // host's: 100 s apart, within a few ms after mapping) and on the truth to `tolerance_m`.
 void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
@@ -161,7 +176,8 @@ void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
 }
 
 TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServer) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_live", floor, kDomain);
   const LiveRun run = DriveLive(server, "clean", 60, {});
   ASSERT_FALSE(run.summary.is_null()) << run.log;
@@ -176,19 +192,23 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   EXPECT_TRUE(run.issues_at_end.empty()) << ::testing::PrintToString(run.issues_at_end) << run.log;
   // Before the drive: no odometry, no camera, no pose yet — each named.
   for (const char* issue : {"odometry_stale", "camera_unavailable", "lock_lost"}) {
-    EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue), run.health_issues.end()) << issue;
+    EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue),
+              run.health_issues.end())
+        << issue;
   }
 }
 
 TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_loss", floor, kDomain);
   Faults faults;
   faults.lost_ratio = 0.002;
   const LiveRun run = DriveLive(server, "loss", 50, faults);
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), "camera_packet_loss"),
-            run.health_issues.end()) << ::testing::PrintToString(run.health_issues);
+            run.health_issues.end())
+      << ::testing::PrintToString(run.health_issues);
   // Frames whose packets could not all be had again are dropped and counted; the others track.
   const long long dropped = run.summary["input_dropped_frames"];
   EXPECT_EQ(run.frame_drops, dropped);
@@ -198,7 +218,8 @@ TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
 }
 
 TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
   Faults faults;
   faults.camera_gone_at = 3.0, faults.camera_back_at = 4.5;
@@ -208,36 +229,41 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
     const double t = transport::FromRosTime(m->header.stamp);
     if (odometry_t.empty()) odometry_t.push_back(t + 1.0);  // the first frame's time
     const double since_first = t - odometry_t.front();
-    if (since_first >= 1.0 && since_first < 1.1) m->pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
+    if (since_first >= 1.0 && since_first < 1.1)
+      m->pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
     if (since_first >= 2.0 && since_first < 2.05) m->header.stamp = transport::ToRosTime(t - 1.0);
     return true;
   };
   int after_return = 0;
-  const LiveRun run = DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-    for (const auto& [t, pose] : r.ros_poses) {
-      const int i = drive.FrameAt(t);
-      if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
-      const geometry::Pose2 truth = drive.sim().truth()[i].pose;
-      EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0001) << "t=" << t;
-      ++after_return;
-    }
-  });
+  const LiveRun run =
+      DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+        for (const auto& [t, pose] : r.ros_poses) {
+          const int i = drive.FrameAt(t);
+          if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
+          const geometry::Pose2 truth = drive.sim().truth()[i].pose;
+          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0001) << "t=" << t;
+          ++after_return;
+        }
+      });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
-  for (const char* issue : {"odometry_not_finite", "odometry_back_in_time", "camera_stalled", "camera_unavailable"}) {
-    EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue), run.health_issues.end())
+  for (const char* issue :
+       {"odometry_not_finite", "odometry_back_in_time", "camera_stalled", "camera_unavailable"}) {
+    EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue),
+              run.health_issues.end())
         << issue << " in " << ::testing::PrintToString(run.health_issues);
   }
-  for (const char* line : {"odometry sample dropped (not_finite)", "odometry sample dropped (back_in_time)",
-                           "camera stalled: no frame for", "camera unavailable: aravis: camera '127.0.0.1'",
-                           "camera available again"}) {
+  for (const char* line :
+       {"odometry sample dropped (not_finite)", "odometry sample dropped (back_in_time)",
+        "camera stalled: no frame for", "camera unavailable: aravis: camera '127.0.0.1'",
+        "camera available again"}) {
     EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
   }
   // Back on the truth within a second of the camera's return.
   EXPECT_GE(after_return, 15) << run.log;
-  EXPECT_TRUE(run.issues_at_end.empty() || run.issues_at_end == std::vector<std::string>{"camera_frame_drops"})
+  EXPECT_TRUE(run.issues_at_end.empty() ||
+              run.issues_at_end == std::vector<std::string>{"camera_frame_drops"})
       << ::testing::PrintToString(run.issues_at_end);
 }
 
 }  // namespace
 }  // namespace fleetloc
-

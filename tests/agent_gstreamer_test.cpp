@@ -22,7 +22,8 @@ constexpr uint32_t kDomain = 122;
 constexpr int kFrames = 30;
 
 TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_gstreamer", floor, kDomain);
   const double start = 1000.0;  // the run's own clock: PTS 0 is its first frame
   auto drive_ptr = testing::PlanDrive(floor, 0.0005, kFrames, 10.0, start, 0.5, 1000.0, 22);
@@ -45,8 +46,10 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   }
   ASSERT_TRUE(io::WriteRun(run).ok());
   const fs::path offline = dir / "poses.csv";
-  ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " + run_dir.string() +
-                                 " --out " + offline.string()).exit_code, 0);
+  ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
+                                 run_dir.string() + " --out " + offline.string())
+                .exit_code,
+            0);
   auto expected = io::ReadPosesCsv(offline);
   ASSERT_TRUE(expected.ok());
 
@@ -55,20 +58,27 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
                                " caps=image/png,framerate=10/1 ! pngdec ! videoconvert ! "
                                "video/x-raw,format=GRAY8 ! appsink sync=true max-buffers=1";
   const nlohmann::json config = {
-      {"vehicle_id", "agv-22"}, {"domain", kDomain}, {"source", "gstreamer"},
-      {"camera", (run_dir / "camera.json").string()}, {"outbox", (dir / "outbox.db").string()},
-      {"drain_s", 0.0}, {"live", {{"frame_queue", 64}, {"odometry_stale_s", 30.0}}},
+      {"vehicle_id", "agv-22"},
+      {"domain", kDomain},
+      {"source", "gstreamer"},
+      {"camera", (run_dir / "camera.json").string()},
+      {"outbox", (dir / "outbox.db").string()},
+      {"drain_s", 0.0},
+      {"live", {{"frame_queue", 64}, {"odometry_stale_s", 30.0}}},
       {"ros", {{"odom_history", 5000}}},
-      {"gstreamer", {{"pipeline", pipeline}, {"timestamps", "frame_rate"}, {"epoch_s", drive.frame_t(0)}}}};
+      {"gstreamer",
+       {{"pipeline", pipeline}, {"timestamps", "frame_rate"}, {"epoch_s", drive.frame_t(0)}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
-  io::ChildProcess agent = testing::StartDaemon("tracker_agent", {"--config", (dir / "agent.json").string()},
-                                                (dir / "agent.log").string());
+  io::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
   transport::Participant& p = server.participant();
   using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
   auto pose_topic = transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose");
-  auto pose_reader = transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
+  auto pose_reader =
+      transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
   auto init_topic = transport::Topic<PoseMsg>::Create(p, "rt/initialpose");
-  auto init_writer = transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
+  auto init_writer =
+      transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
   ASSERT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 30));
   {
     auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, 0.0005);
@@ -76,11 +86,12 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   }
   // The run's initial pose, at its first frame; then the frames appear for the pipeline.
   const Eigen::Vector3d sigma = run.initial_sigma;
-  const transport::RosPoseMessage initial(drive.frame_t(0), "map",
-                                          {run.initial_pose, sigma.cwiseProduct(sigma).asDiagonal()});
+  const transport::RosPoseMessage initial(
+      drive.frame_t(0), "map", {run.initial_pose, sigma.cwiseProduct(sigma).asDiagonal()});
   ASSERT_TRUE(init_writer->Write(initial.get()).ok());
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  for (const io::FrameRef& frame : run.frames) fs::copy_file(frame.file, live / frame.file.filename());
+  for (const io::FrameRef& frame : run.frames)
+    fs::copy_file(frame.file, live / frame.file.filename());
 
   std::map<double, geometry::Pose2> poses;
   auto frames_seen = [&] {
@@ -96,8 +107,8 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   int matched = 0;
   for (const io::PoseRecord& row : *expected) {
     const auto it = poses.lower_bound(row.t - 1e-6);
-    ASSERT_TRUE(it != poses.end() && std::abs(it->first - row.t) < 1e-6) << "no pose at t=" << row.t << ", have "
-        << ::testing::PrintToString(poses);
+    ASSERT_TRUE(it != poses.end() && std::abs(it->first - row.t) < 1e-6)
+        << "no pose at t=" << row.t << ", have " << ::testing::PrintToString(poses);
     const geometry::Pose2& pose = it->second;  // frame 0's tracked pose replaced the initial one
     EXPECT_NEAR(pose.x, row.pose.x, 0.01 * px) << "t=" << row.t;
     EXPECT_NEAR(pose.y, row.pose.y, 0.01 * px) << "t=" << row.t;

@@ -38,7 +38,8 @@ std::vector<std::vector<std::string>> ReadCsvRows(const fs::path& path) {
 }
 
 TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_ros2_interop", floor, kDomain);
   const double start = std::ceil(camera_io::HostNow() + 4.0);
   auto drive_ptr = testing::PlanDrive(floor, 0.0005, 40, 10.0, start, 1.0, 1000.0, 21);
@@ -49,32 +50,39 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
     std::ofstream odometry(dir / "odometry.csv");
     odometry.precision(17);
     odometry << "t,x,y,theta\n";
-    for (const geometry::StampedPose& s : drive.odometry()) odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
+    for (const geometry::StampedPose& s : drive.odometry())
+      odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
   }
   const nlohmann::json config = {
-      {"vehicle_id", "agv-21"}, {"domain", kDomain}, {"source", "aravis"},
-      {"camera", (dir / "camera.json").string()}, {"outbox", (dir / "outbox.db").string()},
-      {"health_period_s", 0.2}, {"drain_s", 0.0},
+      {"vehicle_id", "agv-21"},
+      {"domain", kDomain},
+      {"source", "aravis"},
+      {"camera", (dir / "camera.json").string()},
+      {"outbox", (dir / "outbox.db").string()},
+      {"health_period_s", 0.2},
+      {"drain_s", 0.0},
       {"aravis", {{"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", 10.0}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
-  io::ChildProcess agent = testing::StartDaemon("tracker_agent", {"--config", (dir / "agent.json").string()},
-                                                (dir / "agent.log").string());
+  io::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
   const double initial_t = start + 0.3;  // while the vehicle stands, before the camera starts
   const geometry::Pose2 truth0 = drive.TruthAt(initial_t);
   std::ostringstream initial;
   initial.precision(17);
-  initial << initial_t << "," << truth0.x + 0.002 << "," << truth0.y - 0.001 << "," << truth0.theta + 0.003 << ",4e-6,4e-6,3e-5";
+  initial << initial_t << "," << truth0.x + 0.002 << "," << truth0.y - 0.001 << ","
+          << truth0.theta + 0.003 << ",4e-6,4e-6,3e-5";
   const double until = drive.last_frame_t() + 0.6;
   io::ChildProcess node = testing::StartDaemon(
       "ros2_nav_stack_node",
-      {"--profile", FLEETLOC_SOURCE_DIR "/tests/ros2_fastdds_profile.xml", "--domain", std::to_string(kDomain),
-       "--odometry", (dir / "odometry.csv").string(), "--initial", initial.str(), "--until", std::to_string(until),
-       "--out", dir.string()},
+      {"--profile", FLEETLOC_SOURCE_DIR "/tests/ros2_fastdds_profile.xml", "--domain",
+       std::to_string(kDomain), "--odometry", (dir / "odometry.csv").string(), "--initial",
+       initial.str(), "--until", std::to_string(until), "--out", dir.string()},
       (dir / "node.log").string());
   {
     testing::SleepUntilHost(start + 0.5);
     testing::FakeGigECamera camera(&drive, start - 100.0);
-    ASSERT_TRUE(testing::Eventually([&] { return !node.Running(); }, until - camera_io::HostNow() + 10));
+    ASSERT_TRUE(
+        testing::Eventually([&] { return !node.Running(); }, until - camera_io::HostNow() + 10));
   }
   EXPECT_EQ(node.Wait(std::chrono::seconds(1)), 0) << testing::ReadWhole(dir / "node.log");
   EXPECT_EQ(agent.Stop(SIGTERM), 0);
@@ -92,15 +100,16 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
     EXPECT_EQ(row[1], "map");
     const geometry::Pose2 pose{std::stod(row[2]), std::stod(row[3]), std::stod(row[4])};
     poses[t] = pose;
-    EXPECT_GT(std::stod(row[5]), 0.0);      // x-x
-    EXPECT_GT(std::stod(row[10]), 0.0);     // yaw-yaw at [35]
-    EXPECT_EQ(std::stod(row[11]), 0.0);     // z-z: planar
+    EXPECT_GT(std::stod(row[5]), 0.0);   // x-x
+    EXPECT_GT(std::stod(row[10]), 0.0);  // yaw-yaw at [35]
+    EXPECT_EQ(std::stod(row[11]), 0.0);  // z-z: planar
     const int i = drive.FrameAt(t);
     if (std::abs(t - drive.frame_t(i)) > 0.02) continue;  // the initial pose
     ++at_frames;
     const geometry::Pose2 truth = drive.sim().truth()[i].pose;
     EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.0001) << "t=" << t;
-    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.01 * M_PI / 180) << "t=" << t;
+    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.01 * M_PI / 180)
+        << "t=" << t;
   }
   EXPECT_GE(at_frames, 35) << log;
   // map → odom at a pose's time, composed with base_link in odom then, is that pose.

@@ -15,11 +15,12 @@ namespace fleetloc::testing {
 using live_sim::FakeGigECamera;
 using live_sim::SleepUntilHost;
 
-inline std::unique_ptr<live_sim::PlannedDrive> PlanDrive(const cv::Mat& floor, double resolution_m, int frames,
-                                                         double rate_hz, double start_t, double frame_delay_s,
-                                                         double speed_px_s, uint64_t seed) {
-  auto drive = live_sim::PlannedDrive::Create(floor, resolution_m, frames, rate_hz, start_t, frame_delay_s,
-                                              speed_px_s, seed);
+inline std::unique_ptr<live_sim::PlannedDrive> PlanDrive(const cv::Mat& floor, double resolution_m,
+                                                         int frames, double rate_hz, double start_t,
+                                                         double frame_delay_s, double speed_px_s,
+                                                         uint64_t seed) {
+  auto drive = live_sim::PlannedDrive::Create(floor, resolution_m, frames, rate_hz, start_t,
+                                              frame_delay_s, speed_px_s, seed);
   if (!drive.ok()) ADD_FAILURE() << drive.status().message(), std::abort();
   return std::move(drive).value();
 }

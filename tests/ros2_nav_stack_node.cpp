@@ -7,6 +7,9 @@
 //
 //   ros2_nav_stack_node --profile XML --domain N --odometry odometry.csv
 //                       --initial t,x,y,theta,sxx,syy,stt --until T --out DIR
+#include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -15,10 +18,6 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <chrono>
-#include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -44,11 +43,16 @@ void SetStamp(builtin_interfaces::msg::dds_::Time_& time, double t) {
   time.sec(static_cast<int32_t>(sec));
   time.nanosec(static_cast<uint32_t>(std::llround((t - sec) * 1e9)) % 1000000000u);
 }
-double Seconds(const builtin_interfaces::msg::dds_::Time_& time) { return time.sec() + time.nanosec() * 1e-9; }
-double Yaw(const geo::Quaternion_& q) {
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+double Seconds(const builtin_interfaces::msg::dds_::Time_& time) {
+  return time.sec() + time.nanosec() * 1e-9;
 }
-void SetYaw(geo::Quaternion_& q, double yaw) { q.x(0), q.y(0), q.z(std::sin(yaw / 2)), q.w(std::cos(yaw / 2)); }
+double Yaw(const geo::Quaternion_& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
+                    1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+void SetYaw(geo::Quaternion_& q, double yaw) {
+  q.x(0), q.y(0), q.z(std::sin(yaw / 2)), q.w(std::cos(yaw / 2));
+}
 
 std::vector<double> Numbers(const std::string& text) {
   std::vector<double> out;
@@ -90,7 +94,8 @@ void TakeAll(DataReader* reader, Fn fn) {
 int main(int argc, char** argv) {
   std::map<std::string, std::string> args;
   for (int i = 1; i + 1 < argc; i += 2) args[argv[i]] = argv[i + 1];
-  for (const char* required : {"--profile", "--domain", "--odometry", "--initial", "--until", "--out"}) {
+  for (const char* required :
+       {"--profile", "--domain", "--odometry", "--initial", "--until", "--out"}) {
     if (!args.count(required)) {
       std::fprintf(stderr, "ros2_nav_stack_node: %s is required\n", required);
       return 2;
@@ -108,19 +113,27 @@ int main(int argc, char** argv) {
   TypeSupport pose_type(new geo::PoseWithCovarianceStamped_PubSubType());
   TypeSupport tf_type(new tf2_msgs::msg::dds_::TFMessage_PubSubType());
   TypeSupport diag_type(new diagnostic_msgs::msg::dds_::DiagnosticArray_PubSubType());
-  for (TypeSupport* type : {&odom_type, &pose_type, &tf_type, &diag_type}) type->register_type(participant);
-  Topic* odom_topic = participant->create_topic("rt/odom", odom_type.get_type_name(), TOPIC_QOS_DEFAULT);
-  Topic* initial_topic = participant->create_topic("rt/initialpose", pose_type.get_type_name(), TOPIC_QOS_DEFAULT);
-  Topic* pose_topic = participant->create_topic("rt/fleetloc/pose", pose_type.get_type_name(), TOPIC_QOS_DEFAULT);
+  for (TypeSupport* type : {&odom_type, &pose_type, &tf_type, &diag_type})
+    type->register_type(participant);
+  Topic* odom_topic =
+      participant->create_topic("rt/odom", odom_type.get_type_name(), TOPIC_QOS_DEFAULT);
+  Topic* initial_topic =
+      participant->create_topic("rt/initialpose", pose_type.get_type_name(), TOPIC_QOS_DEFAULT);
+  Topic* pose_topic =
+      participant->create_topic("rt/fleetloc/pose", pose_type.get_type_name(), TOPIC_QOS_DEFAULT);
   Topic* tf_topic = participant->create_topic("rt/tf", tf_type.get_type_name(), TOPIC_QOS_DEFAULT);
-  Topic* diag_topic = participant->create_topic("rt/diagnostics", diag_type.get_type_name(), TOPIC_QOS_DEFAULT);
+  Topic* diag_topic =
+      participant->create_topic("rt/diagnostics", diag_type.get_type_name(), TOPIC_QOS_DEFAULT);
   Publisher* publisher = participant->create_publisher(PUBLISHER_QOS_DEFAULT);
   Subscriber* subscriber = participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
   DataWriter* odom_writer = publisher->create_datawriter(odom_topic, Ros2WriterQos(publisher, 10));
-  DataWriter* initial_writer = publisher->create_datawriter(initial_topic, Ros2WriterQos(publisher, 10));
-  DataReader* pose_reader = subscriber->create_datareader(pose_topic, Ros2ReaderQos(subscriber, 1000));
+  DataWriter* initial_writer =
+      publisher->create_datawriter(initial_topic, Ros2WriterQos(publisher, 10));
+  DataReader* pose_reader =
+      subscriber->create_datareader(pose_topic, Ros2ReaderQos(subscriber, 1000));
   DataReader* tf_reader = subscriber->create_datareader(tf_topic, Ros2ReaderQos(subscriber, 1000));
-  DataReader* diag_reader = subscriber->create_datareader(diag_topic, Ros2ReaderQos(subscriber, 100));
+  DataReader* diag_reader =
+      subscriber->create_datareader(diag_topic, Ros2ReaderQos(subscriber, 100));
   if (!odom_writer || !initial_writer || !pose_reader || !tf_reader || !diag_reader) return 1;
 
   std::ifstream odometry_csv(args["--odometry"]);
@@ -131,32 +144,37 @@ int main(int argc, char** argv) {
   const std::vector<double> initial = Numbers(args["--initial"]);  // t, x, y, theta, sxx, syy, stt
   const double until = std::stod(args["--until"]);
   const std::string out = args["--out"];
-  std::ofstream poses(out + "/poses.csv"), tfs(out + "/tf.csv"), diagnostics(out + "/diagnostics.csv");
+  std::ofstream poses(out + "/poses.csv"), tfs(out + "/tf.csv"),
+      diagnostics(out + "/diagnostics.csv");
   poses << "t,frame_id,x,y,theta,cxx,cxy,cxt,cyy,cyt,ctt,czz\n";
   tfs << "t,parent,child,x,y,theta\n";
   diagnostics << "t,level,name,message\n";
   poses.precision(17), tfs.precision(17), diagnostics.precision(17);
 
   auto take = [&] {
-    TakeAll<geo::PoseWithCovarianceStamped_>(pose_reader, [&](const geo::PoseWithCovarianceStamped_& m) {
-      const auto& c = m.pose().covariance();
-      poses << Seconds(m.header().stamp()) << "," << m.header().frame_id() << "," << m.pose().pose().position().x()
-            << "," << m.pose().pose().position().y() << "," << Yaw(m.pose().pose().orientation()) << "," << c[0]
-            << "," << c[1] << "," << c[5] << "," << c[7] << "," << c[11] << "," << c[35] << "," << c[14] << "\n";
-    });
-    TakeAll<tf2_msgs::msg::dds_::TFMessage_>(tf_reader, [&](const tf2_msgs::msg::dds_::TFMessage_& m) {
-      for (const geo::TransformStamped_& t : m.transforms()) {
-        tfs << Seconds(t.header().stamp()) << "," << t.header().frame_id() << "," << t.child_frame_id() << ","
-            << t.transform().translation().x() << "," << t.transform().translation().y() << ","
-            << Yaw(t.transform().rotation()) << "\n";
-      }
-    });
-    TakeAll<diagnostic_msgs::msg::dds_::DiagnosticArray_>(diag_reader, [&](const diagnostic_msgs::msg::dds_::DiagnosticArray_& m) {
-      for (const auto& s : m.status()) {
-        diagnostics << Seconds(m.header().stamp()) << "," << static_cast<int>(s.level()) << "," << s.name() << ","
-                    << s.message() << "\n";
-      }
-    });
+    TakeAll<geo::PoseWithCovarianceStamped_>(
+        pose_reader, [&](const geo::PoseWithCovarianceStamped_& m) {
+          const auto& c = m.pose().covariance();
+          poses << Seconds(m.header().stamp()) << "," << m.header().frame_id() << ","
+                << m.pose().pose().position().x() << "," << m.pose().pose().position().y() << ","
+                << Yaw(m.pose().pose().orientation()) << "," << c[0] << "," << c[1] << "," << c[5]
+                << "," << c[7] << "," << c[11] << "," << c[35] << "," << c[14] << "\n";
+        });
+    TakeAll<tf2_msgs::msg::dds_::TFMessage_>(
+        tf_reader, [&](const tf2_msgs::msg::dds_::TFMessage_& m) {
+          for (const geo::TransformStamped_& t : m.transforms()) {
+            tfs << Seconds(t.header().stamp()) << "," << t.header().frame_id() << ","
+                << t.child_frame_id() << "," << t.transform().translation().x() << ","
+                << t.transform().translation().y() << "," << Yaw(t.transform().rotation()) << "\n";
+          }
+        });
+    TakeAll<diagnostic_msgs::msg::dds_::DiagnosticArray_>(
+        diag_reader, [&](const diagnostic_msgs::msg::dds_::DiagnosticArray_& m) {
+          for (const auto& s : m.status()) {
+            diagnostics << Seconds(m.header().stamp()) << "," << static_cast<int>(s.level()) << ","
+                        << s.name() << "," << s.message() << "\n";
+          }
+        });
   };
   bool initial_sent = false;
   size_t next = 0;
@@ -193,6 +211,7 @@ int main(int argc, char** argv) {
   take();
   participant->delete_contained_entities();
   factory->delete_participant(participant);
-  std::printf("{\"odometry_sent\": %zu, \"initial_sent\": %s}\n", next, initial_sent ? "true" : "false");
+  std::printf("{\"odometry_sent\": %zu, \"initial_sent\": %s}\n", next,
+              initial_sent ? "true" : "false");
   return initial_sent ? 0 : 1;
 }

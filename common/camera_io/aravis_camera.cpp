@@ -31,15 +31,19 @@ Status Validate(const AravisOptions& o) {
   auto bad = [](const std::string& field, const std::string& what) {
     return InvalidInput("field 'aravis." + field + "': " + what);
   };
-  if (!IsSupportedPixelFormat(o.pixel_format)) return bad("pixel_format", o.pixel_format + " is not supported");
+  if (!IsSupportedPixelFormat(o.pixel_format))
+    return bad("pixel_format", o.pixel_format + " is not supported");
   if (o.region_x < 0 || o.region_y < 0 || o.region_width < 0 || o.region_height < 0) {
     return bad("region", "must be 4 non-negative integers x, y, width, height");
   }
   if (!(o.exposure_us >= 0)) return bad("exposure_us", "must be >= 0");
-  if (!(o.frame_rate_hz >= 0 && o.frame_rate_hz <= 1000)) return bad("frame_rate_hz", "must be in [0, 1000]");
+  if (!(o.frame_rate_hz >= 0 && o.frame_rate_hz <= 1000))
+    return bad("frame_rate_hz", "must be in [0, 1000]");
   if (!o.trigger.empty() && o.frame_rate_hz > 0) return bad("trigger", "excludes frame_rate_hz");
-  if (o.timestamps != "device" && o.timestamps != "arrival") return bad("timestamps", "must be device or arrival");
-  if (o.packet_size < 0 || o.packet_size > 16384) return bad("packet_size", "must be in [0, 16384]");
+  if (o.timestamps != "device" && o.timestamps != "arrival")
+    return bad("timestamps", "must be device or arrival");
+  if (o.packet_size < 0 || o.packet_size > 16384)
+    return bad("packet_size", "must be in [0, 16384]");
   if (o.buffers < 2 || o.buffers > 64) return bad("buffers", "must be in [2, 64]");
   return Status::Ok();
 }
@@ -48,7 +52,8 @@ Result<std::unique_ptr<AravisCamera>> AravisCamera::Open(const AravisOptions& op
   FLEETLOC_RETURN_IF_ERROR(Validate(options));
   std::unique_ptr<AravisCamera> cam(new AravisCamera(options));
   const char* name = options.device.empty() ? nullptr : options.device.c_str();
-  const std::string which = options.device.empty() ? "the first camera" : "camera '" + options.device + "'";
+  const std::string which =
+      options.device.empty() ? "the first camera" : "camera '" + options.device + "'";
   GError* error = nullptr;
   cam->camera_ = arv_camera_new(name, &error);
   if (cam->camera_ == nullptr) {
@@ -58,8 +63,8 @@ Result<std::unique_ptr<AravisCamera>> AravisCamera::Open(const AravisOptions& op
   }
   ArvDevice* device = arv_camera_get_device(cam->camera_);
   cam->control_lost_handler_ = g_signal_connect_swapped(
-      device, "control-lost", G_CALLBACK(+[](AravisCamera* self) { self->control_lost_.store(true); }),
-      cam.get());
+      device, "control-lost",
+      G_CALLBACK(+[](AravisCamera* self) { self->control_lost_.store(true); }), cam.get());
   const char* model = arv_camera_get_model_name(cam->camera_, nullptr);
   cam->description_ = "aravis camera " + std::string(model ? model : "?") + " (" +
                       (options.device.empty() ? "first found" : options.device) + ")";
@@ -80,21 +85,30 @@ Status AravisCamera::Configure() {
     }));
   }
   if (o.exposure_us > 0) {
-    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: exposure", [&](GError** e) { arv_camera_set_exposure_time(c, o.exposure_us, e); }));
+    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: exposure", [&](GError** e) {
+      arv_camera_set_exposure_time(c, o.exposure_us, e);
+    }));
   }
   if (o.gain >= 0) {
-    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: gain", [&](GError** e) { arv_camera_set_gain(c, o.gain, e); }));
+    FLEETLOC_RETURN_IF_ERROR(
+        Checked("aravis: gain", [&](GError** e) { arv_camera_set_gain(c, o.gain, e); }));
   }
   FLEETLOC_RETURN_IF_ERROR(Checked("aravis: acquisition mode", [&](GError** e) {
     arv_camera_set_acquisition_mode(c, ARV_ACQUISITION_MODE_CONTINUOUS, e);
   }));
   if (!o.trigger.empty()) {
-    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: trigger " + o.trigger, [&](GError** e) { arv_camera_set_trigger(c, o.trigger.c_str(), e); }));
+    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: trigger " + o.trigger, [&](GError** e) {
+      arv_camera_set_trigger(c, o.trigger.c_str(), e);
+    }));
   } else if (o.frame_rate_hz > 0) {
-    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: frame rate", [&](GError** e) { arv_camera_set_frame_rate(c, o.frame_rate_hz, e); }));
+    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: frame rate", [&](GError** e) {
+      arv_camera_set_frame_rate(c, o.frame_rate_hz, e);
+    }));
   }
   if (arv_camera_is_gv_device(c) && o.packet_size > 0) {
-    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: packet size", [&](GError** e) { arv_camera_gv_set_packet_size(c, o.packet_size, e); }));
+    FLEETLOC_RETURN_IF_ERROR(Checked("aravis: packet size", [&](GError** e) {
+      arv_camera_gv_set_packet_size(c, o.packet_size, e);
+    }));
   }
   return Status::Ok();
 }
@@ -110,9 +124,12 @@ Status AravisCamera::StartStream() {
   const char* format = arv_camera_get_pixel_format_as_string(camera_, nullptr);  // as set
   pixel_format_ = format ? format : "?";
   guint payload = 0;
-  FLEETLOC_RETURN_IF_ERROR(Checked("aravis: payload size", [&](GError** e) { payload = arv_camera_get_payload(camera_, e); }));
-  for (int i = 0; i < options_.buffers; ++i) arv_stream_push_buffer(stream_, arv_buffer_new(payload, nullptr));
-  return Checked("aravis: start acquisition", [&](GError** e) { arv_camera_start_acquisition(camera_, e); });
+  FLEETLOC_RETURN_IF_ERROR(Checked(
+      "aravis: payload size", [&](GError** e) { payload = arv_camera_get_payload(camera_, e); }));
+  for (int i = 0; i < options_.buffers; ++i)
+    arv_stream_push_buffer(stream_, arv_buffer_new(payload, nullptr));
+  return Checked("aravis: start acquisition",
+                 [&](GError** e) { arv_camera_start_acquisition(camera_, e); });
 }
 
 AravisCamera::~AravisCamera() {
@@ -156,7 +173,8 @@ std::optional<CapturedFrame> AravisCamera::Convert(void* opaque) {
   frame.arrival_t = static_cast<double>(arv_buffer_get_system_timestamp(buffer)) * 1e-9;
   frame.t = options_.timestamps == "arrival"
                 ? frame.arrival_t
-                : clock_.Map(static_cast<double>(arv_buffer_get_timestamp(buffer)) * 1e-9, frame.arrival_t);
+                : clock_.Map(static_cast<double>(arv_buffer_get_timestamp(buffer)) * 1e-9,
+                             frame.arrival_t);
   ++stats_.frames;
   return frame;
 }

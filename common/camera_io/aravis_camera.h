@@ -18,17 +18,17 @@ typedef struct _ArvStream ArvStream;
 namespace fleetloc::camera_io {
 
 struct AravisOptions {
-  std::string device;             // Aravis device id, serial number or IP address; empty: first
+  std::string device;  // Aravis device id, serial number or IP address; empty: first
   std::string pixel_format = "Mono8";  // a PFNC name IsSupportedPixelFormat accepts
   int region_x = 0, region_y = 0;
   int region_width = 0, region_height = 0;  // 0: leave the camera's
-  double exposure_us = 0.0;       // 0: leave the camera's
-  double gain = -1.0;             // < 0: leave the camera's
-  double frame_rate_hz = 0.0;     // free running at this rate; 0: leave the camera's
-  std::string trigger;            // empty: free running; "Software", "Line0", ...: hardware trigger
+  double exposure_us = 0.0;                 // 0: leave the camera's
+  double gain = -1.0;                       // < 0: leave the camera's
+  double frame_rate_hz = 0.0;               // free running at this rate; 0: leave the camera's
+  std::string trigger;  // empty: free running; "Software", "Line0", ...: hardware trigger
   std::string timestamps = "device";  // "device" (mapped to the host clock) or "arrival"
-  int packet_size = 0;            // GigE Vision packet size in bytes; 0: negotiated by Aravis
-  int buffers = 8;                // stream buffer pool
+  int packet_size = 0;                // GigE Vision packet size in bytes; 0: negotiated by Aravis
+  int buffers = 8;                    // stream buffer pool
 };
 
 // InvalidInput naming the field ("aravis.pixel_format: ...").

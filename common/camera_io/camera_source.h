@@ -13,9 +13,9 @@
 namespace fleetloc::camera_io {
 
 struct CapturedFrame {
-  cv::Mat image;              // CV_8UC1, as the camera delivered it (raw or rectified)
-  double t = 0.0;             // capture time, host clock (Unix seconds)
-  double arrival_t = 0.0;     // when it reached us, host clock
+  cv::Mat image;           // CV_8UC1, as the camera delivered it (raw or rectified)
+  double t = 0.0;          // capture time, host clock (Unix seconds)
+  double arrival_t = 0.0;  // when it reached us, host clock
 };
 
 struct CameraStats {

@@ -26,7 +26,8 @@ Result<std::unique_ptr<GstCamera>> GstCamera::Open(const GstOptions& options) {
     }
     cam->fps_ = cam->capture_.get(cv::CAP_PROP_FPS);
     if (options.timestamps == "frame_rate" && !(cam->fps_ > 0)) {
-      return Internal("gstreamer: pipeline '" + options.pipeline + "' has no framerate in its caps");
+      return Internal("gstreamer: pipeline '" + options.pipeline +
+                      "' has no framerate in its caps");
     }
   } catch (const cv::Exception& e) {
     return Internal("gstreamer: pipeline '" + options.pipeline + "': " + e.what());
@@ -51,15 +52,18 @@ Result<std::optional<CapturedFrame>> GstCamera::Grab(double /*timeout_s*/) {
     frame.image = image.clone();
   } else {
     ++stats_.dropped;
-    stats_.last_drop = "frame of OpenCV type " + std::to_string(image.type()) + " (want 8-bit gray or BGR)";
+    stats_.last_drop =
+        "frame of OpenCV type " + std::to_string(image.type()) + " (want 8-bit gray or BGR)";
     return std::optional<CapturedFrame>();
   }
   // The buffer's stream position (OpenCV's POS_MSEC), when the pipeline stamps its buffers.
   if (options_.timestamps == "frame_rate") {
     frame.t = options_.epoch_s + static_cast<double>(n) / fps_;
   } else {
-    const double position_ms = options_.timestamps == "buffer" ? capture_.get(cv::CAP_PROP_POS_MSEC) : -1;
-    frame.t = position_ms >= 0 ? clock_.Map(position_ms / 1000.0, frame.arrival_t) : frame.arrival_t;
+    const double position_ms =
+        options_.timestamps == "buffer" ? capture_.get(cv::CAP_PROP_POS_MSEC) : -1;
+    frame.t =
+        position_ms >= 0 ? clock_.Map(position_ms / 1000.0, frame.arrival_t) : frame.arrival_t;
   }
   ++stats_.frames;
   return std::optional<CapturedFrame>(std::move(frame));

@@ -15,7 +15,7 @@
 namespace fleetloc::camera_io {
 
 struct GstOptions {
-  std::string pipeline;                // a gst-launch description ending in "appsink"
+  std::string pipeline;  // a gst-launch description ending in "appsink"
   // "buffer": the stream position OpenCV reports for the frame, mapped to the host clock;
   // "arrival": when it reached us; "frame_rate": the n-th frame (from 0) at
   // epoch_s + n / the caps' framerate, as multifilesrc stamps its buffers (files of a recorded run

@@ -11,7 +11,8 @@ namespace {
 cv::Mat Ramp() {
   cv::Mat gray(6, 8, CV_8UC1);
   for (int r = 0; r < gray.rows; ++r)
-    for (int c = 0; c < gray.cols; ++c) gray.at<uint8_t>(r, c) = static_cast<uint8_t>(10 * c + 30 * r);
+    for (int c = 0; c < gray.cols; ++c)
+      gray.at<uint8_t>(r, c) = static_cast<uint8_t>(10 * c + 30 * r);
   return gray;
 }
 

@@ -30,9 +30,12 @@ bool StreamWatch::Recent(SampleVerdict verdict, double host_s) const {
 
 const char* VerdictName(SampleVerdict verdict) {
   switch (verdict) {
-    case SampleVerdict::kOk: return "ok";
-    case SampleVerdict::kNotFinite: return "not_finite";
-    case SampleVerdict::kBackInTime: return "back_in_time";
+    case SampleVerdict::kOk:
+      return "ok";
+    case SampleVerdict::kNotFinite:
+      return "not_finite";
+    case SampleVerdict::kBackInTime:
+      return "back_in_time";
   }
   return "?";
 }

@@ -14,7 +14,8 @@ enum class SampleVerdict { kOk, kNotFinite, kBackInTime };
 
 class StreamWatch {
  public:
-  StreamWatch(double stale_after_s, double hold_s) : stale_after_s_(stale_after_s), hold_s_(hold_s) {}
+  StreamWatch(double stale_after_s, double hold_s)
+      : stale_after_s_(stale_after_s), hold_s_(hold_s) {}
 
   // One sample of time `t_s` (its own clock), `finite` when all its values are, arriving at host
   // time `host_s`. kOk samples must be used, the others dropped. A sample at the same time as

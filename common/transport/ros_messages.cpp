@@ -64,7 +64,8 @@ namespace {
 bool FinitePose(const geometry_msgs_msg_dds__Pose_& p) {
   const auto& q = p.orientation;
   const double norm = q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w;
-  return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(norm) && norm > 1e-12;
+  return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(norm) &&
+         norm > 1e-12;
 }
 
 }  // namespace
@@ -74,7 +75,8 @@ RosOdometry FromIdl(const nav_msgs_msg_dds__Odometry_& odometry) {
   RosOdometry out;
   out.t = FromRosTime(odometry.header.stamp);
   out.finite = FinitePose(p);
-  out.pose = out.finite ? geometry::Pose2{p.position.x, p.position.y, YawOf(p.orientation)} : geometry::Pose2{};
+  out.pose = out.finite ? geometry::Pose2{p.position.x, p.position.y, YawOf(p.orientation)}
+                        : geometry::Pose2{};
   return out;
 }
 
@@ -101,7 +103,8 @@ RosPoseMessage::RosPoseMessage(double t, const std::string& frame_id,
   FillCovariance6(pose.covariance, message_.pose.covariance);
 }
 
-RosTransformMessage::RosTransformMessage(double t, const std::string& parent, const std::string& child,
+RosTransformMessage::RosTransformMessage(double t, const std::string& parent,
+                                         const std::string& child,
                                          const geometry::Pose2& child_in_parent)
     : parent_(parent), child_(child) {
   transform_.header.stamp = ToRosTime(t);
@@ -133,10 +136,13 @@ RosDiagnosticsMessage::RosDiagnosticsMessage(double t, const std::string& name,
   for (uint32_t i = 0; i < h.issues._length; ++i) {
     const fleetloc_HealthIssue& issue = h.issues._buffer[i];
     summary.message += (summary.message.empty() ? "" : ", ") + GetBounded(issue.name);
-    statuses_.push_back({static_cast<uint8_t>(issue.level), name + "/" + GetBounded(issue.name),
-                         GetBounded(issue.message), {}});
+    statuses_.push_back({static_cast<uint8_t>(issue.level),
+                         name + "/" + GetBounded(issue.name),
+                         GetBounded(issue.message),
+                         {}});
   }
-  if (summary.message.empty()) summary.message = std::string(LevelName(summary.level)) + ": localizing";
+  if (summary.message.empty())
+    summary.message = std::string(LevelName(summary.level)) + ": localizing";
   statuses_.insert(statuses_.begin(), std::move(summary));
   values_.resize(statuses_.size());
   for (size_t i = 0; i < statuses_.size(); ++i) {

@@ -15,7 +15,8 @@
 namespace fleetloc::transport {
 
 // diagnostic_msgs/DiagnosticStatus levels (the .msg constants).
-inline constexpr uint8_t kDiagnosticOk = 0, kDiagnosticWarn = 1, kDiagnosticError = 2, kDiagnosticStale = 3;
+inline constexpr uint8_t kDiagnosticOk = 0, kDiagnosticWarn = 1, kDiagnosticError = 2,
+                         kDiagnosticStale = 3;
 
 builtin_interfaces_msg_dds__Time_ ToRosTime(double t_s);
 double FromRosTime(const builtin_interfaces_msg_dds__Time_& time);
@@ -29,9 +30,9 @@ void FillCovariance6(const Eigen::Matrix3d& covariance, double out[36]);
 Eigen::Matrix3d Covariance3(const double covariance[36]);
 
 struct RosOdometry {
-  double t = 0.0;          // header stamp
-  geometry::Pose2 pose;    // child frame (base_link) in the header frame (odom)
-  bool finite = true;      // stamp, position and orientation all finite, quaternion not zero
+  double t = 0.0;        // header stamp
+  geometry::Pose2 pose;  // child frame (base_link) in the header frame (odom)
+  bool finite = true;    // stamp, position and orientation all finite, quaternion not zero
 };
 RosOdometry FromIdl(const nav_msgs_msg_dds__Odometry_& odometry);
 

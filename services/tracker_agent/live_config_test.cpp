@@ -19,7 +19,8 @@ std::string Write(const std::string& name, const std::string& text) {
 }
 
 TEST(LiveConfig, AnAravisVehicleWithItsRos2Names) {
-  auto c = LoadAgentConfig(Write("aravis", R"({"source": "aravis", "camera": "/etc/fleetloc/camera.json",
+  auto c =
+      LoadAgentConfig(Write("aravis", R"({"source": "aravis", "camera": "/etc/fleetloc/camera.json",
       "aravis": {"device": "192.168.10.20", "pixel_format": "Mono12", "region": [16, 8, 640, 480],
                  "exposure_us": 800, "gain": 3, "frame_rate_hz": 20, "packet_size": 8192},
       "ros": {"namespace": "robot7", "odom_topic": "wheel/odom", "pose_topic": "/fleetloc/pose"}})"));
@@ -42,14 +43,18 @@ TEST(LiveConfig, BadLiveFieldsAreNamed) {
       {R"({"source": "gstreamer", "camera": "c.json"})", "field 'gstreamer.pipeline': is required"},
       {R"({"source": "gstreamer", "camera": "c.json", "gstreamer": {"pipeline": "v4l2src ! fakesink"}})",
        "field 'gstreamer.pipeline': must end in an appsink"},
-      {R"({"source": "aravis", "camera": "c.json", "aravis": {"exposure": 5}})", "field 'aravis.exposure': unknown option"},
+      {R"({"source": "aravis", "camera": "c.json", "aravis": {"exposure": 5}})",
+       "field 'aravis.exposure': unknown option"},
       {R"({"source": "aravis", "camera": "c.json", "aravis": {"pixel_format": "YUV422_8"}})",
        "field 'aravis.pixel_format': YUV422_8 is not supported"},
       {R"({"source": "aravis", "camera": "c.json", "aravis": {"trigger": "Line0", "frame_rate_hz": 10}})",
        "field 'aravis.trigger': excludes frame_rate_hz"},
-      {R"({"source": "aravis", "camera": "c.json", "ros": {"enabled": false}})", "field 'ros.enabled'"},
-      {R"({"source": "aravis", "camera": "c.json", "ros": {"namespace": "/robot7"}})", "field 'ros.namespace'"},
-      {R"({"source": "aravis", "camera": "c.json", "ros": {"odom_topic": "wheel odom"}})", "field 'ros.odom_topic'"},
+      {R"({"source": "aravis", "camera": "c.json", "ros": {"enabled": false}})",
+       "field 'ros.enabled'"},
+      {R"({"source": "aravis", "camera": "c.json", "ros": {"namespace": "/robot7"}})",
+       "field 'ros.namespace'"},
+      {R"({"source": "aravis", "camera": "c.json", "ros": {"odom_topic": "wheel odom"}})",
+       "field 'ros.odom_topic'"},
       {R"({"source": "aravis", "camera": "c.json", "live": {"camera_stall_s": 5, "camera_reopen_s": 1}})",
        "field 'live.camera_reopen_s': must be >= live.camera_stall_s"},
   };

@@ -29,7 +29,8 @@ class LiveInput : public VehicleInput {
 
   // Joins the DDS domain for the odometry and starts the camera thread (the first open may fail:
   // it is retried). `camera`: the camera.json the frames must fit (its size unless it is raw).
-  static Result<std::unique_ptr<LiveInput>> Create(const AgentConfig& config, const io::CameraFile& camera,
+  static Result<std::unique_ptr<LiveInput>> Create(const AgentConfig& config,
+                                                   const io::CameraFile& camera,
                                                    CameraOpener opener);
   // The opener of the configured source (aravis or gstreamer).
   static CameraOpener OpenerFor(const AgentConfig& config);
@@ -39,7 +40,9 @@ class LiveInput : public VehicleInput {
   Result<std::optional<InputEvent>> Next() override;
   std::vector<InputIssue> Issues() const override;
   long long DroppedFrames() const override;
-  std::optional<std::pair<double, geometry::Pose2>> LatestOdometry() const override { return latest_odometry_; }
+  std::optional<std::pair<double, geometry::Pose2>> LatestOdometry() const override {
+    return latest_odometry_;
+  }
 
  private:
   LiveInput(const AgentConfig& config, const io::CameraFile& camera, CameraOpener opener);
@@ -66,11 +69,11 @@ class LiveInput : public VehicleInput {
   std::condition_variable frame_ready_;
   std::deque<camera_io::CapturedFrame> frames_;
   timing::StreamWatch camera_watch_;
-  std::string camera_error_;       // why the camera is unavailable (empty: it is open)
-  std::string wrong_format_;       // the last wrong frame
+  std::string camera_error_;  // why the camera is unavailable (empty: it is open)
+  std::string wrong_format_;  // the last wrong frame
   double wrong_format_host_s_ = -1e300;
-  long long dropped_ = 0;          // frames dropped here (wrong size, queue full)
-  double last_drop_log_ = 0;       // host time of the last log line about a camera drop
+  long long dropped_ = 0;                // frames dropped here (wrong size, queue full)
+  double last_drop_log_ = 0;             // host time of the last log line about a camera drop
   camera_io::CameraStats camera_stats_;  // of the open camera, plus those closed before
   camera_io::CameraStats closed_stats_;
   std::atomic<bool> stop_{false};

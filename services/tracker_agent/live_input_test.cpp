@@ -57,20 +57,24 @@ class LiveInputTest : public ::testing::Test {
     config_.live.odometry_stale_s = 0.3;
     config_.live.issue_hold_s = 0.8;
     camera_.model.width_px = 64, camera_.model.height_px = 48;
-    auto input = LiveInput::Create(config_, camera_, [this]() -> Result<std::unique_ptr<camera_io::CameraSource>> {
-      if (!script_.present) return NotFound("scripted: no camera");
-      ++script_.opens;
-      return std::unique_ptr<camera_io::CameraSource>(new ScriptedCamera(&script_));
-    });
+    auto input = LiveInput::Create(
+        config_, camera_, [this]() -> Result<std::unique_ptr<camera_io::CameraSource>> {
+          if (!script_.present) return NotFound("scripted: no camera");
+          ++script_.opens;
+          return std::unique_ptr<camera_io::CameraSource>(new ScriptedCamera(&script_));
+        });
     ASSERT_TRUE(input.ok()) << input.status().message();
     input_ = std::move(input).value();
     auto p = transport::Participant::Create(config_.domain_id);
     ASSERT_TRUE(p.ok());
     participant_ = std::make_unique<transport::Participant>(std::move(p).value());
     auto topic = transport::Topic<nav_msgs_msg_dds__Odometry_>::Create(*participant_, "rt/odom");
-    topic_ = std::make_unique<transport::Topic<nav_msgs_msg_dds__Odometry_>>(std::move(topic).value());
-    auto writer = transport::Writer<nav_msgs_msg_dds__Odometry_>::Create(participant_->get(), *topic_, RosDefaultQos());
-    writer_ = std::make_unique<transport::Writer<nav_msgs_msg_dds__Odometry_>>(std::move(writer).value());
+    topic_ =
+        std::make_unique<transport::Topic<nav_msgs_msg_dds__Odometry_>>(std::move(topic).value());
+    auto writer = transport::Writer<nav_msgs_msg_dds__Odometry_>::Create(participant_->get(),
+                                                                         *topic_, RosDefaultQos());
+    writer_ =
+        std::make_unique<transport::Writer<nav_msgs_msg_dds__Odometry_>>(std::move(writer).value());
     ASSERT_TRUE(Eventually([&] { return writer_->MatchedReaders() > 0; }, 10));
   }
   void SendOdometry(double t, double x) {
@@ -87,7 +91,8 @@ class LiveInputTest : public ::testing::Test {
     while (std::chrono::steady_clock::now() < end) {
       auto e = input_->Next();
       EXPECT_TRUE(e.ok());
-      if (e.ok() && e->has_value() && (*e)->kind != InputEvent::Kind::kIdle) events.push_back(std::move(**e));
+      if (e.ok() && e->has_value() && (*e)->kind != InputEvent::Kind::kIdle)
+        events.push_back(std::move(**e));
     }
     return events;
   }
@@ -98,7 +103,8 @@ class LiveInputTest : public ::testing::Test {
     return false;
   }
   static int Count(const std::vector<InputEvent>& events, InputEvent::Kind kind) {
-    return static_cast<int>(std::count_if(events.begin(), events.end(), [&](const InputEvent& e) { return e.kind == kind; }));
+    return static_cast<int>(std::count_if(events.begin(), events.end(),
+                                          [&](const InputEvent& e) { return e.kind == kind; }));
   }
 
   AgentConfig config_;
@@ -118,7 +124,8 @@ TEST_F(LiveInputTest, FramesOfTheWrongSizeAreDroppedAndNamedUntilTheSizeIsRight)
   EXPECT_GT(input_->DroppedFrames(), 5);
   ASSERT_TRUE(HasIssue("camera_wrong_format"));
   for (const InputIssue& issue : input_->Issues()) {
-    if (issue.name == "camera_wrong_format") EXPECT_EQ(issue.message, "frame 80x48, camera.json expects 64x48");
+    if (issue.name == "camera_wrong_format")
+      EXPECT_EQ(issue.message, "frame 80x48, camera.json expects 64x48");
   }
   script_.width = 64;
   EXPECT_GT(Count(Pump(0.3), InputEvent::Kind::kFrame), 5);
@@ -159,8 +166,8 @@ TEST_F(LiveInputTest, BadOdometryIsDroppedAndNamedAndStaleOdometryIsNoticed) {
   std::vector<InputEvent> events = Pump(0.1);
   EXPECT_EQ(Count(events, InputEvent::Kind::kOdometry), 10);
   EXPECT_FALSE(HasIssue("odometry_stale"));
-  SendOdometry(t0 + 0.05, 9.0);                                          // back in time
-  SendOdometry(t0 + 0.2, std::numeric_limits<double>::quiet_NaN());      // NaN
+  SendOdometry(t0 + 0.05, 9.0);                                      // back in time
+  SendOdometry(t0 + 0.2, std::numeric_limits<double>::quiet_NaN());  // NaN
   SendOdometry(t0 + 0.21, 2.1);
   events = Pump(0.1);
   ASSERT_EQ(Count(events, InputEvent::Kind::kOdometry), 1);
@@ -170,7 +177,7 @@ TEST_F(LiveInputTest, BadOdometryIsDroppedAndNamedAndStaleOdometryIsNoticed) {
   EXPECT_TRUE(HasIssue("odometry_back_in_time"));
   EXPECT_TRUE(HasIssue("odometry_not_finite"));
   Pump(0.3);
-  EXPECT_TRUE(HasIssue("odometry_stale"));  // nothing since
+  EXPECT_TRUE(HasIssue("odometry_stale"));                                       // nothing since
   for (int i = 0; i < 9; ++i) SendOdometry(t0 + 1.0 + 0.1 * i, 3.0), Pump(0.1);  // flowing again
   EXPECT_FALSE(HasIssue("odometry_stale"));
   EXPECT_FALSE(HasIssue("odometry_back_in_time"));  // the hold has passed
@@ -188,7 +195,9 @@ TEST_F(LiveInputTest, OdometryThatRestartsWithAnOlderClockBecomesANewTimeline) {
   }
   for (InputEvent& e : Pump(0.05)) events.push_back(std::move(e));
   ASSERT_EQ(Count(events, InputEvent::Kind::kOdometryRestart), 1);
-  const auto restart = std::find_if(events.begin(), events.end(), [](const InputEvent& e) { return e.kind == InputEvent::Kind::kOdometryRestart; });
+  const auto restart = std::find_if(events.begin(), events.end(), [](const InputEvent& e) {
+    return e.kind == InputEvent::Kind::kOdometryRestart;
+  });
   // After the restart, every new sample is handed on, in order.
   double last = -1;
   int after = 0;

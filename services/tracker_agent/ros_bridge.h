@@ -20,8 +20,8 @@ transport::Qos RosDefaultQos(int depth = 10);
 // The odometry stream alone (the live input reads it on its own participant).
 class RosOdometryReader {
  public:
-  static Result<std::unique_ptr<RosOdometryReader>> Create(const transport::Participant& participant,
-                                                          const RosOptions& options);
+  static Result<std::unique_ptr<RosOdometryReader>> Create(
+      const transport::Participant& participant, const RosOptions& options);
   // Every sample received since the last call, in arrival order.
   Result<std::vector<transport::RosOdometry>> Take();
   const std::string& topic_name() const { return topic_name_; }
@@ -36,12 +36,14 @@ class RosOdometryReader {
 class RosBridge {
  public:
   static Result<std::unique_ptr<RosBridge>> Create(const transport::Participant& participant,
-                                                   const RosOptions& options, const std::string& vehicle_id);
+                                                   const RosOptions& options,
+                                                   const std::string& vehicle_id);
 
   // base_link in map at `t` (its time of validity) on the pose topic.
   Status PublishPose(double t, const geometry::PoseWithCovariance& base_in_map);
   // map → odom at `t` from base_link in map and in odom at that time (if publish_tf).
-  Status PublishMapToOdom(double t, const geometry::Pose2& base_in_map, const geometry::Pose2& base_in_odom);
+  Status PublishMapToOdom(double t, const geometry::Pose2& base_in_map,
+                          const geometry::Pose2& base_in_odom);
   Status PublishDiagnostics(double t, const fleetloc_VehicleHealth& health);
   // The newest initialpose received since the last call (in the map frame; others are refused
   // with a log line), nullopt when none.
@@ -52,11 +54,14 @@ class RosBridge {
       : options_(std::move(options)), vehicle_id_(std::move(vehicle_id)) {}
   RosOptions options_;
   std::string vehicle_id_;
-  std::unique_ptr<transport::Topic<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose_topic_, initial_topic_;
+  std::unique_ptr<transport::Topic<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose_topic_,
+      initial_topic_;
   std::unique_ptr<transport::Topic<tf2_msgs_msg_dds__TFMessage_>> tf_topic_;
   std::unique_ptr<transport::Topic<diagnostic_msgs_msg_dds__DiagnosticArray_>> diagnostics_topic_;
-  std::unique_ptr<transport::Writer<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> pose_writer_;
-  std::unique_ptr<transport::Reader<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>> initial_reader_;
+  std::unique_ptr<transport::Writer<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>>
+      pose_writer_;
+  std::unique_ptr<transport::Reader<geometry_msgs_msg_dds__PoseWithCovarianceStamped_>>
+      initial_reader_;
   std::unique_ptr<transport::Writer<tf2_msgs_msg_dds__TFMessage_>> tf_writer_;
   std::unique_ptr<transport::Writer<diagnostic_msgs_msg_dds__DiagnosticArray_>> diagnostics_writer_;
 };

@@ -18,9 +18,11 @@ void SleepUntilHost(double t) {
   if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
 }
 
-Result<std::unique_ptr<PlannedDrive>> PlannedDrive::Create(const cv::Mat& floor, double resolution_m, int frames,
-                                                           double rate_hz, double start_t, double lead_s,
-                                                           double speed_px_s, uint64_t seed) {
+Result<std::unique_ptr<PlannedDrive>> PlannedDrive::Create(const cv::Mat& floor,
+                                                           double resolution_m, int frames,
+                                                           double rate_hz, double start_t,
+                                                           double lead_s, double speed_px_s,
+                                                           uint64_t seed) {
   std::unique_ptr<PlannedDrive> d(new PlannedDrive(floor, resolution_m, rate_hz));
   d->camera_.model = sim::DefaultSimCameraModel(640, 480, resolution_m);
   sim::SimOptions o;
@@ -35,9 +37,11 @@ Result<std::unique_ptr<PlannedDrive>> PlannedDrive::Create(const cv::Mat& floor,
   auto sim = sim::RunSimulator::Create(&d->floor_, d->camera_.model, o);
   if (!sim.ok()) return sim.status();
   d->sim_ = std::move(sim).value();
-  for (int i = 0; i < d->sim_->frame_count(); ++i) d->images_.push_back(d->sim_->RenderFrame(i).image);
+  for (int i = 0; i < d->sim_->frame_count(); ++i)
+    d->images_.push_back(d->sim_->RenderFrame(i).image);
   const std::vector<geometry::StampedPose>& wheels = d->sim_->odometry();
-  for (double t = start_t; t < wheels.front().t - 0.005; t += 0.01) d->odometry_.push_back({t, wheels.front().pose});
+  for (double t = start_t; t < wheels.front().t - 0.005; t += 0.01)
+    d->odometry_.push_back({t, wheels.front().pose});
   d->odometry_.insert(d->odometry_.end(), wheels.begin(), wheels.end());
   return d;
 }
@@ -47,13 +51,13 @@ int PlannedDrive::FrameAt(double t) const {
   return static_cast<int>(std::clamp<long>(i, 0, static_cast<long>(images_.size()) - 1));
 }
 
-Result<std::unique_ptr<OdometryPublisher>> OdometryPublisher::Create(const transport::Participant& p,
-                                                                     std::vector<geometry::StampedPose> samples,
-                                                                     Mangle mangle, double min_gap_s,
-                                                                     const std::string& topic) {
+Result<std::unique_ptr<OdometryPublisher>> OdometryPublisher::Create(
+    const transport::Participant& p, std::vector<geometry::StampedPose> samples, Mangle mangle,
+    double min_gap_s, const std::string& topic) {
   std::unique_ptr<OdometryPublisher> o(new OdometryPublisher());
   o->samples_ = std::move(samples), o->mangle_ = std::move(mangle), o->min_gap_s_ = min_gap_s;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<nav_msgs_msg_dds__Odometry_>::Create(p, topic), &o->topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::Topic<nav_msgs_msg_dds__Odometry_>::Create(p, topic), &o->topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<nav_msgs_msg_dds__Odometry_>::Create(
                                         p.get(), *o->topic_, tracker_agent::RosDefaultQos()),
                                     &o->writer_));
@@ -83,12 +87,14 @@ void OdometryPublisher::Run() {
   done_ = true;
 }
 
-FakeGigECamera::FakeGigECamera(const PlannedDrive* drive, double device_epoch, double gvsp_lost_ratio)
+FakeGigECamera::FakeGigECamera(const PlannedDrive* drive, double device_epoch,
+                               double gvsp_lost_ratio)
     : drive_(drive), device_epoch_(device_epoch) {
   camera_ = arv_gv_fake_camera_new("127.0.0.1", "FL20");
   if (gvsp_lost_ratio > 0) g_object_set(camera_, "gvsp-lost-ratio", gvsp_lost_ratio, nullptr);
-  arv_fake_camera_set_fill_pattern(arv_gv_fake_camera_get_fake_camera(camera_),
-                                   reinterpret_cast<ArvFakeCameraFillPattern>(&FakeGigECamera::Fill), this);
+  arv_fake_camera_set_fill_pattern(
+      arv_gv_fake_camera_get_fake_camera(camera_),
+      reinterpret_cast<ArvFakeCameraFillPattern>(&FakeGigECamera::Fill), this);
 }
 
 FakeGigECamera::~FakeGigECamera() { g_object_unref(camera_); }
@@ -107,9 +113,11 @@ void FakeGigECamera::Fill(ArvBuffer* buffer, void* self_ptr, unsigned, unsigned,
   std::memcpy(data, image.data, image.total());
   // Within the drive the frame shows planned frame i: captured then, however late the fill
   // (the camera's own clock would say so); before and after it, the frame of the moment.
-  const bool driving = now > self->drive_->first_frame_t() - 0.05 && now < self->drive_->last_frame_t() + 0.05;
+  const bool driving =
+      now > self->drive_->first_frame_t() - 0.05 && now < self->drive_->last_frame_t() + 0.05;
   const double captured = driving ? self->drive_->frame_t(i) : now;
-  arv_buffer_set_timestamp(buffer, static_cast<guint64>(std::llround((captured - self->device_epoch_) * 1e9)));
+  arv_buffer_set_timestamp(
+      buffer, static_cast<guint64>(std::llround((captured - self->device_epoch_) * 1e9)));
   ++self->filled_;
 }
 

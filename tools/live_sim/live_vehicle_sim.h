@@ -31,9 +31,10 @@ class PlannedDrive {
   // grid), its first frame then; odometry covers both, frames before the drive show where it
   // stands (so a camera serving them before the drive shows the truth). 640×480 at
   // `resolution_m`. InvalidInput when the simulator refuses the plan.
-  static Result<std::unique_ptr<PlannedDrive>> Create(const cv::Mat& floor, double resolution_m, int frames,
-                                                      double rate_hz, double start_t, double lead_s,
-                                                      double speed_px_s, uint64_t seed);
+  static Result<std::unique_ptr<PlannedDrive>> Create(const cv::Mat& floor, double resolution_m,
+                                                      int frames, double rate_hz, double start_t,
+                                                      double lead_s, double speed_px_s,
+                                                      uint64_t seed);
   const io::CameraFile& camera() const { return camera_; }
   // base_link in odom from start_t: standing still, then the simulator's wheel odometry.
   const std::vector<geometry::StampedPose>& odometry() const { return odometry_; }
@@ -66,10 +67,9 @@ class OdometryPublisher {
   using Mangle = std::function<bool(size_t index, nav_msgs_msg_dds__Odometry_* message)>;
   // `min_gap_s`: at least this long between two writes (samples stamped in the past go out at this
   // pace instead of in one burst).
-  static Result<std::unique_ptr<OdometryPublisher>> Create(const transport::Participant& p,
-                                                           std::vector<geometry::StampedPose> samples,
-                                                           Mangle mangle = nullptr, double min_gap_s = 0.0,
-                                                           const std::string& topic = "rt/odom");
+  static Result<std::unique_ptr<OdometryPublisher>> Create(
+      const transport::Participant& p, std::vector<geometry::StampedPose> samples,
+      Mangle mangle = nullptr, double min_gap_s = 0.0, const std::string& topic = "rt/odom");
   ~OdometryPublisher();
   bool done() const { return done_; }
 
@@ -97,7 +97,8 @@ class FakeGigECamera {
   long long filled() const { return filled_; }
 
  private:
-  static void Fill(ArvBuffer* buffer, void* self, unsigned exposure_us, unsigned gain, unsigned pixel_format);
+  static void Fill(ArvBuffer* buffer, void* self, unsigned exposure_us, unsigned gain,
+                   unsigned pixel_format);
   const PlannedDrive* drive_;
   double device_epoch_;
   ArvGvFakeCamera* camera_ = nullptr;
