@@ -14,7 +14,9 @@ Status Validate(const AgentConfig& c) {
   };
   if (!transport::IsValidEntityId(c.vehicle_id)) return bad("vehicle_id", "must be 1-11 of [A-Za-z0-9_-]");
   if (c.domain_id < 0 || c.domain_id > 232) return bad("domain", "must be in [0, 232]");
-  if (c.source != "replay" && c.source != "sim") return bad("source", "must be replay or sim");
+  if (c.source != "replay" && c.source != "sim" && !IsLiveSource(c.source)) {
+    return bad("source", "must be replay, sim, aravis or gstreamer");
+  }
   if (c.source == "replay" && c.run_path.empty()) return bad("run", "is required (the replay source)");
   if (c.source == "sim" && c.sim_floor.empty()) return bad("sim_floor", "is required (the sim source)");
   if (!(c.sim_resolution_m > 0)) return bad("sim_resolution_m", "must be > 0");
@@ -52,8 +54,11 @@ Status Validate(const AgentConfig& c) {
   if (!(c.position_update_half_life_s >= 0 && c.position_update_half_life_s <= 60)) {
     return bad("position_update_half_life_s", "must be in [0, 60]");
   }
+  FLEETLOC_RETURN_IF_ERROR(ValidateLive(c.source, c.live, c.ros));
   return metrics::Validate(c.metrics, "tracker agent config");
 }
+
+bool IsLiveSource(const std::string& source) { return source == "aravis" || source == "gstreamer"; }
 
 Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
@@ -66,7 +71,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
       "sim_resolution_m", "sim_speed_px_s", "sim_rate_hz", "sim_start_fraction", "sim_seed",
       "start_pose", "relocalize_on_lost", "relocalize_after_coasting_frames",
       "relocalize_interval_s", "relocalize_trajectory_frames", "landmarks", "position_update_period_s", "position_update_window_s",
-      "position_update_half_life_s", "metrics"};
+      "position_update_half_life_s", "metrics", "camera", "live", "aravis", "gstreamer", "ros"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
@@ -120,6 +125,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   }
   if (fields.Has("paced")) FLEETLOC_RETURN_IF_ERROR(fields.Bool("paced", &c.paced));
   if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
+  c.ros.enabled = IsLiveSource(c.source);  // the default; "ros.enabled" overrides
+  FLEETLOC_RETURN_IF_ERROR(ReadLiveOptions(fields, *json, &c.live, &c.ros));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

@@ -6,6 +6,7 @@
 
 #include "base/status.h"
 #include "metrics/metrics_options.h"
+#include "tracker_agent/live_config.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -13,7 +14,9 @@ struct AgentConfig {
   std::string vehicle_id = "agv-1";   // 1-11 of [A-Za-z0-9_-]
   int domain_id = 0;
   std::string dds_config_path;        // empty: CYCLONEDDS_URI or the compiled-in loopback
-  std::string source = "replay";      // "replay" (a recorded run) or "sim" (a live simulated vehicle)
+  // "replay" (a recorded run), "sim" (a live simulated vehicle), or a live vehicle's camera:
+  // "aravis" (GenICam) or "gstreamer" (a pipeline), with ROS 2 odometry (docs/vehicle_integration.md)
+  std::string source = "replay";
   std::string run_path;               // replay source: a run directory (docs/formats.md)
   // sim source: a vehicle driving forever over a floor image (origin at (0, height · resolution)).
   std::string sim_floor;              // the floor image (the map server's mosaic is imported from it)
@@ -60,6 +63,8 @@ struct AgentConfig {
   double position_update_period_s = 1.0;     // one map fit per this much forward-camera time
   double position_update_window_s = 2.0;     // ... over the detections of this last stretch
   double position_update_half_life_s = 1.0;  // older detections count less (0: all alike)
+  LiveOptions live;  // "camera", "live", "aravis", "gstreamer"
+  RosOptions ros;    // "ros": on by default for the live sources
   // Prometheus /metrics ("metrics"; off by default; port 9473 when enabled without one).
   metrics::MetricsOptions metrics = DefaultMetrics();
 
@@ -71,6 +76,7 @@ struct AgentConfig {
 };
 
 Status Validate(const AgentConfig& config);
+bool IsLiveSource(const std::string& source);  // aravis or gstreamer
 
 // Reads `path` over the defaults. NotFound / InvalidInput "<file>: field '<name>': <what>".
 Result<AgentConfig> LoadAgentConfig(const std::string& path);

@@ -49,7 +49,8 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   h->tiles_pending = static_cast<uint32_t>(in.tiles_pending);
   h->patch_outbox = static_cast<uint32_t>(in.patch_outbox);
   h->map_server_reachable = in.map_server_reachable;
-  h->camera_frame_drops = static_cast<uint64_t>(dropped_);
+  const long long dropped = dropped_ + in.input_dropped;
+  h->camera_frame_drops = static_cast<uint64_t>(dropped);
   transport::SetBounded(h->last_error, last_error_);
   issues->clear();
   auto add = [&](const char* name, fleetloc_HealthLevel level, const std::string& message) {
@@ -85,7 +86,10 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
     add("position_update_rejected", fleetloc_HEALTH_WARN,
         counts + "; last rejected: " + u->last_reason);
   }
-  if (dropped_ > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped_) + " frames dropped");
+  for (const InputIssue& issue : in.input_issues) {
+    add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN, issue.message);
+  }
+  if (dropped > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
   if (in.patch_outbox_dropped > 0) {
     add("patch_outbox_full", fleetloc_HEALTH_WARN,
         std::to_string(in.patch_outbox_dropped) + " patches dropped from the full outbox (oldest, lowest quality)");

@@ -9,6 +9,7 @@
 
 #include "mosaic/tile_cache.h"
 #include "tracker_agent/agent_position_update.h"
+#include "tracker_agent/vehicle_input.h"
 #include "tracking/frame_localizer.h"
 #include "transport/dds_tile_loader.h"
 #include "transport/fleetloc_types.h"
@@ -36,6 +37,8 @@ class AgentHealth {
     bool place_index_ready = false;  // relocalization possible
     const PositionUpdateStats* position_update = nullptr;  // null: no position updates
     long long patch_outbox_dropped = 0;  // patches the full outbox dropped (ever, this vehicle)
+    std::vector<InputIssue> input_issues;  // the live input's (camera, odometry)
+    long long input_dropped = 0;           // frames the input lost before the agent saw them
   };
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,

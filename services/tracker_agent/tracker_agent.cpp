@@ -100,17 +100,23 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
   if (!outbox.ok()) return outbox.status();
   outbox_ = std::move(outbox).value();
   rectifier_ = replay::RectifierFor(camera_);
+  if (config_.ros.enabled) {
+    auto ros = RosBridge::Create(p, config_.ros, config_.vehicle_id);
+    if (!ros.ok()) return ros.status();
+    ros_ = std::move(ros).value();
+  }
   metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "tracker_agent");
   if (!metrics_->error().empty()) health_.RecordError(metrics_->error());  // the health's last error
   return Status::Ok();
 }
 
 void TrackerAgent::Publish(double t, const geometry::PoseWithCovariance& base,
-                           tracking::LockState state) {
+                           tracking::LockState state, bool propagated) {
   const transport::PoseReport report{config_.vehicle_id, t, base, state, layout_.version};
   if (Status sent = pose_writer_->Write(transport::ToIdl(report)); !sent.ok()) {
     health_.RecordError(sent.message());
   }
+  if (ros_ && state != tracking::LockState::kLost) PublishRos(t, base, propagated);
 }
 
 void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
@@ -119,8 +125,15 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
     return;  // a NaN or out-of-order sample is dropped, counted in the last error
   }
   latest_odometry_t_ = t;
+  if (restart_pose_) {  // the first sample of a new odometry timeline
+    tracker_->Reset(*restart_pose_, odom);
+    propagator_->SetAnchor(t, odom, *std::exchange(restart_pose_, std::nullopt));
+  }
+  if (pending_initial_) ApplyInitialPose(*pending_initial_);
   ProcessReadyFrames();
-  if (propagator_->anchored() && t > propagator_->anchor_time()) Publish(t, propagator_->At(t, odom), state_);
+  if (propagator_->anchored() && t > propagator_->anchor_time()) {
+    Publish(t, propagator_->At(t, odom), state_, /*propagated=*/true);
+  }
 }
 
 void TrackerAgent::ProcessReadyFrames() {
@@ -328,10 +341,16 @@ void TrackerAgent::PublishHealth() {
                          relocalizer_->ready(),
                          position_update_ ? &position_update_->stats() : nullptr,
                          dropped.ok() ? *dropped : 0};
+  if (input_ != nullptr) in.input_issues = input_->Issues(), in.input_dropped = input_->DroppedFrames();
   fleetloc_VehicleHealth health;
   std::vector<fleetloc_HealthIssue> issues;
   health_.Fill(in, &health, &issues);
   if (Status sent = health_writer_->Write(health); !sent.ok()) health_.RecordError(sent.message());
+  if (ros_) {
+    if (Status sent = ros_->PublishDiagnostics(transport::ToSeconds(health.stamp), health); !sent.ok()) {
+      health_.RecordError(sent.message());
+    }
+  }
 }
 
 void TrackerAgent::RefreshMetrics() {
@@ -388,6 +407,11 @@ Status TrackerAgent::WriteSummary() const {
   summary["position_update"] =
       position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
   summary["position_update"]["enabled"] = position_update_ != nullptr;
+  const std::vector<double> latency(capture_to_pose_ms_.begin(), capture_to_pose_ms_.end());
+  summary["capture_to_pose_ms"] = {{"frames", latency.size()},
+                                   {"p50", latency.empty() ? 0.0 : replay::Percentile(latency, 50)},
+                                   {"p99", latency.empty() ? 0.0 : replay::Percentile(latency, 99)}};
+  summary["input_dropped_frames"] = input_ ? input_->DroppedFrames() : 0;
   return io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n");
 }
 
@@ -396,6 +420,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(config_.health_period_s));
   if (config_.start_pose == "relocalize") WaitForPlaceIndex();
+  input_ = &input;
   auto next_health = Clock::now();
   while (!stop.load()) {
     io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
@@ -407,7 +432,14 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     }
     if (!event->has_value()) break;
     InputEvent& e = **event;
-    if (e.kind == InputEvent::Kind::kOdometry) {
+    if (ros_) {
+      if (std::optional<transport::RosPoseStamped> given = ros_->TakeInitialPose()) ApplyInitialPose(*given);
+    }
+    if (e.kind == InputEvent::Kind::kIdle) {
+      // nothing arrived: housekeeping only
+    } else if (e.kind == InputEvent::Kind::kOdometryRestart) {
+      OnOdometryRestart();
+    } else if (e.kind == InputEvent::Kind::kOdometry) {
       OnOdometry(e.t, e.odom);
     } else if (e.kind == InputEvent::Kind::kFrame || position_update_) {
       // A forward image is not rectified: its detector has its own camera model.
@@ -426,7 +458,9 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   io::NotifyServiceStopping();
   DrainPatches(stop);
   PublishHealth();
-  if (!config_.summary_path.empty()) FLEETLOC_RETURN_IF_ERROR(WriteSummary());
+  const Status summary = config_.summary_path.empty() ? Status::Ok() : WriteSummary();
+  input_ = nullptr;
+  FLEETLOC_RETURN_IF_ERROR(summary);
   spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
   return Status::Ok();
 }

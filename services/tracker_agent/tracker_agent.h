@@ -27,6 +27,7 @@
 #include "tracker_agent/agent_position_update.h"
 #include "tracker_agent/agent_relocalizer.h"
 #include "tracker_agent/patch_outbox.h"
+#include "tracker_agent/ros_bridge.h"
 #include "tracker_agent/vehicle_input.h"
 #include "tracking/mosaic_tracker.h"
 #include "tracking/odometry_history.h"
@@ -61,6 +62,13 @@ class TrackerAgent {
                const std::optional<geometry::PoseWithCovariance>& initial);
   Status Open(const tracking::TrackerOptions& options);
   void OnOdometry(double t, const geometry::Pose2& odom);
+  // The odometry source began a new timeline: the history is dropped and the pose the vehicle had
+  // at the end of the old one anchors the first sample of the new one.
+  void OnOdometryRestart();
+  // A start pose from the vehicle's stack (ROS initialpose, base_link in map at its stamp):
+  // the tracker restarts there, anchored to the odometry at the stamp (or the latest, when the
+  // stamp is zero or not covered yet). Kept until odometry arrives when there is none.
+  void ApplyInitialPose(const transport::RosPoseStamped& given);
   void ProcessReadyFrames();
   void Track(double t, const cv::Mat& frame);
   // Before the first frame of either camera: the tracker and the propagator start from the initial
@@ -79,7 +87,11 @@ class TrackerAgent {
   void Prefetch(double t, const geometry::Pose2& base);
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
   void ApplyTileUpdates();
-  void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state);
+  // `propagated`: an odometry-rate pose between frames (the ROS 2 pose topic carries only poses
+  // at frame times, the map → odom transform both).
+  void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state,
+               bool propagated = false);
+  void PublishRos(double t, const geometry::PoseWithCovariance& base, bool propagated);
   // Until every tile of the mosaic has a map server announcing it, or `deadline`.
   void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
   // A vehicle that starts without a pose can do nothing before the place index is loaded: waits
@@ -143,6 +155,13 @@ class TrackerAgent {
   metrics::Histogram cycle_seconds_{metrics::Histogram::LatencyBoundsS()};
   metrics::Histogram tile_round_trip_{metrics::Histogram::LatencyBoundsS()};
   std::unique_ptr<metrics::ServiceMetrics> metrics_;
+  // Live vehicles: the ROS 2 bridge, the input (for its issues) and capture → pose-on-the-wire
+  // latencies (host clock; the last 10,000 frames).
+  std::unique_ptr<RosBridge> ros_;
+  VehicleInput* input_ = nullptr;
+  std::optional<transport::RosPoseStamped> pending_initial_;
+  std::optional<geometry::PoseWithCovariance> restart_pose_;
+  std::deque<double> capture_to_pose_ms_;
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -7,6 +7,7 @@
 #include "io/logging.h"
 #include "io/stop_signal.h"
 #include "io/tracker_config.h"
+#include "tracker_agent/live_input.h"
 #include "tracker_agent/position_update_setup.h"
 #include "tracker_agent/replay_input.h"
 #include "tracker_agent/sim_input.h"
@@ -46,6 +47,19 @@ Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
   return (*agent)->Run(**input, stop);
 }
 
+// A real vehicle: a live camera and ROS 2 odometry; the start pose from the vehicle's stack
+// (initialpose) or, with start_pose "relocalize", from the place index.
+Status RunLiveVehicle(const tracker_agent::AgentConfig& config, const tracking::TrackerOptions& options,
+                      const std::atomic<bool>& stop) {
+  Result<io::CameraFile> camera = io::ReadCameraJson(config.live.camera_path);
+  if (!camera.ok()) return camera.status();
+  auto agent = tracker_agent::TrackerAgent::Create(config, *camera, std::nullopt, options);
+  if (!agent.ok()) return agent.status();
+  auto input = tracker_agent::LiveInput::Create(config, *camera, tracker_agent::LiveInput::OpenerFor(config));
+  if (!input.ok()) return input.status();
+  return (*agent)->Run(**input, stop);
+}
+
 Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop) {
   FLEETLOC_RETURN_IF_ERROR(tracker_agent::Validate(config));
   tracking::TrackerOptions options;
@@ -55,6 +69,7 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
     options = *read;
   }
   if (config.source == "sim") return RunSimulatedVehicle(config, options, stop);
+  if (tracker_agent::IsLiveSource(config.source)) return RunLiveVehicle(config, options, stop);
   Result<io::Run> run = io::ReadRun(config.run_path);
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "base/status.h"
 #include "geometry/pose2.h"
@@ -15,7 +17,10 @@ namespace fleetloc::tracker_agent {
 
 struct InputEvent {
   // kForwardFrame: an image of the forward (landmark) camera (forward/, docs/formats.md).
-  enum class Kind { kOdometry, kFrame, kForwardFrame };
+  // kIdle: nothing arrived for a moment (live sources); the agent does its housekeeping and asks
+  // again. kOdometryRestart: the odometry source started a new timeline (its clock went back for
+  // good); the agent forgets the old history before the odometry that follows.
+  enum class Kind { kOdometry, kFrame, kForwardFrame, kIdle, kOdometryRestart };
   Kind kind = Kind::kOdometry;
   double t = 0.0;            // capture time, seconds (the source's clock)
   geometry::Pose2 odom;      // kOdometry: base_link in odom
@@ -23,9 +28,23 @@ struct InputEvent {
                              // kForwardFrame: the forward camera's image as recorded
 };
 
+// A problem with the input a live source sees (camera gone, odometry stale, ...), for health.
+struct InputIssue {
+  std::string name;     // e.g. "camera_stalled"
+  bool error = false;   // ERROR (else WARN)
+  std::string message;
+};
+
 class VehicleInput {
  public:
   virtual ~VehicleInput() = default;
+  // The input's current problems (none for recorded and simulated inputs).
+  virtual std::vector<InputIssue> Issues() const { return {}; }
+  // Frames the source lost before they reached the agent (incomplete buffers, wrong sizes, ...).
+  virtual long long DroppedFrames() const { return 0; }
+  // The latest odometry the source has seen (base_link in odom, its time): the anchor for a start
+  // pose that arrives between samples. nullopt when the source cannot tell.
+  virtual std::optional<std::pair<double, geometry::Pose2>> LatestOdometry() const { return std::nullopt; }
   // The next event; nullopt when the source has ended. A frame (of either camera) that cannot be
   // read is an error naming its file (the agent counts it as a dropped frame and goes on).
   virtual Result<std::optional<InputEvent>> Next() = 0;

@@ -18,6 +18,7 @@
 #include "bench_paths.h"
 #include "bench_report.h"
 #include "bench_agent.h"
+#include "bench_agent_live.h"
 #include "bench_mapfit.h"
 #include "bench_tiles.h"
 #include "bench_tracker.h"
@@ -221,10 +222,22 @@ void RegisterBenchAgent(CLI::App* bench, Status* result) {
       "agent", "Tracker cycle on the live path (agent over DDS) vs the offline tracker, same run");
   agent->option_defaults()->always_capture_default();
   agent->add_option("--work-dir", s->work_dir, "Mosaic, run, logs");
-  agent->add_option("--frames", s->frames, "Frames of the simulated run")->check(CLI::Range(10, 100000));
+  agent->add_option("--frames", s->frames, "Frames of the simulated run (--source aravis: 300 unless given)")
+      ->check(CLI::Range(10, 100000));
   agent->add_option("--domain", s->domain, "DDS domain")->check(CLI::Range(0, 232));
   agent->add_option("--json", s->json, "Write every number to this JSON file");
-  agent->callback([s, result] { *result = RunAgentBench(*s); });
+  // --source aravis: a live vehicle (fake GigE Vision camera, ROS 2 odometry) instead of a replay.
+  auto source = std::make_shared<std::string>("replay");
+  auto rate = std::make_shared<double>(10.0);
+  agent->add_option("--source", *source, "replay (cycle time, live vs offline) or aravis (a live camera: "
+                                         "capture -> pose latency, live/offline accuracy)")
+      ->check(CLI::IsMember({"replay", "aravis"}));
+  agent->add_option("--rate", *rate, "Camera frame rate, Hz (--source aravis)")->check(CLI::Range(1.0, 50.0));
+  agent->callback([s, source, rate, result] {
+    if (*source == "replay") return void(*result = RunAgentBench(*s));
+    const bool frames_given = s->frames != AgentBenchSettings().frames;
+    *result = RunLiveAgentBench({s->work_dir, frames_given ? s->frames : 300, *rate, s->domain, s->json});
+  });
 }
 
 }  // namespace

@@ -15,6 +15,10 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libsystemd-dev  # sd_notify: Type=notify readiness and the watchdog (common/io/service_notify.h)
           libjs-leaflet libjs-chart.js  # the dashboard's map and plots, served by the supervisor at /vendor/
           debootstrap  # the opt-in package install test (tests/deploy/deb_packages_test.sh install)
+          libaravis-dev libusb-1.0-0-dev  # GenICam cameras (common/camera_io/aravis_camera.*); aravis-0.8.pc needs libusb's .pc
+          aravis-tools  # arv-tool / arv-fake-gv-camera-0.8: look at a camera by hand (docs/vehicle_integration.md)
+          libgstreamer1.0-dev gstreamer1.0-plugins-base gstreamer1.0-plugins-good  # GStreamer camera pipelines via OpenCV (multifilesrc, pngdec, v4l2src)
+          libfastrtps-dev fastddsgen  # the ROS 2 interop test node (tests/ros2_nav_stack_node.cpp), as rmw_fastrtps sees the wire
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()

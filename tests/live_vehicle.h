@@ -1,0 +1,36 @@
+// The live simulated vehicle (tools/live_sim) for the live-camera agent tests: the same classes,
+// failing the test instead of returning a Status.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include "base/eventually.h"
+#include "camera_io/camera_source.h"
+#include "live_sim/live_vehicle_sim.h"
+#include "tracker_agent/ros_bridge.h"
+#include "transport/ros_messages.h"
+
+namespace fleetloc::testing {
+
+using live_sim::FakeGigECamera;
+using live_sim::SleepUntilHost;
+
+inline std::unique_ptr<live_sim::PlannedDrive> PlanDrive(const cv::Mat& floor, double resolution_m,
+                                                         int frames, double rate_hz, double start_t,
+                                                         double frame_delay_s, double speed_px_s,
+                                                         uint64_t seed) {
+  auto drive = live_sim::PlannedDrive::Create(floor, resolution_m, frames, rate_hz, start_t,
+                                              frame_delay_s, speed_px_s, seed);
+  if (!drive.ok()) ADD_FAILURE() << drive.status().message(), std::abort();
+  return std::move(drive).value();
+}
+
+inline std::unique_ptr<live_sim::OdometryPublisher> PublishOdometry(
+    const transport::Participant& p, const std::vector<geometry::StampedPose>& samples,
+    live_sim::OdometryPublisher::Mangle mangle = nullptr, double min_gap_s = 0.0) {
+  auto publisher = live_sim::OdometryPublisher::Create(p, samples, std::move(mangle), min_gap_s);
+  if (!publisher.ok()) ADD_FAILURE() << publisher.status().message(), std::abort();
+  return std::move(publisher).value();
+}
+
+}  // namespace fleetloc::testing

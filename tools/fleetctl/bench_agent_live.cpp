@@ -1,0 +1,186 @@
+// The live-camera agent benchmark: drive, serve, track, compare.
+#include "bench_agent_live.h"
+
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "bench_paths.h"
+#include "camera_io/camera_source.h"
+#include "floor_images.h"
+#include "io/child_process.h"
+#include "io/file_util.h"
+#include "live_sim/live_vehicle_sim.h"
+#include "tracker_agent/ros_bridge.h"
+#include "tracker_summary.h"
+#include "transport/ros_messages.h"
+
+namespace fleetloc::fleetctl {
+namespace {
+
+namespace fs = std::filesystem;
+using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
+
+// The drive as a run directory (frames at their planned times) for the offline tracker.
+Result<io::Run> WriteDriveRun(live_sim::PlannedDrive& drive, const std::string& dir) {
+  io::Run run;
+  run.dir = dir;
+  run.vehicle_id = "bench";
+  run.camera = drive.camera();
+  run.initial_pose = drive.sim().truth().front().pose;
+  run.initial_sigma = drive.sim().initial_sigma();
+  run.odometry = drive.odometry();
+  run.truth = drive.sim().truth();
+  fs::create_directories(fs::path(dir) / "frames");
+  for (int i = 0; i < drive.frame_count(); ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frames/frame_%05d.png", i);
+    if (!cv::imwrite((fs::path(dir) / name).string(), drive.image(i)))
+      return Internal("cannot write " + std::string(name));
+    run.frames.push_back({drive.frame_t(i), fs::path(dir) / name});
+  }
+  FLEETLOC_RETURN_IF_ERROR(io::WriteRun(run));
+  return run;
+}
+
+double Rms(const std::vector<double>& errors) {
+  double sum = 0;
+  for (double e : errors) sum += e * e;
+  return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
+}
+
+}  // namespace
+
+Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
+  const std::string work = io::AbsoluteDir(s.work_dir).string();
+  fs::create_directories(work);
+  Result<std::string> mosaic =
+      EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
+  if (!mosaic.ok()) return mosaic.status();
+  // The floor the mosaic was imported from: the demo image itself.
+  Result<cv::Mat> floor = io::ReadGrayImage(DefaultFloorsDir() / "rock_dirt_2048.png");
+  if (!floor.ok()) return floor.status();
+  const double warmup_s = 3.0 + s.frames * 0.02;  // rendering ahead
+  const double start = std::ceil(camera_io::HostNow() + warmup_s);
+  spdlog::info("bench agent (aravis): rendering {} frames at {} Hz", s.frames, s.rate_hz);
+  auto drive =
+      live_sim::PlannedDrive::Create(*floor, 0.0005, s.frames, s.rate_hz, start, 2.0, 1000.0, 20);
+  if (!drive.ok()) return drive.status();
+  live_sim::PlannedDrive& d = **drive;
+  if (camera_io::HostNow() > start)
+    return Internal("rendering took longer than planned; use fewer --frames");
+  Result<io::Run> run = WriteDriveRun(d, work + "/live_run");
+  if (!run.ok()) return run.status();
+  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
+                                        {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)},
+                                        work + "/map_server.log");
+  if (!server.ok()) return server.status();
+  const nlohmann::json config = {
+      {"vehicle_id", "bench"},
+      {"domain", s.domain},
+      {"source", "aravis"},
+      {"camera", work + "/live_run/camera.json"},
+      {"outbox", work + "/live_outbox.db"},
+      {"drain_s", 0.0},
+      {"aravis",
+       {{"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", s.rate_hz}}}};
+  FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(work + "/live_agent.json", config.dump(2)));
+  const std::string summary_path = work + "/live_agent_summary.json";
+  fs::remove(summary_path);
+  auto agent = io::ChildProcess::Start(
+      io::ExecutableDir() + "/tracker_agent",
+      {"--config", work + "/live_agent.json", "--summary", summary_path}, work + "/live_agent.log");
+  if (!agent.ok()) return agent.status();
+  auto participant = transport::Participant::Create(s.domain);
+  if (!participant.ok()) return participant.status();
+  const transport::Participant& p = *participant;
+  auto pose_topic = transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose");
+  if (!pose_topic.ok()) return pose_topic.status();
+  auto pose_reader =
+      transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(5000));
+  auto init_topic = transport::Topic<PoseMsg>::Create(p, "rt/initialpose");
+  if (!pose_reader.ok() || !init_topic.ok()) return Internal("bench agent: DDS readers");
+  auto init_writer =
+      transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
+  if (!init_writer.ok()) return init_writer.status();
+  std::map<double, geometry::Pose2> poses;
+  auto take = [&] {
+    (void)pose_reader->TakeAll([&](const PoseMsg& m, const dds_sample_info_t&) {
+      const transport::RosPoseStamped pose = transport::FromIdl(m);
+      poses[pose.t] = pose.pose.pose;
+    });
+  };
+  {
+    auto odometry = live_sim::OdometryPublisher::Create(p, d.odometry());
+    if (!odometry.ok()) return odometry.status();
+    // The start pose while the vehicle stands (as RViz's "2D Pose Estimate"), then the camera.
+    const double t0 = start + 0.1;
+    live_sim::SleepUntilHost(t0);
+    for (int i = 0; i < 100 && init_writer->MatchedReaders() == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const Eigen::Vector3d sigma = d.sim().initial_sigma();
+    const transport::RosPoseMessage initial(
+        t0, "map", {d.TruthAt(t0), sigma.cwiseProduct(sigma).asDiagonal()});
+    FLEETLOC_RETURN_IF_ERROR(init_writer->Write(initial.get()));
+    live_sim::SleepUntilHost(start + 0.2);
+    live_sim::FakeGigECamera camera(&d, start - 100.0);
+    while (!(*odometry)->done()) take(), std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    take();
+  }
+  agent->Stop(SIGTERM);
+  server->Stop(SIGTERM);
+  Result<std::string> text = io::ReadFileText(summary_path);
+  if (!text.ok()) return text.status();
+  const nlohmann::json summary = nlohmann::json::parse(*text);
+  std::vector<double> live_errors;
+  for (const auto& [t, pose] : poses) {
+    const int i = d.FrameAt(t);
+    if (std::abs(t - d.frame_t(i)) > 0.02) continue;  // the initial pose
+    const geometry::Pose2& truth = d.sim().truth()[i].pose;
+    live_errors.push_back(std::hypot(pose.x - truth.x, pose.y - truth.y));
+  }
+  spdlog::info("bench agent (aravis): offline tracker over the same frames");
+  Result<replay::ReplayResult> offline = TrackOffline(*mosaic, *run, {}, 256);
+  if (!offline.ok()) return offline.status();
+  const replay::Accuracy accuracy = replay::Evaluate(offline->poses, run->truth, run->camera.model);
+  const double live_rms = Rms(live_errors), ratio = live_rms / accuracy.position_rms_m;
+  const double p50 = summary["capture_to_pose_ms"]["p50"],
+               p99 = summary["capture_to_pose_ms"]["p99"];
+  const double cycle_p99 = summary["cycle_ms"]["p99"], cycle_median = summary["cycle_ms"]["median"];
+  std::printf(
+      "\nlive vehicle: aravis fake GigE Vision camera 640x480 Mono8 at %.0f Hz, ROS 2 odometry, %d "
+      "frames\n",
+      s.rate_hz, s.frames);
+  std::printf("capture -> pose on the wire: p50 %.2f ms, p99 %.2f ms (%lld poses)\n", p50, p99,
+              summary["capture_to_pose_ms"]["frames"].get<long long>());
+  std::printf("tracker cycle: median %.2f ms, p99 %.2f ms -> latency p99 %s cycle p99 + 3 ms\n",
+              cycle_median, cycle_p99, p99 <= cycle_p99 + 3 ? "within" : "NOT within");
+  std::printf(
+      "position rms vs truth: live %.4f mm over %zu frames, offline %.4f mm over %zu -> "
+      "live/offline %.3f\n",
+      live_rms * 1000, live_errors.size(), accuracy.position_rms_m * 1000, accuracy.frames, ratio);
+  std::printf("frames dropped before tracking: %lld\n",
+              summary["input_dropped_frames"].get<long long>());
+  if (s.json.empty()) return Status::Ok();
+  const nlohmann::json out{{"source", "aravis"},
+                           {"frames", s.frames},
+                           {"rate_hz", s.rate_hz},
+                           {"capture_to_pose_ms", summary["capture_to_pose_ms"]},
+                           {"cycle_ms", summary["cycle_ms"]},
+                           {"live_rms_m", live_rms},
+                           {"live_frames", live_errors.size()},
+                           {"offline_rms_m", accuracy.position_rms_m},
+                           {"live_offline_ratio", ratio},
+                           {"input_dropped_frames", summary["input_dropped_frames"]}};
+  return io::WriteFileAtomically(s.json, out.dump(2) + "\n");
+}
+
+}  // namespace fleetloc::fleetctl
