@@ -21,7 +21,7 @@ namespace fleetloc {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr uint32_t kDomain = 121;
+constexpr uint32_t kDomain = 126;  // 121 is metrics_scrape_test's
 
 std::vector<std::vector<std::string>> ReadCsvRows(const fs::path& path) {
   std::ifstream in(path);
