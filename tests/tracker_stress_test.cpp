@@ -141,6 +141,16 @@ TEST(TrackerStressWeakFloor, DarkPlainConcreteLocksWithTheLargerTemplates) {
   ASSERT_EQ(sizes.size(), 30u);
   EXPECT_GE(std::count(sizes.begin(), sizes.end(), "64"), 20);
   EXPECT_EQ(std::count(states.begin(), states.end(), "tracking"), 30);
+  // The dense alignment's diagnostics: every frame it ran on has its Gauss–Newton iterations.
+  const std::vector<std::string> direct = CsvColumn(frames, "direct");
+  const std::vector<std::string> iterations = CsvColumn(frames, "direct_iterations");
+  const std::vector<std::string> searches = CsvColumn(frames, "direct_searches");
+  ASSERT_EQ(iterations.size(), direct.size());
+  ASSERT_EQ(searches.size(), direct.size());
+  for (size_t i = 0; i < direct.size(); ++i) {
+    EXPECT_EQ(direct[i] != "not_run", std::stoi(iterations[i]) >= 1) << "frame " << i;
+    EXPECT_GE(std::stoi(searches[i]), 0);
+  }
   fs::remove_all(work);
 }
 

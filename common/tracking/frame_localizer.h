@@ -40,6 +40,8 @@ struct FrameResult {
   // peak ratio, and its innovation against the prediction (χ², 3 dof).
   double direct_correlation = 0, direct_coarse_correlation = 0, direct_peak_ratio = 0;
   double direct_peak_z = 0;    // the search peak's height over the surface, in its std devs
+  int direct_searches = 0;     // correlations of the whole frame (one per heading tried)
+  int direct_iterations = 0;   // Gauss–Newton iterations over all levels
   double direct_sigma_px = 0;  // the fit's image-only 1-sigma position, worst direction
   double direct_chi2 = 0;
 };

@@ -313,6 +313,8 @@ std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& fram
   stats->direct_coarse_correlation = dense.coarse_correlation;
   stats->direct_peak_ratio = dense.peak_ratio;
   stats->direct_peak_z = dense.peak_z;
+  stats->direct_searches = dense.searches;
+  stats->direct_iterations = dense.iterations;
   stats->direct_sigma_px = dense.sigma_px;
   stats->direct_chi2 = dense.prior_chi2;
   if (!dense.valid) return std::nullopt;
@@ -381,6 +383,8 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.direct_coarse_correlation = stats.direct_coarse_correlation;
   result.direct_peak_ratio = stats.direct_peak_ratio;
   result.direct_peak_z = stats.direct_peak_z;
+  result.direct_searches = stats.direct_searches;
+  result.direct_iterations = stats.direct_iterations;
   result.direct_sigma_px = stats.direct_sigma_px;
   result.direct_chi2 = stats.direct_chi2;
   return result;

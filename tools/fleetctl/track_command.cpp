@@ -56,19 +56,20 @@ std::string FramesCsv(const replay::ReplayResult& replayed) {
       "coarse_ms,fine_ms,"
       "direct_ms,direct,direct_reason,direct_correlation,direct_coarse_correlation,direct_peak_"
       "ratio,"
-      "direct_chi2,cycle_ms,polish_ms,polished,direct_peak_z,direct_sigma_px,view_blur_px\n";
+      "direct_chi2,cycle_ms,polish_ms,polished,direct_peak_z,direct_sigma_px,view_blur_px,"
+      "direct_searches,direct_iterations\n";
   for (size_t i = 0; i < replayed.frames.size(); ++i) {
     const tracking::FrameResult& f = replayed.frames[i];
     csv += fmt::format(
         "{:.6f},{},{},{},{},{:.4f},{},{:.3f},{:.3f},{:.3f},{:.3f},{},\"{}\",{:.3f},{:.3f},{:.3f},{:"
         "."
-        "2f},{:.3f},{:.3f},{},{:.2f},{:.4f},{:.2f}\n",
+        "2f},{:.3f},{:.3f},{},{:.2f},{:.4f},{:.2f},{},{}\n",
         f.t, tracking::LockStateName(f.state), f.templates, f.template_size_px, f.inliers,
         f.rms_residual_px, f.search_radius_px, f.select_ms, f.coarse_ms, f.fine_ms, f.direct_ms,
         tracking::DirectUseName(f.direct), f.direct_reason, f.direct_correlation,
         f.direct_coarse_correlation, f.direct_peak_ratio, f.direct_chi2, replayed.cycle_ms[i],
         f.polish_ms, f.polished ? 1 : 0, f.direct_peak_z,
-        f.direct_sigma_px, f.view_blur_px);
+        f.direct_sigma_px, f.view_blur_px, f.direct_searches, f.direct_iterations);
   }
   return csv;
 }
