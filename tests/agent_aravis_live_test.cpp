@@ -80,12 +80,9 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
 
   transport::Participant& p = server.participant();
   using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
-  auto pose_topic = transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose");
-  auto pose_reader =
-      transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
-  auto init_topic = transport::Topic<PoseMsg>::Create(p, "rt/initialpose");
-  auto init_writer =
-      transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
+  testing::RosPoseEndpoints ros(p);
+  auto& pose_reader = ros.poses;
+  auto& init_writer = ros.initial_pose;
   auto health_topic =
       transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
   auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(

@@ -73,12 +73,9 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
       "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
   transport::Participant& p = server.participant();
   using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
-  auto pose_topic = transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose");
-  auto pose_reader =
-      transport::Reader<PoseMsg>::Create(p.get(), *pose_topic, tracker_agent::RosDefaultQos(1000));
-  auto init_topic = transport::Topic<PoseMsg>::Create(p, "rt/initialpose");
-  auto init_writer =
-      transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
+  testing::RosPoseEndpoints ros(p);
+  auto& pose_reader = ros.poses;
+  auto& init_writer = ros.initial_pose;
   ASSERT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 30));
   {
     auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, 0.0005);

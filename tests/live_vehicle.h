@@ -33,4 +33,20 @@ inline std::unique_ptr<live_sim::OdometryPublisher> PublishOdometry(
   return std::move(publisher).value();
 }
 
+// The vehicle stack's side of the agent's ROS 2 pose topics (docs/topics.md): a reader of the
+// poses the agent publishes and a writer of the start pose it takes.
+struct RosPoseEndpoints {
+  using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
+  explicit RosPoseEndpoints(const transport::Participant& p)
+      : pose_topic(transport::Topic<PoseMsg>::Create(p, "rt/fleetloc/pose")),
+        init_topic(transport::Topic<PoseMsg>::Create(p, "rt/initialpose")),
+        poses(transport::Reader<PoseMsg>::Create(p.get(), *pose_topic,
+                                                 tracker_agent::RosDefaultQos(1000))),
+        initial_pose(transport::Writer<PoseMsg>::Create(p.get(), *init_topic,
+                                                        tracker_agent::RosDefaultQos())) {}
+  Result<transport::Topic<PoseMsg>> pose_topic, init_topic;
+  Result<transport::Reader<PoseMsg>> poses;
+  Result<transport::Writer<PoseMsg>> initial_pose;
+};
+
 }  // namespace fleetloc::testing
