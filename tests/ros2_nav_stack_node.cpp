@@ -61,22 +61,20 @@ std::vector<double> Numbers(const std::string& text) {
   return out;
 }
 
-// ROS 2's default QoS: reliable, volatile, keep last `depth`.
-DataWriterQos Ros2WriterQos(Publisher* publisher, int depth) {
-  DataWriterQos qos = publisher->get_default_datawriter_qos();
+// ROS 2's default QoS: reliable, volatile, keep last `depth` (a writer's or a reader's QoS).
+template <typename Qos>
+Qos WithRos2Defaults(Qos qos, int depth) {
   qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
   qos.durability().kind = VOLATILE_DURABILITY_QOS;
   qos.history().kind = KEEP_LAST_HISTORY_QOS;
   qos.history().depth = depth;
   return qos;
 }
+DataWriterQos Ros2WriterQos(Publisher* publisher, int depth) {
+  return WithRos2Defaults(publisher->get_default_datawriter_qos(), depth);
+}
 DataReaderQos Ros2ReaderQos(Subscriber* subscriber, int depth) {
-  DataReaderQos qos = subscriber->get_default_datareader_qos();
-  qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
-  qos.durability().kind = VOLATILE_DURABILITY_QOS;
-  qos.history().kind = KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = depth;
-  return qos;
+  return WithRos2Defaults(subscriber->get_default_datareader_qos(), depth);
 }
 
 // Takes every sample of `reader` as T, calling fn for those with data.
