@@ -16,6 +16,7 @@
 
 #include "geometry/convex_polygon.h"
 #include "imaging/fast_patch.h"
+#include "imaging/spectral_ncc.h"
 #include "tracking/dense_linearization.h"
 #include "tracking/frame_mosaic_warp.h"
 #include "tracking/predicted_view.h"
@@ -133,6 +134,12 @@ struct DirectAligner::Level {
   std::vector<PixelPoint> points;
 };
 
+// The level's pixels whose normalization window lies wholly in the frame.
+cv::Rect DirectAligner::InnerRect(const Level& level) {
+  const int b = level.border;
+  return {b, b, level.normalized.cols - 2 * b, level.normalized.rows - 2 * b};
+}
+
 DirectAligner::DirectAligner(const DirectAlignOptions& options, const geometry::CameraModel& camera,
                              NormalizedMosaic* mosaic)
     : options_(options), camera_(camera), mosaic_(mosaic) {
@@ -216,17 +223,14 @@ int DirectAligner::SearchLevel(double sigma_px) const {
 
 // Exhaustive normalized correlation of the level's frame over a ±r window of the mosaic view
 // rendered at `pose`: the best shift's pose, its correlation and the second peak's ratio to it.
-DirectAligner::SearchHit DirectAligner::SearchAt(const Level& level, const Pose2& pose,
-                                                 int r) const {
-  const int b = level.border;
-  const cv::Rect inner(b, b, level.normalized.cols - 2 * b, level.normalized.rows - 2 * b);
+DirectAligner::SearchHit DirectAligner::SearchAt(const Level& level,
+                                                 const imaging::SpectralNcc& frame_ncc,
+                                                 const Pose2& pose, int r) const {
+  const cv::Rect inner = InnerRect(level);
   const FrameMosaicWarp warp =
       FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level);
-  const cv::Mat view = RenderNormalizedView(
-      mosaic_, {inner.x - r, inner.y - r, inner.width + 2 * r, inner.height + 2 * r}, warp,
-      level.level);
-  cv::Mat surface;
-  cv::matchTemplate(view, level.searched(inner), surface, cv::TM_CCOEFF_NORMED);
+  const cv::Mat view = RenderNormalizedView(mosaic_, GrownBy(inner, r), warp, level.level);
+  const cv::Mat surface = frame_ncc.Surface(view);
   SearchHit hit;
   cv::Point best_at;
   cv::minMaxLoc(surface, nullptr, &hit.correlation, nullptr, &best_at);
@@ -258,8 +262,10 @@ Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& 
   if (radius <= options_.search_above_px) return start;
   const int r = std::min(options_.max_search_px, static_cast<int>(std::ceil(radius)) + 1);
   out->searched = true;
+  const cv::Rect inner = InnerRect(level);
+  const imaging::SpectralNcc frame_ncc(level.searched(inner), GrownBy(inner, r).size());
   int searches = 1;
-  SearchHit best = SearchAt(level, start, r);
+  SearchHit best = SearchAt(level, frame_ncc, start, r);
   // A clear peak, or a significant and distinct one, has located the frame: the alignment then
   // fits the heading too. (Significant but only unambiguous is not enough: at 320×240 under
   // `all`, peaks at z 10–14 with a second peak at 0.25–0.28 of them ended 0.8 px off or were
@@ -279,7 +285,7 @@ Pose2 DirectAligner::CoarseSearch(const Level& level, const PoseWithCovariance& 
     // almost always one step off the prediction, so this costs 2–3 searches instead of 2·steps).
     const auto at = [&](int k) {
       ++searches;
-      return SearchAt(level, start * Pose2{0.0, 0.0, k * heading_3sigma / steps}, r);
+      return SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, k * heading_3sigma / steps}, r);
     };
     const SearchHit minus = at(-1), plus = at(1);
     const int direction = plus.correlation >= minus.correlation ? 1 : -1;

@@ -15,6 +15,7 @@
 
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
+#include "imaging/spectral_ncc.h"
 #include "tracking/dense_linearization.h"
 #include "tracking/normalized_mosaic.h"
 #include "tracking/tracker_options.h"
@@ -103,7 +104,9 @@ class DirectAligner {
     geometry::Pose2 pose;
     double correlation = 0.0, peak_ratio = 1.0, peak_z = 0.0;
   };
-  SearchHit SearchAt(const Level& level, const geometry::Pose2& pose, int r) const;
+  SearchHit SearchAt(const Level& level, const imaging::SpectralNcc& frame_ncc,
+                     const geometry::Pose2& pose, int r) const;
+  static cv::Rect InnerRect(const Level& level);
 
   DirectAlignOptions options_;
   geometry::CameraModel camera_;

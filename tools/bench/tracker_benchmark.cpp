@@ -10,6 +10,7 @@
 #include "imaging/correlation.h"
 #include "imaging/fast_patch.h"
 #include "imaging/normalize.h"
+#include "imaging/spectral_ncc.h"
 #include "imaging/texture.h"
 #include "sim/run_simulator.h"
 #include "tracking/mosaic_tracker.h"
@@ -180,6 +181,22 @@ void BM_CoarseSearchOpenCvMatchTemplate(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CoarseSearchOpenCvMatchTemplate)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+// Ours with the template's spectrum taken once: a first search (spectrum included) and each
+// further view of the same frame (the heading steps).
+void BM_CoarseSearchSpectralNccFirst(benchmark::State& state) {
+  const SearchInputs in = CoarseSearchInputs(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    const imaging::SpectralNcc ncc(in.templ, in.window.size());
+    benchmark::DoNotOptimize(ncc.Surface(in.window).data);
+  }
+}
+BENCHMARK(BM_CoarseSearchSpectralNccFirst)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+void BM_CoarseSearchSpectralNccRepeat(benchmark::State& state) {
+  const SearchInputs in = CoarseSearchInputs(static_cast<int>(state.range(0)));
+  const imaging::SpectralNcc ncc(in.templ, in.window.size());
+  for (auto _ : state) benchmark::DoNotOptimize(ncc.Surface(in.window).data);
+}
+BENCHMARK(BM_CoarseSearchSpectralNccRepeat)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace fleetloc

@@ -1,0 +1,65 @@
+// One template's NCC over many views through its cached spectrum (see spectral_ncc.h).
+#include "imaging/spectral_ncc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace fleetloc::imaging {
+
+SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
+    : templ_size_(templ.size()),
+      view_size_(view_size),
+      dft_size_(cv::getOptimalDFTSize(view_size.width), cv::getOptimalDFTSize(view_size.height)) {
+  CV_Assert(templ.type() == CV_32F && view_size.width >= templ.cols &&
+            view_size.height >= templ.rows);
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(templ, mean, deviation);
+  templ_norm_ = deviation[0] * std::sqrt(static_cast<double>(templ.total()));
+  // Padding to at least the view's size keeps the circular correlation exact wherever the
+  // template lies wholly inside the view, which is every position of the surface.
+  cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F);
+  cv::subtract(templ, mean, padded(cv::Rect({0, 0}, templ_size_)));
+  cv::dft(padded, spectrum_, 0, templ.rows);
+}
+
+cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
+  CV_Assert(view.type() == CV_32F && view.size() == view_size_);
+  const cv::Size out(view.cols - templ_size_.width + 1, view.rows - templ_size_.height + 1);
+  cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F), spectrum, correlation;
+  view.copyTo(padded(cv::Rect({0, 0}, view_size_)));
+  cv::dft(padded, spectrum, 0, view.rows);
+  cv::mulSpectrums(spectrum, spectrum_, spectrum, 0, /*conjB=*/true);
+  cv::idft(spectrum, correlation, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, out.height);
+  // Σ(t − t̄)·v over each window is the numerator; the window's own spread the denominator,
+  // from integral images in double as OpenCV's; near-degenerate windows as OpenCV treats them.
+  cv::Mat sum, square_sum;
+  cv::integral(view, sum, square_sum, CV_64F, CV_64F);
+  const double n = static_cast<double>(templ_size_.area());
+  const int w = templ_size_.width, h = templ_size_.height;
+  cv::Mat surface(out, CV_32F);
+  for (int y = 0; y < out.height; ++y) {
+    const double *s0 = sum.ptr<double>(y), *s1 = sum.ptr<double>(y + h);
+    const double *q0 = square_sum.ptr<double>(y), *q1 = square_sum.ptr<double>(y + h);
+    const float* c = correlation.ptr<float>(y);
+    float* o = surface.ptr<float>(y);
+    for (int x = 0; x < out.width; ++x) {
+      const double window_sum = s1[x + w] - s1[x] - s0[x + w] + s0[x];
+      const double window_sq = q1[x + w] - q1[x] - q0[x + w] + q0[x];
+      const double t = std::sqrt(std::max(window_sq - window_sum * window_sum / n, 0.0)) *
+                       templ_norm_;
+      double num = c[x];
+      if (std::abs(num) < t) {
+        num /= t;
+      } else if (std::abs(num) < t * 1.125) {
+        num = num > 0 ? 1.0 : -1.0;
+      } else {
+        num = 0.0;
+      }
+      o[x] = static_cast<float>(num);
+    }
+  }
+  return surface;
+}
+
+}  // namespace fleetloc::imaging

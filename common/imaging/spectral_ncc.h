@@ -1,0 +1,27 @@
+// Normalized cross-correlation (OpenCV's TM_CCOEFF_NORMED, the same numbers) of one template over
+// many same-sized views, with the template's spectrum computed once. cv::matchTemplate takes the
+// template's DFT again on every call; the dense alignment's coarse search correlates one frame
+// with up to 2 + max_heading_steps views (one per heading tried), so a third of its DFTs were
+// repeats. The sums are OpenCV's (cv::dft, cv::mulSpectrums, cv::integral).
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace fleetloc::imaging {
+
+class SpectralNcc {
+ public:
+  // `templ`: CV_32F. Views passed to Surface must have `view_size` (≥ the template's size).
+  SpectralNcc(const cv::Mat& templ, cv::Size view_size);
+
+  // The NCC surface of the template over `view` (CV_32F, view_size): CV_32F,
+  // (view − template + 1) in each axis, as cv::matchTemplate(view, templ, TM_CCOEFF_NORMED).
+  cv::Mat Surface(const cv::Mat& view) const;
+
+ private:
+  cv::Size templ_size_, view_size_, dft_size_;
+  cv::Mat spectrum_;           // of the zero-mean template, padded to dft_size_ (CCS packed)
+  double templ_norm_ = 0.0;    // √Σ(t − t̄)²
+};
+
+}  // namespace fleetloc::imaging
