@@ -51,6 +51,8 @@ Status Validate(const RelocalizerOptions& options) {
     return InvalidInput("relocalizer: dense_max_second_ratio must be in (0, 1)");
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense));
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense_fine));
+  if (!(options.dense_fine_min_correlation > 0.0 && options.dense_fine_min_correlation < 1.0))
+    return InvalidInput("relocalizer: dense_fine_min_correlation must be in (0, 1)");
   if (options.trajectory_frames < 1 || options.trajectory_frames > 20)
     return InvalidInput("relocalizer: trajectory_frames must be 1..20");
   if (!(options.trajectory_max_travel_m > 0.0 && options.trajectory_max_travel_m <= 10.0))
@@ -279,20 +281,19 @@ void Relocalizer::AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat
 
 std::vector<DensePeak> Relocalizer::SearchDense(
     const DensePlaceSearch& search, const cv::Mat& frame,
-    const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Relocalization* out) {
+    const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
+    Relocalization* out) {
   std::vector<DensePeak> peaks = search.Search(frame, feed);
   // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
   // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
   // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
   // correlations over the whole floor).
-  if (peaks.size() >= 1 && peaks[0].correlation >= options_.dense_min_correlation &&
-      (peaks.size() < 2 ||
-       peaks[1].correlation <= options_.dense_max_second_ratio * peaks[0].correlation)) {
+  if (peaks.size() >= 1 && peaks[0].correlation >= gate.min_correlation &&
+      (peaks.size() < 2 || peaks[1].correlation <= gate.max_second_ratio * peaks[0].correlation)) {
     peaks.push_back(search.Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
     peaks = search.DistinctBest(std::move(peaks), search.options().max_peaks);
   }
-  AcceptDensePeaks(search, frame, peaks,
-                   {options_.dense_min_correlation, options_.dense_max_second_ratio}, out);
+  AcceptDensePeaks(search, frame, peaks, gate, out);
   return peaks;
 }
 
@@ -304,14 +305,17 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
     trajectory_fed_ = true;
   }
   out->reason += "; dense peaks";
-  const std::vector<DensePeak> peaks = SearchDense(*dense_, frame, feed, out);
+  const std::vector<DensePeak> peaks = SearchDense(
+      *dense_, frame, feed, {options_.dense_min_correlation, options_.dense_max_second_ratio}, out);
   out->dense = true;
   out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
   out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
   if (!out->found && !out->ambiguous && dense_fine_) {
     const auto fine_start = std::chrono::steady_clock::now();
     out->reason += "; fine dense peaks";
-    const std::vector<DensePeak> fine = SearchDense(*dense_fine_, frame, {}, out);
+    const std::vector<DensePeak> fine = SearchDense(
+        *dense_fine_, frame, {},
+        {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out);
     out->dense_fine = true;
     out->dense_fine_best = fine.empty() ? 0.0 : fine[0].correlation;
     out->dense_fine_second = fine.size() < 2 ? 0.0 : fine[1].correlation;

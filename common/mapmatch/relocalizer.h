@@ -67,13 +67,15 @@ struct RelocalizerOptions {
   double dense_max_second_ratio = 0.6;
   // The fine dense search (issue 17, dust): when the dense search finds nothing and saw no clear
   // twin, the same search one pyramid level finer (refine level 2 mm/px at 640×480 instead of 4)
-  // at twice the heading step, under the same gate. Under 30 % dust on polished concrete and
-  // painted pavement the true place correlates at noise level at 4–8 mm/px (0.09–0.18, wrong
-  // peaks 0.10) but 0.19–0.33 at 2–4 mm/px with its best distinct peak at 0.13–0.39 of it
+  // at twice the heading step, under the same gate but its own minimum correlation. Under 30 %
+  // dust on the tuning polished concrete and painted pavement, the true place correlates at noise
+  // level at 4–8 mm/px (0.09–0.18, wrong best peaks 0.07–0.11) but 0.15–0.33 at 1–4 mm/px, where
+  // wrong best peaks reach 0.03–0.06 and the best distinct peak of a right one 0.13–0.39 of it
   // (docs/benchmarks.md, issue 17, 2026-11-26). Off (not built) when the mosaic is too large for
   // these options; it costs several times the dense search.
   bool dense_fine_search = true;
   DensePlaceSearchOptions dense_fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
+  double dense_fine_min_correlation = 0.12;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
   // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
   // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
@@ -178,18 +180,18 @@ class Relocalizer {
   // The dense place search and the verification of its best peak, then the fine one when that
   // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
-  // One dense search of `frame` (`feed` sees its coarse sweep), its best's distinct alternative
-  // added when the gate would accept the best, then AcceptDensePeaks; the peaks, best first.
-  std::vector<DensePeak> SearchDense(const DensePlaceSearch& search, const cv::Mat& frame,
-                                     const std::function<void(const DensePlaceSearch::SweepMap&)>&
-                                         feed,
-                                     Relocalization* out);
   // Accepts the best of `peaks` (poses of `frame`'s camera, from `search`) when it correlates
   // min_correlation, the second reaches at most max_second_ratio of it and a tracker cycle
   // confirms it.
   struct Gate {
     double min_correlation, max_second_ratio;
   };
+  // One dense search of `frame` (`feed` sees its coarse sweep), its best's distinct alternative
+  // added when the gate would accept the best, then AcceptDensePeaks; the peaks, best first.
+  std::vector<DensePeak> SearchDense(const DensePlaceSearch& search, const cv::Mat& frame,
+                                     const std::function<void(const DensePlaceSearch::SweepMap&)>&
+                                         feed,
+                                     Gate gate, Relocalization* out);
   void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
