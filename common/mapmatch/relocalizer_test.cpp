@@ -311,6 +311,7 @@ TEST(Relocalizer, MultiFrameFindsTheNewestPoseWhenEverySingleFrameIsRefused) {
                                   {0.0, scene.photo.rows * kResolutionM, kResolutionM});
   RelocalizerOptions options;
   options.dense_min_correlation = 0.99;  // no single frame passes
+  options.dense_fine_search = false;
   options.trajectory_frames = 3;
   auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, options);
   ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
