@@ -15,6 +15,7 @@
 
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
+#include "sim/stress_camera.h"
 
 namespace fleetloc::mapmatch {
 namespace {
@@ -193,20 +194,6 @@ TEST(Relocalizer, WithoutAnIndexTheDenseSearchFindsPosesOnPlainConcrete) {
   EXPECT_GE(correct, 5);
 }
 
-// The stress suite's `dusty` camera (tools/fleetctl/bench_stress.cpp): dust, grime and streaks
-// over 30 % of the floor, strong vignetting and uneven light, lens blur.
-sim::RenderOptions DustyCamera() {
-  sim::RenderOptions r;
-  r.dust_fraction = 0.3;
-  r.dust_max_radius_px = 40.0;
-  r.dust_streak_fraction = 0.5;
-  r.dust_max_opacity = 0.9;
-  r.vignetting_corner_loss = 0.5;
-  r.lighting_amplitude = 0.4;
-  r.blur_sigma_px = 1.5;
-  return r;
-}
-
 // The tuning polished concrete (grey std 5.7) under dust: the dense search sees only the dust
 // (0 of 30 trials in the stress bench before the fine search); one level finer the floor shows.
 TEST(Relocalizer, TheFineDenseSearchFindsPosesOnDustyPolishedConcrete) {
@@ -218,7 +205,7 @@ TEST(Relocalizer, TheFineDenseSearchFindsPosesOnDustyPolishedConcrete) {
   auto before = Relocalizer::Create(nullptr, &floor, scene.camera, coarse_only);
   auto after = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
   ASSERT_TRUE(before.ok() && after.ok());
-  sim::CameraRenderer renderer(&floor, scene.camera, DustyCamera(), 31);
+  sim::CameraRenderer renderer(&floor, scene.camera, *sim::StressCameraEffects("dusty"), 31);
   std::mt19937_64 rng(17);
   int found_before = 0, correct = 0;
   for (int trial = 0; trial < 4; ++trial) {
