@@ -68,11 +68,13 @@ struct RelocalizerOptions {
   // The fine dense search (issue 17, dust): when the dense search finds nothing and saw no clear
   // twin, the same search one pyramid level finer (refine level 2 mm/px at 640×480 instead of 4)
   // at twice the heading step, under the same gate but its own minimum correlation. Under 30 %
-  // dust on the tuning polished concrete and painted pavement, the true place correlates at noise
-  // level at 4–8 mm/px (0.09–0.18, wrong best peaks 0.07–0.11) but 0.15–0.33 at 1–4 mm/px, where
-  // wrong best peaks reach 0.03–0.06 and the best distinct peak of a right one 0.13–0.39 of it
-  // (docs/benchmarks.md, issue 17, 2026-11-26). Off (not built) when the mosaic is too large for
-  // these options; it costs several times the dense search.
+  // dust on the tuning polished concrete, painted pavement and plain concrete b1 at 640×480, the
+  // sweep at 8 mm/px misses the true place (found in 1 of 20 frames; wrong bests 0.06–0.17,
+  // their second 0.78–1.0 of them); at 4 mm/px the best is the truth in 20 of 25 (0.19–0.36, its
+  // second 0.11–0.50 of it; where it misses, a noise peak at 0.05 with its second at 0.73–1.0 of
+  // it); 320×240 polished concrete at 2 mm/px: 10 of 10 at 0.15–0.20 (docs/benchmarks.md, issue
+  // 17, 2026-11-26). Off (not built) when the mosaic is too large for these options; it costs
+  // several times the dense search.
   bool dense_fine_search = true;
   DensePlaceSearchOptions dense_fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
   double dense_fine_min_correlation = 0.12;
