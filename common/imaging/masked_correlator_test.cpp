@@ -48,9 +48,8 @@ TEST(MaskedCorrelator, EqualsMatchTemplateWithARotatedMask) {
 TEST(MaskedCorrelatorDeathTest, ATemplateLargerThanTheImageAborts) {
   const MaskedCorrelator correlator(RandomImage({40, 30}, 2));
   cv::Mat scores;
-  EXPECT_DEATH(correlator.Match(cv::Mat::zeros(31, 20, CV_32F), cv::Mat::ones(31, 20, CV_8U),
-                                &scores),
-               "");
+  EXPECT_DEATH(
+      correlator.Match(cv::Mat::zeros(31, 20, CV_32F), cv::Mat::ones(31, 20, CV_8U), &scores), "");
 }
 
 }  // namespace

@@ -313,9 +313,9 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
   if (!out->found && !out->ambiguous && dense_fine_) {
     const auto fine_start = std::chrono::steady_clock::now();
     out->reason += "; fine dense peaks";
-    const std::vector<DensePeak> fine = SearchDense(
-        *dense_fine_, frame, {},
-        {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out);
+    const std::vector<DensePeak> fine =
+        SearchDense(*dense_fine_, frame, {},
+                    {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out);
     out->dense_fine = true;
     out->dense_fine_best = fine.empty() ? 0.0 : fine[0].correlation;
     out->dense_fine_second = fine.size() < 2 ? 0.0 : fine[1].correlation;

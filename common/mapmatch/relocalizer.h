@@ -190,10 +190,10 @@ class Relocalizer {
   };
   // One dense search of `frame` (`feed` sees its coarse sweep), its best's distinct alternative
   // added when the gate would accept the best, then AcceptDensePeaks; the peaks, best first.
-  std::vector<DensePeak> SearchDense(const DensePlaceSearch& search, const cv::Mat& frame,
-                                     const std::function<void(const DensePlaceSearch::SweepMap&)>&
-                                         feed,
-                                     Gate gate, Relocalization* out);
+  std::vector<DensePeak> SearchDense(
+      const DensePlaceSearch& search, const cv::Mat& frame,
+      const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
+      Relocalization* out);
   void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
@@ -207,7 +207,7 @@ class Relocalizer {
   RelocalizerOptions options_;
   tracking::MosaicTracker tracker_;
   std::unique_ptr<DensePlaceSearch> dense_;  // null: off, or the mosaic is too large for it
-  std::unique_ptr<DensePlaceSearch> dense_fine_;  // null: off, or too large, or no dense_
+  std::unique_ptr<DensePlaceSearch> dense_fine_;       // null: off, or too large, or no dense_
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame

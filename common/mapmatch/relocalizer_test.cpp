@@ -160,8 +160,8 @@ struct PlainScene {
 
 PlainScene PlainConcreteScene(const std::string& photo = "plain_concrete_g4.jpg") {
   PlainScene scene;
-  scene.photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/" + photo,
-                           cv::IMREAD_GRAYSCALE);
+  scene.photo =
+      cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/" + photo, cv::IMREAD_GRAYSCALE);
   EXPECT_FALSE(scene.photo.empty());
   scene.camera.width_px = 320;
   scene.camera.height_px = 240;
