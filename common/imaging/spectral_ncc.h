@@ -2,7 +2,8 @@
 // many same-sized views, with the template's spectrum computed once. cv::matchTemplate takes the
 // template's DFT again on every call; the dense alignment's coarse search correlates one frame
 // with up to 2 + max_heading_steps views (one per heading tried), so a third of its DFTs were
-// repeats. The sums are OpenCV's (cv::dft, cv::mulSpectrums, cv::integral).
+// repeats. The sums are OpenCV's (cv::dft, cv::mulSpectrums, cv::integral). Its mirror is
+// MaskedCorrelator: one fixed image (the mosaic) and many masked templates, TM_CCORR_NORMED.
 #pragma once
 
 #include <opencv2/core.hpp>

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "imaging/masked_correlator.h"
+
 namespace fleetloc::mapmatch {
 
 // The whole mosaic at one pyramid level, normalized, with its geotransform.
@@ -17,6 +19,7 @@ struct DensePlaceSearch::Level {
   double half_diagonal_px = 0;  // of a frame at this level
   int pad_px = 0;               // zero border around the mosaic
   double heading_step_rad = 0;
+  std::unique_ptr<imaging::MaskedCorrelator> correlator;  // of `normalized`: its spectra kept
 };
 
 namespace {
@@ -178,6 +181,7 @@ Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
     level->geo.origin_x -= pad_m;
     level->geo.origin_y += pad_m;
     level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px;
+    level->correlator = std::make_unique<imaging::MaskedCorrelator>(level->normalized);
     (k == 0 ? search->coarse_ : search->fine_) = level;
   }
   return search;
@@ -193,7 +197,8 @@ double DensePlaceSearch::heading_separation_rad() const {
 }
 
 std::size_t DensePlaceSearch::MemoryBytes() const {
-  return (coarse_->normalized.total() + fine_->normalized.total()) * sizeof(float);
+  return (coarse_->normalized.total() + fine_->normalized.total()) * sizeof(float) +
+         coarse_->correlator->MemoryBytes() + fine_->correlator->MemoryBytes();
 }
 
 const DensePlaceSearch::Level& DensePlaceSearch::LevelOf(SweepLevel level) const {
@@ -239,7 +244,7 @@ int DensePlaceSearch::ScoresAt(const cv::Mat& normalized, double theta, SweepLev
   const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
   if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) return 0;
   cv::Mat scores;
-  cv::matchTemplate(c.normalized, t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+  c.correlator->Match(t.pixels, t.mask, &scores);
   FiniteScores(&scores);
   // Top-left → centre: the template's centre has integer coordinates (its sides are even).
   scores.copyTo((*centred)(cv::Rect(

@@ -50,6 +50,9 @@ Status Validate(const RelocalizerOptions& options) {
   if (!(options.dense_max_second_ratio > 0.0 && options.dense_max_second_ratio < 1.0))
     return InvalidInput("relocalizer: dense_max_second_ratio must be in (0, 1)");
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense));
+  FLEETLOC_RETURN_IF_ERROR(Validate(options.dense_fine));
+  if (!(options.dense_fine_min_correlation > 0.0 && options.dense_fine_min_correlation < 1.0))
+    return InvalidInput("relocalizer: dense_fine_min_correlation must be in (0, 1)");
   if (options.trajectory_frames < 1 || options.trajectory_frames > 20)
     return InvalidInput("relocalizer: trajectory_frames must be 1..20");
   if (!(options.trajectory_max_travel_m > 0.0 && options.trajectory_max_travel_m <= 10.0))
@@ -91,6 +94,12 @@ Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index
     } else if (index == nullptr) {
       return InvalidInput("relocalizer: no place index, and " + dense.status().message());
     }
+  }
+  if (relocalizer->dense_ && options.dense_fine_search) {
+    // Too large for the fine options: the dense search alone.
+    Result<std::unique_ptr<DensePlaceSearch>> fine =
+        DensePlaceSearch::Create(*mosaic, camera, options.dense_fine);
+    if (fine.ok()) relocalizer->dense_fine_ = std::move(fine).value();
   }
   const auto level = options.trajectory_refine_level
                          ? TrajectoryPlaceSearch::SweepLevel::kRefine
@@ -235,8 +244,9 @@ void Relocalizer::CheckDenseTwin(const cv::Mat& frame, Relocalization* out) {
   out->twin_ms = MsSince(start);
 }
 
-void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<DensePeak>& peaks,
-                                   Gate gate, Relocalization* out) {
+void Relocalizer::AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
+                                   const std::vector<DensePeak>& peaks, Gate gate,
+                                   Relocalization* out) {
   const double best = peaks.empty() ? 0.0 : peaks[0].correlation;
   const double second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
   const std::string scores = std::to_string(best) + " and " + std::to_string(second);
@@ -251,13 +261,13 @@ void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<Dense
   }
   PoseCandidate candidate;
   candidate.camera_in_map = peaks[0].camera_in_map;
-  const double sigma_m = dense_->separation_m() / 4;
+  const double sigma_m = search.separation_m() / 4;
   ++out->verified;
   const std::optional<Verified> v =
-      Verify(frame, candidate, sigma_m, dense_->heading_separation_rad() / 8);
+      Verify(frame, candidate, sigma_m, search.heading_separation_rad() / 8);
   const geometry::Pose2 searched = candidate.camera_in_map * camera_.mount.Inverse();
   if (v && std::hypot(v->base_in_map.pose.x - searched.x, v->base_in_map.pose.y - searched.y) <
-               dense_->separation_m()) {
+               search.separation_m()) {
     out->found = true;
     out->ambiguous = false;
     out->reason.clear();
@@ -269,6 +279,24 @@ void Relocalizer::AcceptDensePeaks(const cv::Mat& frame, const std::vector<Dense
   }
 }
 
+std::vector<DensePeak> Relocalizer::SearchDense(
+    const DensePlaceSearch& search, const cv::Mat& frame,
+    const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
+    Relocalization* out) {
+  std::vector<DensePeak> peaks = search.Search(frame, feed);
+  // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
+  // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
+  // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
+  // correlations over the whole floor).
+  if (peaks.size() >= 1 && peaks[0].correlation >= gate.min_correlation &&
+      (peaks.size() < 2 || peaks[1].correlation <= gate.max_second_ratio * peaks[0].correlation)) {
+    peaks.push_back(search.Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
+    peaks = search.DistinctBest(std::move(peaks), search.options().max_peaks);
+  }
+  AcceptDensePeaks(search, frame, peaks, gate, out);
+  return peaks;
+}
+
 void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
   const auto start = std::chrono::steady_clock::now();
   std::function<void(const DensePlaceSearch::SweepMap&)> feed;
@@ -276,23 +304,23 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
     feed = [this](const DensePlaceSearch::SweepMap& map) { trajectory_->Accumulate(map); };
     trajectory_fed_ = true;
   }
-  std::vector<DensePeak> peaks = dense_->Search(frame, feed);
-  // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
-  // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
-  // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
-  // correlations over the whole floor).
-  if (peaks.size() >= 1 && peaks[0].correlation >= options_.dense_min_correlation &&
-      (peaks.size() < 2 ||
-       peaks[1].correlation <= options_.dense_max_second_ratio * peaks[0].correlation)) {
-    peaks.push_back(dense_->Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
-    peaks = dense_->DistinctBest(std::move(peaks), dense_->options().max_peaks);
-  }
+  out->reason += "; dense peaks";
+  const std::vector<DensePeak> peaks = SearchDense(
+      *dense_, frame, feed, {options_.dense_min_correlation, options_.dense_max_second_ratio}, out);
   out->dense = true;
   out->dense_best = peaks.empty() ? 0.0 : peaks[0].correlation;
   out->dense_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
-  out->reason += "; dense peaks";
-  AcceptDensePeaks(frame, peaks, {options_.dense_min_correlation, options_.dense_max_second_ratio},
-                   out);
+  if (!out->found && !out->ambiguous && dense_fine_) {
+    const auto fine_start = std::chrono::steady_clock::now();
+    out->reason += "; fine dense peaks";
+    const std::vector<DensePeak> fine =
+        SearchDense(*dense_fine_, frame, {},
+                    {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out);
+    out->dense_fine = true;
+    out->dense_fine_best = fine.empty() ? 0.0 : fine[0].correlation;
+    out->dense_fine_second = fine.size() < 2 ? 0.0 : fine[1].correlation;
+    out->dense_fine_ms = MsSince(fine_start);
+  }
   out->dense_ms = MsSince(start);
 }
 
@@ -310,7 +338,7 @@ void Relocalizer::TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out
     out->trajectory_best = peaks.empty() ? 0.0 : peaks[0].correlation;
     out->trajectory_second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
     out->reason += "; " + std::to_string(trajectory_->frames()) + " frames' mean peaks";
-    AcceptDensePeaks(frame, peaks,
+    AcceptDensePeaks(*dense_, frame, peaks,
                      {options_.trajectory_min_correlation, options_.trajectory_max_second_ratio},
                      out);
     out->from_trajectory = out->found;

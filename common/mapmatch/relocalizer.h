@@ -6,6 +6,7 @@
 // small covariance; the pose the tracker confirms with most inliers, unambiguously, is returned.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -64,6 +65,19 @@ struct RelocalizerOptions {
   DensePlaceSearchOptions dense;
   double dense_min_correlation = 0.2;
   double dense_max_second_ratio = 0.6;
+  // The fine dense search (issue 17, dust): when the dense search finds nothing and saw no clear
+  // twin, the same search one pyramid level finer (refine level 2 mm/px at 640×480 instead of 4)
+  // at twice the heading step, under the same gate but its own minimum correlation. Under 30 %
+  // dust on the tuning polished concrete, painted pavement and plain concrete b1 at 640×480, the
+  // sweep at 8 mm/px misses the true place (found in 1 of 20 frames; wrong bests 0.06–0.17,
+  // their second 0.78–1.0 of them); at 4 mm/px the best is the truth in 20 of 25 (0.19–0.36, its
+  // second 0.11–0.50 of it; where it misses, a noise peak at 0.05 with its second at 0.73–1.0 of
+  // it); 320×240 polished concrete at 2 mm/px: 10 of 10 at 0.15–0.20 (docs/benchmarks.md, issue
+  // 17, 2026-11-26). Off (not built) when the mosaic is too large for these options; it costs
+  // several times the dense search.
+  bool dense_fine_search = true;
+  DensePlaceSearchOptions dense_fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
+  double dense_fine_min_correlation = 0.12;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
   // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
   // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
@@ -95,6 +109,9 @@ struct Relocalization {
   // The dense place search, when it ran: its best and second (distinct) peak's correlations.
   bool dense = false;
   double dense_best = 0, dense_second = 0;
+  // The fine dense search, when it ran (after the dense search): its best and second peaks.
+  bool dense_fine = false;
+  double dense_fine_best = 0, dense_fine_second = 0;
   // The multi-frame search, when it ran: frames combined, its best and second peaks (mean
   // correlations), and whether the accepted pose came from it.
   int trajectory_frames = 0;
@@ -109,6 +126,7 @@ struct Relocalization {
   int twin_inliers = 0;
   double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0, dense_ms = 0;
   double trajectory_ms = 0, twin_ms = 0;
+  double dense_fine_ms = 0;  // part of dense_ms
 };
 
 class Relocalizer {
@@ -161,15 +179,23 @@ class Relocalizer {
   // Refuses the pose the features found in *out as ambiguous when its best distinct dense
   // alternative is as good (see RelocalizerOptions).
   void CheckDenseTwin(const cv::Mat& frame, Relocalization* out);
-  // The dense place search and the verification of its best peak (see RelocalizerOptions).
+  // The dense place search and the verification of its best peak, then the fine one when that
+  // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
-  // Accepts the best of `peaks` (poses of `frame`'s camera) when it correlates min_correlation,
-  // the second reaches at most max_second_ratio of it and a tracker cycle confirms it.
+  // Accepts the best of `peaks` (poses of `frame`'s camera, from `search`) when it correlates
+  // min_correlation, the second reaches at most max_second_ratio of it and a tracker cycle
+  // confirms it.
   struct Gate {
     double min_correlation, max_second_ratio;
   };
-  void AcceptDensePeaks(const cv::Mat& frame, const std::vector<DensePeak>& peaks, Gate gate,
-                        Relocalization* out);
+  // One dense search of `frame` (`feed` sees its coarse sweep), its best's distinct alternative
+  // added when the gate would accept the best, then AcceptDensePeaks; the peaks, best first.
+  std::vector<DensePeak> SearchDense(
+      const DensePlaceSearch& search, const cv::Mat& frame,
+      const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
+      Relocalization* out);
+  void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
+                        const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
   void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
   Status CheckFrame(const cv::Mat& frame) const;
@@ -181,6 +207,7 @@ class Relocalizer {
   RelocalizerOptions options_;
   tracking::MosaicTracker tracker_;
   std::unique_ptr<DensePlaceSearch> dense_;  // null: off, or the mosaic is too large for it
+  std::unique_ptr<DensePlaceSearch> dense_fine_;       // null: off, or too large, or no dense_
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame

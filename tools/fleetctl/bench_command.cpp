@@ -258,6 +258,7 @@ void RegisterBenchCommand(CLI::App& app, Status* result) {
   RegisterBenchMosaicDistortion(*bench, result);
   RegisterBenchMapFit(*bench, result);
   RegisterBenchReloc(*bench, result);
+  RegisterBenchDenseProbe(*bench, result);
   RegisterBenchStress(*bench, result);
   RegisterBenchSupervisor(*bench, result);
   RegisterBenchSupervisorAbuse(*bench, result);

@@ -138,8 +138,9 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
 }
 
 // [correct, tracker inliers, templates, candidate feature inliers, from the trajectory, dense best,
-// dense second] of every accepted pose: the margins of the acceptance gates (for a pose the
-// features found: its own dense correlation and its best distinct alternative's).
+// dense second, from the fine dense search] of every accepted pose: the margins of the acceptance
+// gates (for a pose the features found: its own dense correlation and its best distinct
+// alternative's; for one the fine dense search found, its peaks).
 nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
   nlohmann::json accepted = nlohmann::json::array();
   for (const RelocTrial& t : trials) {
@@ -147,11 +148,14 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
     const mapmatch::Relocalization& r = t.runs[t.accepted_run];
     accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers, r.from_trajectory,
                         r.from_trajectory ? r.trajectory_best
+                        : r.dense_fine    ? r.dense_fine_best
                         : r.dense         ? r.dense_best
                                           : r.twin_own,
                         r.from_trajectory ? r.trajectory_second
+                        : r.dense_fine    ? r.dense_fine_second
                         : r.dense         ? r.dense_second
-                                          : r.twin_correlation});
+                                          : r.twin_correlation,
+                        r.dense_fine && !r.from_trajectory});
   }
   return accepted;
 }

@@ -11,6 +11,7 @@
 
 #include "io/file_util.h"
 #include "io/run.h"
+#include "sim/stress_camera.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -93,60 +94,18 @@ const std::vector<std::string>& StressConditionNames() {
   return kNames;
 }
 
-namespace {
-
-// Occluders of other shapes than the dust the tracker was tuned under (held out: never used while
-// tuning): tyre marks, hard-edged debris and the vehicle's own shadow, with milder vignetting and
-// light than "dusty".
-void ApplyMarksCondition(BenchSettings* s) {
-  s->speed_px_s = s->rate_hz * s->width_px / 3.0;
-  sim::RenderOptions r;
-  r.dust_fraction = 0.0;
-  r.tyre_mark_fraction = 0.12;
-  r.debris_fraction = 0.05;
-  r.shadow_fraction = 0.3;
-  r.shadow_depth = 0.6;
-  r.vignetting_corner_loss = 0.3;
-  r.lighting_amplitude = 0.2;
-  r.gain_min = 0.8;
-  r.gain_max = 1.2;
-  s->render = r;
-}
-
-}  // namespace
-
 Status ApplyStressCondition(const std::string& name, BenchSettings* s) {
-  const auto& names = StressConditionNames();
-  if (std::find(names.begin(), names.end(), name) == names.end()) {
+  const std::optional<sim::RenderOptions> effects = sim::StressCameraEffects(name);
+  if (!effects) {
     return InvalidInput("--conditions: unknown condition '" + name +
                         "' (known: clean, fast, dusty, all, marks)");
   }
-  if (name == "marks") {
-    ApplyMarksCondition(s);
-    return Status::Ok();
-  }
-  const bool fast = name == "fast" || name == "all";
-  const bool dusty = name == "dusty" || name == "all";
+  const bool fast = sim::StressConditionIsFast(name);
   // Frames 1/3 of a width apart, or 1.25 widths (no overlap in any direction of travel).
   s->speed_px_s = s->rate_hz * s->width_px * (fast ? 1.25 : 1.0 / 3.0);
-  sim::RenderOptions r;  // `fleetctl sim`'s defaults, then the condition
-  r.dust_fraction = dusty ? 0.3 : 0.0;
-  r.dust_max_radius_px = dusty ? 40.0 : r.dust_max_radius_px;
-  r.dust_streak_fraction = dusty ? 0.5 : r.dust_streak_fraction;
-  r.dust_max_opacity = dusty ? 0.9 : r.dust_max_opacity;
-  r.vignetting_corner_loss = dusty ? 0.5 : 0.05;
-  r.lighting_amplitude = dusty ? 0.4 : 0.03;
-  r.blur_sigma_px = dusty ? 1.5 : 0.5;
-  const bool jitter = fast || dusty;
-  r.gain_min = jitter ? 0.75 : 0.97;
-  r.gain_max = jitter ? 1.25 : 1.03;
-  r.bias_min_dn = dusty ? -20.0 : -2.0;
-  r.bias_max_dn = dusty ? 20.0 : 2.0;
-  r.noise_sigma_dn = fast ? 4.0 : 1.0;
-  r.shot_noise_dn = fast ? 0.3 : 0.05;
+  s->render = *effects;
   // A short exposure: the floor moves about 1 px during it.
-  r.exposure_s = fast ? 1.0 / s->speed_px_s : 0.0;
-  s->render = r;
+  s->render.exposure_s = fast ? 1.0 / s->speed_px_s : 0.0;
   return Status::Ok();
 }
 

@@ -27,6 +27,7 @@ void AddMosaicUpkeepCommands(CLI::App& mosaic, Status* result);
 void AddBenchMosaicCommand(CLI::App& bench, Status* result);
 // `bench reloc` (bench_reloc_command.cpp).
 void RegisterBenchReloc(CLI::App& bench, Status* result);
+void RegisterBenchDenseProbe(CLI::App& bench, Status* result);
 void RegisterBenchStress(CLI::App& bench, Status* result);
 // `bench supervisor` (bench_supervisor.cpp).
 void RegisterBenchSupervisor(CLI::App& bench, Status* result);

@@ -19,6 +19,10 @@ nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
                         {"total", r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms +
                                       r.dense_ms + r.trajectory_ms}}}};
   if (r.dense) json["dense"] = {{"best", r.dense_best}, {"second", r.dense_second}};
+  if (r.dense_fine) {
+    json["dense_fine"] = {
+        {"best", r.dense_fine_best}, {"second", r.dense_fine_second}, {"ms", r.dense_fine_ms}};
+  }
   if (r.twin_checked) {
     json["twin"] = {{"own", r.twin_own},
                     {"alternative", r.twin_correlation},

@@ -1,0 +1,22 @@
+// The camera effects of the tracker stress suite's conditions (docs/benchmarks.md, "Tracker
+// stress suite"), shared by `fleetctl bench tracker-stress`, `fleetctl bench reloc --stress` and
+// the tests that need the same frames: clean, fast (short exposure, noise, gain jitter), dusty
+// (dust, vignetting, uneven light, lens blur), all (fast and dusty) and marks (held out: tyre
+// marks, debris, the vehicle's shadow).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "sim/sim_options.h"
+
+namespace fleetloc::sim {
+
+// The condition's camera effects on `fleetctl sim`'s defaults; exposure_s stays 0 (a short
+// exposure depends on the vehicle's speed: the caller's). nullopt for an unknown condition.
+std::optional<RenderOptions> StressCameraEffects(const std::string& condition);
+
+// Whether the condition exposes briefly while the floor moves (fast, all).
+bool StressConditionIsFast(const std::string& condition);
+
+}  // namespace fleetloc::sim
