@@ -280,6 +280,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
 
 // The base controller goes quiet for 1.5 s mid-drive (no odometry at all, then fresh samples
 // again): odometry_stale while it is gone, named in the log, and cleared when it returns; the
+// frames captured in the gap are dropped (their odometry would be interpolated across it), the
 // frames after the return track on the truth again.
 TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
@@ -308,16 +309,10 @@ TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   EXPECT_EQ(run.issues_while_driving.count("odometry_stale"), 1u)
       << ::testing::PrintToString(run.issues_while_driving);
-  // Stale before the drive (the agent starts first) and again in the gap; flowing after each.
-  auto count = [&](const std::string& line) {
-    int n = 0;
-    for (size_t at = run.log.find(line); at != std::string::npos; at = run.log.find(line, at + 1))
-      ++n;
-    return n;
-  };
-  EXPECT_GE(count("odometry stale: nothing on rt/odom"), 2) << run.log;
-  EXPECT_GE(count("odometry flowing again on rt/odom"), 2) << run.log;
-  EXPECT_GE(after_return, 25) << run.log;  // frames 4.5-8 s after the first
+  for (const char* line : {"odometry stale: nothing on rt/odom", "odometry flowing again on rt/odom",
+                           "captured while odometry had stopped"})
+    EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
+  EXPECT_GE(after_return, 20) << run.log;  // of the 35 frames 4.5-8 s after the first
   EXPECT_TRUE(std::find(run.issues_at_end.begin(), run.issues_at_end.end(), "odometry_stale") ==
               run.issues_at_end.end())
       << ::testing::PrintToString(run.issues_at_end);

@@ -148,7 +148,10 @@ void TrackerAgent::ProcessReadyFrames() {
     const double span = ExtrapolatedSpan(frame.t);
     extrapolated_frame_t_ = span > 0 ? std::optional<double>(frame.t) : std::nullopt;
     if (span > 0) ++extrapolated_frames_, max_extrapolated_s_ = std::max(max_extrapolated_s_, span);
-    if (frame.forward) {
+    if (const std::string gap = InOdometryGap(frame.t); !gap.empty()) {
+      spdlog::warn("dropped: {}", gap);
+      health_.RecordDroppedFrame(gap);
+    } else if (frame.forward) {
       UpdatePosition(frame.t, frame.image);
     } else {
       Track(frame.t, frame.image);

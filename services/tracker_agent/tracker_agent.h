@@ -79,6 +79,9 @@ class TrackerAgent {
   // Once odometry covers the last frame that ran on extrapolated odometry: the tracker and the
   // propagator continue from the odometry pose at its time instead of the extrapolated one.
   void CorrectExtrapolatedOdometry();
+  // A live frame captured while odometry had stopped (the samples around it farther apart than
+  // live.odometry_stale_s): its odometry would be a guess; the reason to drop it, else empty.
+  std::string InOdometryGap(double t) const;
   // Before the first frame: asks for the tiles around the start pose (no fetch in the first
   // frames' cycles).
   void WarmUp(double t, const geometry::Pose2& base);

@@ -83,6 +83,14 @@ void TrackerAgent::CorrectExtrapolatedOdometry() {
   propagator_->CorrectAnchorOdometry(t, *odom);
 }
 
+std::string TrackerAgent::InOdometryGap(double t) const {
+  if (!IsLiveSource(config_.source)) return "";  // recorded runs: as fleetctl track does
+  const double gap = odometry_.GapAround(t);
+  if (gap <= config_.live.odometry_stale_s) return "";
+  return "frame at t=" + std::to_string(t) + " captured while odometry had stopped (no sample for " +
+         std::to_string(gap) + " s)";
+}
+
 void TrackerAgent::WarmUp(double t, const geometry::Pose2& base) {
   if (started_) return;
   spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.x,
