@@ -188,6 +188,20 @@ void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
   EXPECT_LT(offsets[offsets.size() / 2], 0.008);  // the smallest GVSP transfer delay, a few ms
 }
 
+// The poses at frames' times from `since_s` after the first frame on: each expected within 1 px
+// (0.5 mm) of the truth; how many there were.
+int PosesOnTruthFrom(live_sim::PlannedDrive& drive, const LiveRun& r, double since_s) {
+  int count = 0;
+  for (const auto& [t, pose] : r.ros_poses) {
+    const int i = drive.FrameAt(t);
+    if (t - drive.first_frame_t() < since_s || std::abs(t - drive.frame_t(i)) > 0.02) continue;
+    const geometry::Pose2 truth = drive.sim().truth()[i].pose;
+    EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
+    ++count;
+  }
+  return count;
+}
+
 TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServer) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
@@ -250,13 +264,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   int after_return = 0;
   const LiveRun run =
       DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        for (const auto& [t, pose] : r.ros_poses) {
-          const int i = drive.FrameAt(t);
-          if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
-          const geometry::Pose2 truth = drive.sim().truth()[i].pose;
-          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
-          ++after_return;
-        }
+        after_return = PosesOnTruthFrom(drive, r, 5.5);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :
@@ -295,17 +303,10 @@ TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
     return since_first < 2.0 || since_first >= 3.5;  // nothing from 2.0 to 3.5 s
   };
   int after_return = 0;
-  const LiveRun run =
-      DriveLive(server, "odometry_gap", 80, faults, [&](live_sim::PlannedDrive& drive,
-                                                         const LiveRun& r) {
-        for (const auto& [t, pose] : r.ros_poses) {
-          const int i = drive.FrameAt(t);
-          if (t - drive.first_frame_t() < 4.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
-          const geometry::Pose2 truth = drive.sim().truth()[i].pose;
-          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
-          ++after_return;
-        }
-      });
+  const LiveRun run = DriveLive(server, "odometry_gap", 80, faults,
+                                [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+                                  after_return = PosesOnTruthFrom(drive, r, 4.5);
+                                });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   EXPECT_EQ(run.issues_while_driving.count("odometry_stale"), 1u)
       << ::testing::PrintToString(run.issues_while_driving);

@@ -196,8 +196,12 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   std::printf("frames run on extrapolated odometry: %lld (up to %.2f ms past the newest sample)\n",
               summary["odometry_extrapolation"]["frames"].get<long long>(),
               summary["odometry_extrapolation"]["max_ms"].get<double>());
-  std::printf("tracker cycle: median %.2f ms, p99 %.2f ms -> latency p99 %s cycle p99 + 3 ms\n",
-              cycle_median, cycle_p99, p99 <= cycle_p99 + 3 ? "within" : "NOT within");
+  const double steady_p99 = latency["steady"]["p99"];
+  std::printf(
+      "tracker cycle: median %.2f ms, p99 %.2f ms -> latency p99 %s cycle p99 + 3 ms (all frames), "
+      "%s (after the first poses)\n",
+      cycle_median, cycle_p99, p99 <= cycle_p99 + 3 ? "within" : "NOT within",
+      steady_p99 <= cycle_p99 + 3 ? "within" : "NOT within");
   std::printf(
       "position rms vs truth: live %.4f mm over %zu frames, offline %.4f mm over %zu -> "
       "live/offline %.3f\n",
