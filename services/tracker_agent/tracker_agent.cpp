@@ -130,6 +130,7 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
   }
   latest_odometry_t_ = t;
   CorrectExtrapolatedOdometry();
+  PublishDeferredMapToOdom();
   if (restart_pose_) {  // the first sample of a new odometry timeline
     tracker_->Reset(*restart_pose_, odom);
     propagator_->SetAnchor(t, odom, *std::exchange(restart_pose_, std::nullopt));

@@ -79,6 +79,9 @@ class TrackerAgent {
   // Once odometry covers the last frame that ran on extrapolated odometry: the tracker and the
   // propagator continue from the odometry pose at its time instead of the extrapolated one.
   void CorrectExtrapolatedOdometry();
+  // map -> odom of the frame poses published before odometry covered their time, sent once it
+  // does (with the odometry then, not the extrapolated one: map -> odom -> base_link is the pose).
+  void PublishDeferredMapToOdom();
   // A live frame captured while odometry had stopped (the samples around it farther apart than
   // live.odometry_stale_s): its odometry would be a guess; the reason to drop it, else empty.
   std::string InOdometryGap(double t) const;
@@ -161,6 +164,7 @@ class TrackerAgent {
   double extrapolation_s_ = 0.0;
   tracking::OdometryHistory odometry_{10.0, 0.0};
   std::optional<double> extrapolated_frame_t_;  // the last frame run on extrapolated odometry
+  std::deque<std::pair<double, geometry::Pose2>> deferred_map_to_odom_;  // base_link in map at t
   long long extrapolated_frames_ = 0;
   double max_extrapolated_s_ = 0.0;
   std::optional<tracking::PosePropagator> propagator_;

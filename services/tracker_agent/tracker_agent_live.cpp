@@ -20,10 +20,27 @@ void TrackerAgent::PublishRos(double t, const geometry::PoseWithCovariance& base
       if (capture_to_pose_ms_.size() > 10000) capture_to_pose_ms_.pop_front();
     }
   }
+  if (t > latest_odometry_t_) {  // a frame run on extrapolated odometry
+    deferred_map_to_odom_.emplace_back(t, base.pose);
+    if (deferred_map_to_odom_.size() > 16) deferred_map_to_odom_.pop_front();
+    return;
+  }
   const Result<geometry::Pose2> odom = odometry_.At(t);
   if (!odom.ok()) return;
   if (Status sent = ros_->PublishMapToOdom(t, base.pose, *odom); !sent.ok())
     health_.RecordError(sent.message());
+}
+
+void TrackerAgent::PublishDeferredMapToOdom() {
+  while (ros_ && !deferred_map_to_odom_.empty() &&
+         deferred_map_to_odom_.front().first <= latest_odometry_t_) {
+    const auto [t, base] = deferred_map_to_odom_.front();
+    deferred_map_to_odom_.pop_front();
+    const Result<geometry::Pose2> odom = odometry_.At(t);
+    if (!odom.ok()) continue;
+    if (Status sent = ros_->PublishMapToOdom(t, base, *odom); !sent.ok())
+      health_.RecordError(sent.message());
+  }
 }
 
 void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
@@ -32,9 +49,9 @@ void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
     return;
   }
   pending_initial_.reset();
-  double t = given.t;
+  double t = given.t;  // anchored to recorded odometry, never to extrapolated
   Result<geometry::Pose2> odom = odometry_.At(t);
-  if (!odom.ok()) t = latest_odometry_t_, odom = odometry_.At(t);
+  if (!odom.ok() || t > latest_odometry_t_) t = latest_odometry_t_, odom = odometry_.At(t);
   if (!odom.ok()) return health_.RecordError("initial pose: " + odom.status().message());
   spdlog::info("initial pose from {}: ({:.4f}, {:.4f}, {:.2f} deg) at t={:.3f}",
                config_.ros.initialpose_topic, given.pose.pose.x, given.pose.pose.y,
@@ -66,6 +83,7 @@ void TrackerAgent::OnOdometryRestart() {
   odometry_ = tracking::OdometryHistory(10.0, extrapolation_s_);
   latest_odometry_t_ = -1e300;
   extrapolated_frame_t_.reset();
+  deferred_map_to_odom_.clear();
 }
 
 bool TrackerAgent::FrameReady(double t) const {
