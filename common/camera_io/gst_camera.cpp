@@ -46,14 +46,25 @@ GstAppSink* FindAppSink(GstElement* pipeline) {
 // A packed 8-bit format and the conversion to gray; -1 when not supported.
 int GrayConversion(GstVideoFormat format, int* type) {
   switch (format) {
-    case GST_VIDEO_FORMAT_GRAY8: *type = CV_8UC1; return 0;
-    case GST_VIDEO_FORMAT_BGR: *type = CV_8UC3; return cv::COLOR_BGR2GRAY;
-    case GST_VIDEO_FORMAT_RGB: *type = CV_8UC3; return cv::COLOR_RGB2GRAY;
+    case GST_VIDEO_FORMAT_GRAY8:
+      *type = CV_8UC1;
+      return 0;
+    case GST_VIDEO_FORMAT_BGR:
+      *type = CV_8UC3;
+      return cv::COLOR_BGR2GRAY;
+    case GST_VIDEO_FORMAT_RGB:
+      *type = CV_8UC3;
+      return cv::COLOR_RGB2GRAY;
     case GST_VIDEO_FORMAT_BGRx:
-    case GST_VIDEO_FORMAT_BGRA: *type = CV_8UC4; return cv::COLOR_BGRA2GRAY;
+    case GST_VIDEO_FORMAT_BGRA:
+      *type = CV_8UC4;
+      return cv::COLOR_BGRA2GRAY;
     case GST_VIDEO_FORMAT_RGBx:
-    case GST_VIDEO_FORMAT_RGBA: *type = CV_8UC4; return cv::COLOR_RGBA2GRAY;
-    default: return -1;
+    case GST_VIDEO_FORMAT_RGBA:
+      *type = CV_8UC4;
+      return cv::COLOR_RGBA2GRAY;
+    default:
+      return -1;
   }
 }
 
@@ -96,7 +107,8 @@ Status GstCamera::Start() {
   if (pipeline_ == nullptr) return Internal("gstreamer: cannot parse '" + options_.pipeline + "'");
   gst_object_ref_sink(pipeline_);
   sink_ = FindAppSink(pipeline_);
-  if (sink_ == nullptr) return Internal("gstreamer: pipeline '" + options_.pipeline + "' has no appsink");
+  if (sink_ == nullptr)
+    return Internal("gstreamer: pipeline '" + options_.pipeline + "' has no appsink");
   // Not waited for: a live sink completes the change only with its first buffer, which may be
   // long in coming (a stalled source); later failures are posted on the bus and Grab reports them.
   if (gst_element_set_state(pipeline_, GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE) {

@@ -27,9 +27,10 @@ std::optional<CapturedFrame> Next(GstCamera& camera) {
 
 TEST(GstCamera, ALiveSourcesBufferTimestampsArePtsOnTheHostClock) {
   const double before_open = HostNow();
-  auto camera = OpenOrDie({"videotestsrc is-live=true num-buffers=5 ! "
-                           "video/x-raw,format=GRAY8,width=64,height=48,framerate=10/1 ! appsink",
-                           "buffer"});
+  auto camera =
+      OpenOrDie({"videotestsrc is-live=true num-buffers=5 ! "
+                 "video/x-raw,format=GRAY8,width=64,height=48,framerate=10/1 ! appsink",
+                 "buffer"});
   ASSERT_TRUE(camera);
   std::vector<double> t;
   for (int i = 0; i < 5; ++i) {
@@ -38,7 +39,7 @@ TEST(GstCamera, ALiveSourcesBufferTimestampsArePtsOnTheHostClock) {
     EXPECT_EQ(frame->image.size(), cv::Size(64, 48));
     EXPECT_EQ(frame->image.type(), CV_8UC1);
     EXPECT_LE(frame->t, frame->arrival_t);  // captured, then delivered
-    EXPECT_GE(frame->t, before_open);        // not before the pipeline existed
+    EXPECT_GE(frame->t, before_open);       // not before the pipeline existed
     t.push_back(frame->t);
   }
   // The PTS are a frame period apart whatever the delivery did (the mapping reads both clocks at
@@ -51,9 +52,10 @@ TEST(GstCamera, ALiveSourcesBufferTimestampsArePtsOnTheHostClock) {
 }
 
 TEST(GstCamera, FrameRateTimestampsPutFrameNAtEpochPlusNOverTheFrameRate) {
-  auto camera = OpenOrDie({"videotestsrc num-buffers=3 ! "
-                           "video/x-raw,format=BGR,width=32,height=24,framerate=4/1 ! appsink sync=false",
-                           "frame_rate", 1000.0});
+  auto camera =
+      OpenOrDie({"videotestsrc num-buffers=3 ! "
+                 "video/x-raw,format=BGR,width=32,height=24,framerate=4/1 ! appsink sync=false",
+                 "frame_rate", 1000.0});
   ASSERT_TRUE(camera);
   for (int i = 0; i < 3; ++i) {
     std::optional<CapturedFrame> frame = Next(*camera);
@@ -93,9 +95,10 @@ TEST(GstCamera, AStalledUdpSourceTimesOutAndItsFramesReturnWhenItResumes) {
 }
 
 TEST(GstCamera, AnUnsupportedFormatIsADroppedFrame) {
-  auto camera = OpenOrDie({"videotestsrc num-buffers=1 ! "
-                           "video/x-raw,format=I420,width=32,height=24 ! appsink",
-                           "buffer"});
+  auto camera =
+      OpenOrDie({"videotestsrc num-buffers=1 ! "
+                 "video/x-raw,format=I420,width=32,height=24 ! appsink",
+                 "buffer"});
   ASSERT_TRUE(camera);
   auto frame = camera->Grab(5.0);
   ASSERT_TRUE(frame.ok()) << frame.status().message();

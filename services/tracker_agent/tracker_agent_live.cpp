@@ -89,7 +89,8 @@ void TrackerAgent::OnOdometryRestart() {
 bool TrackerAgent::FrameReady(double t) const {
   if (t <= latest_odometry_t_) return true;
   // Constant-velocity extrapolation needs a velocity: two samples of the current timeline.
-  return extrapolation_s_ > 0 && odometry_.size() >= 2 && t - latest_odometry_t_ <= extrapolation_s_;
+  return extrapolation_s_ > 0 && odometry_.size() >= 2 &&
+         t - latest_odometry_t_ <= extrapolation_s_;
 }
 
 void TrackerAgent::CorrectExtrapolatedOdometry() {
@@ -105,8 +106,8 @@ std::string TrackerAgent::InOdometryGap(double t) const {
   if (!IsLiveSource(config_.source)) return "";  // recorded runs: as fleetctl track does
   const double gap = odometry_.GapAround(t);
   if (gap <= config_.live.odometry_stale_s) return "";
-  return "frame at t=" + std::to_string(t) + " captured while odometry had stopped (no sample for " +
-         std::to_string(gap) + " s)";
+  return "frame at t=" + std::to_string(t) +
+         " captured while odometry had stopped (no sample for " + std::to_string(gap) + " s)";
 }
 
 void TrackerAgent::WarmUp(double t, const geometry::Pose2& base) {
@@ -124,8 +125,8 @@ nlohmann::json TrackerAgent::LatencySummary(const std::vector<double>& latency, 
   };
   // The first kWarmupPoses of the stream that are still kept.
   const long long dropped_before = total - static_cast<long long>(latency.size());
-  const size_t skip = static_cast<size_t>(std::clamp(kWarmupPoses - dropped_before, 0LL,
-                                                     static_cast<long long>(latency.size())));
+  const size_t skip = static_cast<size_t>(
+      std::clamp(kWarmupPoses - dropped_before, 0LL, static_cast<long long>(latency.size())));
   nlohmann::json all = percentiles(latency);
   all["steady"] = percentiles(std::vector<double>(latency.begin() + skip, latency.end()));
   all["steady"]["after_poses"] = kWarmupPoses;
