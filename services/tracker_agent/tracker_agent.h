@@ -102,7 +102,8 @@ class TrackerAgent {
   bool TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom);
   Status WriteSummary() const;  // frames, cycle times, tiles, relocalization
   // p50/p99 of the capture -> pose latencies (`latency`: the last of `total` measured), over all
-  // of them and over those after the first kWarmupPoses ("steady": tiles cached, caches warm).
+  // of them and over those after the first kWarmupPoses ("steady": tiles cached, caches warm),
+  // and those first ones themselves ("first_ms").
   static nlohmann::json LatencySummary(const std::vector<double>& latency, long long total);
   static constexpr long long kWarmupPoses = 20;
   // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.

@@ -130,6 +130,7 @@ nlohmann::json TrackerAgent::LatencySummary(const std::vector<double>& latency, 
   nlohmann::json all = percentiles(latency);
   all["steady"] = percentiles(std::vector<double>(latency.begin() + skip, latency.end()));
   all["steady"]["after_poses"] = kWarmupPoses;
+  all["first_ms"] = std::vector<double>(latency.begin(), latency.begin() + skip);  // warm-up's
   return all;
 }
 

@@ -191,6 +191,9 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
               latency["steady"]["after_poses"].get<long long>(),
               latency["steady"]["p50"].get<double>(), latency["steady"]["p99"].get<double>(),
               latency["steady"]["frames"].get<long long>());
+  std::printf("  the first poses:");
+  for (const double ms : latency["first_ms"]) std::printf(" %.1f", ms);
+  std::printf(" ms\n");
   std::printf("pose stamp - true capture time: median %.2f ms (latency above is from the stamp)\n",
               stamp_offset_ms);
   std::printf("frames run on extrapolated odometry: %lld (up to %.2f ms past the newest sample)\n",
