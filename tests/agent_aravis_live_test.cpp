@@ -3,12 +3,15 @@
 // own times (device clock, mapped to the host's by the agent), the odometry comes as
 // nav_msgs/Odometry on rt/odom, the start pose as initialpose; the agent's ROS 2 poses
 // (rt/fleetloc/pose, at the frames' times) match the simulator's truth. With GVSP packets lost,
-// the losses are counted and named in health and the lock holds.
+// the losses are counted and named in health and the lock holds. Bad odometry, an unplugged camera
+// and odometry that stops and returns are named, and tracking resumes.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 
 #include "io/run.h"
 #include "live_vehicle.h"
@@ -34,6 +37,7 @@ struct LiveRun {
   std::vector<FramePose> frame_poses;                        // those at a frame's time
   std::vector<std::string> health_issues;                    // every issue name seen
   std::vector<std::string> issues_at_end;                    // the last report's while driving
+  std::set<std::string> issues_while_driving;  // seen from 0.5 s after the first frame on
   long long frame_drops = 0;                                 // the last health report's
   nlohmann::json summary;
   std::string log;
@@ -99,6 +103,8 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
       for (uint32_t i = 0; i < h.issues._length; ++i) {
         if (driving) out.issues_at_end.push_back(transport::GetBounded(h.issues._buffer[i].name));
         const std::string issue = transport::GetBounded(h.issues._buffer[i].name);
+        if (driving && camera_io::HostNow() > drive.first_frame_t() + 0.5)
+          out.issues_while_driving.insert(issue);
         if (std::find(out.health_issues.begin(), out.health_issues.end(), issue) ==
             out.health_issues.end()) {
           out.health_issues.push_back(issue);
@@ -182,6 +188,20 @@ void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
   EXPECT_LT(offsets[offsets.size() / 2], 0.008);  // the smallest GVSP transfer delay, a few ms
 }
 
+// The poses at frames' times from `since_s` after the first frame on: each expected within 1 px
+// (0.5 mm) of the truth; how many there were.
+int PosesOnTruthFrom(live_sim::PlannedDrive& drive, const LiveRun& r, double since_s) {
+  int count = 0;
+  for (const auto& [t, pose] : r.ros_poses) {
+    const int i = drive.FrameAt(t);
+    if (t - drive.first_frame_t() < since_s || std::abs(t - drive.frame_t(i)) > 0.02) continue;
+    const geometry::Pose2 truth = drive.sim().truth()[i].pose;
+    EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
+    ++count;
+  }
+  return count;
+}
+
 TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServer) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
@@ -244,13 +264,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   int after_return = 0;
   const LiveRun run =
       DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        for (const auto& [t, pose] : r.ros_poses) {
-          const int i = drive.FrameAt(t);
-          if (t - drive.first_frame_t() < 5.5 || std::abs(t - drive.frame_t(i)) > 0.02) continue;
-          const geometry::Pose2 truth = drive.sim().truth()[i].pose;
-          EXPECT_LT(std::hypot(pose.pose.x - truth.x, pose.pose.y - truth.y), 0.0005) << "t=" << t;
-          ++after_return;
-        }
+        after_return = PosesOnTruthFrom(drive, r, 5.5);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :
@@ -269,6 +283,39 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   EXPECT_GE(after_return, 15) << run.log;
   EXPECT_TRUE(run.issues_at_end.empty() ||
               run.issues_at_end == std::vector<std::string>{"camera_frame_drops"})
+      << ::testing::PrintToString(run.issues_at_end);
+}
+
+// The base controller goes quiet for 1.5 s mid-drive (no odometry at all, then fresh samples
+// again): odometry_stale while it is gone, named in the log, and cleared when it returns; the
+// frames captured in the gap are dropped (their odometry would be interpolated across it), the
+// frames after the return track on the truth again.
+TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                                   cv::IMREAD_GRAYSCALE);
+  testing::MapServerFixture server("agent_aravis_odometry_gap", floor, kDomain);
+  Faults faults;
+  std::optional<double> first_frame_t;
+  faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
+    const double t = transport::FromRosTime(m->header.stamp);
+    if (!first_frame_t) first_frame_t = t + 2.0;  // the drive starts 2 s after the first sample
+    const double since_first = t - *first_frame_t;
+    return since_first < 2.0 || since_first >= 3.5;  // nothing from 2.0 to 3.5 s
+  };
+  int after_return = 0;
+  const LiveRun run = DriveLive(server, "odometry_gap", 80, faults,
+                                [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+                                  after_return = PosesOnTruthFrom(drive, r, 4.5);
+                                });
+  ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
+  EXPECT_EQ(run.issues_while_driving.count("odometry_stale"), 1u)
+      << ::testing::PrintToString(run.issues_while_driving);
+  for (const char* line : {"odometry stale: nothing on rt/odom", "odometry flowing again on rt/odom",
+                           "captured while odometry had stopped"})
+    EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
+  EXPECT_GE(after_return, 20) << run.log;  // of the 35 frames 4.5-8 s after the first
+  EXPECT_TRUE(std::find(run.issues_at_end.begin(), run.issues_at_end.end(), "odometry_stale") ==
+              run.issues_at_end.end())
       << ::testing::PrintToString(run.issues_at_end);
 }
 

@@ -99,7 +99,9 @@ FieldTable OdometryFields(tracking::OdometryNoiseOptions& n) {
           {"heading_sigma_per_rad", &n.heading_sigma_per_rad},
           {"heading_sigma_per_m", &n.heading_sigma_per_m},
           {"heading_sigma_per_s", &n.heading_sigma_per_s},
-          {"floor_sigma_m", &n.floor_sigma_m}};
+          {"floor_sigma_m", &n.floor_sigma_m},
+          {"extrapolation_accel_m_s2", &n.extrapolation_accel_m_s2},
+          {"extrapolation_angular_accel_rad_s2", &n.extrapolation_angular_accel_rad_s2}};
 }
 
 Status ReadFields(const nlohmann::json& object, const FieldTable& table, const std::string& where,

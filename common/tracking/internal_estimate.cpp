@@ -1,6 +1,8 @@
 // Odometry-increment prediction of the tracker's own camera estimate.
 #include "tracking/internal_estimate.h"
 
+#include <cmath>
+
 #include "base/status.h"
 #include "tracking/motion_model.h"
 
@@ -15,15 +17,23 @@ void InternalEstimate::Reset(const geometry::PoseWithCovariance& base_in_map,
 }
 
 const geometry::PoseWithCovariance& InternalEstimate::Predict(double t,
-                                                              const geometry::Pose2& odom) {
+                                                              const geometry::Pose2& odom,
+                                                              double extrapolated_s) {
   FLEETLOC_CHECK(initialized_);
   const double dt_s = has_time_ ? t - t_last_ : 0.0;
   // The camera moves by mount⁻¹ ⊕ increment ⊕ mount in its own frame.
-  camera_ = geometry::Compose(camera_, CameraIncrement(odom_last_, odom, dt_s, mount_, noise_));
+  geometry::PoseWithCovariance increment = CameraIncrement(odom_last_, odom, dt_s, mount_, noise_);
+  increment.covariance +=
+      ExtrapolationCovariance(extrapolated_s, std::hypot(mount_.x, mount_.y), noise_);
+  camera_ = geometry::Compose(camera_, increment);
   odom_last_ = odom;
   t_last_ = t;
   has_time_ = true;
   return camera_;
+}
+
+void InternalEstimate::CorrectOdometry(double t, const geometry::Pose2& odom) {
+  if (has_time_ && t == t_last_) odom_last_ = odom;
 }
 
 geometry::PoseWithCovariance InternalEstimate::BaseInMap() const {

@@ -16,9 +16,14 @@ class InternalEstimate {
 
   // Starts from base_link's pose in map at the time whose odometry pose is `odom`.
   void Reset(const geometry::PoseWithCovariance& base_in_map, const geometry::Pose2& odom);
-  // estimate ⊕ (mount⁻¹ ⊕ odom_last⁻¹ ⊕ odom ⊕ mount), covariance grown by the odometry model;
-  // becomes the estimate and is returned. Requires Reset().
-  const geometry::PoseWithCovariance& Predict(double t, const geometry::Pose2& odom);
+  // estimate ⊕ (mount⁻¹ ⊕ odom_last⁻¹ ⊕ odom ⊕ mount), covariance grown by the odometry model
+  // and, when `odom` was extrapolated `extrapolated_s` past the newest odometry sample, by
+  // ExtrapolationCovariance; becomes the estimate and is returned. Requires Reset().
+  const geometry::PoseWithCovariance& Predict(double t, const geometry::Pose2& odom,
+                                              double extrapolated_s = 0.0);
+  // The odometry pose at the last prediction's time `t` became known (it had been extrapolated):
+  // the next increment starts from it. Ignored unless t is the last prediction's time.
+  void CorrectOdometry(double t, const geometry::Pose2& odom);
   void Correct(const geometry::PoseWithCovariance& camera_in_map) { camera_ = camera_in_map; }
 
   bool initialized() const { return initialized_; }

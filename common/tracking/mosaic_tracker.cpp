@@ -321,12 +321,13 @@ std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& fram
   return dense.posterior;
 }
 
-FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom) {
+FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& odom,
+                                 double extrapolated_s) {
   FLEETLOC_CHECK(estimate_.initialized());
   FLEETLOC_CHECK(frame.type() == CV_8UC1);
   // Step 1: tracking-error compensation — the odometry increment is added to the tracker's own
   // last estimate (never the external absolute pose), with covariance growth.
-  const PoseWithCovariance prior = estimate_.Predict(t, odom);
+  const PoseWithCovariance prior = estimate_.Predict(t, odom, extrapolated_s);
   const int full_radius = FrameSearchRadius(prior);
   // Beyond the largest search the prediction may still be good (3 sigma is conservative):
   // search the largest window anyway, and call the vehicle lost only if that fails.

@@ -31,7 +31,16 @@ class MosaicTracker : public FrameLocalizer {
 
   // One cycle. `frame` is the rectified CV_8UC1 image (camera size), `odom` base_link in odom
   // at time t (interpolated by the caller). Reset() must have been called.
-  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom) override;
+  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom) override {
+    return Track(frame, t, odom, 0.0);
+  }
+  // The same with `odom` extrapolated `extrapolated_s` past the newest odometry sample (a live
+  // frame that did not wait for odometry): the prediction's covariance grows accordingly.
+  FrameResult Track(const cv::Mat& frame, double t, const geometry::Pose2& odom,
+                    double extrapolated_s);
+  // The odometry pose at the last frame's time t, extrapolated then, is now known: the next
+  // prediction starts from it (InternalEstimate::CorrectOdometry).
+  void CorrectOdometry(double t, const geometry::Pose2& odom) { estimate_.CorrectOdometry(t, odom); }
 
   // Odometry-only step (a frame that could not be read or used): the pose coasts.
   FrameResult Coast(double t, const geometry::Pose2& odom) override;

@@ -26,6 +26,14 @@ Eigen::Matrix3d IncrementCovariance(const geometry::Pose2& increment, double dt_
   return q;
 }
 
+Eigen::Matrix3d ExtrapolationCovariance(double span_s, double lever_m,
+                                        const OdometryNoiseOptions& n) {
+  if (!(span_s > 0)) return Eigen::Matrix3d::Zero();
+  const double heading = 0.5 * n.extrapolation_angular_accel_rad_s2 * span_s * span_s;
+  const double position = 0.5 * n.extrapolation_accel_m_s2 * span_s * span_s + lever_m * heading;
+  return Eigen::Vector3d(position * position, position * position, heading * heading).asDiagonal();
+}
+
 geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& internal,
                                      const geometry::Pose2& increment, double dt_s,
                                      const OdometryNoiseOptions& noise) {

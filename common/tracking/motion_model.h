@@ -12,6 +12,13 @@ namespace fleetloc::tracking {
 Eigen::Matrix3d IncrementCovariance(const geometry::Pose2& increment, double dt_s,
                                     const OdometryNoiseOptions& noise);
 
+// Covariance (x, y, theta in the pose's own frame) of odometry extrapolated `span_s` past its
+// newest sample under constant velocity: an unmodelled acceleration moves the pose by ½·a·span²
+// (noise.extrapolation_*), and the heading error moves a point `lever_m` from the odometry frame's
+// origin by that much more. Zero for span_s ≤ 0.
+Eigen::Matrix3d ExtrapolationCovariance(double span_s, double lever_m,
+                                        const OdometryNoiseOptions& noise);
+
 // internal ⊕ increment with first-order covariance propagation.
 geometry::PoseWithCovariance Predict(const geometry::PoseWithCovariance& internal,
                                      const geometry::Pose2& increment, double dt_s,

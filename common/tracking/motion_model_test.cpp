@@ -30,6 +30,21 @@ TEST(MotionModel, PredictionAddsIncrementAndGrowsUncertainty) {
   EXPECT_GT(p.covariance(2, 2), start.covariance(2, 2));
 }
 
+TEST(MotionModel, ExtrapolationSigmaIsHalfTheAccelerationTimesTheSpanSquaredPlusTheLever) {
+  OdometryNoiseOptions n;
+  n.extrapolation_accel_m_s2 = 2.0;
+  n.extrapolation_angular_accel_rad_s2 = 4.0;
+  EXPECT_TRUE(ExtrapolationCovariance(0.0, 0.4, n).isZero());
+  EXPECT_TRUE(ExtrapolationCovariance(-0.01, 0.4, n).isZero());
+  // 20 ms: heading ½·4·0.02² = 0.8 mrad; position ½·2·0.02² = 0.4 mm + 0.4 m · 0.8 mrad.
+  const Eigen::Matrix3d q = ExtrapolationCovariance(0.02, 0.4, n);
+  EXPECT_NEAR(std::sqrt(q(2, 2)), 0.0008, 1e-12);
+  EXPECT_NEAR(std::sqrt(q(0, 0)), 0.0004 + 0.4 * 0.0008, 1e-12);
+  EXPECT_NEAR(std::sqrt(q(1, 1)), std::sqrt(q(0, 0)), 1e-15);
+  // Twice the span: four times the sigma.
+  EXPECT_NEAR(std::sqrt(ExtrapolationCovariance(0.04, 0.0, n)(0, 0)), 4 * 0.0004, 1e-12);
+}
+
 TEST(MotionModel, CameraIncrementOfATurnOnTheSpotMovesAMountedCamera) {
   OdometryNoiseOptions n;
   // base_link turns 90° on the spot; a camera 0.4 m ahead swings to 0.4 m left of where base_link

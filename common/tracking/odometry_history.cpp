@@ -59,4 +59,11 @@ Result<Pose2> OdometryHistory::At(double t) const {
   return Interpolate(a.pose, b.pose, (t - a.t) / (b.t - a.t));
 }
 
+double OdometryHistory::GapAround(double t) const {
+  if (samples_.size() < 2 || !(t > samples_.front().t) || !(t < samples_.back().t)) return 0.0;
+  const auto after = std::upper_bound(samples_.begin(), samples_.end(), t,
+                                      [](double v, const StampedPose& p) { return v < p.t; });
+  return after->t - (after - 1)->t;
+}
+
 }  // namespace fleetloc::tracking

@@ -23,6 +23,10 @@ class OdometryHistory {
   // extrapolated a little past the newest. NotFound when t is outside what the history covers.
   Result<geometry::Pose2> At(double t) const;
 
+  // How far apart the two samples around time t are (0 when t is not between two samples): a
+  // pose interpolated across a long gap (odometry that stopped) is only a guess.
+  double GapAround(double t) const;
+
   bool empty() const { return samples_.empty(); }
   size_t size() const { return samples_.size(); }
 

@@ -14,6 +14,9 @@ class PosePropagator {
 
   // The pose at time t, whose odometry pose was `odom`.
   void SetAnchor(double t, const geometry::Pose2& odom, const geometry::PoseWithCovariance& base);
+  // The anchor's odometry pose, extrapolated when it was set, is now known: later poses propagate
+  // from it. Ignored unless `t` is the anchor's time.
+  void CorrectAnchorOdometry(double t, const geometry::Pose2& odom);
   bool anchored() const { return anchored_; }
   double anchor_time() const { return t_; }
   // Requires anchored(). At the anchor's own odometry pose it returns the anchor unchanged.

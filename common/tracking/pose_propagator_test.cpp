@@ -25,5 +25,16 @@ TEST(PosePropagator, AddsTheOdometryIncrementToTheAnchorAndGrowsTheCovariance) {
   EXPECT_GT(moved.covariance(0, 0) + moved.covariance(1, 1), 2e-8 + 1e-7);
 }
 
+TEST(PosePropagator, AnAnchorSetOnExtrapolatedOdometryPropagatesFromTheTrueOdometryOnceKnown) {
+  PosePropagator propagator({});
+  const geometry::PoseWithCovariance base{{1.0, 2.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-8};
+  const geometry::Pose2 extrapolated{0.30, 0.0, 0.0}, truth{0.29, 0.0, 0.0};
+  propagator.SetAnchor(1.0, extrapolated, base);
+  propagator.CorrectAnchorOdometry(0.9, truth);  // not the anchor's time: ignored
+  EXPECT_NEAR(propagator.At(1.1, {0.40, 0.0, 0.0}).pose.x, 1.10, 1e-12);
+  propagator.CorrectAnchorOdometry(1.0, truth);
+  EXPECT_NEAR(propagator.At(1.1, {0.40, 0.0, 0.0}).pose.x, 1.11, 1e-12);
+}
+
 }  // namespace
 }  // namespace fleetloc::tracking

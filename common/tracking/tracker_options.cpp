@@ -153,7 +153,9 @@ Status Validate(const TrackerOptions& o) {
   const auto& n = o.odometry;
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&
                                      n.heading_sigma_per_rad >= 0 && n.heading_sigma_per_m >= 0 &&
-                                     n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0,
+                                     n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0 &&
+                                     n.extrapolation_accel_m_s2 >= 0 &&
+                                     n.extrapolation_angular_accel_rad_s2 >= 0,
                                  "odometry", "noise terms must be ≥ 0 (floor_sigma_m > 0)"));
   return Status::Ok();
 }

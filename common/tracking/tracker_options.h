@@ -14,6 +14,11 @@ struct OdometryNoiseOptions {
   double heading_sigma_per_m = 0.003;    // heading error per metre driven
   double heading_sigma_per_s = 0.002;    // gyro-like drift, radians per second
   double floor_sigma_m = 1e-5;           // keeps the increment covariance positive definite
+  // Odometry extrapolated past its newest sample (a live frame tracked before odometry covers
+  // its time) assumes constant velocity; an acceleration up to these moves the true pose by
+  // ½·a·span² from the extrapolated one (ExtrapolationCovariance).
+  double extrapolation_accel_m_s2 = 2.0;
+  double extrapolation_angular_accel_rad_s2 = 4.0;
 };
 
 // Dense direct alignment of the whole frame (tracking/direct_aligner.h).

@@ -71,8 +71,13 @@ Status ReadGstreamer(const io::JsonFields& fields, const nlohmann::json& parent,
 Status ReadLive(const io::JsonFields& fields, const nlohmann::json& parent, LiveOptions* o) {
   auto f = Nested(
       fields, parent, "live",
-      {"camera_stall_s", "camera_reopen_s", "odometry_stale_s", "issue_hold_s", "frame_queue"});
+      {"camera_stall_s", "camera_reopen_s", "odometry_stale_s", "odometry_extrapolation_s",
+       "issue_hold_s", "frame_queue"});
   if (!f.ok()) return f.status();
+  if (f->Has("odometry_extrapolation_s")) {
+    FLEETLOC_RETURN_IF_ERROR(
+        f->NonNegativeNumber("odometry_extrapolation_s", &o->odometry_extrapolation_s));
+  }
   for (const auto& [key, out] : {std::pair{"camera_stall_s", &o->camera_stall_s},
                                  {"camera_reopen_s", &o->camera_reopen_s},
                                  {"odometry_stale_s", &o->odometry_stale_s},
@@ -142,6 +147,10 @@ Status ValidateLive(const std::string& source, const LiveOptions& live, const Ro
   if (is_live && !ros.enabled) return bad("ros.enabled", "a live source needs ROS 2 odometry");
   if (live.camera_reopen_s < live.camera_stall_s)
     return bad("live.camera_reopen_s", "must be >= live.camera_stall_s");
+  if (live.odometry_extrapolation_s > 0.1)
+    return bad("live.odometry_extrapolation_s", "must be 0..0.1 s (about two odometry periods)");
+  if (live.odometry_extrapolation_s >= live.odometry_stale_s)
+    return bad("live.odometry_extrapolation_s", "must be < live.odometry_stale_s");
   if (live.frame_queue < 1 || live.frame_queue > 64)
     return bad("live.frame_queue", "must be 1..64");
   if (!ros.ns.empty() && !ValidRosName(ros.ns, false))

@@ -39,6 +39,10 @@ struct LiveOptions {
   double camera_stall_s = 1.0;    // no frame for this long: camera_stalled
   double camera_reopen_s = 3.0;   // ... and for this long: closed and opened again
   double odometry_stale_s = 0.5;  // no odometry for this long: odometry_stale
+  // A frame up to this far past the newest odometry sample is tracked at once on odometry
+  // extrapolated under constant velocity (its prediction's covariance grown for it) instead of
+  // waiting for odometry to cover it; 0: frames always wait. About two odometry periods.
+  double odometry_extrapolation_s = 0.02;
   double issue_hold_s = 5.0;      // a bad sample is reported in health for this long
   int frame_queue = 4;            // frames waiting for the tracker; beyond, the oldest drop
 };

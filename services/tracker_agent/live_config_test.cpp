@@ -32,6 +32,7 @@ TEST(LiveConfig, AnAravisVehicleWithItsRos2Names) {
   EXPECT_EQ(c->live.aravis.region_height, 480);
   EXPECT_EQ(c->live.aravis.exposure_us, 800);
   EXPECT_EQ(c->live.aravis.packet_size, 8192);
+  EXPECT_EQ(c->live.odometry_extrapolation_s, 0.02);  // the default: two 100 Hz periods
   EXPECT_EQ(RosTopicName(c->ros.ns, c->ros.odom_topic), "rt/robot7/wheel/odom");
   EXPECT_EQ(RosTopicName(c->ros.ns, c->ros.pose_topic), "rt/fleetloc/pose");  // absolute
   EXPECT_EQ(RosTopicName(c->ros.ns, c->ros.tf_topic), "rt/robot7/tf");
@@ -57,6 +58,13 @@ TEST(LiveConfig, BadLiveFieldsAreNamed) {
        "field 'ros.odom_topic'"},
       {R"({"source": "aravis", "camera": "c.json", "live": {"camera_stall_s": 5, "camera_reopen_s": 1}})",
        "field 'live.camera_reopen_s': must be >= live.camera_stall_s"},
+      {R"({"source": "aravis", "camera": "c.json", "live": {"odometry_extrapolation_s": -0.01}})",
+       "field 'live.odometry_extrapolation_s'"},
+      {R"({"source": "aravis", "camera": "c.json", "live": {"odometry_extrapolation_s": 0.5}})",
+       "field 'live.odometry_extrapolation_s': must be 0..0.1 s"},
+      {R"({"source": "aravis", "camera": "c.json",
+           "live": {"odometry_extrapolation_s": 0.05, "odometry_stale_s": 0.05}})",
+       "field 'live.odometry_extrapolation_s': must be < live.odometry_stale_s"},
   };
   int i = 0;
   for (const auto& [text, expected] : cases) {

@@ -121,8 +121,7 @@ void LiveInput::CameraLoop() {
     } else if (now - last_frame_host > options_.camera_reopen_s) {
       spdlog::warn("camera stalled: no frame for {:.1f} s, reopening {}", now - last_frame_host,
                    camera->Describe());
-      close("stalled: no frame for " + std::to_string(static_cast<int>(now - last_frame_host)) +
-            " s; reopening");
+      close(fmt::format("stalled: no frame for {:.1f} s; reopening", now - last_frame_host));
     }
   }
 }

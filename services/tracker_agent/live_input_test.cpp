@@ -1,7 +1,8 @@
 // LiveInput: a scripted camera and ROS 2 odometry over DDS (a private domain); each kind of bad
 // input becomes its named issue and clears when the source is good again; frames of the wrong
 // size and odometry that is not finite or goes back in time are dropped; odometry that restarts
-// with an older clock becomes a new timeline.
+// with an older clock becomes a new timeline; a real GStreamer pipeline that stalls is reopened and
+// recovers when its source returns.
 #include "tracker_agent/live_input.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "base/eventually.h"
+#include "camera_io/udp_test_frames.h"
 #include "transport/ros_messages.h"
 
 namespace fleetloc::tracker_agent {
@@ -57,12 +59,8 @@ class LiveInputTest : public ::testing::Test {
     config_.live.odometry_stale_s = 0.3;
     config_.live.issue_hold_s = 0.8;
     camera_.model.width_px = 64, camera_.model.height_px = 48;
-    auto input = LiveInput::Create(
-        config_, camera_, [this]() -> Result<std::unique_ptr<camera_io::CameraSource>> {
-          if (!script_.present) return NotFound("scripted: no camera");
-          ++script_.opens;
-          return std::unique_ptr<camera_io::CameraSource>(new ScriptedCamera(&script_));
-        });
+    LiveInput::CameraOpener opener = Opener();
+    auto input = LiveInput::Create(config_, camera_, std::move(opener));
     ASSERT_TRUE(input.ok()) << input.status().message();
     input_ = std::move(input).value();
     auto p = transport::Participant::Create(config_.domain_id);
@@ -76,6 +74,14 @@ class LiveInputTest : public ::testing::Test {
     writer_ =
         std::make_unique<transport::Writer<nav_msgs_msg_dds__Odometry_>>(std::move(writer).value());
     ASSERT_TRUE(Eventually([&] { return writer_->MatchedReaders() > 0; }, 10));
+  }
+  // The scripted camera (script_ says what it does).
+  virtual LiveInput::CameraOpener Opener() {
+    return [this]() -> Result<std::unique_ptr<camera_io::CameraSource>> {
+      if (!script_.present) return NotFound("scripted: no camera");
+      ++script_.opens;
+      return std::unique_ptr<camera_io::CameraSource>(new ScriptedCamera(&script_));
+    };
   }
   void SendOdometry(double t, double x) {
     nav_msgs_msg_dds__Odometry_ m{};
@@ -158,6 +164,54 @@ TEST_F(LiveInputTest, ASilentCameraIsStalledThenReopened) {
   script_.silent = false;
   Pump(0.2);
   EXPECT_FALSE(HasIssue("camera_stalled"));
+}
+
+// The same input over a real GStreamer pipeline: udpsrc, fed by the test, which stops sending
+// (the pipeline stalls) and resumes.
+class LiveInputGstreamerTest : public LiveInputTest {
+ protected:
+  LiveInput::CameraOpener Opener() override {
+    port_ = camera_io::testing::UdpFrameSender::FreePort();
+    config_.source = "gstreamer";
+    config_.live.gstreamer = {camera_io::testing::UdpGrayPipeline(port_, 64, 48), "buffer"};
+    return [this, open = LiveInput::OpenerFor(config_)] {
+      ++script_.opens;
+      return open();
+    };
+  }
+  // Pump() while sending a frame every 20 ms.
+  std::vector<InputEvent> PumpSending(double seconds) {
+    std::vector<InputEvent> events;
+    const cv::Mat frame(48, 64, CV_8UC1, cv::Scalar(9));
+    for (double sent = 0; sent < seconds; sent += 0.02) {
+      EXPECT_TRUE(sender_.Send(frame, port_));
+      for (InputEvent& e : Pump(0.02)) events.push_back(std::move(e));
+    }
+    return events;
+  }
+  int port_ = 0;
+  camera_io::testing::UdpFrameSender sender_;
+};
+
+TEST_F(LiveInputGstreamerTest, AStalledPipelineIsNamedReopenedAndRecoversWhenItsSourceReturns) {
+  ASSERT_GT(port_, 0);
+  EXPECT_GT(Count(PumpSending(0.5), InputEvent::Kind::kFrame), 5);
+  EXPECT_FALSE(HasIssue("camera_stalled"));
+  EXPECT_EQ(script_.opens, 1);
+  Pump(0.45);  // silent past camera_stall_s
+  EXPECT_TRUE(HasIssue("camera_stalled") || HasIssue("camera_unavailable"));
+  Pump(0.6);  // past camera_reopen_s: the pipeline was closed and started again
+  EXPECT_GE(script_.opens, 2);
+  const std::vector<InputEvent> back = PumpSending(0.6);
+  EXPECT_GT(Count(back, InputEvent::Kind::kFrame), 5);
+  double last = 0;
+  for (const InputEvent& e : back) {
+    if (e.kind != InputEvent::Kind::kFrame) continue;
+    EXPECT_GT(e.t, last);  // the new pipeline's buffer times, on the host clock, in order
+    last = e.t;
+  }
+  EXPECT_FALSE(HasIssue("camera_stalled"));
+  EXPECT_FALSE(HasIssue("camera_unavailable"));
 }
 
 TEST_F(LiveInputTest, BadOdometryIsDroppedAndNamedAndStaleOdometryIsNoticed) {

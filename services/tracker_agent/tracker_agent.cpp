@@ -23,7 +23,11 @@ namespace topics = transport::topics;
 
 TrackerAgent::TrackerAgent(const AgentConfig& config, const io::CameraFile& camera,
                            const std::optional<geometry::PoseWithCovariance>& initial)
-    : config_(config), camera_(camera), initial_(initial) {}
+    : config_(config),
+      camera_(camera),
+      initial_(initial),
+      extrapolation_s_(IsLiveSource(config.source) ? config.live.odometry_extrapolation_s : 0.0),
+      odometry_(10.0, extrapolation_s_) {}
 
 Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
     const AgentConfig& config, const io::CameraFile& camera,
@@ -125,6 +129,8 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
     return;  // a NaN or out-of-order sample is dropped, counted in the last error
   }
   latest_odometry_t_ = t;
+  CorrectExtrapolatedOdometry();
+  PublishDeferredMapToOdom();
   if (restart_pose_) {  // the first sample of a new odometry timeline
     tracker_->Reset(*restart_pose_, odom);
     propagator_->SetAnchor(t, odom, *std::exchange(restart_pose_, std::nullopt));
@@ -137,10 +143,16 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
 }
 
 void TrackerAgent::ProcessReadyFrames() {
-  while (!waiting_frames_.empty() && waiting_frames_.front().t <= latest_odometry_t_) {
+  while (!waiting_frames_.empty() && FrameReady(waiting_frames_.front().t)) {
     const WaitingFrame frame = std::move(waiting_frames_.front());
     waiting_frames_.pop_front();
-    if (frame.forward) {
+    const double span = ExtrapolatedSpan(frame.t);
+    extrapolated_frame_t_ = span > 0 ? std::optional<double>(frame.t) : std::nullopt;
+    if (span > 0) ++extrapolated_frames_, max_extrapolated_s_ = std::max(max_extrapolated_s_, span);
+    if (const std::string gap = InOdometryGap(frame.t); !gap.empty()) {
+      spdlog::warn("dropped: {}", gap);
+      health_.RecordDroppedFrame(gap);
+    } else if (frame.forward) {
       UpdatePosition(frame.t, frame.image);
     } else {
       Track(frame.t, frame.image);
@@ -197,7 +209,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   // (one round trip instead of one per tile it reads).
   Prefetch(t, propagator_->At(t, *odom).pose);
   const auto start = std::chrono::steady_clock::now();
-  tracking::FrameResult result = tracker_->Track(frame, t, *odom);
+  tracking::FrameResult result = tracker_->Track(frame, t, *odom, ExtrapolatedSpan(t));
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (std::exchange(provisional_, false) && result.state != tracking::LockState::kTracking) {
     spdlog::warn("the relocalized pose did not hold at t={:.3f}: lost again", t);
@@ -408,9 +420,10 @@ Status TrackerAgent::WriteSummary() const {
       position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
   summary["position_update"]["enabled"] = position_update_ != nullptr;
   const std::vector<double> latency(capture_to_pose_ms_.begin(), capture_to_pose_ms_.end());
-  summary["capture_to_pose_ms"] = {{"frames", latency.size()},
-                                   {"p50", latency.empty() ? 0.0 : replay::Percentile(latency, 50)},
-                                   {"p99", latency.empty() ? 0.0 : replay::Percentile(latency, 99)}};
+  summary["capture_to_pose_ms"] = LatencySummary(latency, poses_timed_);
+  summary["odometry_extrapolation"] = {{"frames", extrapolated_frames_},
+                                       {"max_ms", max_extrapolated_s_ * 1000.0},
+                                       {"horizon_ms", extrapolation_s_ * 1000.0}};
   summary["input_dropped_frames"] = input_ ? input_->DroppedFrames() : 0;
   return io::WriteFileAtomically(config_.summary_path, summary.dump(2) + "\n");
 }
@@ -421,6 +434,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       std::chrono::duration<double>(config_.health_period_s));
   if (config_.start_pose == "relocalize") WaitForPlaceIndex();
   input_ = &input;
+  if (initial_) WarmUp(0.0, initial_->pose);
   auto next_health = Clock::now();
   while (!stop.load()) {
     io::NotifyServiceAlive();  // READY=1, then the systemd watchdog

@@ -3,7 +3,8 @@
 // a TileUpdate announces a new version), publishes VehiclePose at the odometry rate (the last
 // tracked pose propagated with odometry, and the tracked pose itself at each frame's time) and
 // VehicleHealth periodically. Frames wait until odometry covers their time (delay compensation),
-// so the live results equal `fleetctl track` over the same run. Without an initial pose, and when
+// so the replayed results equal `fleetctl track` over the same run; a live frame a little past the
+// newest odometry runs at once on extrapolated odometry (live.odometry_extrapolation_s). Without an initial pose, and when
 // lock is lost, it relocalizes globally with the map server's place index; a relocalized pose is
 // provisional until the next frame tracks from it. With a forward camera and a landmark map, the
 // global position update corrects the pose whenever the downward camera is not tracking (or the
@@ -70,6 +71,23 @@ class TrackerAgent {
   // stamp is zero or not covered yet). Kept until odometry arrives when there is none.
   void ApplyInitialPose(const transport::RosPoseStamped& given);
   void ProcessReadyFrames();
+  // A waiting frame can run: odometry covers its time, or (live sources) it is at most
+  // live.odometry_extrapolation_s past the newest sample, which is then extrapolated.
+  bool FrameReady(double t) const;
+  // How far past the newest odometry sample frame time t is (0 when covered).
+  double ExtrapolatedSpan(double t) const { return std::max(0.0, t - latest_odometry_t_); }
+  // Once odometry covers the last frame that ran on extrapolated odometry: the tracker and the
+  // propagator continue from the odometry pose at its time instead of the extrapolated one.
+  void CorrectExtrapolatedOdometry();
+  // map -> odom of the frame poses published before odometry covered their time, sent once it
+  // does (with the odometry then, not the extrapolated one: map -> odom -> base_link is the pose).
+  void PublishDeferredMapToOdom();
+  // A live frame captured while odometry had stopped (the samples around it farther apart than
+  // live.odometry_stale_s): its odometry would be a guess; the reason to drop it, else empty.
+  std::string InOdometryGap(double t) const;
+  // Before the first frame: asks for the tiles around the start pose (no fetch in the first
+  // frames' cycles).
+  void WarmUp(double t, const geometry::Pose2& base);
   void Track(double t, const cv::Mat& frame);
   // Before the first frame of either camera: the tracker and the propagator start from the initial
   // pose (false without one: the first downward frame is to relocalize).
@@ -83,6 +101,11 @@ class TrackerAgent {
   // restarts the tracker there and publishes the pose as `relocalized`. True on success.
   bool TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom);
   Status WriteSummary() const;  // frames, cycle times, tiles, relocalization
+  // p50/p99 of the capture -> pose latencies (`latency`: the last of `total` measured), over all
+  // of them and over those after the first kWarmupPoses ("steady": tiles cached, caches warm),
+  // and those first ones themselves ("first_ms").
+  static nlohmann::json LatencySummary(const std::vector<double>& latency, long long total);
+  static constexpr long long kWarmupPoses = 20;
   // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.
   void Prefetch(double t, const geometry::Pose2& base);
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
@@ -137,7 +160,14 @@ class TrackerAgent {
   bool provisional_ = false;  // the pose came from relocalization and no frame tracked from it yet
   int coasting_in_a_row_ = 0;
   double last_relocalize_t_ = -1e300;
+  // Live sources extrapolate up to live.odometry_extrapolation_s past the newest sample; replay
+  // and simulation never do (frames wait until odometry covers them).
+  double extrapolation_s_ = 0.0;
   tracking::OdometryHistory odometry_{10.0, 0.0};
+  std::optional<double> extrapolated_frame_t_;  // the last frame run on extrapolated odometry
+  std::deque<std::pair<double, geometry::Pose2>> deferred_map_to_odom_;  // base_link in map at t
+  long long extrapolated_frames_ = 0;
+  double max_extrapolated_s_ = 0.0;
   std::optional<tracking::PosePropagator> propagator_;
   tracking::LockState state_ = tracking::LockState::kLost;
   std::unique_ptr<AgentPositionUpdate> position_update_;
@@ -162,6 +192,7 @@ class TrackerAgent {
   std::optional<transport::RosPoseStamped> pending_initial_;
   std::optional<geometry::PoseWithCovariance> restart_pose_;
   std::deque<double> capture_to_pose_ms_;
+  long long poses_timed_ = 0;  // poses whose latency was measured (capture_to_pose_ms_ keeps the last)
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -1,8 +1,12 @@
 // TrackerAgent on a live vehicle: poses and map -> odom out to the vehicle's ROS 2 stack (with the
-// capture -> pose latency), a start pose from its initialpose, odometry that restarts.
+// capture -> pose latency), a start pose from its initialpose (tiles around it fetched ahead),
+// odometry that restarts, frames run on odometry extrapolated past its newest sample.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "camera_io/camera_source.h"
+#include "replay/replay.h"
 #include "tracker_agent/tracker_agent.h"
 
 namespace fleetloc::tracker_agent {
@@ -12,13 +16,31 @@ void TrackerAgent::PublishRos(double t, const geometry::PoseWithCovariance& base
     if (Status sent = ros_->PublishPose(t, base); !sent.ok()) health_.RecordError(sent.message());
     if (IsLiveSource(config_.source)) {  // t is the frame's capture time on the host clock
       capture_to_pose_ms_.push_back((camera_io::HostNow() - t) * 1000.0);
+      ++poses_timed_;
       if (capture_to_pose_ms_.size() > 10000) capture_to_pose_ms_.pop_front();
     }
+  }
+  if (t > latest_odometry_t_) {  // a frame run on extrapolated odometry
+    deferred_map_to_odom_.emplace_back(t, base.pose);
+    if (deferred_map_to_odom_.size() > 16) deferred_map_to_odom_.pop_front();
+    return;
   }
   const Result<geometry::Pose2> odom = odometry_.At(t);
   if (!odom.ok()) return;
   if (Status sent = ros_->PublishMapToOdom(t, base.pose, *odom); !sent.ok())
     health_.RecordError(sent.message());
+}
+
+void TrackerAgent::PublishDeferredMapToOdom() {
+  while (ros_ && !deferred_map_to_odom_.empty() &&
+         deferred_map_to_odom_.front().first <= latest_odometry_t_) {
+    const auto [t, base] = deferred_map_to_odom_.front();
+    deferred_map_to_odom_.pop_front();
+    const Result<geometry::Pose2> odom = odometry_.At(t);
+    if (!odom.ok()) continue;
+    if (Status sent = ros_->PublishMapToOdom(t, base, *odom); !sent.ok())
+      health_.RecordError(sent.message());
+  }
 }
 
 void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
@@ -27,15 +49,17 @@ void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
     return;
   }
   pending_initial_.reset();
-  double t = given.t;
+  double t = given.t;  // anchored to recorded odometry, never to extrapolated
   Result<geometry::Pose2> odom = odometry_.At(t);
-  if (!odom.ok()) t = latest_odometry_t_, odom = odometry_.At(t);
+  if (!odom.ok() || t > latest_odometry_t_) t = latest_odometry_t_, odom = odometry_.At(t);
   if (!odom.ok()) return health_.RecordError("initial pose: " + odom.status().message());
   spdlog::info("initial pose from {}: ({:.4f}, {:.4f}, {:.2f} deg) at t={:.3f}",
                config_.ros.initialpose_topic, given.pose.pose.x, given.pose.pose.y,
                given.pose.pose.theta * 180.0 / M_PI, t);
   initial_ = given.pose;
+  WarmUp(t, given.pose.pose);
   tracker_->Reset(given.pose, *odom);
+  extrapolated_frame_t_.reset();
   started_ = true, provisional_ = false, coasting_in_a_row_ = 0;
   if (position_update_) position_update_->Forget();
   state_ = tracking::LockState::kCoasting;  // until a frame tracks from it
@@ -56,8 +80,58 @@ void TrackerAgent::OnOdometryRestart() {
   for (size_t i = 0; i < waiting_frames_.size(); ++i)
     health_.RecordDroppedFrame("odometry restarted");
   waiting_frames_.clear();
-  odometry_ = tracking::OdometryHistory(10.0, 0.0);
+  odometry_ = tracking::OdometryHistory(10.0, extrapolation_s_);
   latest_odometry_t_ = -1e300;
+  extrapolated_frame_t_.reset();
+  deferred_map_to_odom_.clear();
+}
+
+bool TrackerAgent::FrameReady(double t) const {
+  if (t <= latest_odometry_t_) return true;
+  // Constant-velocity extrapolation needs a velocity: two samples of the current timeline.
+  return extrapolation_s_ > 0 && odometry_.size() >= 2 &&
+         t - latest_odometry_t_ <= extrapolation_s_;
+}
+
+void TrackerAgent::CorrectExtrapolatedOdometry() {
+  if (!extrapolated_frame_t_ || *extrapolated_frame_t_ > latest_odometry_t_) return;
+  const double t = *std::exchange(extrapolated_frame_t_, std::nullopt);
+  const Result<geometry::Pose2> odom = odometry_.At(t);
+  if (!odom.ok()) return;
+  tracker_->CorrectOdometry(t, *odom);
+  propagator_->CorrectAnchorOdometry(t, *odom);
+}
+
+std::string TrackerAgent::InOdometryGap(double t) const {
+  if (!IsLiveSource(config_.source)) return "";  // recorded runs: as fleetctl track does
+  const double gap = odometry_.GapAround(t);
+  if (gap <= config_.live.odometry_stale_s) return "";
+  return "frame at t=" + std::to_string(t) +
+         " captured while odometry had stopped (no sample for " + std::to_string(gap) + " s)";
+}
+
+void TrackerAgent::WarmUp(double t, const geometry::Pose2& base) {
+  if (started_) return;
+  spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.x,
+               base.y);
+  Prefetch(t, base);
+}
+
+nlohmann::json TrackerAgent::LatencySummary(const std::vector<double>& latency, long long total) {
+  auto percentiles = [](const std::vector<double>& v) {
+    return nlohmann::json{{"frames", v.size()},
+                          {"p50", v.empty() ? 0.0 : replay::Percentile(v, 50)},
+                          {"p99", v.empty() ? 0.0 : replay::Percentile(v, 99)}};
+  };
+  // The first kWarmupPoses of the stream that are still kept.
+  const long long dropped_before = total - static_cast<long long>(latency.size());
+  const size_t skip = static_cast<size_t>(
+      std::clamp(kWarmupPoses - dropped_before, 0LL, static_cast<long long>(latency.size())));
+  nlohmann::json all = percentiles(latency);
+  all["steady"] = percentiles(std::vector<double>(latency.begin() + skip, latency.end()));
+  all["steady"]["after_poses"] = kWarmupPoses;
+  all["first_ms"] = std::vector<double>(latency.begin(), latency.begin() + skip);  // warm-up's
+  return all;
 }
 
 }  // namespace fleetloc::tracker_agent

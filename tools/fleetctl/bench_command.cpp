@@ -229,14 +229,20 @@ void RegisterBenchAgent(CLI::App* bench, Status* result) {
   // --source aravis: a live vehicle (fake GigE Vision camera, ROS 2 odometry) instead of a replay.
   auto source = std::make_shared<std::string>("replay");
   auto rate = std::make_shared<double>(10.0);
-  agent->add_option("--source", *source, "replay (cycle time, live vs offline) or aravis (a live camera: "
+  agent->add_option("--source", *source, "replay (cycle time, live vs offline), aravis or gstreamer (a live "
+                                         "fake GigE Vision camera read by the Aravis source or by aravissrc: "
                                          "capture -> pose latency, live/offline accuracy)")
-      ->check(CLI::IsMember({"replay", "aravis"}));
-  agent->add_option("--rate", *rate, "Camera frame rate, Hz (--source aravis)")->check(CLI::Range(1.0, 50.0));
-  agent->callback([s, source, rate, result] {
+      ->check(CLI::IsMember({"replay", "aravis", "gstreamer"}));
+  agent->add_option("--rate", *rate, "Camera frame rate, Hz (live sources)")->check(CLI::Range(1.0, 50.0));
+  auto extrapolation = std::make_shared<double>(LiveAgentBenchSettings().odometry_extrapolation_s);
+  agent->add_option("--odometry-extrapolation", *extrapolation,
+                    "The agent's live.odometry_extrapolation_s (live sources; 0: frames wait for odometry)")
+      ->check(CLI::Range(0.0, 0.1));
+  agent->callback([s, source, rate, extrapolation, result] {
     if (*source == "replay") return void(*result = RunAgentBench(*s));
     const bool frames_given = s->frames != AgentBenchSettings().frames;
-    *result = RunLiveAgentBench({s->work_dir, frames_given ? s->frames : 300, *rate, s->domain, s->json});
+    *result = RunLiveAgentBench({s->work_dir, frames_given ? s->frames : 300, *rate, s->domain, s->json,
+                                 *source, *extrapolation});
   });
 }
 
