@@ -249,7 +249,9 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
   Faults faults;
-  faults.camera_gone_at = 3.0, faults.camera_back_at = 4.5;
+  // Unplugged for 2 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
+  // while the camera is still gone (with 1.5 s, under load the first reopening came too late).
+  faults.camera_gone_at = 3.0, faults.camera_back_at = 5.0;
   // Odometry 1.0-1.1 s after the first frame carries NaN; 2.0-2.05 s it is stamped 1 s back.
   std::vector<double> odometry_t;
   faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
@@ -263,8 +265,8 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   };
   int after_return = 0;
   const LiveRun run =
-      DriveLive(server, "faults", 80, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        after_return = PosesOnTruthFrom(drive, r, 5.5);
+      DriveLive(server, "faults", 90, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+        after_return = PosesOnTruthFrom(drive, r, 6.0);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :
