@@ -51,12 +51,6 @@ int PlannedDrive::FrameAt(double t) const {
   return static_cast<int>(std::clamp<long>(i, 0, static_cast<long>(images_.size()) - 1));
 }
 
-int PlannedDrive::FrameCapturedBy(double t) const {
-  // 1 µs of slack: a fill on the planned frame's own instant shows that frame.
-  const long i = static_cast<long>(std::floor((t - first_frame_t()) * rate_hz_ + 1e-6 * rate_hz_));
-  return static_cast<int>(std::clamp<long>(i, 0, static_cast<long>(images_.size()) - 1));
-}
-
 Result<std::unique_ptr<OdometryPublisher>> OdometryPublisher::Create(
     const transport::Participant& p, std::vector<geometry::StampedPose> samples, Mangle mangle,
     double min_gap_s, const std::string& topic) {
@@ -110,12 +104,7 @@ bool FakeGigECamera::running() const { return arv_gv_fake_camera_is_running(came
 void FakeGigECamera::Fill(ArvBuffer* buffer, void* self_ptr, unsigned, unsigned, unsigned) {
   auto* self = static_cast<FakeGigECamera*>(self_ptr);
   const double now = static_cast<double>(arv_buffer_get_timestamp(buffer)) * 1e-9;  // fill time
-  // The newest planned frame captured by now: a fill that came late (the fake camera's thread
-  // stalled past half a period) shows its own frame late, not the next one early. (The nearest
-  // frame did: a capture time up to half a period after the fill, a negative transfer delay that
-  // became the agent's clock-mapping minimum and moved every later frame's stamp that much early,
-  // and the next fill then showed the same frame again, dropped as not after the previous one.)
-  const int i = self->drive_->FrameCapturedBy(now);
+  const int i = self->drive_->FrameAt(now);
   const cv::Mat& image = self->drive_->image(i);
   // The buffer holds the payload (its received size is set after the fill: 0 here).
   void* data = const_cast<void*>(arv_buffer_get_data(buffer, nullptr));

@@ -45,9 +45,6 @@ class PlannedDrive {
   double last_frame_t() const { return sim_->truth().back().t; }
   // The planned frame nearest to host time t (clamped to the drive).
   int FrameAt(double t) const;
-  // The newest planned frame captured at or before host time t (clamped to the drive): what a
-  // camera can have delivered by then. A camera never delivers a frame before its capture.
-  int FrameCapturedBy(double t) const;
   const cv::Mat& image(int i) const { return images_[i]; }
   double frame_t(int i) const { return sim_->truth()[i].t; }
   int frame_count() const { return static_cast<int>(images_.size()); }
