@@ -144,9 +144,18 @@ void LiveInput::Accept(camera_io::CapturedFrame frame) {
                          std::to_string(expected_size_.height),
                      true);
   }
-  if (camera_watch_.Check(frame.t, std::isfinite(frame.t), frame.arrival_t) != SampleVerdict::kOk) {
-    return DropFrame("frame time " + std::to_string(frame.t) + " not after the previous frame's",
-                     true);
+  // A frame time that is not finite, or not after the previous frame's (a repeat or a clock that
+  // went back), is dropped and named (camera_time_not_finite, camera_back_in_time): the tracker
+  // runs frames in time order only. Not a wrong format: the image itself is fine.
+  switch (camera_watch_.Check(frame.t, std::isfinite(frame.t), frame.arrival_t)) {
+    case SampleVerdict::kOk:
+      break;
+    case SampleVerdict::kNotFinite:
+      return DropFrame("frame time is not finite", false);
+    case SampleVerdict::kBackInTime:
+      return DropFrame(fmt::format("frame time {:.6f} not after the previous frame's {:.6f}",
+                                   frame.t, camera_watch_.last_good_t().value_or(NAN)),
+                       false);
   }
   if (frames_.size() >= static_cast<size_t>(options_.frame_queue)) {
     frames_.pop_front();
@@ -252,6 +261,16 @@ std::vector<InputIssue> LiveInput::Issues() const {
   }
   if (now - wrong_format_host_s_ <= options_.issue_hold_s)
     issues.push_back({"camera_wrong_format", false, wrong_format_});
+  if (camera_watch_.Recent(SampleVerdict::kBackInTime, now)) {
+    issues.push_back({"camera_back_in_time", false,
+                      std::to_string(camera_watch_.count(SampleVerdict::kBackInTime)) +
+                          " frames not after the previous frame's time dropped"});
+  }
+  if (camera_watch_.Recent(SampleVerdict::kNotFinite, now)) {
+    issues.push_back({"camera_time_not_finite", false,
+                      std::to_string(camera_watch_.count(SampleVerdict::kNotFinite)) +
+                          " frames with a NaN or infinite time dropped"});
+  }
   const long long lost = closed_stats_.lost_packets + camera_stats_.lost_packets;
   const long long resent = closed_stats_.resent_packets + camera_stats_.resent_packets;
   if (lost > 0 || resent > 0) {

@@ -26,6 +26,7 @@ struct Script {
   std::atomic<bool> failing{false};  // Grab reports the device gone
   std::atomic<bool> silent{false};   // Grab times out
   std::atomic<int> width{64};
+  std::atomic<bool> repeat_time{false};  // frames carry the previous frame's time again
   std::atomic<int> opens{0};
 };
 
@@ -39,6 +40,8 @@ class ScriptedCamera : public camera_io::CameraSource {
     camera_io::CapturedFrame frame;
     frame.image = cv::Mat(48, script_->width, CV_8UC1, cv::Scalar(7));
     frame.t = frame.arrival_t = camera_io::HostNow();
+    if (script_->repeat_time && last_t_ > 0) frame.t = last_t_;
+    last_t_ = frame.t;
     return std::optional<camera_io::CapturedFrame>(frame);
   }
   camera_io::CameraStats stats() const override { return {}; }
@@ -46,6 +49,7 @@ class ScriptedCamera : public camera_io::CameraSource {
 
  private:
   Script* script_;
+  double last_t_ = 0.0;
 };
 
 class LiveInputTest : public ::testing::Test {
@@ -137,6 +141,27 @@ TEST_F(LiveInputTest, FramesOfTheWrongSizeAreDroppedAndNamedUntilTheSizeIsRight)
   EXPECT_GT(Count(Pump(0.3), InputEvent::Kind::kFrame), 5);
   Pump(0.8);  // the hold
   EXPECT_FALSE(HasIssue("camera_wrong_format"));
+}
+
+// A camera whose frame time does not advance (a repeated frame, a device clock mapped back): the
+// frames are dropped before the tracker, counted, and named camera_back_in_time (not a wrong
+// format: the image is fine) until the hold after time advances again.
+TEST_F(LiveInputTest, FramesWhoseTimeDoesNotAdvanceAreDroppedAndNamedBackInTime) {
+  std::vector<InputEvent> events = Pump(0.3);
+  ASSERT_GT(Count(events, InputEvent::Kind::kFrame), 0);
+  EXPECT_FALSE(HasIssue("camera_back_in_time"));
+  script_.repeat_time = true;
+  const long long dropped_before = input_->DroppedFrames();
+  events = Pump(0.3);
+  EXPECT_LE(Count(events, InputEvent::Kind::kFrame), 1);  // at most one grabbed before the switch
+  EXPECT_GE(input_->DroppedFrames() - dropped_before, 5);
+  EXPECT_TRUE(HasIssue("camera_back_in_time"));
+  EXPECT_FALSE(HasIssue("camera_wrong_format"));
+  script_.repeat_time = false;
+  events = Pump(0.3);
+  EXPECT_GT(Count(events, InputEvent::Kind::kFrame), 0);
+  Pump(config_.live.issue_hold_s);
+  EXPECT_FALSE(HasIssue("camera_back_in_time"));  // the hold has passed
 }
 
 TEST_F(LiveInputTest, ACameraThatGoesAwayIsUnavailableThenReopened) {

@@ -68,7 +68,8 @@ class TrackerAgent {
   void OnOdometryRestart();
   // A start pose from the vehicle's stack (ROS initialpose, base_link in map at its stamp):
   // the tracker restarts there, anchored to the odometry at the stamp (or the latest, when the
-  // stamp is zero or not covered yet). Kept until odometry arrives when there is none.
+  // stamp is zero or not covered yet); refused when stamped before the odometry history (the
+  // vehicle may have moved since: AnchorInitialPose). Kept until odometry arrives when there is none.
   void ApplyInitialPose(const transport::RosPoseStamped& given);
   void ProcessReadyFrames();
   // A waiting frame can run: odometry covers its time, or (live sources) it is at most

@@ -7,6 +7,7 @@
 
 #include "camera_io/camera_source.h"
 #include "replay/replay.h"
+#include "tracker_agent/initial_pose_anchor.h"
 #include "tracker_agent/tracker_agent.h"
 
 namespace fleetloc::tracker_agent {
@@ -49,9 +50,14 @@ void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
     return;
   }
   pending_initial_.reset();
-  double t = given.t;  // anchored to recorded odometry, never to extrapolated
+  // Anchored to recorded odometry, never to extrapolated; refused when older than the history.
+  const InitialPoseAnchor anchor = AnchorInitialPose(given.t, odometry_, latest_odometry_t_);
+  if (!anchor.ok) {
+    spdlog::warn("initial pose from {} refused: {}", config_.ros.initialpose_topic, anchor.reason);
+    return health_.RecordError("initial pose: " + anchor.reason);
+  }
+  const double t = anchor.t;
   Result<geometry::Pose2> odom = odometry_.At(t);
-  if (!odom.ok() || t > latest_odometry_t_) t = latest_odometry_t_, odom = odometry_.At(t);
   if (!odom.ok()) return health_.RecordError("initial pose: " + odom.status().message());
   spdlog::info("initial pose from {}: ({:.4f}, {:.4f}, {:.2f} deg) at t={:.3f}",
                config_.ros.initialpose_topic, given.pose.pose.x, given.pose.pose.y,

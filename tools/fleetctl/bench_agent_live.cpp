@@ -21,7 +21,10 @@
 #include "live_sim/live_vehicle_sim.h"
 #include "tracker_agent/ros_bridge.h"
 #include "tracker_summary.h"
+#include "transport/pose_messages.h"
 #include "transport/ros_messages.h"
+#include "transport/topic_names.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -132,11 +135,22 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   auto init_writer =
       transport::Writer<PoseMsg>::Create(p.get(), *init_topic, tracker_agent::RosDefaultQos());
   if (!init_writer.ok()) return init_writer.status();
+  // The agent's own pose stream carries the lock state (the ROS 2 pose does not): every pose it
+  // publishes, frame-time and odometry-rate, is checked against the truth by state.
+  auto fleet_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  if (!fleet_topic.ok()) return fleet_topic.status();
+  auto fleet_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *fleet_topic, transport::Qos().Reliable().Volatile().KeepLast(5000));
+  if (!fleet_reader.ok()) return fleet_reader.status();
   std::map<double, geometry::Pose2> poses;
+  std::vector<transport::PoseReport> reports;
   auto take = [&] {
     (void)pose_reader->TakeAll([&](const PoseMsg& m, const dds_sample_info_t&) {
       const transport::RosPoseStamped pose = transport::FromIdl(m);
       poses[pose.t] = pose.pose.pose;
+    });
+    (void)fleet_reader->TakeAll([&](const fleetloc_VehiclePose& m, const dds_sample_info_t&) {
+      reports.push_back(transport::FromIdl(m));
     });
   };
   {
@@ -171,6 +185,39 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     stamp_offsets.push_back(t - d.frame_t(i));  // the pose's stamp minus the true capture time
   }
   const double stamp_offset_ms = Median(stamp_offsets) * 1000.0;
+  // Lock states vs truth: a frame's pose against the truth of the planned frame nearest its
+  // stamp, an odometry-rate pose against the truth at its time. A tracked or relocalized frame pose more
+  // than kFalseLockM from the truth is a false lock.
+  constexpr double kFalseLockM = 0.002;
+  nlohmann::json by_state = nlohmann::json::object();
+  long long false_locks = 0;
+  std::string pose_log = "t,state,frame,stamp_minus_frame_s,at_frame,error_m\n";
+  for (const transport::PoseReport& r : reports) {
+    // A frame's pose (not an odometry-rate one): the ROS 2 pose topic has it too (every state
+    // but lost), or it is lost (published at frame times only).
+    const int i = d.FrameAt(r.t);
+    const auto ros = poses.lower_bound(r.t - 2e-6);
+    const bool at_frame = r.state == tracking::LockState::kLost ||
+                          (ros != poses.end() && std::abs(ros->first - r.t) < 2e-6);
+    const geometry::Pose2 truth = at_frame ? d.sim().truth()[i].pose : d.TruthAt(r.t);
+    const double error = std::hypot(r.base_in_map.pose.x - truth.x, r.base_in_map.pose.y - truth.y);
+    const std::string key =
+        std::string(tracking::LockStateName(r.state)) + (at_frame ? "" : "_propagated");
+    nlohmann::json& e = by_state[key];
+    if (e.is_null()) e = {{"poses", 0}, {"max_error_m", 0.0}, {"over_1px", 0}};
+    e["poses"] = e.value("poses", 0) + 1;
+    e["max_error_m"] = std::max(e.value("max_error_m", 0.0), error);
+    if (error > 0.0005) e["over_1px"] = e.value("over_1px", 0) + 1;
+    if (at_frame && error > kFalseLockM && (r.state == tracking::LockState::kTracking ||
+                                            r.state == tracking::LockState::kRelocalized)) {
+      ++false_locks;
+      spdlog::warn("false lock: {} pose at t={:.3f} is {:.1f} mm from the truth",
+                   tracking::LockStateName(r.state), r.t, error * 1000);
+    }
+    pose_log += fmt::format("{:.6f},{},{},{:.6f},{},{:.6f}\n", r.t, tracking::LockStateName(r.state),
+                            i, r.t - d.frame_t(i), at_frame ? 1 : 0, error);
+  }
+  (void)io::WriteFileAtomically(work + "/live_poses_vs_truth.csv", pose_log);
   spdlog::info("bench agent ({}): offline tracker over the same frames", s.source);
   Result<replay::ReplayResult> offline = TrackOffline(*mosaic, *run, {}, 256);
   if (!offline.ok()) return offline.status();
@@ -211,6 +258,10 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
       live_rms * 1000, live_errors.size(), accuracy.position_rms_m * 1000, accuracy.frames, ratio);
   std::printf("frames dropped before tracking: %lld\n",
               summary["input_dropped_frames"].get<long long>());
+  std::printf("lock states vs truth (agent pose stream, %zu poses): %s\n", reports.size(),
+              by_state.dump().c_str());
+  std::printf("false locks (tracking/relocalized frame pose > %.0f mm from truth): %lld\n",
+              kFalseLockM * 1000, false_locks);
   if (s.json.empty()) return Status::Ok();
   const nlohmann::json out{{"source", s.source},
                            {"odometry_extrapolation", summary["odometry_extrapolation"]},
@@ -223,7 +274,9 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
                            {"live_frames", live_errors.size()},
                            {"offline_rms_m", accuracy.position_rms_m},
                            {"live_offline_ratio", ratio},
-                           {"input_dropped_frames", summary["input_dropped_frames"]}};
+                           {"input_dropped_frames", summary["input_dropped_frames"]},
+                           {"lock_states_vs_truth", by_state},
+                           {"false_locks", false_locks}};
   return io::WriteFileAtomically(s.json, out.dump(2) + "\n");
 }
 
