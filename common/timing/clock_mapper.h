@@ -28,6 +28,9 @@ class ClockMapper {
   // The current offset (host − device); nullopt before the first sample.
   std::optional<double> offset() const;
   long long resets() const { return resets_; }
+  // Samples since the first or the last restart: the offset is only the smallest delay of these,
+  // so the first few captures' times may be late by their whole transport delay.
+  long long samples() const { return samples_; }
 
  private:
   struct Sample {
@@ -37,6 +40,7 @@ class ClockMapper {
   ClockMapperOptions options_;
   std::deque<Sample> window_;  // increasing offsets (a monotonic deque: the front is the minimum)
   long long resets_ = 0;
+  long long samples_ = 0;
 };
 
 }  // namespace fleetloc::timing

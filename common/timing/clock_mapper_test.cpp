@@ -32,11 +32,14 @@ TEST(ClockMapper, ADeviceClockRestartStartsANewWindow) {
   ClockMapper mapper;
   for (int i = 0; i < 20; ++i) mapper.Map(100.0 + i * 0.1, 5000.0 + i * 0.1 + 0.001);
   EXPECT_NEAR(*mapper.offset(), 4900.001, 1e-9);
+  EXPECT_EQ(mapper.samples(), 20);
   // The camera rebooted: its counter starts again near zero.
   const double mapped = mapper.Map(0.2, 5010.0 + 0.002);
   EXPECT_NEAR(mapped, 5010.002, 1e-9);
   EXPECT_EQ(mapper.resets(), 1);
+  EXPECT_EQ(mapper.samples(), 1);  // a new mapping: its first captures are not yet to be trusted
   EXPECT_NEAR(mapper.Map(0.3, 5010.1 + 0.001), 5010.101, 1e-9);
+  EXPECT_EQ(mapper.samples(), 2);
 }
 
 TEST(ClockMapper, TheOffsetFollowsADriftingClockThroughTheWindow) {
