@@ -63,19 +63,8 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   const fs::path dir = server.dir() / name;
   fs::create_directories(dir);
   EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
-  nlohmann::json config = {{"vehicle_id", "agv-20"},
-                           {"domain", kDomain},
-                           {"source", "aravis"},
-                           {"camera", (dir / "camera.json").string()},
-                           {"outbox", (dir / "outbox.db").string()},
-                           {"health_period_s", 0.2},
-                           {"drain_s", 0.0},
-                           {"live", {{"camera_reopen_s", 1.0}}},
-                           {"aravis",
-                            {{"device", "127.0.0.1"},
-                             {"region", {0, 0, 640, 480}},
-                             {"frame_rate_hz", 10.0},
-                             {"packet_size", 8192}}}};
+  nlohmann::json config = testing::AravisAgentConfig("agv-20", kDomain, dir);
+  config["live"] = {{"camera_reopen_s", 1.0}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
   io::ChildProcess agent = testing::StartDaemon(

@@ -53,18 +53,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
     for (const geometry::StampedPose& s : drive.odometry())
       odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
   }
-  const nlohmann::json config = {{"vehicle_id", "agv-21"},
-                                 {"domain", kDomain},
-                                 {"source", "aravis"},
-                                 {"camera", (dir / "camera.json").string()},
-                                 {"outbox", (dir / "outbox.db").string()},
-                                 {"health_period_s", 0.2},
-                                 {"drain_s", 0.0},
-                                 {"aravis",
-                                  {{"device", "127.0.0.1"},
-                                   {"region", {0, 0, 640, 480}},
-                                   {"frame_rate_hz", 10.0},
-                                   {"packet_size", 8192}}}};
+  const nlohmann::json config = testing::AravisAgentConfig("agv-21", kDomain, dir);
   std::ofstream(dir / "agent.json") << config.dump(2);
   io::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
 #include "base/eventually.h"
 #include "camera_io/camera_source.h"
 #include "live_sim/live_vehicle_sim.h"
@@ -31,6 +35,24 @@ inline std::unique_ptr<live_sim::OdometryPublisher> PublishOdometry(
   auto publisher = live_sim::OdometryPublisher::Create(p, samples, std::move(mangle), min_gap_s);
   if (!publisher.ok()) ADD_FAILURE() << publisher.status().message(), std::abort();
   return std::move(publisher).value();
+}
+
+// A tracker agent's configuration for the fake GigE Vision camera on 127.0.0.1 (640×480 at 10 Hz),
+// with its camera file, outbox and working files in `dir`.
+inline nlohmann::json AravisAgentConfig(const std::string& vehicle_id, int domain,
+                                        const std::filesystem::path& dir) {
+  return {{"vehicle_id", vehicle_id},
+          {"domain", domain},
+          {"source", "aravis"},
+          {"camera", (dir / "camera.json").string()},
+          {"outbox", (dir / "outbox.db").string()},
+          {"health_period_s", 0.2},
+          {"drain_s", 0.0},
+          {"aravis",
+           {{"device", "127.0.0.1"},
+            {"region", {0, 0, 640, 480}},
+            {"frame_rate_hz", 10.0},
+            {"packet_size", 8192}}}};
 }
 
 // The vehicle stack's side of the agent's ROS 2 pose topics (docs/topics.md): a reader of the
