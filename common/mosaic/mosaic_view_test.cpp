@@ -101,6 +101,14 @@ TEST(MosaicView, MissingAndUnreadableTilesLeaveZerosAndAreCounted) {
   EXPECT_EQ(view.missing_tiles(), 1);
   EXPECT_EQ(view.unreadable_tiles(), 1);
 
+  // The block's memory is not zeroed in advance: a missing tile's pixels are zeroed even where
+  // the allocator hands back memory that held another block's pixels.
+  for (int i = 0; i < 5; ++i) {
+    { const cv::Mat textured = view.ReadBlock(0, {256, 256, 256, 256}); }
+    const cv::Mat reused = view.ReadBlock(0, {0, 0, 256, 256});
+    EXPECT_EQ(cv::countNonZero(reused(cv::Rect(128, 0, 128, 128))), 0);
+  }
+
   MosaicView failing(
       mosaic.layout,
       [](const TileKey&) -> Result<cv::Mat> {
