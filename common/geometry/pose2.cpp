@@ -27,6 +27,10 @@ Eigen::Vector2d Pose2::operator*(const Eigen::Vector2d& p) const {
   return {x + c * p.x() - s * p.y(), y + s * p.x() + c * p.y()};
 }
 
+Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
+  return {a.x - b.x, a.y - b.y, WrapAngle(a.theta - b.theta)};
+}
+
 Pose2 Between(const Pose2& a, const Pose2& b) { return a.Inverse() * b; }
 
 Eigen::Matrix3d ComposeJacobianA(const Pose2& a, const Pose2& b) {

@@ -23,6 +23,10 @@ struct Pose2 {
   static Pose2 FromVector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 };
 
+// a − b in map coordinates (x, y, wrapped theta): the error vector of a against b that the
+// covariances (x, y, theta in the parent frame) describe.
+Eigen::Vector3d Difference(const Pose2& a, const Pose2& b);
+
 // a⁻¹ ⊕ b: the increment that takes a to b.
 Pose2 Between(const Pose2& a, const Pose2& b);
 

@@ -15,6 +15,7 @@ namespace fleetloc::mapping {
 namespace {
 
 using geometry::Pose2;
+using geometry::Difference;
 using geometry::PoseWithCovariance;
 
 // The reference frame seen as a mosaic lives in a local frame L with the image's axes (x right,
@@ -26,10 +27,6 @@ const Pose2 kReferenceInLocal{0.0, 0.0, M_PI / 2};
 geometry::Geotransform LocalGeotransform(const geometry::CameraModel& camera) {
   return {-camera.cx_px * camera.resolution_m, camera.cy_px * camera.resolution_m,
           camera.resolution_m};
-}
-
-Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
-  return {a.x - b.x, a.y - b.y, geometry::WrapAngle(a.theta - b.theta)};
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 namespace fleetloc::tracking {
 
 using geometry::Pose2;
+using geometry::Difference;
 using geometry::PoseWithCovariance;
 
 namespace {
@@ -76,10 +77,6 @@ Eigen::Matrix3d RotationBlock(const Pose2& pose) { return geometry::ComposeJacob
 Pose2 ApplyStep(const Pose2& pose, const Eigen::Vector3d& q_px, double resolution_m) {
   const Pose2 q{q_px.x() * resolution_m, q_px.y() * resolution_m, q_px.z()};
   return pose * q.Inverse();
-}
-
-Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
-  return {a.x - b.x, a.y - b.y, geometry::WrapAngle(a.theta - b.theta)};
 }
 
 // Largest 1-sigma displacement (level-0 px) over the frame corners under `covariance`.

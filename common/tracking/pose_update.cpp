@@ -10,11 +10,8 @@ namespace fleetloc::tracking {
 namespace {
 
 using geometry::Pose2;
+using geometry::Difference;
 using geometry::PoseWithCovariance;
-
-Eigen::Vector3d Difference(const Pose2& a, const Pose2& b) {
-  return {a.x - b.x, a.y - b.y, geometry::WrapAngle(a.theta - b.theta)};
-}
 
 // Iterated EKF: x ← x̂ + (P⁻¹ + HᵀR⁻¹H)⁻¹ HᵀR⁻¹ (z − h(x) − H(x̂ − x)), linearized at x.
 PoseWithCovariance Solve(const PoseWithCovariance& prior, const std::vector<Correspondence>& m,
