@@ -53,7 +53,8 @@ class DensePlaceSearch {
                                                           const DensePlaceSearchOptions& options);
 
   // The heading sweep of `frame` (CV_8UC1, the camera's size) at the coarse level (or, slower,
-  // at the refine level), one heading at a time: heading k of heading_steps(level) is
+  // at the refine level), one heading at a time, in no set order (k and k + heading_steps / 2,
+  // its turn by π, are computed together): heading k of heading_steps(level) is
   // sweep_heading_rad(k, level); `scores` covers the padded mosaic at that level, its pixel (x, y)
   // the masked correlation with the frame's centre at continuous coordinates (x, y) (0 where the
   // frame does not fit); `suppress_px` the radius within which another maximum is the same peak.
@@ -71,6 +72,10 @@ class DensePlaceSearch {
   // (the SweepMap layout; returns its suppress_px, 0 when the frame does not fit the mosaic).
   cv::Mat NormalizedFrame(const cv::Mat& frame, SweepLevel level) const;
   int ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred) const;
+  // ScoresAt, and the map at θ + π into *turned (null: not computed) for a little more than the
+  // cost of one (imaging::MaskedCorrelator::MatchWithTurned).
+  int ScoresAtAndTurned(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred,
+                        cv::Mat* turned) const;
   // Continuous pixel coordinates of a map point at the level (the SweepMap layout).
   Eigen::Vector2d SweepPixel(const Eigen::Vector2d& map_xy, SweepLevel level) const;
 
@@ -79,7 +84,7 @@ class DensePlaceSearch {
   std::vector<DensePeak> Search(const cv::Mat& frame,
                                 const std::function<void(const SweepMap&)>& also = {}) const;
 
-  int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;
+  int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;  // even
   double sweep_heading_rad(int k, SweepLevel level = SweepLevel::kCoarse) const;
   cv::Size sweep_size(SweepLevel level = SweepLevel::kCoarse) const;
   double sweep_resolution_m(SweepLevel level = SweepLevel::kCoarse) const;
