@@ -93,8 +93,7 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   RelocTrial out;
   for (int k = 0; k < s.attempts && !(out.found && (out.single_found || !multi)); ++k) {
     const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
-    const Eigen::Vector2d velocity =
-        ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
+    const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
     Result<mapmatch::Relocalization> r =
@@ -165,7 +164,7 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
   int correct = 0, within = 0, wrong = 0, not_found = 0;
   int single_within = 0, single_wrong = 0, single_none = 0;
-  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
+  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify, dense, dense_fine, trajectory;
   for (const RelocTrial& t : trials) {
     single_within += t.single_correct && t.single_time_s <= s.target_s;
     single_wrong += t.single_found && !t.single_correct;
@@ -178,6 +177,10 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
     for (const mapmatch::Relocalization& r : t.runs) {
       attempt_ms.push_back(Ms(r) + r.trajectory_ms);
       detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
+      // The dense stages' p50 over the attempts they ran in.
+      if (r.dense) dense.push_back(r.dense_ms - r.dense_fine_ms);
+      if (r.dense_fine) dense_fine.push_back(r.dense_fine_ms);
+      if (r.trajectory_frames > 0) trajectory.push_back(r.trajectory_ms);
     }
   }
   const double n = static_cast<double>(trials.size());
@@ -187,21 +190,24 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"max", replay::Percentile(v, 100)}};
   };
   nlohmann::json stats = {{"trials", trials.size()},
-          {"correct", correct},
-          {"success_rate", correct / n},
-          {"correct_within_target", within},
-          {"success_rate_within_target", within / n},
-          {"wrong_pose", wrong},
-          {"not_found", not_found},
-          {"time_to_correct_pose_ms", pct(to_pose_ms)},
-          {"attempt_ms", pct(attempt_ms)},
-          {"attempts", attempt_ms.size()},
-          {"failures", Failures(trials)},
-          {"accepted", Accepted(trials)},
-          {"stage_ms_p50",
-           {{"detect", replay::Percentile(detect, 50)},
-            {"match", replay::Percentile(match, 50)},
-            {"verify", replay::Percentile(verify, 50)}}}};
+                          {"correct", correct},
+                          {"success_rate", correct / n},
+                          {"correct_within_target", within},
+                          {"success_rate_within_target", within / n},
+                          {"wrong_pose", wrong},
+                          {"not_found", not_found},
+                          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+                          {"attempt_ms", pct(attempt_ms)},
+                          {"attempts", attempt_ms.size()},
+                          {"failures", Failures(trials)},
+                          {"accepted", Accepted(trials)},
+                          {"stage_ms_p50",
+                           {{"detect", replay::Percentile(detect, 50)},
+                            {"match", replay::Percentile(match, 50)},
+                            {"verify", replay::Percentile(verify, 50)},
+                            {"dense", replay::Percentile(dense, 50)},
+                            {"dense_fine", replay::Percentile(dense_fine, 50)},
+                            {"trajectory", replay::Percentile(trajectory, 50)}}}};
   if (s.relocalizer.trajectory_frames > 1) {
     stats["trajectory_frames"] = s.relocalizer.trajectory_frames;
     stats["single_frame"] = {{"correct_within_target", single_within},
@@ -210,7 +216,6 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
   }
   return stats;
 }
-
 
 Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
                                                const mapmatch::PlaceIndex* index,
