@@ -130,6 +130,10 @@ Status Validate(const DensePlaceSearchOptions& o) {
     return InvalidInput("dense place search: min_short_side_px must be 16..512");
   if (!(o.heading_step_scale > 0.1 && o.heading_step_scale <= 4.0))
     return InvalidInput("dense place search: heading_step_scale must be in (0.1, 4]");
+  if (!(o.sweep_heading_step_factor >= 1.0 && o.sweep_heading_step_factor <= 4.0))
+    return InvalidInput("dense place search: sweep_heading_step_factor must be in [1, 4]");
+  if (o.refine_heading_steps < 1 || o.refine_heading_steps > 8)
+    return InvalidInput("dense place search: refine_heading_steps must be 1..8");
   if (o.normalize_window_px < 3 || o.normalize_window_px % 2 == 0)
     return InvalidInput("dense place search: normalize_window_px must be odd and >= 3");
   if (!(o.clip > 0.5 && o.clip <= 10.0))
@@ -180,7 +184,8 @@ Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
     level->geo = layout.geo.AtLevel(level->level);
     level->geo.origin_x -= pad_m;
     level->geo.origin_y += pad_m;
-    level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px;
+    level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px *
+                              (k == 0 ? options.sweep_heading_step_factor : 1.0);
     level->correlator = std::make_unique<imaging::MaskedCorrelator>(level->normalized);
     (k == 0 ? search->coarse_ : search->fine_) = level;
   }
@@ -323,7 +328,7 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
       camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
   constexpr int kRadius = 4;  // fine pixels searched around the coarse peak
   DensePeak best{coarse.camera_in_map, -2.0};
-  for (int j = -2; j <= 2; ++j) {
+  for (int j = -options_.refine_heading_steps; j <= options_.refine_heading_steps; ++j) {
     const double theta = coarse.camera_in_map.theta + j * f.heading_step_rad;
     const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, f.geo, theta));
     const Eigen::Vector2d at = f.geo.MapToPixel(coarse.camera_in_map * centre_ground);

@@ -27,10 +27,15 @@ struct DensePlaceSearchOptions {
   // search runs one level coarser.
   int min_short_side_px = 48;
   double heading_step_scale = 1.0;  // heading step = this / frame half-diagonal (search level px)
-  int normalize_window_px = 7;      // local mean and deviation window at both levels, odd
-  double clip = 2.5;                // normalized values are clipped to ±this
-  int coarse_peaks = 12;            // distinct peaks of the heading search refined
-  int max_peaks = 4;                // distinct refined poses returned
+  // The sweep level's heading step is this many times the above (fewer headings swept), and the
+  // refinement searches ± refine_heading_steps of the refine level's steps around a peak (the
+  // default 2 covers twice the largest heading error of the default sweep).
+  double sweep_heading_step_factor = 1.0;
+  int refine_heading_steps = 2;
+  int normalize_window_px = 7;  // local mean and deviation window at both levels, odd
+  double clip = 2.5;            // normalized values are clipped to ±this
+  int coarse_peaks = 12;        // distinct peaks of the heading search refined
+  int max_peaks = 4;            // distinct refined poses returned
   // Mosaics whose refine level has more pixels are refused (the search would be too slow).
   double max_refine_level_mpx = 0.6;
 };
