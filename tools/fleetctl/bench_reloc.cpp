@@ -78,6 +78,22 @@ bool Correct(const geometry::Pose2& pose, const geometry::Pose2& truth, const Re
   return out->error_m < s.max_error_m && out->error_rad < s.max_error_rad;
 }
 
+// A pose the features found that the twin check or the self-similarity report refused, against
+// the truth.
+RelocTrial::Refused RefusedTwin(const mapmatch::Relocalization& r, const geometry::Pose2& truth,
+                                const RelocTrialSettings& s) {
+  RelocTrial scratch;
+  RelocTrial::Refused refused;
+  refused.correct = Correct(r.base_in_map.pose, truth, s, &scratch);
+  refused.error_m = scratch.error_m;
+  refused.error_rad = scratch.error_rad;
+  refused.own = r.twin_own;
+  refused.twin = r.twin_correlation;
+  refused.twin_inliers = r.twin_inliers;
+  refused.by_report = r.reason.find("self-similarity report") != std::string::npos;
+  return refused;
+}
+
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
 // multi-frame relocalization the frames go on until the single-frame path has answered too.
 Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
@@ -101,6 +117,7 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
               : (*relocalizer)->Relocalize(frame);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
     out.runs.push_back(*r);
+    if (r->twin_checked && !r->found) out.refused.push_back(RefusedTwin(*r, truth, s));
     const double wait_s = k > 0 ? s.frame_period_s : 0.0;
     if (!out.single_found) out.single_time_s += Ms(*r) / 1000.0 + wait_s;
     if (r->found && !r->from_trajectory && !out.single_found) {
@@ -159,6 +176,19 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
   return accepted;
 }
 
+// [correct, error m, error °, own dense correlation, twin's, twin's tracker inliers, refused by
+// the self-similarity report] of every refused feature pose.
+nlohmann::json RefusedTwins(const std::vector<RelocTrial>& trials) {
+  nlohmann::json refused = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    for (const RelocTrial::Refused& r : t.refused) {
+      refused.push_back({r.correct, r.error_m, r.error_rad * 180 / M_PI, r.own, r.twin,
+                         r.twin_inliers, r.by_report});
+    }
+  }
+  return refused;
+}
+
 }  // namespace
 
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
@@ -201,6 +231,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"attempts", attempt_ms.size()},
                           {"failures", Failures(trials)},
                           {"accepted", Accepted(trials)},
+                          {"refused_twins", RefusedTwins(trials)},
                           {"stage_ms_p50",
                            {{"detect", replay::Percentile(detect, 50)},
                             {"match", replay::Percentile(match, 50)},
