@@ -105,8 +105,9 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), s.relocalizer);
   if (!relocalizer.ok()) return relocalizer.status();
   const bool multi = s.relocalizer.trajectory_frames > 1;
-  const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
   RelocTrial out;
+  out.memory = (*relocalizer)->dense_memory();
+  const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
   for (int k = 0; k < s.attempts && !(out.found && (out.single_found || !multi)); ++k) {
     const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
     const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
@@ -239,6 +240,11 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                             {"dense", replay::Percentile(dense, 50)},
                             {"dense_fine", replay::Percentile(dense_fine, 50)},
                             {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  if (!trials.empty()) {
+    const mapmatch::Relocalizer::DenseMemory& m = trials.front().memory;
+    stats["dense_memory_bytes"] = {
+        {"dense", m.dense}, {"dense_fine", m.dense_fine}, {"trajectory", m.trajectory}};
+  }
   if (s.relocalizer.trajectory_frames > 1) {
     stats["trajectory_frames"] = s.relocalizer.trajectory_frames;
     stats["single_frame"] = {{"correct_within_target", single_within},

@@ -57,6 +57,7 @@ struct RelocTrial {
     bool by_report = false;  // refused by the self-similarity report, not the twin check
   };
   std::vector<Refused> refused;
+  mapmatch::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
 };
 
 // Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);
