@@ -1,6 +1,9 @@
-// Masked NCC by FFT with the image's spectra kept (see masked_correlator.h).
+// Masked NCC by FFT with the image's spectra kept, and by direct sums at a few placements (see
+// masked_correlator.h).
 #include "imaging/masked_correlator.h"
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "base/status.h"
@@ -17,12 +20,48 @@ cv::Mat Spectrum(const cv::Mat& values, cv::Size size) {
   return spectrum;
 }
 
-// Σ_u a(x + u) · b(u) for the placements x where b lies inside a, from their spectra.
-cv::Mat Correlation(const cv::Mat& a_spectrum, const cv::Mat& b_spectrum, cv::Size valid) {
+// Σ_u a(x + u) · b(u) (`turned` false) or Σ_u a(x + u) · b(w − 1 − u) (true: b turned by π, w its
+// size; a convolution read (w − 1) further) for the placements x where b lies inside a, from
+// their spectra (b's size `b_size`).
+cv::Mat Correlation(const cv::Mat& a_spectrum, const cv::Mat& b_spectrum, cv::Size b_size,
+                    cv::Size valid, bool turned = false) {
   cv::Mat product, out;
-  cv::mulSpectrums(a_spectrum, b_spectrum, product, 0, true);
-  cv::idft(product, out, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, valid.height);
-  return out(cv::Rect(cv::Point(), valid));
+  cv::mulSpectrums(a_spectrum, b_spectrum, product, 0, /*conjB=*/!turned);
+  const cv::Point first = turned ? cv::Point(b_size.width - 1, b_size.height - 1) : cv::Point();
+  cv::idft(product, out, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, first.y + valid.height);
+  return out(cv::Rect(first, valid));
+}
+
+// numerator / sqrt(image_sq · templ_sq), image_sq clamped at 0.
+void Normalized(const cv::Mat& numerator, const cv::Mat& image_sq, double templ_sq,
+                cv::Mat* scores) {
+  cv::Mat denominator;
+  cv::sqrt(cv::max(image_sq, 0.0) * templ_sq, denominator);
+  cv::divide(numerator, denominator, *scores);
+}
+
+// The template with its unused pixels zeroed, the mask as 0 / 1 (CV_32F), and Σ (T·M)².
+struct Prepared {
+  cv::Mat masked, used;
+  double templ_sq = 0;
+};
+
+Prepared Prepare(const cv::Mat& templ, const cv::Mat& mask, cv::Size image_size) {
+  FLEETLOC_CHECK(templ.type() == CV_32FC1 && mask.type() == CV_8UC1 &&
+                 templ.size() == mask.size() && templ.cols <= image_size.width &&
+                 templ.rows <= image_size.height);
+  Prepared p;
+  p.masked = cv::Mat::zeros(templ.size(), CV_32F);
+  mask.convertTo(p.used, CV_32F, 1.0 / 255.0);
+  cv::threshold(p.used, p.used, 0.0, 1.0, cv::THRESH_BINARY);
+  templ.copyTo(p.masked, mask);
+  p.templ_sq = p.masked.dot(p.masked);
+  return p;
+}
+
+// Placements of a template inside an image.
+cv::Size ValidSize(cv::Size image, cv::Size templ) {
+  return {image.width - templ.width + 1, image.height - templ.height + 1};
 }
 
 }  // namespace
@@ -35,23 +74,54 @@ MaskedCorrelator::MaskedCorrelator(const cv::Mat& image) : image_size_(image.siz
 }
 
 void MaskedCorrelator::Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores) const {
-  FLEETLOC_CHECK(templ.type() == CV_32FC1 && mask.type() == CV_8UC1 &&
-                 templ.size() == mask.size() && templ.cols <= image_size_.width &&
-                 templ.rows <= image_size_.height);
-  cv::Mat used, masked = cv::Mat::zeros(templ.size(), CV_32F);
-  mask.convertTo(used, CV_32F, 1.0 / 255.0);
-  cv::threshold(used, used, 0.0, 1.0, cv::THRESH_BINARY);
-  templ.copyTo(masked, mask);
-  const double templ_sq = masked.dot(masked);
-  const cv::Size valid(image_size_.width - templ.cols + 1, image_size_.height - templ.rows + 1);
-  const cv::Mat numerator = Correlation(spectrum_, Spectrum(masked, dft_size_), valid);
-  cv::Mat image_sq = Correlation(spectrum_sq_, Spectrum(used, dft_size_), valid);
-  cv::sqrt(cv::max(image_sq, 0.0) * templ_sq, image_sq);
-  cv::divide(numerator, image_sq, *scores);
+  const Prepared p = Prepare(templ, mask, image_size_);
+  const cv::Size valid = ValidSize(image_size_, templ.size());
+  const cv::Size size = templ.size();
+  Normalized(Correlation(spectrum_, Spectrum(p.masked, dft_size_), size, valid),
+             Correlation(spectrum_sq_, Spectrum(p.used, dft_size_), size, valid), p.templ_sq,
+             scores);
+}
+
+void MaskedCorrelator::MatchWithTurned(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores,
+                                       cv::Mat* turned_scores) const {
+  const Prepared p = Prepare(templ, mask, image_size_);
+  const cv::Size valid = ValidSize(image_size_, templ.size());
+  const cv::Size size = templ.size();
+  const cv::Mat templ_spectrum = Spectrum(p.masked, dft_size_);
+  const cv::Mat mask_spectrum = Spectrum(p.used, dft_size_);
+  const cv::Mat image_sq = Correlation(spectrum_sq_, mask_spectrum, size, valid);
+  cv::Mat turned_mask;
+  cv::flip(mask, turned_mask, -1);
+  // Σ M·I² is the same for a mask its turn leaves unchanged.
+  const bool symmetric = cv::countNonZero(turned_mask != mask) == 0;
+  const cv::Mat turned_image_sq =
+      symmetric ? image_sq : Correlation(spectrum_sq_, mask_spectrum, size, valid, /*turned=*/true);
+  Normalized(Correlation(spectrum_, templ_spectrum, size, valid), image_sq, p.templ_sq, scores);
+  Normalized(Correlation(spectrum_, templ_spectrum, size, valid, /*turned=*/true), turned_image_sq,
+             p.templ_sq, turned_scores);
 }
 
 std::size_t MaskedCorrelator::MemoryBytes() const {
   return (spectrum_.total() + spectrum_sq_.total()) * sizeof(float);
+}
+
+void MatchAtFewPlacements(const cv::Mat& image, const cv::Mat& templ, const cv::Mat& mask,
+                          cv::Mat* scores) {
+  FLEETLOC_CHECK(image.type() == CV_32FC1);
+  const Prepared p = Prepare(templ, mask, image.size());
+  const cv::Mat image_sq = image.mul(image);
+  scores->create(ValidSize(image.size(), templ.size()), CV_32F);
+  // Hand-written over the placements (each sum a library dot product): the transforms of
+  // cv::matchTemplate cost twice the instructions for the dense search's refinement (callgrind).
+  for (int y = 0; y < scores->rows; ++y) {
+    for (int x = 0; x < scores->cols; ++x) {
+      const cv::Rect under(cv::Point(x, y), templ.size());
+      const double numerator = p.masked.dot(image(under));
+      const double image_energy = std::max(p.used.dot(image_sq(under)), 0.0);
+      scores->at<float>(y, x) =
+          static_cast<float>(numerator / std::sqrt(image_energy * p.templ_sq));
+    }
+  }
 }
 
 }  // namespace fleetloc::imaging

@@ -1,10 +1,11 @@
 // MaskedCorrelator against cv::matchTemplate's masked TM_CCORR_NORMED on random images, templates
-// and rotated-rectangle masks; bad inputs abort.
+// and rotated-rectangle masks, also for the template turned by π; bad inputs abort.
 #include "imaging/masked_correlator.h"
 
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace fleetloc::imaging {
 namespace {
@@ -17,31 +18,89 @@ cv::Mat RandomImage(cv::Size size, int seed) {
   return image;
 }
 
+// A template cut from the image at (40 + k, 30), its corners masked out as a rotated frame's
+// (`symmetric`: also the mask turned by π, as the dense place search's rotated frames are).
+struct Cut {
+  cv::Rect rect;
+  cv::Mat templ, mask;
+};
+
+Cut CutFrom(const cv::Mat& image, int k, bool symmetric) {
+  Cut cut;
+  cut.rect = cv::Rect(40 + k, 30, 61 - 2 * k, 47 + 3 * k);
+  cut.templ = image(cut.rect).clone();
+  cut.mask = cv::Mat::zeros(cut.rect.size(), CV_8U);
+  const cv::RotatedRect frame({0.5f * cut.rect.width, 0.5f * cut.rect.height},
+                              {0.8f * cut.rect.width, 0.7f * cut.rect.height}, 20.0f * k);
+  cv::Point2f corners[4];
+  frame.points(corners);
+  std::vector<cv::Point> polygon(corners, corners + 4);
+  cv::fillConvexPoly(cut.mask, polygon, cv::Scalar(255));
+  if (symmetric) {
+    cv::Mat turned;
+    cv::flip(cut.mask, turned, -1);
+    cut.mask &= turned;
+  }
+  return cut;
+}
+
+double WorstDifference(const cv::Mat& a, const cv::Mat& b) {
+  double worst = 0;
+  cv::minMaxLoc(cv::abs(a - b), nullptr, &worst);
+  return worst;
+}
+
 TEST(MaskedCorrelator, EqualsMatchTemplateWithARotatedMask) {
   const cv::Mat image = RandomImage({157, 131}, 1);
   const MaskedCorrelator correlator(image);
   for (int k = 0; k < 3; ++k) {
-    // A template cut from the image at (40 + k, 30), its corners masked out as a rotated frame's.
-    const cv::Rect cut(40 + k, 30, 61 - 2 * k, 47 + 3 * k);
-    const cv::Mat templ = image(cut).clone();
-    cv::Mat mask = cv::Mat::zeros(cut.size(), CV_8U);
-    const cv::RotatedRect frame({0.5f * cut.width, 0.5f * cut.height},
-                                {0.8f * cut.width, 0.7f * cut.height}, 20.0f * k);
-    cv::Point2f corners[4];
-    frame.points(corners);
-    std::vector<cv::Point> polygon(corners, corners + 4);
-    cv::fillConvexPoly(mask, polygon, cv::Scalar(255));
+    const Cut cut = CutFrom(image, k, false);
     cv::Mat expected, scores;
-    cv::matchTemplate(image, templ, expected, cv::TM_CCORR_NORMED, mask);
-    correlator.Match(templ, mask, &scores);
+    cv::matchTemplate(image, cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
+    correlator.Match(cut.templ, cut.mask, &scores);
     ASSERT_EQ(scores.size(), expected.size());
-    double worst = 0;
-    cv::minMaxLoc(cv::abs(scores - expected), nullptr, &worst);
-    EXPECT_LT(worst, 1e-4) << "template " << k;
+    EXPECT_LT(WorstDifference(scores, expected), 1e-4) << "template " << k;
     cv::Point best;
     cv::minMaxLoc(scores, nullptr, nullptr, nullptr, &best);
-    EXPECT_EQ(best, cut.tl());  // the template's own place correlates 1
-    EXPECT_NEAR(scores.at<float>(cut.y, cut.x), 1.0, 1e-4);
+    EXPECT_EQ(best, cut.rect.tl());  // the template's own place correlates 1
+    EXPECT_NEAR(scores.at<float>(cut.rect.y, cut.rect.x), 1.0, 1e-4);
+  }
+}
+
+TEST(MaskedCorrelator, TheTurnedTemplateEqualsMatchTemplateWithBothFlipped) {
+  const cv::Mat image = RandomImage({157, 131}, 3);
+  const MaskedCorrelator correlator(image);
+  for (const bool symmetric : {false, true}) {
+    for (int k = 0; k < 3; ++k) {
+      const Cut cut = CutFrom(image, k, symmetric);
+      cv::Mat turned_templ, turned_mask, expected, expected_turned, scores, turned;
+      cv::flip(cut.templ, turned_templ, -1);
+      cv::flip(cut.mask, turned_mask, -1);
+      cv::matchTemplate(image, cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
+      cv::matchTemplate(image, turned_templ, expected_turned, cv::TM_CCORR_NORMED, turned_mask);
+      correlator.MatchWithTurned(cut.templ, cut.mask, &scores, &turned);
+      ASSERT_EQ(turned.size(), expected_turned.size());
+      EXPECT_LT(WorstDifference(scores, expected), 1e-4) << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected_turned), 1e-4)
+          << "template " << k << (symmetric ? ", symmetric mask" : "");
+      // The turned template is not the image's own content: nowhere near 1 at the cut.
+      EXPECT_LT(turned.at<float>(cut.rect.y, cut.rect.x), 0.9);
+    }
+  }
+}
+
+TEST(MaskedCorrelator, AtFewPlacementsEqualsMatchTemplate) {
+  const cv::Mat image = RandomImage({157, 131}, 4);
+  for (int k = 0; k < 3; ++k) {
+    const Cut cut = CutFrom(image, k, false);
+    // 9 × 9 placements around the cut, as the dense place search's refinement has.
+    const cv::Rect area(cut.rect.tl() - cv::Point(4, 4), cut.rect.size() + cv::Size(8, 8));
+    cv::Mat expected, scores;
+    cv::matchTemplate(image(area), cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
+    MatchAtFewPlacements(image(area), cut.templ, cut.mask, &scores);
+    ASSERT_EQ(scores.size(), cv::Size(9, 9));
+    EXPECT_LT(WorstDifference(scores, expected), 1e-4) << "template " << k;
+    EXPECT_NEAR(scores.at<float>(4, 4), 1.0, 1e-4);
   }
 }
 

@@ -80,8 +80,8 @@ Template RotatedFrame(const cv::Mat& frame, const Eigen::Matrix2d& l) {
   Template t;
   t.centre = Eigen::Vector2d(0.5 * size.width, 0.5 * size.height);
   // Index coordinates (centres at integers): dst = L·(src + ½ − c_f) + c_t − ½.
-  const Eigen::Vector2d offset = l * (Eigen::Vector2d(0.5, 0.5) - half) + t.centre -
-                                 Eigen::Vector2d(0.5, 0.5);
+  const Eigen::Vector2d offset =
+      l * (Eigen::Vector2d(0.5, 0.5) - half) + t.centre - Eigen::Vector2d(0.5, 0.5);
   const cv::Matx23d m(l(0, 0), l(0, 1), offset.x(), l(1, 0), l(1, 1), offset.y());
   cv::warpAffine(frame, t.pixels, m, size, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
   cv::warpAffine(cv::Mat(frame.size(), CV_8UC1, cv::Scalar(255)), t.mask, m, size,
@@ -130,6 +130,10 @@ Status Validate(const DensePlaceSearchOptions& o) {
     return InvalidInput("dense place search: min_short_side_px must be 16..512");
   if (!(o.heading_step_scale > 0.1 && o.heading_step_scale <= 4.0))
     return InvalidInput("dense place search: heading_step_scale must be in (0.1, 4]");
+  if (!(o.sweep_heading_step_factor >= 1.0 && o.sweep_heading_step_factor <= 4.0))
+    return InvalidInput("dense place search: sweep_heading_step_factor must be in [1, 4]");
+  if (o.refine_heading_steps < 1 || o.refine_heading_steps > 8)
+    return InvalidInput("dense place search: refine_heading_steps must be 1..8");
   if (o.normalize_window_px < 3 || o.normalize_window_px % 2 == 0)
     return InvalidInput("dense place search: normalize_window_px must be odd and >= 3");
   if (!(o.clip > 0.5 && o.clip <= 10.0))
@@ -180,7 +184,8 @@ Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
     level->geo = layout.geo.AtLevel(level->level);
     level->geo.origin_x -= pad_m;
     level->geo.origin_y += pad_m;
-    level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px;
+    level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px *
+                              (k == 0 ? options.sweep_heading_step_factor : 1.0);
     level->correlator = std::make_unique<imaging::MaskedCorrelator>(level->normalized);
     (k == 0 ? search->coarse_ : search->fine_) = level;
   }
@@ -192,9 +197,7 @@ double DensePlaceSearch::separation_m() const {
   return std::max(4.0, 0.25 * short_side) * fine_->geo.resolution;
 }
 
-double DensePlaceSearch::heading_separation_rad() const {
-  return 8.0 * fine_->heading_step_rad;
-}
+double DensePlaceSearch::heading_separation_rad() const { return 8.0 * fine_->heading_step_rad; }
 
 std::size_t DensePlaceSearch::MemoryBytes() const {
   return (coarse_->normalized.total() + fine_->normalized.total()) * sizeof(float) +
@@ -206,7 +209,9 @@ const DensePlaceSearch::Level& DensePlaceSearch::LevelOf(SweepLevel level) const
 }
 
 int DensePlaceSearch::heading_steps(SweepLevel level) const {
-  return static_cast<int>(std::ceil(2 * M_PI / LevelOf(level).heading_step_rad));
+  // Even: heading k + steps / 2 is heading k turned by π (the sweep computes the two together).
+  const int steps = static_cast<int>(std::ceil(2 * M_PI / LevelOf(level).heading_step_rad));
+  return steps + steps % 2;
 }
 
 double DensePlaceSearch::sweep_heading_rad(int k, SweepLevel level) const {
@@ -238,17 +243,35 @@ cv::Mat DensePlaceSearch::NormalizedFrame(const cv::Mat& frame, SweepLevel level
 
 int DensePlaceSearch::ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level,
                                cv::Mat* centred) const {
+  return ScoresAtAndTurned(normalized, theta, level, centred, nullptr);
+}
+
+int DensePlaceSearch::ScoresAtAndTurned(const cv::Mat& normalized, double theta, SweepLevel level,
+                                        cv::Mat* centred, cv::Mat* turned) const {
   const Level& c = LevelOf(level);
-  centred->create(c.normalized.size(), CV_32F);
-  centred->setTo(0.0f);
+  for (cv::Mat* map : {centred, turned}) {
+    if (map == nullptr) continue;
+    map->create(c.normalized.size(), CV_32F);
+    map->setTo(0.0f);
+  }
+  // At θ + π the template is this one turned by π about its centre (the same samples of the
+  // frame: FrameToMosaic changes sign), and its centre stays where it is.
   const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, c.geo, theta));
   if (t.pixels.cols > c.normalized.cols || t.pixels.rows > c.normalized.rows) return 0;
-  cv::Mat scores;
-  c.correlator->Match(t.pixels, t.mask, &scores);
-  FiniteScores(&scores);
+  cv::Mat scores, turned_scores;
+  if (turned != nullptr)
+    c.correlator->MatchWithTurned(t.pixels, t.mask, &scores, &turned_scores);
+  else
+    c.correlator->Match(t.pixels, t.mask, &scores);
   // Top-left → centre: the template's centre has integer coordinates (its sides are even).
-  scores.copyTo((*centred)(cv::Rect(
-      cv::Point(static_cast<int>(t.centre.x()), static_cast<int>(t.centre.y())), scores.size())));
+  const cv::Rect placed(cv::Point(static_cast<int>(t.centre.x()), static_cast<int>(t.centre.y())),
+                        scores.size());
+  FiniteScores(&scores);
+  scores.copyTo((*centred)(placed));
+  if (turned != nullptr) {
+    FiniteScores(&turned_scores);
+    turned_scores.copyTo((*turned)(placed));
+  }
   return std::max(2, t.pixels.rows / 4);
 }
 
@@ -261,11 +284,14 @@ void DensePlaceSearch::Sweep(const cv::Mat& frame,
                              const std::function<void(const SweepMap&)>& visit,
                              SweepLevel level) const {
   const cv::Mat normalized = NormalizedFrame(frame, level);
-  cv::Mat centred;
-  for (int k = 0; k < heading_steps(level); ++k) {
+  const int half = heading_steps(level) / 2;
+  cv::Mat centred, turned;
+  for (int k = 0; k < half; ++k) {
     const double theta = sweep_heading_rad(k, level);
-    const int suppress_px = ScoresAt(normalized, theta, level, &centred);
-    if (suppress_px > 0) visit({k, theta, centred, suppress_px});
+    const int suppress_px = ScoresAtAndTurned(normalized, theta, level, &centred, &turned);
+    if (suppress_px == 0) continue;
+    visit({k, theta, centred, suppress_px});
+    visit({k + half, sweep_heading_rad(k + half, level), turned, suppress_px});
   }
 }
 
@@ -302,7 +328,7 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
       camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
   constexpr int kRadius = 4;  // fine pixels searched around the coarse peak
   DensePeak best{coarse.camera_in_map, -2.0};
-  for (int j = -2; j <= 2; ++j) {
+  for (int j = -options_.refine_heading_steps; j <= options_.refine_heading_steps; ++j) {
     const double theta = coarse.camera_in_map.theta + j * f.heading_step_rad;
     const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, f.geo, theta));
     const Eigen::Vector2d at = f.geo.MapToPixel(coarse.camera_in_map * centre_ground);
@@ -311,7 +337,7 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
     const cv::Rect area(corner, t.pixels.size() + cv::Size(2 * kRadius, 2 * kRadius));
     if ((area & cv::Rect(0, 0, f.normalized.cols, f.normalized.rows)) != area) continue;
     cv::Mat scores;
-    cv::matchTemplate(f.normalized(area), t.pixels, scores, cv::TM_CCORR_NORMED, t.mask);
+    imaging::MatchAtFewPlacements(f.normalized(area), t.pixels, t.mask, &scores);
     FiniteScores(&scores);
     double value = 0;
     cv::Point peak;
@@ -348,9 +374,10 @@ DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
       sum += ShiftedScores(scores, Eigen::Rotation2Dd(theta) * offset, resolution);
     }
     sum /= static_cast<double>(frames.size());
-    cv::circle(sum, cv::Point(static_cast<int>(std::lround(own.x())),
-                              static_cast<int>(std::lround(own.y()))),
-               radius_px, cv::Scalar(-1), cv::FILLED);
+    cv::circle(
+        sum,
+        cv::Point(static_cast<int>(std::lround(own.x())), static_cast<int>(std::lround(own.y()))),
+        radius_px, cv::Scalar(-1), cv::FILLED);
     double value = 0;
     cv::Point at;
     cv::minMaxLoc(sum, nullptr, &value, nullptr, &at);

@@ -27,10 +27,15 @@ struct DensePlaceSearchOptions {
   // search runs one level coarser.
   int min_short_side_px = 48;
   double heading_step_scale = 1.0;  // heading step = this / frame half-diagonal (search level px)
-  int normalize_window_px = 7;      // local mean and deviation window at both levels, odd
-  double clip = 2.5;                // normalized values are clipped to ±this
-  int coarse_peaks = 12;            // distinct peaks of the heading search refined
-  int max_peaks = 4;                // distinct refined poses returned
+  // The sweep level's heading step is this many times the above (fewer headings swept), and the
+  // refinement searches ± refine_heading_steps of the refine level's steps around a peak (the
+  // default 2 covers twice the largest heading error of the default sweep).
+  double sweep_heading_step_factor = 1.0;
+  int refine_heading_steps = 2;
+  int normalize_window_px = 7;  // local mean and deviation window at both levels, odd
+  double clip = 2.5;            // normalized values are clipped to ±this
+  int coarse_peaks = 12;        // distinct peaks of the heading search refined
+  int max_peaks = 4;            // distinct refined poses returned
   // Mosaics whose refine level has more pixels are refused (the search would be too slow).
   double max_refine_level_mpx = 0.6;
 };
@@ -53,7 +58,8 @@ class DensePlaceSearch {
                                                           const DensePlaceSearchOptions& options);
 
   // The heading sweep of `frame` (CV_8UC1, the camera's size) at the coarse level (or, slower,
-  // at the refine level), one heading at a time: heading k of heading_steps(level) is
+  // at the refine level), one heading at a time, in no set order (k and k + heading_steps / 2,
+  // its turn by π, are computed together): heading k of heading_steps(level) is
   // sweep_heading_rad(k, level); `scores` covers the padded mosaic at that level, its pixel (x, y)
   // the masked correlation with the frame's centre at continuous coordinates (x, y) (0 where the
   // frame does not fit); `suppress_px` the radius within which another maximum is the same peak.
@@ -71,6 +77,10 @@ class DensePlaceSearch {
   // (the SweepMap layout; returns its suppress_px, 0 when the frame does not fit the mosaic).
   cv::Mat NormalizedFrame(const cv::Mat& frame, SweepLevel level) const;
   int ScoresAt(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred) const;
+  // ScoresAt, and the map at θ + π into *turned (null: not computed) for a little more than the
+  // cost of one (imaging::MaskedCorrelator::MatchWithTurned).
+  int ScoresAtAndTurned(const cv::Mat& normalized, double theta, SweepLevel level, cv::Mat* centred,
+                        cv::Mat* turned) const;
   // Continuous pixel coordinates of a map point at the level (the SweepMap layout).
   Eigen::Vector2d SweepPixel(const Eigen::Vector2d& map_xy, SweepLevel level) const;
 
@@ -79,7 +89,7 @@ class DensePlaceSearch {
   std::vector<DensePeak> Search(const cv::Mat& frame,
                                 const std::function<void(const SweepMap&)>& also = {}) const;
 
-  int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;
+  int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;  // even
   double sweep_heading_rad(int k, SweepLevel level = SweepLevel::kCoarse) const;
   cv::Size sweep_size(SweepLevel level = SweepLevel::kCoarse) const;
   double sweep_resolution_m(SweepLevel level = SweepLevel::kCoarse) const;

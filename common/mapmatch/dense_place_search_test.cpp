@@ -79,11 +79,82 @@ TEST(DensePlaceSearch, AFloorMadeOfOnePhotoTwiceGivesTwoEqualPeaksOneCopyApart) 
   }
 }
 
+// The sweep computes heading k + steps / 2 from heading k's template turned by π: its maps must be
+// the ones a heading computed alone gives (the same samples of the frame; warpAffine's fixed-point
+// positions may round apart), with the same best place.
+TEST(DensePlaceSearch, TheSweepsTurnedHeadingsEqualHeadingsComputedAlone) {
+  const cv::Mat photo = PlainConcrete();
+  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  const geometry::CameraModel camera = SmallCamera();
+  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  ASSERT_TRUE(search.ok()) << search.status().message();
+  const DensePlaceSearch& dense = **search;
+  const int steps = dense.heading_steps();
+  ASSERT_EQ(steps % 2, 0);
+  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
+  std::mt19937_64 rng(11);
+  const cv::Mat frame =
+      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  const cv::Mat normalized = dense.NormalizedFrame(frame, DensePlaceSearch::SweepLevel::kCoarse);
+  int visited = 0;
+  dense.Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
+    ++visited;
+    EXPECT_NEAR(map.theta, dense.sweep_heading_rad(map.k), 1e-12);
+    if (map.k < steps / 2 || map.k % 7 != 0) return;  // a few turned headings
+    cv::Mat alone;
+    dense.ScoresAt(normalized, map.theta, DensePlaceSearch::SweepLevel::kCoarse, &alone);
+    double worst = 0;
+    cv::minMaxLoc(cv::abs(map.scores - alone), nullptr, &worst);
+    EXPECT_LT(worst, 0.005) << "heading " << map.k;  // measured: at most 0.0023
+    cv::Point best_swept, best_alone;
+    cv::minMaxLoc(map.scores, nullptr, nullptr, nullptr, &best_swept);
+    cv::minMaxLoc(alone, nullptr, nullptr, nullptr, &best_alone);
+    EXPECT_EQ(best_swept, best_alone) << "heading " << map.k;
+  });
+  EXPECT_EQ(visited, steps);
+}
+
+// sweep_heading_step_factor 2 sweeps half the headings, the refine level keeps its steps, and a
+// refinement over ±4 of them still finds clean frames (on dusty floors it lost poses: not the
+// relocalizer's default, docs/benchmarks.md 2026-11-26 session 31).
+TEST(DensePlaceSearch, AWiderSweepStepSweepsHalfTheHeadingsAndStillFindsCleanFrames) {
+  const cv::Mat photo = PlainConcrete();
+  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  const geometry::CameraModel camera = SmallCamera();
+  auto standard = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  DensePlaceSearchOptions options;
+  options.sweep_heading_step_factor = 2.0;
+  options.refine_heading_steps = 4;
+  auto wide = DensePlaceSearch::Create(floor, camera, options);
+  ASSERT_TRUE(standard.ok() && wide.ok());
+  using Level = DensePlaceSearch::SweepLevel;
+  EXPECT_NEAR((*wide)->heading_steps(), 0.5 * (*standard)->heading_steps(), 1.0);
+  EXPECT_EQ((*wide)->heading_steps(Level::kRefine), (*standard)->heading_steps(Level::kRefine));
+  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 6);
+  std::mt19937_64 rng(13);
+  int found = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    const geometry::Pose2 truth = sim::RandomFullFramePose(floor.layout(), camera, rng);
+    const std::vector<DensePeak> peaks =
+        (*wide)->Search(renderer.Render(truth, {0, 0}, trial).image);
+    ASSERT_FALSE(peaks.empty());
+    const Errors e = ErrorOf(peaks[0], truth, camera);
+    found += e.m < 0.002 && e.rad < M_PI / 180;
+  }
+  EXPECT_GE(found, 3);
+}
+
 TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
   const cv::Mat photo = PlainConcrete();
   mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
   DensePlaceSearchOptions options;
   options.normalize_window_px = 4;
+  EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
+  options = DensePlaceSearchOptions{};
+  options.sweep_heading_step_factor = 0.5;
+  EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
+  options = DensePlaceSearchOptions{};
+  options.refine_heading_steps = 0;
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
   options = DensePlaceSearchOptions{};
   options.max_refine_level_mpx = 0.01;  // the photo has 0.066 Mpx at the refine level

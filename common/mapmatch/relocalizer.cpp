@@ -101,9 +101,8 @@ Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index
         DensePlaceSearch::Create(*mosaic, camera, options.dense_fine);
     if (fine.ok()) relocalizer->dense_fine_ = std::move(fine).value();
   }
-  const auto level = options.trajectory_refine_level
-                         ? TrajectoryPlaceSearch::SweepLevel::kRefine
-                         : TrajectoryPlaceSearch::SweepLevel::kCoarse;
+  const auto level = options.trajectory_refine_level ? TrajectoryPlaceSearch::SweepLevel::kRefine
+                                                     : TrajectoryPlaceSearch::SweepLevel::kCoarse;
   if (relocalizer->dense_ && options.trajectory_frames > 1 &&
       TrajectoryPlaceSearch::MemoryBytes(*relocalizer->dense_, level) <=
           options.trajectory_max_mb * 1e6) {
@@ -113,6 +112,15 @@ Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index
   if (index == nullptr && relocalizer->dense_ == nullptr)
     return InvalidInput("relocalizer: neither a place index nor the dense search");
   return relocalizer;
+}
+
+Relocalizer::DenseMemory Relocalizer::dense_memory() const {
+  DenseMemory memory;
+  if (dense_) memory.dense = dense_->MemoryBytes();
+  if (dense_fine_) memory.dense_fine = dense_fine_->MemoryBytes();
+  if (trajectory_)
+    memory.trajectory = TrajectoryPlaceSearch::MemoryBytes(*dense_, trajectory_->level());
+  return memory;
 }
 
 std::vector<FeatureMatch> Relocalizer::MatchFrame(const cv::Mat& frame, Relocalization* out) const {
@@ -227,8 +235,8 @@ void Relocalizer::CheckDenseTwin(const cv::Mat& frame, Relocalization* out) {
     PoseCandidate candidate;
     candidate.camera_in_map = twin.camera_in_map;
     ++out->verified;
-    const std::optional<Verified> v = Verify(frame, candidate, dense_->separation_m() / 4,
-                                             dense_->heading_separation_rad() / 8);
+    const std::optional<Verified> v =
+        Verify(frame, candidate, dense_->separation_m() / 4, dense_->heading_separation_rad() / 8);
     if (v && Distinct(v->base_in_map.pose, out->base_in_map.pose) &&
         v->inliers >= out->inliers - options_.ambiguity_margin_inliers)
       out->twin_inliers = v->inliers;

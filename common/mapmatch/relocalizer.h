@@ -154,6 +154,12 @@ class Relocalizer {
   void SetTwinPlaces(std::vector<SimilarPlace> places) { twin_places_ = std::move(places); }
   // The dense place search (null: off, or the mosaic is too large for it).
   const DensePlaceSearch* dense_search() const { return dense_.get(); }
+  // Bytes the dense and the fine dense search hold (their normalized levels and the levels'
+  // spectra), and the multi-frame search's summed sweeps while it holds frames; 0 for what is off.
+  struct DenseMemory {
+    std::size_t dense = 0, dense_fine = 0, trajectory = 0;
+  };
+  DenseMemory dense_memory() const;
 
  private:
   Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
@@ -206,8 +212,8 @@ class Relocalizer {
   geometry::CameraModel camera_;
   RelocalizerOptions options_;
   tracking::MosaicTracker tracker_;
-  std::unique_ptr<DensePlaceSearch> dense_;  // null: off, or the mosaic is too large for it
-  std::unique_ptr<DensePlaceSearch> dense_fine_;       // null: off, or too large, or no dense_
+  std::unique_ptr<DensePlaceSearch> dense_;       // null: off, or the mosaic is too large for it
+  std::unique_ptr<DensePlaceSearch> dense_fine_;  // null: off, or too large, or no dense_
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame

@@ -78,6 +78,22 @@ bool Correct(const geometry::Pose2& pose, const geometry::Pose2& truth, const Re
   return out->error_m < s.max_error_m && out->error_rad < s.max_error_rad;
 }
 
+// A pose the features found that the twin check or the self-similarity report refused, against
+// the truth.
+RelocTrial::Refused RefusedTwin(const mapmatch::Relocalization& r, const geometry::Pose2& truth,
+                                const RelocTrialSettings& s) {
+  RelocTrial scratch;
+  RelocTrial::Refused refused;
+  refused.correct = Correct(r.base_in_map.pose, truth, s, &scratch);
+  refused.error_m = scratch.error_m;
+  refused.error_rad = scratch.error_rad;
+  refused.own = r.twin_own;
+  refused.twin = r.twin_correlation;
+  refused.twin_inliers = r.twin_inliers;
+  refused.by_report = r.reason.find("self-similarity report") != std::string::npos;
+  return refused;
+}
+
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
 // multi-frame relocalization the frames go on until the single-frame path has answered too.
 Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
@@ -89,12 +105,12 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), s.relocalizer);
   if (!relocalizer.ok()) return relocalizer.status();
   const bool multi = s.relocalizer.trajectory_frames > 1;
-  const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
   RelocTrial out;
+  out.memory = (*relocalizer)->dense_memory();
+  const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
   for (int k = 0; k < s.attempts && !(out.found && (out.single_found || !multi)); ++k) {
     const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
-    const Eigen::Vector2d velocity =
-        ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
+    const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
     Result<mapmatch::Relocalization> r =
@@ -102,6 +118,7 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
               : (*relocalizer)->Relocalize(frame);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
     out.runs.push_back(*r);
+    if (r->twin_checked && !r->found) out.refused.push_back(RefusedTwin(*r, truth, s));
     const double wait_s = k > 0 ? s.frame_period_s : 0.0;
     if (!out.single_found) out.single_time_s += Ms(*r) / 1000.0 + wait_s;
     if (r->found && !r->from_trajectory && !out.single_found) {
@@ -160,12 +177,25 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
   return accepted;
 }
 
+// [correct, error m, error °, own dense correlation, twin's, twin's tracker inliers, refused by
+// the self-similarity report] of every refused feature pose.
+nlohmann::json RefusedTwins(const std::vector<RelocTrial>& trials) {
+  nlohmann::json refused = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    for (const RelocTrial::Refused& r : t.refused) {
+      refused.push_back({r.correct, r.error_m, r.error_rad * 180 / M_PI, r.own, r.twin,
+                         r.twin_inliers, r.by_report});
+    }
+  }
+  return refused;
+}
+
 }  // namespace
 
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
   int correct = 0, within = 0, wrong = 0, not_found = 0;
   int single_within = 0, single_wrong = 0, single_none = 0;
-  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify;
+  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify, dense, dense_fine, trajectory;
   for (const RelocTrial& t : trials) {
     single_within += t.single_correct && t.single_time_s <= s.target_s;
     single_wrong += t.single_found && !t.single_correct;
@@ -178,6 +208,10 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
     for (const mapmatch::Relocalization& r : t.runs) {
       attempt_ms.push_back(Ms(r) + r.trajectory_ms);
       detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
+      // The dense stages' p50 over the attempts they ran in.
+      if (r.dense) dense.push_back(r.dense_ms - r.dense_fine_ms);
+      if (r.dense_fine) dense_fine.push_back(r.dense_fine_ms);
+      if (r.trajectory_frames > 0) trajectory.push_back(r.trajectory_ms);
     }
   }
   const double n = static_cast<double>(trials.size());
@@ -187,21 +221,30 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"max", replay::Percentile(v, 100)}};
   };
   nlohmann::json stats = {{"trials", trials.size()},
-          {"correct", correct},
-          {"success_rate", correct / n},
-          {"correct_within_target", within},
-          {"success_rate_within_target", within / n},
-          {"wrong_pose", wrong},
-          {"not_found", not_found},
-          {"time_to_correct_pose_ms", pct(to_pose_ms)},
-          {"attempt_ms", pct(attempt_ms)},
-          {"attempts", attempt_ms.size()},
-          {"failures", Failures(trials)},
-          {"accepted", Accepted(trials)},
-          {"stage_ms_p50",
-           {{"detect", replay::Percentile(detect, 50)},
-            {"match", replay::Percentile(match, 50)},
-            {"verify", replay::Percentile(verify, 50)}}}};
+                          {"correct", correct},
+                          {"success_rate", correct / n},
+                          {"correct_within_target", within},
+                          {"success_rate_within_target", within / n},
+                          {"wrong_pose", wrong},
+                          {"not_found", not_found},
+                          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+                          {"attempt_ms", pct(attempt_ms)},
+                          {"attempts", attempt_ms.size()},
+                          {"failures", Failures(trials)},
+                          {"accepted", Accepted(trials)},
+                          {"refused_twins", RefusedTwins(trials)},
+                          {"stage_ms_p50",
+                           {{"detect", replay::Percentile(detect, 50)},
+                            {"match", replay::Percentile(match, 50)},
+                            {"verify", replay::Percentile(verify, 50)},
+                            {"dense", replay::Percentile(dense, 50)},
+                            {"dense_fine", replay::Percentile(dense_fine, 50)},
+                            {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  if (!trials.empty()) {
+    const mapmatch::Relocalizer::DenseMemory& m = trials.front().memory;
+    stats["dense_memory_bytes"] = {
+        {"dense", m.dense}, {"dense_fine", m.dense_fine}, {"trajectory", m.trajectory}};
+  }
   if (s.relocalizer.trajectory_frames > 1) {
     stats["trajectory_frames"] = s.relocalizer.trajectory_frames;
     stats["single_frame"] = {{"correct_within_target", single_within},
@@ -210,7 +253,6 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
   }
   return stats;
 }
-
 
 Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
                                                const mapmatch::PlaceIndex* index,

@@ -1,8 +1,9 @@
 // `fleetctl bench reloc` trials: a vehicle put down at a random pose (uniform over the mosaic area
 // where a full frame fits, uniform heading) sees sim-rendered frames (5 Hz, driving straight at
-// 0.3 m per frame, backwards when ahead leaves the floor, standing when neither fits); each frame is relocalized with no prior, from a cold tile cache, until a pose
-// is returned. Time to the first correct pose counts the relocalizer's time of every attempt plus
-// the frame period for each frame it waited for.
+// 0.3 m per frame, backwards when ahead leaves the floor, standing when neither fits); each frame
+// is relocalized with no prior, from a cold tile cache, until a pose is returned. Time to the first
+// correct pose counts the relocalizer's time of every attempt plus the frame period for each frame
+// it waited for.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +47,17 @@ struct RelocTrial {
   // own frame was accepted — for side-by-side tables.
   bool single_found = false, single_correct = false;
   double single_time_s = 0;
+  // Poses the features found and the twin check (or the self-similarity report) refused: whether
+  // each was right after all, so the twin rule's margin can be judged (issue 17).
+  struct Refused {
+    bool correct = false;
+    double error_m = 0, error_rad = 0;
+    double own = 0, twin = 0;  // the pose's dense correlation and its best distinct alternative's
+    int twin_inliers = 0;
+    bool by_report = false;  // refused by the self-similarity report, not the twin check
+  };
+  std::vector<Refused> refused;
+  mapmatch::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
 };
 
 // Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);

@@ -41,7 +41,7 @@ struct BenchRelocArgs {
   std::string json;
   mapmatch::PlaceIndexOptions index;
   RelocTrialSettings trials;
-  bool stress = false;      // the stress floors instead (bench_reloc_stress.h)
+  bool stress = false;       // the stress floors instead (bench_reloc_stress.h)
   RelocStressArgs stressed;  // its floors, sizes, conditions and layouts
 };
 
@@ -64,8 +64,7 @@ Result<std::string> PrepareMosaic(const BenchRelocArgs& args) {
   std::vector<std::string> names;
   for (const fs::path& p : *photos) names.push_back(p.string());
   FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(names, compose, pgm));
-  Result<mosaic::MosaicLayout> imported =
-      mosaic::ImportImage(pgm, ImportAtHalfMillimetre(), db);
+  Result<mosaic::MosaicLayout> imported = mosaic::ImportImage(pgm, ImportAtHalfMillimetre(), db);
   fs::remove(pgm);
   if (!imported.ok()) return imported.status();
   return db;
@@ -85,7 +84,8 @@ Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceI
     if (!store.ok()) return store.status();
     mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                             std::make_shared<mosaic::TileCache>(64LL << 20));
-    Result<mosaic::LoadedPlaceIndex> built = mosaic::LoadOrBuildPlaceIndex(db, view, o, mosaic::IndexCache::kRebuild);
+    Result<mosaic::LoadedPlaceIndex> built =
+        mosaic::LoadOrBuildPlaceIndex(db, view, o, mosaic::IndexCache::kRebuild);
     if (!built.ok()) return built.status();
     return nlohmann::json{{"features", built->index.size()},
                           {"blob_bytes", built->blob.size()},
@@ -133,7 +133,8 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
   if (!store.ok()) return store.status();
   mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                           std::make_shared<mosaic::TileCache>(64LL << 20));
-  Result<mosaic::LoadedPlaceIndex> index = mosaic::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic::IndexCache::kUse);
+  Result<mosaic::LoadedPlaceIndex> index =
+      mosaic::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic::IndexCache::kUse);
   if (!index.ok()) return index.status();
   Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, &index->index, args.trials);
   if (!trials.ok()) return trials.status();
@@ -192,6 +193,16 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
                   "reports both)")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
+  cmd->add_option("--fine-sweep-step-factor",
+                  args->trials.relocalizer.dense_fine.sweep_heading_step_factor,
+                  "The fine dense search's sweep heading step, times its default")
+      ->check(CLI::Range(1.0, 4.0))
+      ->capture_default_str();
+  cmd->add_option("--fine-refine-heading-steps",
+                  args->trials.relocalizer.dense_fine.refine_heading_steps,
+                  "Refine-level heading steps either side the fine dense search refines over")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str();
   cmd->add_flag("--trajectory-refine-level", args->trials.relocalizer.trajectory_refine_level,
                 "Sum the frames' heading sweeps at the dense search's refine level (slower)");
   cmd->add_option("--trajectory-max-mb", args->trials.relocalizer.trajectory_max_mb,
@@ -207,8 +218,7 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
       ->check(CLI::IsMember({"tuning", "holdout", "all"}));
   cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
       ->delimiter(',');
-  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")
-      ->delimiter(',');
+  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');
   cmd->add_option("--conditions", st.conditions,
                   "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
       ->delimiter(',');
