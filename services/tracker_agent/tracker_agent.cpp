@@ -205,6 +205,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     (void)TryRelocalize(t, frame, *odom);
     return;
   }
+  tracker_warm_up_.reset();  // this frame does the first-use work itself
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
   Prefetch(t, propagator_->At(t, *odom).pose);
@@ -278,6 +279,11 @@ void TrackerAgent::Prefetch(double t, const geometry::Pose2& base) {
   for (const geometry::Pose2& pose : along) AddFootprintTiles(pose, &keys);
   const std::vector<mosaic::TileKey> missing(keys.begin(), keys.end());
   if (Status asked = loader_->Prefetch(missing); !asked.ok()) health_.RecordError(asked.message());
+}
+
+void TrackerAgent::DecodeArrivedTiles() {
+  const Result<size_t> encoded = loader_->DecodeArrived(kTilesDecodedPerTurn);
+  if (!encoded.ok()) health_.RecordError(encoded.status().message());
 }
 
 void TrackerAgent::AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const {
@@ -434,7 +440,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       std::chrono::duration<double>(config_.health_period_s));
   if (config_.start_pose == "relocalize") WaitForPlaceIndex();
   input_ = &input;
-  if (initial_) WarmUp(0.0, initial_->pose);
+  if (initial_) WarmUp(0.0, *initial_);
   auto next_health = Clock::now();
   while (!stop.load()) {
     io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
@@ -464,6 +470,8 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     }
     UpdateMapServerReachability();
     ApplyTileUpdates();
+    DecodeArrivedTiles();
+    WarmUpTracker();
     relocalizer_->Poll();
     PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;
