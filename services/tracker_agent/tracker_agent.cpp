@@ -205,7 +205,10 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     (void)TryRelocalize(t, frame, *odom);
     return;
   }
-  tracker_warm_up_.reset();  // this frame does the first-use work itself
+  if (std::exchange(tracker_warm_up_, std::nullopt)) {
+    spdlog::info("warm-up: a frame came before the start pose's tiles were ready ({} normalized); "
+                 "it does the rest in its cycle", warm_up_tiles_);
+  }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
   Prefetch(t, propagator_->At(t, *odom).pose);
