@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <limits>
 #include <set>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -212,6 +213,9 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
   Prefetch(t, propagator_->At(t, *odom).pose);
+  // What the loop did not decode yet (a replay runs its frames back to back; live, normally
+  // nothing): before the cycle, as the tiles asked for ahead always were.
+  DecodeArrivedTiles(std::numeric_limits<size_t>::max());
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom, ExtrapolatedSpan(t));
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -284,8 +288,8 @@ void TrackerAgent::Prefetch(double t, const geometry::Pose2& base) {
   if (Status asked = loader_->Prefetch(missing); !asked.ok()) health_.RecordError(asked.message());
 }
 
-void TrackerAgent::DecodeArrivedTiles() {
-  const Result<size_t> encoded = loader_->DecodeArrived(kTilesDecodedPerTurn);
+void TrackerAgent::DecodeArrivedTiles(size_t max_tiles) {
+  const Result<size_t> encoded = loader_->DecodeArrived(max_tiles);
   if (!encoded.ok()) health_.RecordError(encoded.status().message());
 }
 
@@ -473,7 +477,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     }
     UpdateMapServerReachability();
     ApplyTileUpdates();
-    DecodeArrivedTiles();
+    if (IsLiveSource(config_.source)) DecodeArrivedTiles(kTilesDecodedPerTurn);
     WarmUpTracker();
     relocalizer_->Poll();
     PumpPatches();

@@ -115,9 +115,9 @@ class TrackerAgent {
   // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.
   void Prefetch(double t, const geometry::Pose2& base);
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
-  // Between events: decodes a few of the prefetched tiles that arrived (kTilesDecodedPerTurn,
-  // ~1 ms each), so that no frame's cycle decodes a burst of them.
-  void DecodeArrivedTiles();
+  // Decodes at most `max_tiles` of the prefetched tiles that arrived (~1.5 ms each). Live sources:
+  // kTilesDecodedPerTurn between events, so that no frame's cycle decodes a burst of them.
+  void DecodeArrivedTiles(size_t max_tiles);
   static constexpr size_t kTilesDecodedPerTurn = 2;
   void ApplyTileUpdates();
   // `propagated`: an odometry-rate pose between frames (the ROS 2 pose topic carries only poses
