@@ -122,7 +122,8 @@ void TrackerAgent::WarmUp(double t, const geometry::PoseWithCovariance& base) {
   spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.pose.x,
                base.pose.y);
   Prefetch(t, base.pose);
-  tracker_warm_up_ = base;
+  // Live only: a replay has no time between events to do it in (its loop decodes no tiles there).
+  if (IsLiveSource(config_.source)) tracker_warm_up_ = base;
 }
 
 void TrackerAgent::WarmUpTracker() {
