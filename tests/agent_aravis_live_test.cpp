@@ -200,6 +200,9 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   std::cerr << run.summary.dump(2) << "\n";
   EXPECT_NE(run.log.find("camera open: aravis camera"), std::string::npos) << run.log;
   EXPECT_NE(run.log.find("initial pose from initialpose"), std::string::npos) << run.log;
+  // The first frame's first-use work (tiles decoded and normalized) done before it came.
+  EXPECT_NE(run.log.find("normalized tiles around the start pose ready"), std::string::npos)
+      << run.log;
   // Every frame after the start pose tracked (the first half second of frames came before it).
   EXPECT_GE(run.frame_poses.size(), 55u) << run.log;
   ExpectOnTruth(run, 0.0005);

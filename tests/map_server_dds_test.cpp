@@ -144,6 +144,39 @@ TEST_F(MapServerDds, AVehicleViewOverDdsTilesReadsWhatTheStoreHolds) {
   EXPECT_EQ(loader.stats().errors, 0);
 }
 
+TEST_F(MapServerDds, PrefetchedTilesStayEncodedUntilDecodedAFewAtATimeOrLoaded) {
+  auto client = Client("veh-decode");
+  transport::DdsTileLoader loader(client.get(), layout_.mosaic_id, layout_.tile_size_px,
+                                  std::chrono::seconds(5));
+  mosaic::MosaicView over_dds(layout_, loader.AsTileLoader(),
+                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  auto store = std::shared_ptr<mosaic::TileStore>(
+      std::move(mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly)).value());
+  mosaic::MosaicView local(layout_, mosaic::MakeTileLoader(store),
+                           std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  const std::vector<mosaic::TileKey> ahead{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 1, 1}};
+  ASSERT_TRUE(loader.Prefetch(ahead).ok());
+  ASSERT_TRUE(Eventually([&] { return loader.Poll().ok() && loader.pending() == 0; }));
+  EXPECT_EQ(loader.encoded(), ahead.size());  // arrived, not decoded by the poll
+  Result<size_t> left = loader.DecodeArrived(1);
+  ASSERT_TRUE(left.ok());
+  EXPECT_EQ(*left, ahead.size() - 1);
+  ASSERT_TRUE(loader.Prefetch(ahead).ok());  // nothing asked again: they are all here
+  EXPECT_EQ(loader.stats().requested, static_cast<long long>(ahead.size()));
+  // The view takes a decoded tile and one still encoded alike, without waiting for the network.
+  const cv::Rect block(10, 10, 2 * layout_.tile_size_px - 20, layout_.tile_size_px - 20);
+  EXPECT_EQ(cv::norm(over_dds.ReadBlock(0, block), local.ReadBlock(0, block), cv::NORM_INF), 0);
+  left = loader.DecodeArrived(10);
+  ASSERT_TRUE(left.ok());
+  EXPECT_EQ(*left, 0u);
+  EXPECT_EQ(loader.encoded(), 0u);
+  EXPECT_EQ(loader.stats().waited, 0);
+  const cv::Rect lower(10, layout_.tile_size_px + 10, 2 * layout_.tile_size_px - 20, 50);
+  EXPECT_EQ(cv::norm(over_dds.ReadBlock(0, lower), local.ReadBlock(0, lower), cv::NORM_INF), 0);
+  EXPECT_EQ(loader.stats().waited, 0);
+  EXPECT_EQ(loader.stats().errors, 0);
+}
+
 TEST(DdsTileLoader, UnreachableServerTimesOutWithAClearError) {
   auto participant = transport::Participant::Create(kDomain + 10);  // nobody serves there
   ASSERT_TRUE(participant.ok());

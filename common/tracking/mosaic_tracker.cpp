@@ -89,6 +89,24 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   frames_since_blur_ = 0;
 }
 
+int MosaicTracker::WarmUp(const PoseWithCovariance& base_in_map, int max_tiles) {
+  const PoseWithCovariance camera = geometry::ComposeFixed(base_in_map, camera_.mount);
+  const int radius = std::min(FrameSearchRadius(camera), options_.max_search_radius_px);
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const Eigen::Vector2d center = layout.geo.MapToPixel({camera.pose.x, camera.pose.y});
+  const int reach = static_cast<int>(std::hypot(camera_.width_px, camera_.height_px) / 2) + radius;
+  int normalized = 0;
+  for (int level = 0; level <= CoarseLevels(radius) && normalized < max_tiles; ++level) {
+    const cv::Rect box((static_cast<int>(center.x()) - reach) >> level,
+                       (static_cast<int>(center.y()) - reach) >> level, (2 * reach) >> level,
+                       (2 * reach) >> level);
+    mosaic::TilesCovering(layout, level, box).ForEach([&](const mosaic::TileKey& key) {
+      if (normalized < max_tiles && normalized_.Prepare(key)) ++normalized;
+    });
+  }
+  return normalized;
+}
+
 // Search half-size for a frame point: 3 sigma of the predicted position of that point.
 int MosaicTracker::SearchRadius(const PoseWithCovariance& camera, const Eigen::Vector2d& px) const {
   const Eigen::Matrix<double, 2, 3> j =

@@ -45,6 +45,14 @@ class MosaicTracker : public FrameLocalizer {
   // Odometry-only step (a frame that could not be read or used): the pose coasts.
   FrameResult Coast(double t, const geometry::Pose2& odom) override;
 
+  // Normalizes at most `max_tiles` of the mosaic tiles a frame at `base_in_map` would search (its
+  // footprint grown by the search radius of the pose's covariance, at the levels that radius is
+  // searched at) that are not normalized yet: the first frame's first-use work, done ahead a few
+  // tiles at a time (e.g. while the vehicle waits for its camera). Tiles not loaded yet are loaded
+  // through the raster source. Returns how many it normalized (fewer than max_tiles: all are);
+  // the tracker's state is unchanged.
+  int WarmUp(const geometry::PoseWithCovariance& base_in_map, int max_tiles);
+
   // Forgets the normalized tiles computed from `changed` tiles of the mosaic (a new mosaic
   // version changed them): those tiles and their neighbours, whose margins read them.
   void DropTiles(const std::vector<mosaic::TileKey>& changed);

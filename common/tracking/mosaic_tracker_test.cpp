@@ -89,6 +89,60 @@ TEST(MosaicTracker, MosaicWithFewerPyramidLevelsThanTheCoarseSearchStillTracks) 
   EXPECT_LT(std::hypot(error.x, error.y), 0.25 * scene.camera.resolution_m);
 }
 
+// Counts the blocks the tracker reads from the mosaic (one per tile it normalizes).
+class CountingSource : public mosaic::RasterSource {
+ public:
+  explicit CountingSource(mosaic::RasterSource* inner) : inner_(inner) {}
+  const mosaic::MosaicLayout& layout() const override { return inner_->layout(); }
+  cv::Mat ReadBlock(int level, const cv::Rect& rect) override {
+    ++reads;
+    return inner_->ReadBlock(level, rect);
+  }
+  int reads = 0;
+
+ private:
+  mosaic::RasterSource* inner_;
+};
+
+TEST(MosaicTracker, WarmUpNormalizesTheFirstFramesTilesAFewAtATimeWithoutChangingItsPose) {
+  Scene scene;
+  mosaic::ImageRasterSource image(scene.floor, scene.geo);
+  TrackerOptions options;
+  options.template_size_px = 32;
+  options.coarse_template_size_px = 32;
+  options.candidate_step_px = 8;
+  options.max_templates = 12;
+  ASSERT_TRUE(Validate(options).ok());
+  const Pose2 start = CircleBase(0), next = CircleBase(0.1);
+  const geometry::PoseWithCovariance given{{start.x + 0.002, start.y, start.theta},
+                                           Eigen::Vector3d(4e-6, 4e-6, 1e-4).asDiagonal()};
+  const cv::Mat frame = scene.Render(next, 1.0, 0.0);
+  auto first_frame = [&](MosaicTracker& tracker) {
+    tracker.Reset(given, {0, 0, 0});
+    return tracker.Track(frame, 0.1, geometry::Between(start, next));
+  };
+  CountingSource cold_source(&image), warm_source(&image);
+  MosaicTracker cold(options, scene.camera, &cold_source), warm(options, scene.camera, &warm_source);
+  int warmed = 0, steps = 0;
+  for (int step; (step = warm.WarmUp(given, 2)) > 0; ++steps) {
+    ASSERT_LE(step, 2);
+    warmed += step;
+  }
+  EXPECT_GT(steps, 1);  // a few tiles per call
+  EXPECT_EQ(warm.WarmUp(given, 100), 0);  // nothing left
+  EXPECT_EQ(warm_source.reads, warmed);   // one read per normalized tile
+  const FrameResult cold_result = first_frame(cold);
+  const FrameResult warm_result = first_frame(warm);
+  // The warmed-up tracker's first frame normalizes nothing more; its pose is the cold one's.
+  EXPECT_EQ(warm_source.reads, warmed);
+  EXPECT_LE(cold_source.reads, warmed);  // the warm-up's box bounds the search: a superset
+  EXPECT_GT(cold_source.reads, 0);
+  EXPECT_EQ(warm_result.state, LockState::kTracking);
+  EXPECT_EQ(warm_result.base_in_map.pose.x, cold_result.base_in_map.pose.x);
+  EXPECT_EQ(warm_result.base_in_map.pose.y, cold_result.base_in_map.pose.y);
+  EXPECT_EQ(warm_result.base_in_map.pose.theta, cold_result.base_in_map.pose.theta);
+}
+
 TEST(MosaicTracker, CoastsOnABlankFrameAndReportsLostWhenUncertaintyOutgrowsSearch) {
   Scene scene;
   mosaic::ImageRasterSource source(scene.floor, scene.geo);

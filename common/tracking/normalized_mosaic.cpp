@@ -48,6 +48,12 @@ mosaic::TilePtr NormalizedMosaic::NormalizedTile(const mosaic::TileKey& key) {
   return result;
 }
 
+bool NormalizedMosaic::Prepare(const mosaic::TileKey& key) {
+  if (cache_->Contains(key)) return false;
+  (void)NormalizedTile(key);
+  return true;
+}
+
 cv::Mat NormalizedMosaic::ReadBlock(int level, const cv::Rect& rect) {
   return mosaic::AssembleBlock(layout(), level, rect, CV_32F,
                                [this](const mosaic::TileKey& k) { return NormalizedTile(k); });

@@ -27,6 +27,8 @@ class NormalizedMosaic {
 
   // CV_32F normalized pixels of `rect` at `level`; outside the mosaic 0.
   cv::Mat ReadBlock(int level, const cv::Rect& rect);
+  // Normalizes the tile now unless it is cached: true when it did (ahead-of-use work).
+  bool Prepare(const mosaic::TileKey& key);
   int WindowAt(int level) const { return std::max(5, (window_level0_px_ >> level) | 1); }
   const mosaic::MosaicLayout& layout() const { return mosaic_->layout(); }
   mosaic::TileCache& cache() { return *cache_; }

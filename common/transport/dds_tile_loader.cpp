@@ -30,6 +30,7 @@ Status DdsTileLoader::Ask(const std::vector<mosaic::TileKey>& keys) {
 void DdsTileLoader::Invalidate(const std::vector<mosaic::TileKey>& keys, long long version) {
   for (const mosaic::TileKey& key : keys) {
     arrived_.erase(key);  // arrival_order_ may still name it; the bound loop tolerates that
+    encoded_.erase(key);
     long long& needed = min_version_[key];
     needed = std::max(needed, version);
     ++stats_.invalidated;
@@ -49,13 +50,41 @@ bool DdsTileLoader::IsCurrent(const ReceivedTile& tile) {
   return true;
 }
 
-void DdsTileLoader::Keep(ReceivedTile tile) {
+void DdsTileLoader::Receive(ReceivedTile tile) {
   ++stats_.received;
   if (auto asked = in_flight_.find(tile.key); asked != in_flight_.end()) {
     if (round_trip_) round_trip_(std::chrono::duration<double>(Clock::now() - asked->second).count());
     in_flight_.erase(asked);
   }
   if (!IsCurrent(tile)) return;
+  const mosaic::TileKey key = tile.key;
+  if (encoded_.insert_or_assign(key, std::move(tile)).second) encoded_order_.push_back(key);
+  while (encoded_order_.size() > max_buffered_) {  // oldest first (decoded ones are gone)
+    encoded_.erase(encoded_order_.front());
+    encoded_order_.pop_front();
+  }
+}
+
+bool DdsTileLoader::Ready(const mosaic::TileKey& key) {
+  if (auto it = encoded_.find(key); it != encoded_.end()) {
+    ReceivedTile tile = std::move(it->second);
+    encoded_.erase(it);
+    Keep(std::move(tile));
+  }
+  return arrived_.count(key) > 0;
+}
+
+Result<size_t> DdsTileLoader::DecodeArrived(size_t max_tiles) {
+  FLEETLOC_RETURN_IF_ERROR(Poll());
+  for (size_t decoded = 0; decoded < max_tiles && !encoded_order_.empty();) {
+    const mosaic::TileKey key = encoded_order_.front();
+    encoded_order_.pop_front();
+    if (encoded_.count(key)) (void)Ready(key), ++decoded;
+  }
+  return encoded_.size();
+}
+
+void DdsTileLoader::Keep(ReceivedTile tile) {
   Result<cv::Mat> decoded = NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
   if (tile.status == fleetloc_TILE_OK) {
     decoded = mosaic::DecodeTile(tile.data, tile_size_px_);
@@ -82,7 +111,7 @@ Status DdsTileLoader::Poll() {
   Result<std::vector<ReceivedTile>> tiles = client_->TakeTiles();
   if (!tiles.ok()) return tiles.status();
   for (ReceivedTile& tile : *tiles) {
-    if (tile.mosaic_id == mosaic_id_) Keep(std::move(tile));
+    if (tile.mosaic_id == mosaic_id_) Receive(std::move(tile));
   }
   return Status::Ok();
 }
@@ -92,14 +121,14 @@ Status DdsTileLoader::Prefetch(const std::vector<mosaic::TileKey>& keys) {
   std::vector<mosaic::TileKey> wanted;
   const Clock::time_point now = Clock::now();
   for (const mosaic::TileKey& key : keys) {
-    if (!arrived_.count(key) && NeedsAsking(key, now)) wanted.push_back(key);
+    if (!arrived_.count(key) && !encoded_.count(key) && NeedsAsking(key, now)) wanted.push_back(key);
   }
   return Ask(wanted);
 }
 
 Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   FLEETLOC_RETURN_IF_ERROR(Poll());
-  if (!arrived_.count(key)) {
+  if (!Ready(key)) {
     ++stats_.waited;
     if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
     if (!reachable_(key)) {
@@ -108,7 +137,7 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
       return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");
     }
     const auto deadline = Clock::now() + timeout_;
-    while (!arrived_.count(key)) {
+    while (!Ready(key)) {
       // Asked again when a stale answer came (no longer in flight) or the request seems lost.
       if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
       if (Clock::now() >= deadline) {

@@ -1,6 +1,7 @@
 // Tiles for a vehicle's MosaicView from the map server over DDS: a tile the view misses is
 // requested and waited for (bounded); tiles asked for ahead of need (Prefetch) are kept when they
-// arrive until the view asks for them. Used as the MosaicView's TileLoader in the tracker agent.
+// arrive until the view asks for them, encoded until DecodeArrived (the caller's idle time) or
+// the view's Load decodes them. Used as the MosaicView's TileLoader in the tracker agent.
 #pragma once
 
 #include <chrono>
@@ -58,8 +59,14 @@ class DdsTileLoader {
   // A TileUpdate announced `version` of `keys`: buffered copies are dropped, and answers older
   // than `version` for them are refused (they were in flight before the update) and asked again.
   void Invalidate(const std::vector<mosaic::TileKey>& keys, long long version);
-  // Takes the tiles that arrived so far into the buffer (call now and then; Load does it too).
+  // Takes the tiles that arrived so far into the buffer, still encoded (Load and Prefetch do it
+  // too).
   Status Poll();
+  // Polls, then decodes at most `max_tiles` of the buffered encoded tiles, oldest first; returns
+  // how many are left encoded. Decoding takes ~1 ms per 256 px tile: a caller with idle time
+  // spends it there, so that a burst of prefetched tiles is not decoded inside a frame's cycle.
+  Result<size_t> DecodeArrived(size_t max_tiles);
+  size_t encoded() const { return encoded_.size(); }
 
   mosaic::TileLoader AsTileLoader() {
     return [this](const mosaic::TileKey& key) { return Load(key); };
@@ -72,7 +79,12 @@ class DdsTileLoader {
   Status Ask(const std::vector<mosaic::TileKey>& keys);
   // Whether `key` should be (re)sent: not in flight, or its request presumed lost.
   bool NeedsAsking(const mosaic::TileKey& key, Clock::time_point now);
+  // An answer: round trip, version check, then buffered encoded (oldest dropped beyond the bound).
+  void Receive(ReceivedTile tile);
+  // Decodes a received answer into the buffer of tiles ready for the view.
   void Keep(ReceivedTile tile);
+  // Decodes `key` if it is buffered encoded; true when it is ready for the view.
+  bool Ready(const mosaic::TileKey& key);
   bool IsCurrent(const ReceivedTile& tile);
 
   TileClient* client_;
@@ -84,6 +96,8 @@ class DdsTileLoader {
   std::map<mosaic::TileKey, Clock::time_point> in_flight_;  // when each was last asked for
   std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
   std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
+  std::map<mosaic::TileKey, ReceivedTile> encoded_;  // received, not decoded yet
+  std::deque<mosaic::TileKey> encoded_order_;  // decoding order and its bound (may name gone keys)
   std::map<mosaic::TileKey, long long> min_version_;  // announced by TileUpdates, not yet received
   Reachability reachable_ = [](const mosaic::TileKey&) { return true; };
   DdsTileLoaderStats stats_;

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <limits>
 #include <set>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -205,9 +206,16 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
     (void)TryRelocalize(t, frame, *odom);
     return;
   }
+  if (std::exchange(tracker_warm_up_, std::nullopt)) {
+    spdlog::info("warm-up: a frame came before the start pose's tiles were ready ({} normalized); "
+                 "it does the rest in its cycle", warm_up_tiles_);
+  }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
   Prefetch(t, propagator_->At(t, *odom).pose);
+  // What the loop did not decode yet (a replay runs its frames back to back; live, normally
+  // nothing): before the cycle, as the tiles asked for ahead always were.
+  DecodeArrivedTiles(std::numeric_limits<size_t>::max());
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom, ExtrapolatedSpan(t));
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -278,6 +286,11 @@ void TrackerAgent::Prefetch(double t, const geometry::Pose2& base) {
   for (const geometry::Pose2& pose : along) AddFootprintTiles(pose, &keys);
   const std::vector<mosaic::TileKey> missing(keys.begin(), keys.end());
   if (Status asked = loader_->Prefetch(missing); !asked.ok()) health_.RecordError(asked.message());
+}
+
+void TrackerAgent::DecodeArrivedTiles(size_t max_tiles) {
+  const Result<size_t> encoded = loader_->DecodeArrived(max_tiles);
+  if (!encoded.ok()) health_.RecordError(encoded.status().message());
 }
 
 void TrackerAgent::AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const {
@@ -434,7 +447,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       std::chrono::duration<double>(config_.health_period_s));
   if (config_.start_pose == "relocalize") WaitForPlaceIndex();
   input_ = &input;
-  if (initial_) WarmUp(0.0, initial_->pose);
+  if (initial_) WarmUp(0.0, *initial_);
   auto next_health = Clock::now();
   while (!stop.load()) {
     io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
@@ -464,6 +477,8 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     }
     UpdateMapServerReachability();
     ApplyTileUpdates();
+    if (IsLiveSource(config_.source)) DecodeArrivedTiles(kTilesDecodedPerTurn);
+    WarmUpTracker();
     relocalizer_->Poll();
     PumpPatches();
     if (Clock::now() >= next_health) PublishHealth(), next_health = Clock::now() + period;

@@ -86,9 +86,14 @@ class TrackerAgent {
   // A live frame captured while odometry had stopped (the samples around it farther apart than
   // live.odometry_stale_s): its odometry would be a guess; the reason to drop it, else empty.
   std::string InOdometryGap(double t) const;
-  // Before the first frame: asks for the tiles around the start pose (no fetch in the first
-  // frames' cycles).
-  void WarmUp(double t, const geometry::Pose2& base);
+  // Before the first frame: asks for the tiles around the start pose; once they are in,
+  // WarmUpTracker normalizes them (no fetch, decoding or normalization in the first frame's cycle).
+  void WarmUp(double t, const geometry::PoseWithCovariance& base);
+  // Between events: the tracker's first-use work at the start pose (normalized tiles,
+  // kTilesNormalizedPerTurn at a time, ~1.4 ms each), once its tiles arrived and were decoded
+  // (nothing in flight or encoded); dropped when a frame runs first.
+  void WarmUpTracker();
+  static constexpr int kTilesNormalizedPerTurn = 2;
   void Track(double t, const cv::Mat& frame);
   // Before the first frame of either camera: the tracker and the propagator start from the initial
   // pose (false without one: the first downward frame is to relocalize).
@@ -110,6 +115,10 @@ class TrackerAgent {
   // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.
   void Prefetch(double t, const geometry::Pose2& base);
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
+  // Decodes at most `max_tiles` of the prefetched tiles that arrived (~1.5 ms each). Live sources:
+  // kTilesDecodedPerTurn between events, so that no frame's cycle decodes a burst of them.
+  void DecodeArrivedTiles(size_t max_tiles);
+  static constexpr size_t kTilesDecodedPerTurn = 2;
   void ApplyTileUpdates();
   // `propagated`: an odometry-rate pose between frames (the ROS 2 pose topic carries only poses
   // at frame times, the map → odom transform both).
@@ -165,6 +174,9 @@ class TrackerAgent {
   // and simulation never do (frames wait until odometry covers them).
   double extrapolation_s_ = 0.0;
   tracking::OdometryHistory odometry_{10.0, 0.0};
+  std::optional<geometry::PoseWithCovariance> tracker_warm_up_;  // where WarmUpTracker works
+  int warm_up_tiles_ = 0;
+  double warm_up_ms_ = 0.0;
   std::optional<double> extrapolated_frame_t_;  // the last frame run on extrapolated odometry
   std::deque<std::pair<double, geometry::Pose2>> deferred_map_to_odom_;  // base_link in map at t
   long long extrapolated_frames_ = 0;

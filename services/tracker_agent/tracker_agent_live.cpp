@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include "camera_io/camera_source.h"
 #include "replay/replay.h"
@@ -63,7 +64,7 @@ void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
                config_.ros.initialpose_topic, given.pose.pose.x, given.pose.pose.y,
                given.pose.pose.theta * 180.0 / M_PI, t);
   initial_ = given.pose;
-  WarmUp(t, given.pose.pose);
+  WarmUp(t, given.pose);
   tracker_->Reset(given.pose, *odom);
   extrapolated_frame_t_.reset();
   started_ = true, provisional_ = false, coasting_in_a_row_ = 0;
@@ -116,11 +117,25 @@ std::string TrackerAgent::InOdometryGap(double t) const {
          " captured while odometry had stopped (no sample for " + std::to_string(gap) + " s)";
 }
 
-void TrackerAgent::WarmUp(double t, const geometry::Pose2& base) {
+void TrackerAgent::WarmUp(double t, const geometry::PoseWithCovariance& base) {
   if (started_) return;
-  spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.x,
-               base.y);
-  Prefetch(t, base);
+  spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.pose.x,
+               base.pose.y);
+  Prefetch(t, base.pose);
+  // Live only: a replay has no time between events to do it in (its loop decodes no tiles there).
+  if (IsLiveSource(config_.source)) tracker_warm_up_ = base;
+}
+
+void TrackerAgent::WarmUpTracker() {
+  if (!tracker_warm_up_ || loader_->pending() > 0 || loader_->encoded() > 0) return;
+  const auto start = std::chrono::steady_clock::now();
+  const int normalized = tracker_->WarmUp(*tracker_warm_up_, kTilesNormalizedPerTurn);
+  warm_up_tiles_ += normalized;
+  warm_up_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (normalized == kTilesNormalizedPerTurn) return;  // more next turn
+  tracker_warm_up_.reset();
+  spdlog::info("warm-up: {} normalized tiles around the start pose ready ({:.1f} ms of work)",
+               warm_up_tiles_, warm_up_ms_);
 }
 
 nlohmann::json TrackerAgent::LatencySummary(const std::vector<double>& latency, long long total) {
