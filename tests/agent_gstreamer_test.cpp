@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::Eventually;
-constexpr uint32_t kDomain = 122;
+constexpr uint32_t kDomain = 127;  // 122 is the supervisor OpenAPI test's
 constexpr int kFrames = 30;
 
 TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
