@@ -45,6 +45,19 @@ class MapServerDds : public ::testing::Test {
     return std::move(client).value();
   }
 
+  // A vehicle's view of the mosaic through `loader` (tiles over DDS).
+  static mosaic::MosaicView ViewOver(transport::DdsTileLoader& loader) {
+    return mosaic::MosaicView(layout_, loader.AsTileLoader(),
+                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  }
+  // The mosaic read straight from the store: what a view over DDS must equal.
+  static mosaic::MosaicView LocalView() {
+    auto store = std::shared_ptr<mosaic::TileStore>(
+        std::move(mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly)).value());
+    return mosaic::MosaicView(layout_, mosaic::MakeTileLoader(store),
+                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  }
+
   // Requests `keys` and collects replies until `expected` tiles of request `id` arrived.
   std::vector<ReceivedTile> Fetch(TileClient& client, uint32_t id,
                                   const std::vector<mosaic::TileKey>& keys, size_t expected,
@@ -125,12 +138,8 @@ TEST_F(MapServerDds, AVehicleViewOverDdsTilesReadsWhatTheStoreHolds) {
   auto client = Client("veh-view");
   transport::DdsTileLoader loader(client.get(), layout_.mosaic_id, layout_.tile_size_px,
                                   std::chrono::seconds(5));
-  mosaic::MosaicView over_dds(layout_, loader.AsTileLoader(),
-                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
-  auto store = std::shared_ptr<mosaic::TileStore>(
-      std::move(mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly)).value());
-  mosaic::MosaicView local(layout_, mosaic::MakeTileLoader(store),
-                           std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  mosaic::MosaicView over_dds = ViewOver(loader);
+  mosaic::MosaicView local = LocalView();
   ASSERT_TRUE(loader.Prefetch({{0, 0, 0}, {0, 1, 0}}).ok());
   for (const cv::Rect& block : {cv::Rect(10, 20, 300, 200), cv::Rect(-50, 400, 200, 200),
                                 cv::Rect(200, 100, 250, 250)}) {
@@ -148,12 +157,8 @@ TEST_F(MapServerDds, PrefetchedTilesStayEncodedUntilDecodedAFewAtATimeOrLoaded) 
   auto client = Client("veh-decode");
   transport::DdsTileLoader loader(client.get(), layout_.mosaic_id, layout_.tile_size_px,
                                   std::chrono::seconds(5));
-  mosaic::MosaicView over_dds(layout_, loader.AsTileLoader(),
-                              std::make_shared<mosaic::TileCache>(size_t{8} << 20));
-  auto store = std::shared_ptr<mosaic::TileStore>(
-      std::move(mosaic::TileStore::Open(mosaic_path_, mosaic::OpenMode::kReadOnly)).value());
-  mosaic::MosaicView local(layout_, mosaic::MakeTileLoader(store),
-                           std::make_shared<mosaic::TileCache>(size_t{8} << 20));
+  mosaic::MosaicView over_dds = ViewOver(loader);
+  mosaic::MosaicView local = LocalView();
   const std::vector<mosaic::TileKey> ahead{{0, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 1, 1}};
   ASSERT_TRUE(loader.Prefetch(ahead).ok());
   ASSERT_TRUE(Eventually([&] { return loader.Poll().ok() && loader.pending() == 0; }));

@@ -23,17 +23,22 @@ Pose2 CircleBase(double s) {  // camera centre circles the middle of the floor
   return camera * Pose2{0.1, 0.0, 0.0}.Inverse();
 }
 
-TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
-  Scene scene;
-  ASSERT_FALSE(scene.floor.empty());
-  mosaic::ImageRasterSource source(scene.floor, scene.geo);
-  // A 160×120 frame holds fewer and smaller templates than the 640×480 default.
+// A 160×120 frame holds fewer and smaller templates than the 640×480 default.
+TrackerOptions SmallFrameOptions() {
   TrackerOptions options;
   options.max_templates = 12;
   options.template_size_px = 32;
   options.coarse_template_size_px = 32;
-  options.coarse_levels = 1;
   options.candidate_step_px = 8;
+  return options;
+}
+
+TEST(MosaicTracker, TracksRealFloorWithDriftingOdometryToSubpixelAccuracy) {
+  Scene scene;
+  ASSERT_FALSE(scene.floor.empty());
+  mosaic::ImageRasterSource source(scene.floor, scene.geo);
+  TrackerOptions options = SmallFrameOptions();
+  options.coarse_levels = 1;
   ASSERT_TRUE(Validate(options).ok());
   MosaicTracker tracker(options, scene.camera, &source);
   // Odometry: 2 % scale error and a heading bias, integrated from true increments.
@@ -107,11 +112,7 @@ class CountingSource : public mosaic::RasterSource {
 TEST(MosaicTracker, WarmUpNormalizesTheFirstFramesTilesAFewAtATimeWithoutChangingItsPose) {
   Scene scene;
   mosaic::ImageRasterSource image(scene.floor, scene.geo);
-  TrackerOptions options;
-  options.template_size_px = 32;
-  options.coarse_template_size_px = 32;
-  options.candidate_step_px = 8;
-  options.max_templates = 12;
+  const TrackerOptions options = SmallFrameOptions();
   ASSERT_TRUE(Validate(options).ok());
   const Pose2 start = CircleBase(0), next = CircleBase(0.1);
   const geometry::PoseWithCovariance given{{start.x + 0.002, start.y, start.theta},
