@@ -116,12 +116,12 @@ Status TrackerAgent::Open(const tracking::TrackerOptions& options) {
 }
 
 void TrackerAgent::Publish(double t, const geometry::PoseWithCovariance& base,
-                           tracking::LockState state, bool propagated) {
+                           tracking::LockState state, PoseOrigin origin) {
   const transport::PoseReport report{config_.vehicle_id, t, base, state, layout_.version};
   if (Status sent = pose_writer_->Write(transport::ToIdl(report)); !sent.ok()) {
     health_.RecordError(sent.message());
   }
-  if (ros_ && state != tracking::LockState::kLost) PublishRos(t, base, propagated);
+  if (ros_ && state != tracking::LockState::kLost) PublishRos(t, base, origin);
 }
 
 void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
@@ -139,7 +139,7 @@ void TrackerAgent::OnOdometry(double t, const geometry::Pose2& odom) {
   if (pending_initial_) ApplyInitialPose(*pending_initial_);
   ProcessReadyFrames();
   if (propagator_->anchored() && t > propagator_->anchor_time()) {
-    Publish(t, propagator_->At(t, odom), state_, /*propagated=*/true);
+    Publish(t, propagator_->At(t, odom), state_, PoseOrigin::kOdometry);
   }
 }
 
@@ -178,7 +178,7 @@ void TrackerAgent::UpdatePosition(double t, const cv::Mat& image) {
     if (!Start(t, *odom)) return;  // nowhere to place its landmarks until a frame relocalizes
     state_ = tracking::LockState::kCoasting;  // odometry only, until a frame or a fit
     health_.RecordLockState(state_);
-    Publish(t, *initial_, state_);
+    Publish(t, *initial_, state_, PoseOrigin::kGiven);
   }
   const geometry::PoseWithCovariance estimate = propagator_->At(t, *odom);
   if (Status added = position_update_->AddImage(t, image, estimate.pose); !added.ok()) {

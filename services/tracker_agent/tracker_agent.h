@@ -120,11 +120,13 @@ class TrackerAgent {
   void DecodeArrivedTiles(size_t max_tiles);
   static constexpr size_t kTilesDecodedPerTurn = 2;
   void ApplyTileUpdates();
-  // `propagated`: an odometry-rate pose between frames (the ROS 2 pose topic carries only poses
-  // at frame times, the map → odom transform both).
+  // Where a published pose comes from. The ROS 2 pose topic carries the poses at frame times and
+  // given start poses, the map → odom transform all three; only a frame's pose has a capture time
+  // to time the capture → pose latency from.
+  enum class PoseOrigin { kFrame, kOdometry, kGiven };
   void Publish(double t, const geometry::PoseWithCovariance& base, tracking::LockState state,
-               bool propagated = false);
-  void PublishRos(double t, const geometry::PoseWithCovariance& base, bool propagated);
+               PoseOrigin origin = PoseOrigin::kFrame);
+  void PublishRos(double t, const geometry::PoseWithCovariance& base, PoseOrigin origin);
   // Until every tile of the mosaic has a map server announcing it, or `deadline`.
   void WaitForTileCoverage(std::chrono::steady_clock::time_point deadline);
   // A vehicle that starts without a pose can do nothing before the place index is loaded: waits

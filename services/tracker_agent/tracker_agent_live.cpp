@@ -13,10 +13,12 @@
 
 namespace fleetloc::tracker_agent {
 
-void TrackerAgent::PublishRos(double t, const geometry::PoseWithCovariance& base, bool propagated) {
-  if (!propagated) {
+void TrackerAgent::PublishRos(double t, const geometry::PoseWithCovariance& base,
+                              PoseOrigin origin) {
+  if (origin != PoseOrigin::kOdometry) {
     if (Status sent = ros_->PublishPose(t, base); !sent.ok()) health_.RecordError(sent.message());
-    if (IsLiveSource(config_.source)) {  // t is the frame's capture time on the host clock
+    // t is the frame's capture time on the host clock (a given start pose has no capture).
+    if (origin == PoseOrigin::kFrame && IsLiveSource(config_.source)) {
       capture_to_pose_ms_.push_back((camera_io::HostNow() - t) * 1000.0);
       ++poses_timed_;
       if (capture_to_pose_ms_.size() > 10000) capture_to_pose_ms_.pop_front();
@@ -72,7 +74,7 @@ void TrackerAgent::ApplyInitialPose(const transport::RosPoseStamped& given) {
   state_ = tracking::LockState::kCoasting;  // until a frame tracks from it
   health_.RecordLockState(state_);
   propagator_->SetAnchor(t, *odom, given.pose);
-  Publish(t, given.pose, state_);
+  Publish(t, given.pose, state_, PoseOrigin::kGiven);
 }
 
 void TrackerAgent::OnOdometryRestart() {
