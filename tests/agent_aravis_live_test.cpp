@@ -208,6 +208,14 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   ExpectOnTruth(run, 0.0005);
   EXPECT_EQ(run.summary["input_dropped_frames"], 0) << run.log;
   EXPECT_EQ(run.frame_drops, 0);
+  // Every frame pose's capture -> pose latency timed, stage by stage, none negative (a frame is
+  // stamped no later than it arrives); how long they are is the bench's to measure.
+  const nlohmann::json& latency = run.summary["capture_to_pose_ms"];
+  EXPECT_GE(latency["frames"].get<size_t>(), 55u);
+  for (const char* stage : {"camera", "input", "before_cycle", "cycle_and_publish"}) {
+    EXPECT_EQ(latency["stages"][stage]["frames"], latency["frames"]) << stage;
+    EXPECT_GE(latency["stages"][stage]["p50"].get<double>(), 0.0) << stage;
+  }
   EXPECT_TRUE(run.issues_at_end.empty()) << ::testing::PrintToString(run.issues_at_end) << run.log;
   // Before the drive: no odometry, no pose yet — each named.
   for (const char* issue : {"odometry_stale", "lock_lost"}) {

@@ -10,10 +10,6 @@
 namespace fleetloc::camera_io {
 namespace {
 
-// Captures whose device time only feeds the clock mapping (see CameraStats::clock_settling): the
-// smallest delay of three frames is the offset the later frames are stamped with.
-constexpr long long kClockSettleSamples = 3;
-
 // Runs an Aravis call taking a trailing GError**; Internal "<what>: <message>" if it failed.
 template <typename Fn>
 Status Checked(const std::string& what, Fn&& fn) {
@@ -179,7 +175,7 @@ std::optional<CapturedFrame> AravisCamera::Convert(void* opaque) {
                 ? frame.arrival_t
                 : clock_.Map(static_cast<double>(arv_buffer_get_timestamp(buffer)) * 1e-9,
                              frame.arrival_t);
-  if (options_.timestamps != "arrival" && clock_.samples() < kClockSettleSamples) {
+  if (options_.timestamps != "arrival" && clock_.samples() < kClockSettleFrames) {
     ++stats_.clock_settling;
     return std::nullopt;
   }

@@ -42,6 +42,11 @@ class CameraSource {
   virtual std::string Describe() const = 0;
 };
 
+// After an open or a device clock restart, frames are stamped once the clock mapping has seen this
+// many (the frame itself included): the ones before only feed it (CameraStats::clock_settling),
+// and every stamped frame's offset is the smallest delay of at least three.
+inline constexpr long long kClockSettleFrames = 3;
+
 // Now on the host clock, Unix seconds.
 double HostNow();
 

@@ -74,8 +74,10 @@ Status Validate(const GstOptions& o) {
   if (o.pipeline.find("appsink") == std::string::npos) {
     return InvalidInput("field 'gstreamer.pipeline': must end in an appsink");
   }
-  if (o.timestamps != "buffer" && o.timestamps != "arrival" && o.timestamps != "frame_rate") {
-    return InvalidInput("field 'gstreamer.timestamps': must be buffer, arrival or frame_rate");
+  if (o.timestamps != "buffer" && o.timestamps != "device" && o.timestamps != "arrival" &&
+      o.timestamps != "frame_rate") {
+    return InvalidInput(
+        "field 'gstreamer.timestamps': must be buffer, device, arrival or frame_rate");
   }
   if (!std::isfinite(o.epoch_s)) return InvalidInput("field 'gstreamer.epoch_s': must be finite");
   return Status::Ok();
@@ -156,9 +158,11 @@ Result<std::optional<CapturedFrame>> GstCamera::Grab(double timeout_s) {
   CapturedFrame frame;
   frame.arrival_t = HostNow();
   std::optional<cv::Mat> image = Image(sample);
-  if (image) frame.t = CaptureTime(sample, frame.arrival_t);
+  std::optional<double> t;
+  if (image) t = CaptureTime(sample, frame.arrival_t);
   gst_sample_unref(sample);
-  if (!image) return std::optional<CapturedFrame>();
+  if (!image || !t) return std::optional<CapturedFrame>();
+  frame.t = *t;
   if (options_.timestamps == "frame_rate" && !(fps_ > 0))
     return Internal(Describe() + ": no framerate in its caps (gstreamer.timestamps frame_rate)");
   frame.image = std::move(*image);
@@ -202,14 +206,32 @@ std::optional<cv::Mat> GstCamera::Image(GstSample* sample) {
   return gray;
 }
 
-double GstCamera::CaptureTime(GstSample* sample, double arrival_t) {
+std::optional<double> GstCamera::CaptureTime(GstSample* sample, double arrival_t) {
   if (options_.timestamps == "frame_rate") {
     return options_.epoch_s + static_cast<double>(read_ - 1) / fps_;  // fps_ > 0: checked by Grab
   }
+  if (options_.timestamps == "arrival") return arrival_t;
   GstBuffer* buffer = gst_sample_get_buffer(sample);
-  const GstSegment* segment = gst_sample_get_segment(sample);
-  if (options_.timestamps == "arrival" || !GST_BUFFER_PTS_IS_VALID(buffer) || segment == nullptr)
-    return arrival_t;
+  if (options_.timestamps == "device") return DeviceTime(buffer, arrival_t);
+  return PipelineTime(buffer, gst_sample_get_segment(sample), arrival_t);
+}
+
+std::optional<double> GstCamera::DeviceTime(GstBuffer* buffer, double arrival_t) {
+  if (!GST_BUFFER_PTS_IS_VALID(buffer)) {
+    ++stats_.dropped, stats_.last_drop = "buffer without a timestamp (gstreamer.timestamps device)";
+    return std::nullopt;
+  }
+  const double t = clock_.Map(static_cast<double>(GST_BUFFER_PTS(buffer)) * 1e-9, arrival_t);
+  if (clock_.samples() < kClockSettleFrames) {
+    ++stats_.clock_settling;
+    return std::nullopt;
+  }
+  return t;
+}
+
+double GstCamera::PipelineTime(GstBuffer* buffer, const GstSegment* segment,
+                               double arrival_t) const {
+  if (!GST_BUFFER_PTS_IS_VALID(buffer) || segment == nullptr) return arrival_t;
   const GstClockTime running =
       gst_segment_to_running_time(segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer));
   GstClock* clock = gst_element_get_clock(pipeline_);

@@ -1,5 +1,7 @@
 // GstCamera on real GStreamer pipelines: a live videotestsrc's buffer timestamps (PTS on the
-// pipeline clock) land on the host clock a frame period apart; frame_rate stamps the run's grid;
+// pipeline clock) land on the host clock a frame period apart; a camera's own clock (device
+// timestamps an hour off) lands on the host clock at its arrival less the smallest delay, after
+// the settling frames; frame_rate stamps the run's grid;
 // a UDP source that stops sending stalls the pipeline without blocking Grab and its frames come
 // back when it resumes; the end of the stream, unsupported formats and bad pipelines are errors
 // or counted drops, never crashes.
@@ -49,6 +51,28 @@ TEST(GstCamera, ALiveSourcesBufferTimestampsArePtsOnTheHostClock) {
   ASSERT_FALSE(end.ok());
   EXPECT_NE(end.status().message().find("end of stream"), std::string::npos);
   EXPECT_EQ(camera->stats().frames, 5);
+}
+
+TEST(GstCamera, DeviceTimestampsAreMappedToTheHostClockBySmallestDelay) {
+  // PTS an hour ahead of the pipeline's running time: a clock of the camera's own.
+  auto camera = OpenOrDie({"videotestsrc is-live=true num-buffers=8 timestamp-offset=3600000000000 ! "
+                           "video/x-raw,format=GRAY8,width=64,height=48,framerate=20/1 ! "
+                           "appsink sync=false",
+                           "device"});
+  ASSERT_TRUE(camera);
+  std::vector<double> t;
+  for (int grabs = 0; grabs < 8; ++grabs) {
+    auto frame = camera->Grab(5.0);
+    ASSERT_TRUE(frame.ok()) << frame.status().message();
+    if (!frame->has_value()) continue;  // a settling frame
+    EXPECT_LE((*frame)->t, (*frame)->arrival_t);
+    EXPECT_LT((*frame)->arrival_t - (*frame)->t, 0.05);  // within the delivery delay, not an hour
+    t.push_back((*frame)->t);
+  }
+  EXPECT_EQ(camera->stats().clock_settling, kClockSettleFrames - 1);
+  ASSERT_EQ(t.size(), 8u - (kClockSettleFrames - 1));
+  // A frame period apart, up to how much the smallest delay still moved.
+  for (size_t i = 1; i < t.size(); ++i) EXPECT_NEAR(t[i] - t[i - 1], 0.05, 0.005) << i;
 }
 
 TEST(GstCamera, FrameRateTimestampsPutFrameNAtEpochPlusNOverTheFrameRate) {

@@ -233,6 +233,7 @@ Result<std::optional<InputEvent>> LiveInput::Next() {
       InputEvent event;
       event.kind = InputEvent::Kind::kFrame, event.t = frames_.front().t;
       event.frame = std::move(frames_.front().image);
+      event.arrival_t = frames_.front().arrival_t, event.taken_t = HostNow();
       frames_.pop_front();
       return std::optional<InputEvent>(std::move(event));
     }

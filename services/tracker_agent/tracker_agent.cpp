@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "camera_io/camera_source.h"
 #include "io/file_util.h"
 #include "io/service_notify.h"
 #include "replay/replay.h"
@@ -156,7 +157,7 @@ void TrackerAgent::ProcessReadyFrames() {
     } else if (frame.forward) {
       UpdatePosition(frame.t, frame.image);
     } else {
-      Track(frame.t, frame.image);
+      Track(frame.t, frame.image, frame.times);
     }
   }
 }
@@ -196,7 +197,7 @@ void TrackerAgent::UpdatePosition(double t, const cv::Mat& image) {
   Publish(t, *corrected, state_);
 }
 
-void TrackerAgent::Track(double t, const cv::Mat& frame) {
+void TrackerAgent::Track(double t, const cv::Mat& frame, const FrameTimes& times) {
   Result<geometry::Pose2> odom = odometry_.At(t);
   if (!odom.ok()) {
     health_.RecordDroppedFrame("frame at t=" + std::to_string(t) + ": " + odom.status().message());
@@ -216,6 +217,7 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   // What the loop did not decode yet (a replay runs its frames back to back; live, normally
   // nothing): before the cycle, as the tiles asked for ahead always were.
   DecodeArrivedTiles(std::numeric_limits<size_t>::max());
+  if (IsLiveSource(config_.source)) frame_in_cycle_.emplace(times, camera_io::HostNow());
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_->Track(frame, t, *odom, ExtrapolatedSpan(t));
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -228,9 +230,13 @@ void TrackerAgent::Track(double t, const cv::Mat& frame) {
   health_.RecordFrame(result, ms);
   cycle_seconds_.Observe(ms / 1000.0);
   state_ = result.state;
-  if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) return;  // published there
+  if (NeedsRelocalization(result) && TryRelocalize(t, frame, *odom)) {
+    frame_in_cycle_.reset();  // published there (timed if it was)
+    return;
+  }
   propagator_->SetAnchor(t, *odom, result.base_in_map);
   Publish(t, result.base_in_map, result.state);
+  frame_in_cycle_.reset();  // a lost pose is not timed
   Prefetch(t, result.base_in_map.pose);
   MaybeCollectPatch(t, frame, result);
 }
@@ -432,8 +438,7 @@ Status TrackerAgent::WriteSummary() const {
   summary["position_update"] =
       position_update_ ? ToJson(position_update_->stats()) : nlohmann::json::object();
   summary["position_update"]["enabled"] = position_update_ != nullptr;
-  const std::vector<double> latency(capture_to_pose_ms_.begin(), capture_to_pose_ms_.end());
-  summary["capture_to_pose_ms"] = LatencySummary(latency, poses_timed_);
+  summary["capture_to_pose_ms"] = capture_latency_.Summary();
   summary["odometry_extrapolation"] = {{"frames", extrapolated_frames_},
                                        {"max_ms", max_extrapolated_s_ * 1000.0},
                                        {"horizon_ms", extrapolation_s_ * 1000.0}};
@@ -472,7 +477,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
       // A forward image is not rectified: its detector has its own camera model.
       const bool forward = e.kind == InputEvent::Kind::kForwardFrame;
       const cv::Mat image = forward || !rectifier_ ? e.frame : rectifier_->Rectify(e.frame);
-      waiting_frames_.push_back({e.t, forward, image});
+      waiting_frames_.push_back({e.t, forward, image, {e.t, e.arrival_t, e.taken_t}});
       ProcessReadyFrames();
     }
     UpdateMapServerReachability();

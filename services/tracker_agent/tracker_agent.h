@@ -25,6 +25,7 @@
 #include "metrics/histogram.h"
 #include "metrics/metrics_exporter.h"
 #include "tracker_agent/agent_health.h"
+#include "tracker_agent/capture_latency.h"
 #include "tracker_agent/agent_position_update.h"
 #include "tracker_agent/agent_relocalizer.h"
 #include "tracker_agent/patch_outbox.h"
@@ -94,7 +95,7 @@ class TrackerAgent {
   // (nothing in flight or encoded); dropped when a frame runs first.
   void WarmUpTracker();
   static constexpr int kTilesNormalizedPerTurn = 2;
-  void Track(double t, const cv::Mat& frame);
+  void Track(double t, const cv::Mat& frame, const FrameTimes& times = {});
   // Before the first frame of either camera: the tracker and the propagator start from the initial
   // pose (false without one: the first downward frame is to relocalize).
   bool Start(double t, const geometry::Pose2& odom);
@@ -107,11 +108,6 @@ class TrackerAgent {
   // restarts the tracker there and publishes the pose as `relocalized`. True on success.
   bool TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom);
   Status WriteSummary() const;  // frames, cycle times, tiles, relocalization
-  // p50/p99 of the capture -> pose latencies (`latency`: the last of `total` measured), over all
-  // of them and over those after the first kWarmupPoses ("steady": tiles cached, caches warm),
-  // and those first ones themselves ("first_ms").
-  static nlohmann::json LatencySummary(const std::vector<double>& latency, long long total);
-  static constexpr long long kWarmupPoses = 20;
   // Asks ahead for the tiles of the footprint now (frame time t) and along the predicted motion.
   void Prefetch(double t, const geometry::Pose2& base);
   void AddFootprintTiles(const geometry::Pose2& base, std::set<mosaic::TileKey>* keys) const;
@@ -190,6 +186,7 @@ class TrackerAgent {
     double t = 0.0;
     bool forward = false;  // a forward-camera image (else a rectified downward frame)
     cv::Mat image;
+    FrameTimes times;      // live sources: for the capture -> pose latency
   };
   std::deque<WaitingFrame> waiting_frames_;  // until odometry covers their time, in time order
   double latest_odometry_t_ = -1e300;
@@ -206,8 +203,9 @@ class TrackerAgent {
   VehicleInput* input_ = nullptr;
   std::optional<transport::RosPoseStamped> pending_initial_;
   std::optional<geometry::PoseWithCovariance> restart_pose_;
-  std::deque<double> capture_to_pose_ms_;
-  long long poses_timed_ = 0;  // poses whose latency was measured (capture_to_pose_ms_ keeps the last)
+  CaptureLatency capture_latency_;  // live sources' frame poses
+  // The frame in its cycle now, and when the cycle began (host clock): timed when its pose is out.
+  std::optional<std::pair<FrameTimes, double>> frame_in_cycle_;
 };
 
 }  // namespace fleetloc::tracker_agent

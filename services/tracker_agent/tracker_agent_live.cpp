@@ -17,11 +17,10 @@ void TrackerAgent::PublishRos(double t, const geometry::PoseWithCovariance& base
                               PoseOrigin origin) {
   if (origin != PoseOrigin::kOdometry) {
     if (Status sent = ros_->PublishPose(t, base); !sent.ok()) health_.RecordError(sent.message());
-    // t is the frame's capture time on the host clock (a given start pose has no capture).
-    if (origin == PoseOrigin::kFrame && IsLiveSource(config_.source)) {
-      capture_to_pose_ms_.push_back((camera_io::HostNow() - t) * 1000.0);
-      ++poses_timed_;
-      if (capture_to_pose_ms_.size() > 10000) capture_to_pose_ms_.pop_front();
+    // The pose of the frame in its cycle (a given start pose has no capture).
+    if (origin == PoseOrigin::kFrame && frame_in_cycle_) {
+      const auto [times, cycle_start] = *std::exchange(frame_in_cycle_, std::nullopt);
+      capture_latency_.Record(times, cycle_start, camera_io::HostNow());
     }
   }
   if (t > latest_odometry_t_) {  // a frame run on extrapolated odometry
@@ -138,23 +137,6 @@ void TrackerAgent::WarmUpTracker() {
   tracker_warm_up_.reset();
   spdlog::info("warm-up: {} normalized tiles around the start pose ready ({:.1f} ms of work)",
                warm_up_tiles_, warm_up_ms_);
-}
-
-nlohmann::json TrackerAgent::LatencySummary(const std::vector<double>& latency, long long total) {
-  auto percentiles = [](const std::vector<double>& v) {
-    return nlohmann::json{{"frames", v.size()},
-                          {"p50", v.empty() ? 0.0 : replay::Percentile(v, 50)},
-                          {"p99", v.empty() ? 0.0 : replay::Percentile(v, 99)}};
-  };
-  // The first kWarmupPoses of the stream that are still kept.
-  const long long dropped_before = total - static_cast<long long>(latency.size());
-  const size_t skip = static_cast<size_t>(
-      std::clamp(kWarmupPoses - dropped_before, 0LL, static_cast<long long>(latency.size())));
-  nlohmann::json all = percentiles(latency);
-  all["steady"] = percentiles(std::vector<double>(latency.begin() + skip, latency.end()));
-  all["steady"]["after_poses"] = kWarmupPoses;
-  all["first_ms"] = std::vector<double>(latency.begin(), latency.begin() + skip);  // warm-up's
-  return all;
 }
 
 }  // namespace fleetloc::tracker_agent

@@ -26,6 +26,10 @@ struct InputEvent {
   geometry::Pose2 odom;      // kOdometry: base_link in odom
   cv::Mat frame;             // kFrame: the camera image (raw or rectified, see camera.json);
                              // kForwardFrame: the forward camera's image as recorded
+  // Live sources, kFrame (host clock, 0 otherwise): when the frame's buffer reached the process
+  // and when Next handed it out (the agent's capture -> pose latency stages).
+  double arrival_t = 0.0;
+  double taken_t = 0.0;
 };
 
 // A problem with the input a live source sees (camera gone, odometry stale, ...), for health.

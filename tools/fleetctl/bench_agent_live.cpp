@@ -66,13 +66,15 @@ nlohmann::json AgentConfig(const LiveAgentBenchSettings& s, const std::string& w
   if (s.source == "aravis") {
     config["aravis"] = {
         {"device", "127.0.0.1"}, {"region", {0, 0, 640, 480}}, {"frame_rate_hz", s.rate_hz}};
-  } else {  // buffers stamped when aravissrc creates them (do-timestamp): their arrival
+  } else {  // aravissrc's PTS: the camera's clock, or the buffer's creation (do-timestamp)
+    const bool device = s.gstreamer_timestamps == "device";
     config["gstreamer"] = {
         {"pipeline",
-         "aravissrc camera-name=127.0.0.1 do-timestamp=true ! video/x-raw,format=GRAY8,width=640,"
-         "height=480,framerate=" + std::to_string(static_cast<int>(s.rate_hz)) +
+         std::string("aravissrc camera-name=127.0.0.1") + (device ? "" : " do-timestamp=true") +
+             " ! video/x-raw,format=GRAY8,width=640,height=480,framerate=" +
+             std::to_string(static_cast<int>(s.rate_hz)) +
              "/1 ! appsink max-buffers=2 drop=true sync=false"},
-        {"timestamps", "buffer"}};
+        {"timestamps", device ? "device" : "buffer"}};
   }
   return config;
 }
@@ -243,7 +245,10 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   std::printf(
       "\nlive vehicle: aravis fake GigE Vision camera 640x480 Mono8 at %.0f Hz read by %s, ROS 2 "
       "odometry, %d frames, odometry extrapolation up to %.0f ms\n",
-      s.rate_hz, s.source == "aravis" ? "the aravis source" : "a gstreamer aravissrc pipeline",
+      s.rate_hz,
+      s.source == "aravis"                    ? "the aravis source"
+      : s.gstreamer_timestamps == "device" ? "aravissrc (gstreamer, the camera's timestamps)"
+                                              : "aravissrc (gstreamer, do-timestamp)",
       s.frames, s.odometry_extrapolation_s * 1000);
   std::printf("capture -> pose on the wire: p50 %.2f ms, p99 %.2f ms (%lld poses)\n", p50, p99,
               latency["frames"].get<long long>());
@@ -254,8 +259,15 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   std::printf("  the first poses:");
   for (const double ms : latency["first_ms"]) std::printf(" %.1f", ms);
   std::printf(" ms\n");
-  std::printf("pose stamp - true capture time: median %.2f ms (latency above is from the stamp)\n",
-              stamp_offset_ms);
+  std::printf("  by stage, p50 / p99:");
+  for (const char* stage : {"camera", "input", "before_cycle", "cycle_and_publish"}) {
+    const nlohmann::json& v = latency["stages"][stage];
+    std::printf(" %s %.2f / %.2f ms;", stage, v["p50"].get<double>(), v["p99"].get<double>());
+  }
+  std::printf("\npose stamp - true capture time: median %.2f ms (latency above is from the stamp; "
+              "from the true capture: p50 %.2f ms, p99 %.2f ms after the first poses)\n",
+              stamp_offset_ms, latency["steady"]["p50"].get<double>() + stamp_offset_ms,
+              latency["steady"]["p99"].get<double>() + stamp_offset_ms);
   std::printf("frames run on extrapolated odometry: %lld (up to %.2f ms past the newest sample)\n",
               summary["odometry_extrapolation"]["frames"].get<long long>(),
               summary["odometry_extrapolation"]["max_ms"].get<double>());
@@ -277,6 +289,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
               kFalseLockM * 1000, false_locks);
   if (s.json.empty()) return Status::Ok();
   const nlohmann::json out{{"source", s.source},
+                           {"gstreamer_timestamps", s.gstreamer_timestamps},
                            {"odometry_extrapolation", summary["odometry_extrapolation"]},
                            {"stamp_offset_ms", stamp_offset_ms},
                            {"frames", s.frames},

@@ -238,11 +238,16 @@ void RegisterBenchAgent(CLI::App* bench, Status* result) {
   agent->add_option("--odometry-extrapolation", *extrapolation,
                     "The agent's live.odometry_extrapolation_s (live sources; 0: frames wait for odometry)")
       ->check(CLI::Range(0.0, 0.1));
-  agent->callback([s, source, rate, extrapolation, result] {
+  auto gst_timestamps = std::make_shared<std::string>(LiveAgentBenchSettings().gstreamer_timestamps);
+  agent->add_option("--gstreamer-timestamps", *gst_timestamps,
+                    "--source gstreamer: device (aravissrc's PTS, the camera's clock) or created "
+                    "(aravissrc do-timestamp=true)")
+      ->check(CLI::IsMember({"device", "created"}));
+  agent->callback([s, source, rate, extrapolation, gst_timestamps, result] {
     if (*source == "replay") return void(*result = RunAgentBench(*s));
     const bool frames_given = s->frames != AgentBenchSettings().frames;
     *result = RunLiveAgentBench({s->work_dir, frames_given ? s->frames : 300, *rate, s->domain, s->json,
-                                 *source, *extrapolation});
+                                 *source, *extrapolation, *gst_timestamps});
   });
 }
 
