@@ -4,7 +4,8 @@
 // nav_msgs/Odometry on rt/odom, the start pose as initialpose; the agent's ROS 2 poses
 // (rt/fleetloc/pose, at the frames' times) match the simulator's truth. With GVSP packets lost,
 // the losses are counted and named in health and the lock holds. Bad odometry, an unplugged camera
-// and odometry that stops and returns are named, and tracking resumes.
+// and odometry that stops and returns are named, and tracking resumes. A vehicle that does not know
+// where it starts is relocalized from its live frames and tracks.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -49,14 +50,15 @@ struct Faults {
   double camera_gone_at = -1;  // seconds after the first frame the camera disappears (< 0: never)
   double camera_back_at = -1;  // ... and comes back
   live_sim::OdometryPublisher::Mangle odometry;  // changes or skips odometry samples
+  // The vehicle does not know where it starts: no initialpose, the agent relocalizes
+  // (start_pose relocalize).
+  bool no_start_pose = false;
 };
 
 // Drives `frames` frames at 10 Hz with the fake camera.
-LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, int frames,
-                  const Faults& faults,
+LiveRun DriveLive(testing::MapServerFixture& server, const cv::Mat& floor, const std::string& name,
+                  int frames, const Faults& faults,
                   std::function<void(live_sim::PlannedDrive&, const LiveRun&)> check = nullptr) {
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
-                                   cv::IMREAD_GRAYSCALE);
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
   auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 2.0, 1000.0, 20);
   live_sim::PlannedDrive& drive = *drive_ptr;
@@ -65,6 +67,7 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
   EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   nlohmann::json config = testing::AravisAgentConfig("agv-20", kDomain, dir);
   config["live"] = {{"camera_reopen_s", 1.0}};
+  if (faults.no_start_pose) config["start_pose"] = "relocalize";
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
   io::ChildProcess agent = testing::StartDaemon(
@@ -108,13 +111,15 @@ LiveRun DriveLive(testing::MapServerFixture& server, const std::string& name, in
     // The start pose, as RViz's "2D Pose Estimate" sends it (a few mm and a few tenths of a
     // degree off), while the vehicle stands; then the camera starts.
     testing::SleepUntilHost(start + 0.1);
-    EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
-    const geometry::Pose2 truth = drive.TruthAt(start + 0.1);
-    geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003},
-                                       Eigen::Matrix3d::Zero()};
-    given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
-    const transport::RosPoseMessage initial(start + 0.1, "map", given);
-    EXPECT_TRUE(init_writer->Write(initial.get()).ok());
+    if (!faults.no_start_pose) {
+      EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
+      const geometry::Pose2 truth = drive.TruthAt(start + 0.1);
+      geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003},
+                                         Eigen::Matrix3d::Zero()};
+      given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
+      const transport::RosPoseMessage initial(start + 0.1, "map", given);
+      EXPECT_TRUE(init_writer->Write(initial.get()).ok());
+    }
     testing::SleepUntilHost(start + 0.2);
     auto camera =
         std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
@@ -195,7 +200,7 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_live", floor, kDomain);
-  const LiveRun run = DriveLive(server, "clean", 60, {});
+  const LiveRun run = DriveLive(server, floor, "clean", 60, {});
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   std::cerr << run.summary.dump(2) << "\n";
   EXPECT_NE(run.log.find("camera open: aravis camera"), std::string::npos) << run.log;
@@ -225,13 +230,31 @@ TEST(AgentAravisLive, AGigEVisionCameraAndRos2OdometryTrackLiveAgainstTheMapServ
   }
 }
 
+// A vehicle that does not know where it starts (no initialpose; start_pose relocalize) on a floor
+// that does not repeat: the agent finds its pose in the map server's place index from the live
+// frames, has the tracker warmed up around the relocalized pose, and tracks the drive on the truth.
+TEST(AgentAravisLive, WithoutAStartPoseTheAgentRelocalizesAndTracks) {
+  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
+                                   cv::IMREAD_GRAYSCALE);
+  testing::MapServerFixture server("agent_aravis_reloc", floor, kDomain);
+  Faults faults;
+  faults.no_start_pose = true;
+  const LiveRun run = DriveLive(server, floor, "reloc", 40, faults);
+  ASSERT_FALSE(run.summary.is_null()) << run.log;
+  EXPECT_NE(run.log.find("relocalized at"), std::string::npos) << run.log;
+  // The warm-up at the relocalized pose: done between frames, or finished by the next frame.
+  EXPECT_NE(run.log.find("around the relocalized pose"), std::string::npos) << run.log;
+  EXPECT_GE(run.frame_poses.size(), 35u) << run.log;
+  ExpectOnTruth(run, 0.0005);
+}
+
 TEST(AgentAravisLive, LostGvspPacketsAreCountedAndTheLockHolds) {
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_loss", floor, kDomain);
   Faults faults;
   faults.lost_ratio = 0.005;
-  const LiveRun run = DriveLive(server, "loss", 50, faults);
+  const LiveRun run = DriveLive(server, floor, "loss", 50, faults);
   ASSERT_FALSE(run.summary.is_null()) << run.log;
   EXPECT_NE(std::find(run.health_issues.begin(), run.health_issues.end(), "camera_packet_loss"),
             run.health_issues.end())
@@ -265,7 +288,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   };
   int after_return = 0;
   const LiveRun run =
-      DriveLive(server, "faults", 90, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+      DriveLive(server, floor, "faults", 90, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
         after_return = PosesOnTruthFrom(drive, r, 6.0);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
@@ -305,7 +328,7 @@ TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
     return since_first < 2.0 || since_first >= 3.5;  // nothing from 2.0 to 3.5 s
   };
   int after_return = 0;
-  const LiveRun run = DriveLive(server, "odometry_gap", 80, faults,
+  const LiveRun run = DriveLive(server, floor, "odometry_gap", 80, faults,
                                 [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
                                   after_return = PosesOnTruthFrom(drive, r, 4.5);
                                 });

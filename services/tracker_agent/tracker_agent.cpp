@@ -208,8 +208,8 @@ void TrackerAgent::Track(double t, const cv::Mat& frame, const FrameTimes& times
     return;
   }
   if (std::exchange(tracker_warm_up_, std::nullopt)) {
-    spdlog::info("warm-up: a frame came before the start pose's tiles were ready ({} normalized); "
-                 "it does the rest in its cycle", warm_up_tiles_);
+    spdlog::info("warm-up: a frame came before the tiles around the {} were ready ({} "
+                 "normalized); it does the rest in its cycle", warm_up_what_, warm_up_tiles_);
   }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
@@ -274,6 +274,7 @@ bool TrackerAgent::TryRelocalize(double t, const cv::Mat& frame, const geometry:
   propagator_->SetAnchor(t, odom, base);
   Publish(t, base, state_);
   Prefetch(t, base.pose);
+  ScheduleTrackerWarmUp(base, "relocalized pose");  // the next frame tracks from it
   return true;
 }
 

@@ -90,6 +90,9 @@ class TrackerAgent {
   // Before the first frame: asks for the tiles around the start pose; once they are in,
   // WarmUpTracker normalizes them (no fetch, decoding or normalization in the first frame's cycle).
   void WarmUp(double t, const geometry::PoseWithCovariance& base);
+  // Live sources: has WarmUpTracker prepare the tracker at `base` (the start pose, or a
+  // relocalized pose, whose tiles were asked for), named `what` in its log lines.
+  void ScheduleTrackerWarmUp(const geometry::PoseWithCovariance& base, const char* what);
   // Between events: the tracker's first-use work at the start pose (normalized tiles,
   // kTilesNormalizedPerTurn at a time, ~1.4 ms each), once its tiles arrived and were decoded
   // (nothing in flight or encoded); dropped when a frame runs first.
@@ -175,6 +178,7 @@ class TrackerAgent {
   std::optional<geometry::PoseWithCovariance> tracker_warm_up_;  // where WarmUpTracker works
   int warm_up_tiles_ = 0;
   double warm_up_ms_ = 0.0;
+  const char* warm_up_what_ = "start pose";
   std::optional<double> extrapolated_frame_t_;  // the last frame run on extrapolated odometry
   std::deque<std::pair<double, geometry::Pose2>> deferred_map_to_odom_;  // base_link in map at t
   long long extrapolated_frames_ = 0;

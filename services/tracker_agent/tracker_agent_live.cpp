@@ -123,8 +123,14 @@ void TrackerAgent::WarmUp(double t, const geometry::PoseWithCovariance& base) {
   spdlog::info("warm-up: asking for the tiles around the start pose ({:.3f}, {:.3f})", base.pose.x,
                base.pose.y);
   Prefetch(t, base.pose);
+  ScheduleTrackerWarmUp(base, "start pose");
+}
+
+void TrackerAgent::ScheduleTrackerWarmUp(const geometry::PoseWithCovariance& base,
+                                         const char* what) {
   // Live only: a replay has no time between events to do it in (its loop decodes no tiles there).
-  if (IsLiveSource(config_.source)) tracker_warm_up_ = base;
+  if (!IsLiveSource(config_.source)) return;
+  tracker_warm_up_ = base, warm_up_what_ = what, warm_up_tiles_ = 0, warm_up_ms_ = 0.0;
 }
 
 void TrackerAgent::WarmUpTracker() {
@@ -135,8 +141,8 @@ void TrackerAgent::WarmUpTracker() {
   warm_up_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (normalized == kTilesNormalizedPerTurn) return;  // more next turn
   tracker_warm_up_.reset();
-  spdlog::info("warm-up: {} normalized tiles around the start pose ready ({:.1f} ms of work)",
-               warm_up_tiles_, warm_up_ms_);
+  spdlog::info("warm-up: {} normalized tiles around the {} ready ({:.1f} ms of work)",
+               warm_up_tiles_, warm_up_what_, warm_up_ms_);
 }
 
 }  // namespace fleetloc::tracker_agent
