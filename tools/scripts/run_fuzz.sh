@@ -7,9 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SECONDS_EACH="${FLEETLOC_FUZZ_SECONDS:-20}"
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DFLEETLOC_FUZZ=ON -DFLEETLOC_BUILD_TESTS=OFF -DFLEETLOC_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build build-fuzz --target fuzz_targets -j "$(nproc)"
+cmake --preset fuzz >/dev/null  # clang, FLEETLOC_FUZZ=ON, no tests or benchmarks (CMakePresets.json)
+cmake --build --preset fuzz -j "$(nproc)"
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_run_files fuzz_camera_json fuzz_tile_png fuzz_place_index fuzz_wire_samples
                                  fuzz_http_api)

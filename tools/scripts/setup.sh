@@ -42,7 +42,7 @@ if ! command -v npm >/dev/null 2>&1; then
 fi
 
 BUILD_TYPE="${FLEETLOC_BUILD_TYPE:-Release}"
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >/dev/null
-cmake --build build -j "$(nproc)"
+cmake --preset release -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >/dev/null  # CMakePresets.json
+cmake --build --preset release -j "$(nproc)"
 # The browser test's Node packages (playwright-core, pinned by tests/browser/package-lock.json).
 tests/browser/install_deps.sh build/browser
