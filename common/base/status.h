@@ -18,7 +18,7 @@ enum class StatusCode {
   kInternal,      // anything else: I/O failure, library error (exit status 1)
 };
 
-class Status {
+class [[nodiscard]] Status {
  public:
   Status() = default;
   Status(StatusCode code, std::string message) : code_(code), message_(std::move(message)) {}
@@ -51,7 +51,7 @@ inline Status Internal(std::string message) { return {StatusCode::kInternal, std
 
 // Result<T> holds either a value or a non-ok Status.
 template <typename T>
-class Result {
+class [[nodiscard]] Result {
  public:
   Result(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
   Result(Status status) : status_(std::move(status)) {  // NOLINT: implicit by design

@@ -56,7 +56,7 @@ Status WritePlaceIndexBlob(const std::string& mosaic_path, long long mosaic_vers
   if (!db.ok()) return db.status();
   sqlite3* handle = db->get();
   const auto fail = [&](const std::string& what) {
-    sqlite::Exec(handle, "ROLLBACK");
+    (void)sqlite::Exec(handle, "ROLLBACK");  // the error reported is the one that made us roll back
     return Internal(mosaic_path + ": storing the place index: " + what);
   };
   if (Status s = sqlite::Exec(handle, "BEGIN IMMEDIATE"); !s.ok()) return fail(s.message());
