@@ -350,63 +350,65 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   // Beyond the largest search the prediction may still be good (3 sigma is conservative):
   // search the largest window anyway, and call the vehicle lost only if that fails.
   const bool beyond_search = full_radius > MaxSearchRadius();
-  const int frame_radius = std::min(full_radius, options_.max_search_radius_px);
-  FrameResult stats;
-  std::optional<PoseWithCovariance> posterior;
-  // Where the templates failed on the last frame and the dense alignment did not (a weak floor),
-  // start with the dense alignment; every retry_templates_frames frames the templates get
-  // another chance.
+  FrameResult result;
+  result.search_radius_px = std::min(full_radius, options_.max_search_radius_px);
+  // Steps 2–4: the frame measured against the mosaic around the prediction.
+  bool templates_locked = false;
+  std::optional<PoseWithCovariance> posterior =
+      Measure(frame, prior, result.search_radius_px, &templates_locked, &result);
+  if (posterior && polish_) posterior = Polished(frame, prior, *posterior, &result);
+  // Step 5: the estimate corrected, and the lock state.
+  const LockState state = UpdateLock(posterior, beyond_search);
+  const FrameResult report = Finish(t, state);
+  result.t = report.t;
+  result.base_in_map = report.base_in_map;
+  result.state = report.state;
+  if (!posterior || !templates_locked) result.inliers = 0;
+  return result;
+}
+
+// The templates and the dense alignment on the frame, from `prior`: the posterior to correct
+// with, or nothing (coast). Where the templates failed on the last frame and the dense alignment
+// did not (a weak floor), the dense alignment goes first; every retry_templates_frames frames the
+// templates get another chance. `templates_locked`: the templates' fit was found.
+std::optional<PoseWithCovariance> MosaicTracker::Measure(const cv::Mat& frame,
+                                                         const PoseWithCovariance& prior,
+                                                         int radius_px, bool* templates_locked,
+                                                         FrameResult* stats) {
   const bool direct_first =
       direct_first_ && frames_since_templates_ < options_.retry_templates_frames;
-  if (direct_first) posterior = AlignDirect(frame, prior, prior.pose, false, &stats);
-  bool templates_locked = false;
-  if (posterior) {
-    ++frames_since_templates_;
-  } else {
-    frames_since_templates_ = 0;
-    const std::optional<PoseWithCovariance> template_fit =
-        MatchTemplates(frame, prior, frame_radius, weak_templates_first_, &stats);
-    templates_locked = template_fit.has_value();
-    ChooseTemplateSizeAfter(template_fit ? stats.template_size_px : 0);
-    posterior = Decide(frame, prior, template_fit, direct_first, &stats);
-    template_failures_ = templates_locked ? 0 : template_failures_ + 1;
-    direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
-                    stats.direct == DirectUse::kUsed;
+  if (direct_first) {
+    std::optional<PoseWithCovariance> dense = AlignDirect(frame, prior, prior.pose, false, stats);
+    if (dense) {
+      ++frames_since_templates_;
+      return dense;
+    }
   }
-  if (posterior && polish_) posterior = Polished(frame, prior, *posterior, &stats);
-  LockState state = LockState::kCoasting;
+  frames_since_templates_ = 0;
+  const std::optional<PoseWithCovariance> template_fit =
+      MatchTemplates(frame, prior, radius_px, weak_templates_first_, stats);
+  *templates_locked = template_fit.has_value();
+  ChooseTemplateSizeAfter(template_fit ? stats->template_size_px : 0);
+  std::optional<PoseWithCovariance> posterior =
+      Decide(frame, prior, template_fit, direct_first, stats);
+  template_failures_ = *templates_locked ? 0 : template_failures_ + 1;
+  direct_first_ = template_failures_ >= options_.direct_first_after_failures &&
+                  stats->direct == DirectUse::kUsed;
+  return posterior;
+}
+
+// The estimate corrected with `posterior` (tracking, or relocalized after lost), or the frame
+// coasts (lost when beyond the largest search or after max_coasting_frames).
+LockState MosaicTracker::UpdateLock(const std::optional<PoseWithCovariance>& posterior,
+                                    bool beyond_search) {
   if (posterior) {
     estimate_.Correct(*posterior);
-    state = state_ == LockState::kLost ? LockState::kRelocalized : LockState::kTracking;
     coasting_frames_ = 0;
-  } else {
-    ++coasting_frames_;
-    if (beyond_search || coasting_frames_ > options_.max_coasting_frames) state = LockState::kLost;
+    return state_ == LockState::kLost ? LockState::kRelocalized : LockState::kTracking;
   }
-  FrameResult result = Finish(t, state);
-  result.templates = stats.templates;
-  result.inliers = posterior && templates_locked ? stats.inliers : 0;
-  result.rms_residual_px = stats.rms_residual_px;
-  result.search_radius_px = frame_radius;
-  result.template_size_px = stats.template_size_px;
-  result.select_ms = stats.select_ms;
-  result.coarse_ms = stats.coarse_ms;
-  result.fine_ms = stats.fine_ms;
-  result.direct_ms = stats.direct_ms;
-  result.polish_ms = stats.polish_ms;
-  result.polished = stats.polished;
-  result.view_blur_px = stats.view_blur_px;
-  result.direct = stats.direct;
-  result.direct_reason = stats.direct_reason;
-  result.direct_correlation = stats.direct_correlation;
-  result.direct_coarse_correlation = stats.direct_coarse_correlation;
-  result.direct_peak_ratio = stats.direct_peak_ratio;
-  result.direct_peak_z = stats.direct_peak_z;
-  result.direct_searches = stats.direct_searches;
-  result.direct_iterations = stats.direct_iterations;
-  result.direct_sigma_px = stats.direct_sigma_px;
-  result.direct_chi2 = stats.direct_chi2;
-  return result;
+  ++coasting_frames_;
+  if (beyond_search || coasting_frames_ > options_.max_coasting_frames) return LockState::kLost;
+  return LockState::kCoasting;
 }
 
 // The templates' fit and the dense alignment combined: the posterior to take, or nothing (coast).

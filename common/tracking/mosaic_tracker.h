@@ -113,6 +113,12 @@ class MosaicTracker : public FrameLocalizer {
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,
       FrameResult* stats) const;
+  std::optional<geometry::PoseWithCovariance> Measure(const cv::Mat& frame,
+                                                      const geometry::PoseWithCovariance& prior,
+                                                      int radius_px, bool* templates_locked,
+                                                      FrameResult* stats);
+  LockState UpdateLock(const std::optional<geometry::PoseWithCovariance>& posterior,
+                       bool beyond_search);
   FrameResult Finish(double t, LockState state);
 
   TrackerOptions options_;
