@@ -27,7 +27,7 @@ class FakeVehicle {
     health_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehicleHealth>>(std::move(
         transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(p, id_, *health_topic_, transport::PeriodicStateQos(3, 5)).value()));
   }
-  void Publish(double x, unsigned short wire_version = fleetloc_WIRE_VERSION) {
+  void Publish(double x, unsigned short wire_version = fleetloc_CURRENT_WIRE_VERSION) {
     transport::PoseReport report{id_, ToSeconds(transport::NowStamp()), {}, tracking::LockState::kTracking, 1};
     report.base_in_map.pose = {x, 0.25, 0.1};
     report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
@@ -45,7 +45,7 @@ class FakeVehicle {
   }
 
  private:
-  static double ToSeconds(const fleetloc_Stamp& s) { return transport::ToSeconds(s); }
+  static double ToSeconds(const fleetloc_TimeStamp& s) { return transport::ToSeconds(s); }
   std::string id_;
   std::unique_ptr<transport::Topic<fleetloc_VehiclePose>> pose_topic_;
   std::unique_ptr<transport::Topic<fleetloc_VehicleHealth>> health_topic_;

@@ -241,7 +241,7 @@ TEST_F(MapServerDds, ForgedRequestsAreRejectedAndCounted) {
   const uint64_t before_partition = HealthCounter("rejected_vehicle_partition");
   // Not the id of the partition it is written in (veh-x's): rejected before it is read.
   fleetloc_TileRequest bad_id{};
-  bad_id.wire_version = fleetloc_WIRE_VERSION;
+  bad_id.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   transport::SetBounded(bad_id.vehicle_id, "veh*");  // a partition wildcard
   fleetloc_TileRequest bad_version{};
   bad_version.wire_version = 999;

@@ -297,7 +297,7 @@ TEST_F(MapServerPatchRemap, BadRemapCommandsAreRejected) {
   ASSERT_TRUE(forger.ok()) << forger.status().message();
   ASSERT_TRUE(Eventually([&] { return (*forger)->ServerMatched(); }));
   fleetloc_RemapCommand forged{};
-  forged.wire_version = fleetloc_WIRE_VERSION;
+  forged.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   forged.command_id = 77;
   forged.region = {0.3, 0.3, 0.2, 0.2};
   ASSERT_TRUE((*forger)->SendRaw(forged).ok());

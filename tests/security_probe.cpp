@@ -55,7 +55,7 @@ int WriteStreams(const Participant& p, const std::string& partition_of, const st
   for (uint32_t n = 1; std::chrono::steady_clock::now() < end; ++n) {
     if (poses.ok()) {
       fleetloc_VehiclePose pose{};
-      pose.wire_version = fleetloc_WIRE_VERSION;
+      pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
       SetBounded(pose.vehicle_id, id);
       pose.stamp = NowStamp();
       pose.x = n;
@@ -65,14 +65,14 @@ int WriteStreams(const Participant& p, const std::string& partition_of, const st
     }
     if (health.ok()) {
       fleetloc_VehicleHealth h{};
-      h.wire_version = fleetloc_WIRE_VERSION;
+      h.wire_version = fleetloc_CURRENT_WIRE_VERSION;
       SetBounded(h.vehicle_id, id);
       h.stamp = NowStamp();
       (void)health->Write(h);
     }
     if (patches.ok() && n % 10 == 1) {  // not a valid patch: a receiver must reject it unread
       fleetloc_PatchObservation patch{};
-      patch.wire_version = fleetloc_WIRE_VERSION;
+      patch.wire_version = fleetloc_CURRENT_WIRE_VERSION;
       SetBounded(patch.vehicle_id, id);
       patch.sequence_number = n;
       (void)patches->Write(patch);

@@ -10,7 +10,7 @@ namespace fleetloc::transport {
 fleetloc_MosaicInfo ToIdl(const mosaic::MosaicLayout& layout, const std::string& server_id,
                           const mosaic::TileOwnership& owned) {
   fleetloc_MosaicInfo info{};
-  info.wire_version = fleetloc_WIRE_VERSION;
+  info.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(info.server_id, server_id);
   SetBounded(info.mosaic_id, layout.mosaic_id);
   info.version = layout.version;
@@ -30,9 +30,9 @@ fleetloc_MosaicInfo ToIdl(const mosaic::MosaicLayout& layout, const std::string&
 
 Result<mosaic::MosaicLayout> LayoutFromIdl(const fleetloc_MosaicInfo& info) {
   const std::string where = "MosaicInfo from '" + GetBounded(info.server_id) + "': ";
-  if (info.wire_version != fleetloc_WIRE_VERSION) {
+  if (info.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     return InvalidInput(where + "wire_version " + std::to_string(info.wire_version) +
-                        " is not " + std::to_string(fleetloc_WIRE_VERSION));
+                        " is not " + std::to_string(fleetloc_CURRENT_WIRE_VERSION));
   }
   if (info.width_px <= 0 || info.height_px <= 0) return InvalidInput(where + "size not positive");
   if (info.tile_size_px <= 0 || info.tile_size_px % 2 != 0) {

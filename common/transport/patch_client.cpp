@@ -43,7 +43,7 @@ Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& part
 
 Status PatchClient::Send(const PatchToSend& p) {
   fleetloc_PatchObservation sample{};
-  sample.wire_version = fleetloc_WIRE_VERSION;
+  sample.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(sample.vehicle_id, vehicle_id_);
   sample.sequence_number = p.sequence;
   sample.stamp = ToStamp(p.stamp_s);

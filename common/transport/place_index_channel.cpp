@@ -14,7 +14,7 @@ const std::optional<PlaceIndexBlob> kNothingYet;
 }  // namespace
 
 Status PlaceIndexAssembler::Check(const fleetloc_PlaceIndexChunk& c) {
-  if (c.wire_version != fleetloc_WIRE_VERSION) {
+  if (c.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     return InvalidInput("place index chunk of wire version " + std::to_string(c.wire_version));
   }
   if (!IsValidEntityId(GetBounded(c.server_id))) {
@@ -112,7 +112,7 @@ Status PlaceIndexPublisher::Publish(const std::string& mosaic_id, long long mosa
     return InvalidInput("place index of " + std::to_string(blob.size()) + " bytes");
   }
   fleetloc_PlaceIndexChunk chunk{};
-  chunk.wire_version = fleetloc_WIRE_VERSION;
+  chunk.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(chunk.server_id, server_id_);
   SetBounded(chunk.mosaic_id, mosaic_id);
   chunk.mosaic_version = mosaic_version;

@@ -26,7 +26,7 @@ fleetloc_PlaceIndexChunk ChunkOf(const std::vector<std::uint8_t>& blob, std::uin
                                  std::uint32_t count, std::uint64_t generation,
                                  const char* server = "ms-1") {
   fleetloc_PlaceIndexChunk c{};
-  c.wire_version = fleetloc_WIRE_VERSION;
+  c.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(c.server_id, server);
   SetBounded(c.mosaic_id, "floor");
   c.mosaic_version = 3;

@@ -43,7 +43,7 @@ double LocalizationScore(const geometry::PoseWithCovariance& pose, tracking::Loc
 
 fleetloc_VehiclePose ToIdl(const PoseReport& r) {
   fleetloc_VehiclePose pose{};
-  pose.wire_version = fleetloc_WIRE_VERSION;
+  pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(pose.vehicle_id, r.vehicle_id);
   pose.stamp = ToStamp(r.t);
   pose.x = r.base_in_map.pose.x, pose.y = r.base_in_map.pose.y, pose.theta = r.base_in_map.pose.theta;

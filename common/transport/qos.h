@@ -41,21 +41,22 @@ class Qos {
 // Profiles (see docs/topics.md):
 // Commands and requests: reliable, every sample delivered in order, nothing kept for late joiners.
 Qos CommandQos();
-// Latest-state announcements late joiners must get (MosaicInfo, RemapStatus): reliable,
-// transient-local, the last `depth` samples of each instance.
+// Latest-state announcements late joiners must get (MosaicInfo, TileUpdate, RemapStatus,
+// PlaceIndexChunk): reliable, transient-local, the last `depth` samples of each instance.
 Qos DurableStateQos(int depth = 1);
-// Bulk payloads (Tile, PatchObservation): reliable so lost fragments are resent, KEEP_ALL with a
-// bound so a slow reader throttles the writer instead of losing tiles. A write waits at most
-// `max_blocking_s` for room before it fails with a time-out.
+// Bulk payloads (PatchObservation; tiles take TileQos): reliable so lost fragments are resent,
+// KEEP_ALL with a bound so a slow reader throttles the writer instead of losing samples. A write
+// waits at most `max_blocking_s` for room before it fails with a time-out.
 Qos BulkQos(int max_samples = 256, double max_blocking_s = 5.0);
-// A vehicle's pose stream: like PeriodicStateQos but the writer keeps the last 16 samples, so a
-// burst (a frame's pose right after the odometry-rate ones) reaches a reader that keeps them all.
+// A vehicle's pose stream (VehiclePose): like PeriodicStateQos but the writer keeps the last 16
+// samples of each vehicle, so a burst (a frame's pose right after the odometry-rate ones) reaches
+// a reader that keeps them all; a keep-last-1 reader (the supervisor) still gets only the newest.
 Qos PoseStreamQos(double deadline_s = 1.0, double lease_s = 3.0);
 // Tiles: reliable, the newest sample of each tile (keyed by level, col, row) kept until
 // acknowledged — an older version of a tile still unsent is superseded, never queued behind.
 Qos TileQos();
-// Periodic state (VehiclePose, VehicleHealth, ServiceHealth): the newest sample per instance
-// matters; reliable keep-last 1 with a deadline and liveliness so silence is detected.
+// Periodic state (VehicleHealth, ServiceHealth; poses take PoseStreamQos): the newest sample per
+// instance matters; reliable keep-last 1 with a deadline and liveliness so silence is detected.
 Qos PeriodicStateQos(double deadline_s, double lease_s);
 
 }  // namespace fleetloc::transport

@@ -95,7 +95,7 @@ Result<uint64_t> RemapClient::Send(const RemapRequest& r) {
   std::random_device random;
   const uint64_t id = (static_cast<uint64_t>(random()) << 32) | random();
   fleetloc_RemapCommand command{};
-  command.wire_version = fleetloc_WIRE_VERSION;
+  command.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   command.command_id = id;
   SetBounded(command.requester, r.requester);
   SetBounded(command.mosaic_id, r.mosaic_id);

@@ -10,7 +10,7 @@ namespace fleetloc::transport {
 Status WriteServiceHealth(const Writer<fleetloc_ServiceHealth>& writer,
                           const ServiceHealthReport& report) {
   fleetloc_ServiceHealth health{};
-  health.wire_version = fleetloc_WIRE_VERSION;
+  health.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(health.service_id, report.service_id);
   SetBounded(health.kind, report.kind);
   health.stamp = NowStamp();

@@ -54,7 +54,7 @@ Status TileClient::Request(uint32_t request_id, const std::string& mosaic_id,
   std::vector<fleetloc_TileAddress> addresses;
   for (const mosaic::TileKey& key : tiles) addresses.push_back(ToIdl(key));
   fleetloc_TileRequest request{};
-  request.wire_version = fleetloc_WIRE_VERSION;
+  request.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(request.vehicle_id, vehicle_id_);
   request.request_id = request_id;
   SetBounded(request.mosaic_id, mosaic_id);

@@ -33,7 +33,7 @@ TEST(Transport, VehiclePoseRoundTripBetweenParticipants) {
   auto reader = Unwrap(Reader<fleetloc_VehiclePose>::Create(b.get(), topic_b, CommandQos()));
   ASSERT_TRUE(Eventually([&] { return writer.MatchedReaders() == 1; }));
   fleetloc_VehiclePose pose{};
-  pose.wire_version = fleetloc_WIRE_VERSION;
+  pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   std::snprintf(pose.vehicle_id, sizeof pose.vehicle_id, "agv-7");
   pose.x = 1.25, pose.y = -2.5, pose.theta = 0.125;
   pose.covariance[8] = 1e-4;
@@ -51,7 +51,7 @@ TEST(Transport, VehiclePoseRoundTripBetweenParticipants) {
   EXPECT_EQ(got[0].y, -2.5);
   EXPECT_EQ(got[0].theta, 0.125);
   EXPECT_EQ(got[0].covariance[8], 1e-4);
-  EXPECT_EQ(got[0].wire_version, fleetloc_WIRE_VERSION);
+  EXPECT_EQ(got[0].wire_version, fleetloc_CURRENT_WIRE_VERSION);
 }
 
 TEST(Transport, LargeTileSampleArrivesIntact) {

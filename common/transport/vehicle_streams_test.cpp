@@ -39,7 +39,7 @@ using testing::Eventually;
 
 fleetloc_VehiclePose Pose(const char* vehicle_id, double x) {
   fleetloc_VehiclePose pose{};
-  pose.wire_version = fleetloc_WIRE_VERSION;
+  pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   std::snprintf(pose.vehicle_id, sizeof pose.vehicle_id, "%s", vehicle_id);
   pose.x = x;
   return pose;

@@ -15,20 +15,20 @@ bool IsValidEntityId(std::string_view id) {
   return true;
 }
 
-fleetloc_Stamp ToStamp(double seconds) {
-  fleetloc_Stamp stamp{};
+fleetloc_TimeStamp ToStamp(double seconds) {
+  fleetloc_TimeStamp stamp{};
   const double whole = std::floor(seconds);
   stamp.sec = static_cast<int64_t>(whole);
   stamp.nanosec = static_cast<uint32_t>(std::min(999999999.0, std::round((seconds - whole) * 1e9)));
   return stamp;
 }
 
-fleetloc_Stamp NowStamp() {
+fleetloc_TimeStamp NowStamp() {
   const auto now = std::chrono::system_clock::now().time_since_epoch();
   return ToStamp(std::chrono::duration<double>(now).count());
 }
 
-double ToSeconds(const fleetloc_Stamp& stamp) {
+double ToSeconds(const fleetloc_TimeStamp& stamp) {
   return static_cast<double>(stamp.sec) + stamp.nanosec * 1e-9;
 }
 

@@ -33,9 +33,9 @@ std::string GetBounded(const char (&src)[N]) {
 // where '*' and '?' would be wildcards, and keys bounded for other vendors: shared/DDS_NOTES.md).
 bool IsValidEntityId(std::string_view id);
 
-fleetloc_Stamp NowStamp();
-fleetloc_Stamp ToStamp(double seconds);
-double ToSeconds(const fleetloc_Stamp& stamp);
+fleetloc_TimeStamp NowStamp();
+fleetloc_TimeStamp ToStamp(double seconds);
+double ToSeconds(const fleetloc_TimeStamp& stamp);
 
 // An octet sequence pointing at `bytes` (not owned, not released by DDS) for writing.
 dds_sequence_octet BorrowOctets(std::span<const std::uint8_t> bytes);

@@ -16,10 +16,10 @@ namespace {
 template <size_t N>
 Status CheckHeader(unsigned short wire_version, const char (&id)[N], const char* what) {
   const std::string name = GetBounded(id);
-  if (wire_version != fleetloc_WIRE_VERSION) {
+  if (wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     return InvalidInput(std::string(what) + " from '" + name + "': wire version " +
                         std::to_string(wire_version) + " (expected " +
-                        std::to_string(fleetloc_WIRE_VERSION) + ")");
+                        std::to_string(fleetloc_CURRENT_WIRE_VERSION) + ")");
   }
   if (!transport::IsValidEntityId(name)) {
     return InvalidInput(std::string(what) + ": id '" + name + "' is not 1-11 of [A-Za-z0-9_-]");

@@ -207,7 +207,7 @@ Status MapServer::AnnounceVersion(long long version, const std::vector<mosaic::T
   std::vector<fleetloc_TileAddress> addresses;
   for (const mosaic::TileKey& key : changed) addresses.push_back(transport::ToIdl(key));
   fleetloc_TileUpdate update{};
-  update.wire_version = fleetloc_WIRE_VERSION;
+  update.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   transport::SetBounded(update.server_id, config_.server_id);
   transport::SetBounded(update.mosaic_id, store_->layout().mosaic_id);
   update.version = version;

@@ -29,7 +29,7 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
                         const PatchLimits& limits) {
   const std::string vehicle = GetBounded(s.vehicle_id);
   const std::string what = "PatchObservation " + vehicle + "#" + std::to_string(s.sequence_number);
-  if (s.wire_version != fleetloc_WIRE_VERSION) {
+  if (s.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     return Reject("rejected_patch_malformed", what + ": unknown wire_version " + std::to_string(s.wire_version));
   }
   if (!transport::IsValidEntityId(vehicle)) {

@@ -157,7 +157,7 @@ void PatchService::FlushAcks(std::chrono::steady_clock::duration match_timeout) 
       },
       [&](const std::string& vehicle, const Ack& ack) {
         fleetloc_PatchAck message{};
-        message.wire_version = fleetloc_WIRE_VERSION;
+        message.wire_version = fleetloc_CURRENT_WIRE_VERSION;
         transport::SetBounded(message.vehicle_id, vehicle);
         message.sequence_number = ack.sequence;
         message.status = ack.status;

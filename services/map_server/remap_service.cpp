@@ -37,7 +37,7 @@ namespace {
 
 // Why `c` cannot be run against `layout`, or "" if it can.
 std::string Problem(const fleetloc_RemapCommand& c, const mosaic::MosaicLayout& layout) {
-  if (c.wire_version != fleetloc_WIRE_VERSION) {
+  if (c.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     return "unknown wire_version " + std::to_string(c.wire_version);
   }
   const std::string mosaic_id = GetBounded(c.mosaic_id);
@@ -143,7 +143,7 @@ void RemapService::Publish(uint64_t id, fleetloc_RemapState state, const std::st
                            double progress, const std::string& message,
                            const RemapOutcome* outcome) {
   fleetloc_RemapStatus status{};
-  status.wire_version = fleetloc_WIRE_VERSION;
+  status.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   status.command_id = id;
   transport::SetBounded(status.server_id, server_id_);
   status.state = state;

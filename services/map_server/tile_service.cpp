@@ -30,7 +30,7 @@ TileService::TileService(mosaic::TileStore* store, mosaic::TileOwnership owned,
 void TileService::Receive(const fleetloc_TileRequest& sample) {
   counters_->Add("tile_requests");
   const std::string vehicle_id = GetBounded(sample.vehicle_id);
-  if (sample.wire_version != fleetloc_WIRE_VERSION) {
+  if (sample.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
     counters_->Reject("rejected_tile_request", "TileRequest from '" + vehicle_id +
                                                    "': unknown wire_version " +
                                                    std::to_string(sample.wire_version));
@@ -111,7 +111,7 @@ fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& 
                                  mosaic::TilePtr* bytes) {
   const mosaic::MosaicLayout layout = store_->layout();
   fleetloc_Tile tile{};
-  tile.wire_version = fleetloc_WIRE_VERSION;
+  tile.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   tile.level = static_cast<uint16_t>(key.level), tile.col = key.col, tile.row = key.row;
   transport::SetBounded(tile.vehicle_id, request.vehicle_id);
   tile.request_id = request.request_id;

@@ -36,7 +36,7 @@ double AgentHealth::CyclePercentile(double percent, size_t window) const {
 void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
                        std::vector<fleetloc_HealthIssue>* issues) const {
   *h = {};
-  h->wire_version = fleetloc_WIRE_VERSION;
+  h->wire_version = fleetloc_CURRENT_WIRE_VERSION;
   transport::SetBounded(h->vehicle_id, in.vehicle_id);
   h->stamp = transport::NowStamp();
   h->lock_state = transport::ToIdl(state_);

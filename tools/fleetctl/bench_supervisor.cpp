@@ -86,7 +86,7 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop, s
       if (poses[i].Write(ToIdl(report)).ok()) ++*published;
       if (tick % static_cast<long long>(std::max(1.0, a.pose_hz)) == 0) {
         fleetloc_VehicleHealth h{};
-        h.wire_version = fleetloc_WIRE_VERSION;
+        h.wire_version = fleetloc_CURRENT_WIRE_VERSION;
         SetBounded(h.vehicle_id, report.vehicle_id);
         h.stamp = NowStamp();
         h.cycle_ms_p50 = 1.2f, h.cycle_ms_p95 = 1.9f, h.cycle_ms_p99 = 2.5f, h.inliers = 24;

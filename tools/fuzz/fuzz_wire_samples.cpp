@@ -13,7 +13,8 @@ using namespace fleetloc;
 
 void FuzzPatch(FuzzedDataProvider& in) {
   fleetloc_PatchObservation p{};
-  p.wire_version = in.ConsumeBool() ? fleetloc_WIRE_VERSION : in.ConsumeIntegral<std::uint16_t>();
+  p.wire_version =
+      in.ConsumeBool() ? fleetloc_CURRENT_WIRE_VERSION : in.ConsumeIntegral<std::uint16_t>();
   transport::SetBounded(p.vehicle_id, in.ConsumeRandomLengthString(16));
   p.sequence_number = in.ConsumeIntegral<std::uint64_t>();
   p.stamp = {in.ConsumeIntegral<std::int64_t>(), in.ConsumeIntegral<std::uint32_t>()};
@@ -38,7 +39,8 @@ void FuzzChunks(FuzzedDataProvider& in) {
   transport::PlaceIndexAssembler assembler;
   while (in.remaining_bytes() > 0) {
     fleetloc_PlaceIndexChunk c{};
-    c.wire_version = in.ConsumeBool() ? fleetloc_WIRE_VERSION : in.ConsumeIntegral<std::uint16_t>();
+    c.wire_version =
+        in.ConsumeBool() ? fleetloc_CURRENT_WIRE_VERSION : in.ConsumeIntegral<std::uint16_t>();
     transport::SetBounded(c.server_id, in.ConsumeBool() ? "ms-1" : in.ConsumeRandomLengthString(12));
     c.chunk = in.ConsumeIntegralInRange<std::uint32_t>(0, 8);
     transport::SetBounded(c.mosaic_id, "fuzz");

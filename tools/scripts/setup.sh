@@ -18,7 +18,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libaravis-dev libusb-1.0-0-dev  # GenICam cameras (common/camera_io/aravis_camera.*); aravis-0.8.pc needs libusb's .pc
           aravis-tools  # arv-tool / arv-fake-gv-camera-0.8: look at a camera by hand (docs/vehicle_integration.md)
           libgstreamer1.0-dev libgstreamer-plugins-base1.0-dev gstreamer1.0-plugins-base gstreamer1.0-plugins-good  # GStreamer camera pipelines read from their appsink (gstreamer-app, -video; multifilesrc, pngdec, v4l2src, udpsrc)
-          libfastrtps-dev fastddsgen  # the ROS 2 interop test node (tests/ros2_nav_stack_node.cpp), as rmw_fastrtps sees the wire
+          libfastrtps-dev fastddsgen  # the ROS 2 interop test node (tests/ros2_nav_stack_node.cpp), as rmw_fastrtps sees the wire; fastddsgen also checks idl/fleetloc.idl (tests/idl/)
           chromium)  # chromium: the dashboard's browser test (tests/browser/)
 
 missing=()
