@@ -1,9 +1,10 @@
-// Masked NCC by FFT with the image's spectra kept, and by direct sums at a few placements (see
-// masked_correlator.h).
+// Masked NCC by FFT with the image's spectrum kept (the mask's Σ M·I² from row prefix sums), and
+// by direct sums at a few placements (see masked_correlator.h).
 #include "imaging/masked_correlator.h"
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 #include <opencv2/imgproc.hpp>
 
 #include "base/status.h"
@@ -30,6 +31,57 @@ cv::Mat Correlation(const cv::Mat& a_spectrum, const cv::Mat& b_spectrum, cv::Si
   const cv::Point first = turned ? cv::Point(b_size.width - 1, b_size.height - 1) : cv::Point();
   cv::idft(product, out, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, first.y + valid.height);
   return out(cv::Rect(first, valid));
+}
+
+// A run of used mask pixels: row `row`, columns [begin, end).
+struct Run {
+  int row, begin, end;
+};
+
+// The mask's non-zero pixels as row runs (a rotated rectangle's: one run a row).
+std::vector<Run> RunsOf(const cv::Mat& mask) {
+  std::vector<Run> runs;
+  for (int y = 0; y < mask.rows; ++y) {
+    const uchar* row = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols;) {
+      if (row[x] == 0) {
+        ++x;
+        continue;
+      }
+      const int begin = x;
+      while (x < mask.cols && row[x] != 0) ++x;
+      runs.push_back({y, begin, x});
+    }
+  }
+  return runs;
+}
+
+// Row prefix sums of I²: out(y, x) = Σ_{x' < x} I(y, x')², (W + 1) × H, summed in double.
+cv::Mat RowPrefixSumsOfSquares(const cv::Mat& image) {
+  cv::Mat sums(image.rows, image.cols + 1, CV_32F);
+  for (int y = 0; y < image.rows; ++y) {
+    const float* in = image.ptr<float>(y);
+    float* out = sums.ptr<float>(y);
+    double running = 0;
+    out[0] = 0;
+    for (int x = 0; x < image.cols; ++x) {
+      running += static_cast<double>(in[x]) * in[x];
+      out[x + 1] = static_cast<float>(running);
+    }
+  }
+  return sums;
+}
+
+// Σ M·I² at every placement in `valid`: per run of the mask, the difference of two shifted
+// views of the row prefix sums (whole-map vector operations, no transform).
+cv::Mat MaskedEnergy(const cv::Mat& row_sums_sq, const cv::Mat& mask, cv::Size valid) {
+  cv::Mat energy = cv::Mat::zeros(valid, CV_32F), run_sum;
+  for (const Run& r : RunsOf(mask)) {
+    cv::subtract(row_sums_sq(cv::Rect(cv::Point(r.end, r.row), valid)),
+                 row_sums_sq(cv::Rect(cv::Point(r.begin, r.row), valid)), run_sum);
+    energy += run_sum;
+  }
+  return energy;
 }
 
 // numerator / sqrt(image_sq · templ_sq), image_sq clamped at 0.
@@ -70,7 +122,7 @@ MaskedCorrelator::MaskedCorrelator(const cv::Mat& image) : image_size_(image.siz
   FLEETLOC_CHECK(image.type() == CV_32FC1 && !image.empty());
   dft_size_ = {cv::getOptimalDFTSize(image.cols), cv::getOptimalDFTSize(image.rows)};
   spectrum_ = Spectrum(image, dft_size_);
-  spectrum_sq_ = Spectrum(image.mul(image), dft_size_);
+  row_sums_sq_ = RowPrefixSumsOfSquares(image);
 }
 
 void MaskedCorrelator::Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores) const {
@@ -78,8 +130,7 @@ void MaskedCorrelator::Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat*
   const cv::Size valid = ValidSize(image_size_, templ.size());
   const cv::Size size = templ.size();
   Normalized(Correlation(spectrum_, Spectrum(p.masked, dft_size_), size, valid),
-             Correlation(spectrum_sq_, Spectrum(p.used, dft_size_), size, valid), p.templ_sq,
-             scores);
+             MaskedEnergy(row_sums_sq_, mask, valid), p.templ_sq, scores);
 }
 
 void MaskedCorrelator::MatchWithTurned(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores,
@@ -88,21 +139,20 @@ void MaskedCorrelator::MatchWithTurned(const cv::Mat& templ, const cv::Mat& mask
   const cv::Size valid = ValidSize(image_size_, templ.size());
   const cv::Size size = templ.size();
   const cv::Mat templ_spectrum = Spectrum(p.masked, dft_size_);
-  const cv::Mat mask_spectrum = Spectrum(p.used, dft_size_);
-  const cv::Mat image_sq = Correlation(spectrum_sq_, mask_spectrum, size, valid);
+  const cv::Mat image_sq = MaskedEnergy(row_sums_sq_, mask, valid);
   cv::Mat turned_mask;
   cv::flip(mask, turned_mask, -1);
   // Σ M·I² is the same for a mask its turn leaves unchanged.
   const bool symmetric = cv::countNonZero(turned_mask != mask) == 0;
   const cv::Mat turned_image_sq =
-      symmetric ? image_sq : Correlation(spectrum_sq_, mask_spectrum, size, valid, /*turned=*/true);
+      symmetric ? image_sq : MaskedEnergy(row_sums_sq_, turned_mask, valid);
   Normalized(Correlation(spectrum_, templ_spectrum, size, valid), image_sq, p.templ_sq, scores);
   Normalized(Correlation(spectrum_, templ_spectrum, size, valid, /*turned=*/true), turned_image_sq,
              p.templ_sq, turned_scores);
 }
 
 std::size_t MaskedCorrelator::MemoryBytes() const {
-  return (spectrum_.total() + spectrum_sq_.total()) * sizeof(float);
+  return (spectrum_.total() + row_sums_sq_.total()) * sizeof(float);
 }
 
 void MatchAtFewPlacements(const cv::Mat& image, const cv::Mat& templ, const cv::Mat& mask,

@@ -1,9 +1,11 @@
-// Masked normalized cross-correlation of many templates with one fixed image, by FFT: the image's
-// spectra (of I and of I²) are computed once, so each template costs two forward and two inverse
-// transforms (cv::matchTemplate with a mask transforms the image again on every call), and the same
-// template turned by π costs two inverse transforms more (a correlation with the template flipped
-// about its centre is a convolution with the template). Used by the dense place search, which
-// correlates one normalized mosaic with a frame at every heading (θ and θ + π together).
+// Masked normalized cross-correlation of many templates with one fixed image: the numerator
+// Σ T·M·I by FFT with the image's spectrum computed once (cv::matchTemplate with a mask transforms
+// the image again on every call), the denominator's Σ M·I² from the image's row prefix sums of I²
+// (two shifted sums a row of the mask, no transform). Each template costs one forward and one
+// inverse transform, and the same template turned by π one inverse transform more (a correlation
+// with the template flipped about its centre is a convolution with the template). Used by the
+// dense place search, which correlates one normalized mosaic with a frame at every heading (θ and
+// θ + π together).
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -22,8 +24,8 @@ class MaskedCorrelator {
   // only zeros of the image the quotient is 0/0: NaN, infinite or 0 (the caller patches it).
   void Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores) const;
   // Match, and into *turned_scores the scores of the template and mask turned by π (cv::flip about
-  // both axes), from the same forward transforms. A mask that its turn leaves unchanged (a rotated
-  // rectangle's) shares the denominator too: one inverse transform more than Match, not four.
+  // both axes), from the same forward transform: one inverse transform more than Match. A mask
+  // that its turn leaves unchanged (a rotated rectangle's) shares the denominator too.
   void MatchWithTurned(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores,
                        cv::Mat* turned_scores) const;
 
@@ -32,7 +34,8 @@ class MaskedCorrelator {
 
  private:
   cv::Size image_size_, dft_size_;
-  cv::Mat spectrum_, spectrum_sq_;  // CCS-packed spectra of I and I², dft_size_
+  cv::Mat spectrum_;     // CCS-packed spectrum of I, dft_size_
+  cv::Mat row_sums_sq_;  // row prefix sums of I²: (W + 1) × H, (y, x) = Σ_{x' < x} I(y, x')²
 };
 
 // The same as cv::matchTemplate(image, templ, *scores, cv::TM_CCORR_NORMED, mask) up to float

@@ -67,6 +67,20 @@ TEST(MaskedCorrelator, EqualsMatchTemplateWithARotatedMask) {
   }
 }
 
+TEST(MaskedCorrelator, EqualsMatchTemplateWithAMaskOfSeveralRunsARow) {
+  const cv::Mat image = RandomImage({157, 131}, 5);
+  const MaskedCorrelator correlator(image);
+  const cv::Rect rect(30, 20, 50, 40);
+  cv::Mat mask(rect.size(), CV_8U);
+  cv::RNG(6).fill(mask, cv::RNG::UNIFORM, 0, 2);  // about half the pixels, many runs a row
+  mask *= 255;
+  cv::Mat expected, scores;
+  cv::matchTemplate(image, image(rect), expected, cv::TM_CCORR_NORMED, mask);
+  correlator.Match(image(rect), mask, &scores);
+  EXPECT_LT(WorstDifference(scores, expected), 1e-4);
+  EXPECT_NEAR(scores.at<float>(rect.y, rect.x), 1.0, 1e-4);
+}
+
 TEST(MaskedCorrelator, TheTurnedTemplateEqualsMatchTemplateWithBothFlipped) {
   const cv::Mat image = RandomImage({157, 131}, 3);
   const MaskedCorrelator correlator(image);
