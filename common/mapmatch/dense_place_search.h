@@ -38,6 +38,11 @@ struct DensePlaceSearchOptions {
   int max_peaks = 4;            // distinct refined poses returned
   // Mosaics whose refine level has more pixels are refused (the search would be too slow).
   double max_refine_level_mpx = 0.6;
+  // Heading pairs of a sweep, refinements and alternative headings computed at once, each on
+  // its own stripe of cv::parallel_for_ (so at most cv::getNumThreads() at a time: 1 runs them
+  // one after another). Results do not depend on it: every stripe fills its own slot and the
+  // slots are read in heading order. At most 2: the vehicles' CPUs are small.
+  int threads = 2;
 };
 
 // Flat range checks; InvalidInput naming the field.

@@ -2,6 +2,7 @@
 #include "bench_reloc.h"
 
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <random>
 
 #include "io/progress_log.h"
@@ -113,9 +114,11 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
     const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
+    cv::setNumThreads(s.threads);
     Result<mapmatch::Relocalization> r =
         multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth))
               : (*relocalizer)->Relocalize(frame);
+    cv::setNumThreads(1);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
     out.runs.push_back(*r);
     if (r->twin_checked && !r->found) out.refused.push_back(RefusedTwin(*r, truth, s));
