@@ -12,13 +12,36 @@
 namespace fleetloc::imaging {
 namespace {
 
-// `values` zero-padded to `size` (top-left), transformed (CCS-packed).
+// `values` zero-padded to `size` (top-left), transformed (CCS-packed); what lies beyond `size`
+// is left out (the caller knows it is zero).
 cv::Mat Spectrum(const cv::Mat& values, cv::Size size) {
+  const cv::Rect kept(0, 0, std::min(values.cols, size.width), std::min(values.rows, size.height));
   cv::Mat padded = cv::Mat::zeros(size, CV_32F);
-  values.copyTo(padded(cv::Rect(cv::Point(), values.size())));
+  values(kept).copyTo(padded(kept));
   cv::Mat spectrum;
-  cv::dft(padded, spectrum, 0, values.rows);
+  cv::dft(padded, spectrum, 0, kept.height);
   return spectrum;
+}
+
+// The `size` block of `full` from `first`, indices taken modulo full's size (a cyclic
+// correlation's output).
+cv::Mat CyclicBlock(const cv::Mat& full, cv::Point first, cv::Size size) {
+  first = {first.x % full.cols, first.y % full.rows};
+  if (first.x + size.width <= full.cols && first.y + size.height <= full.rows)
+    return full(cv::Rect(first, size));
+  cv::Mat out(size, full.type());
+  for (int y = 0; y < size.height;) {
+    const int from_y = (first.y + y) % full.rows;
+    const int rows = std::min(size.height - y, full.rows - from_y);
+    for (int x = 0; x < size.width;) {
+      const int from_x = (first.x + x) % full.cols;
+      const int cols = std::min(size.width - x, full.cols - from_x);
+      full(cv::Rect(from_x, from_y, cols, rows)).copyTo(out(cv::Rect(x, y, cols, rows)));
+      x += cols;
+    }
+    y += rows;
+  }
+  return out;
 }
 
 // Σ_u a(x + u) · b(u) (`turned` false) or Σ_u a(x + u) · b(w − 1 − u) (true: b turned by π, w its
@@ -29,8 +52,10 @@ cv::Mat Correlation(const cv::Mat& a_spectrum, const cv::Mat& b_spectrum, cv::Si
   cv::Mat product, out;
   cv::mulSpectrums(a_spectrum, b_spectrum, product, 0, /*conjB=*/!turned);
   const cv::Point first = turned ? cv::Point(b_size.width - 1, b_size.height - 1) : cv::Point();
-  cv::idft(product, out, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, first.y + valid.height);
-  return out(cv::Rect(first, valid));
+  // Only the rows read are needed, unless the read wraps around.
+  const int rows = first.y + valid.height <= product.rows ? first.y + valid.height : 0;
+  cv::idft(product, out, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, rows);
+  return CyclicBlock(out, first, valid);
 }
 
 // A run of used mask pixels: row `row`, columns [begin, end).
@@ -116,16 +141,37 @@ cv::Size ValidSize(cv::Size image, cv::Size templ) {
   return {image.width - templ.width + 1, image.height - templ.height + 1};
 }
 
+// Whether `image` is zero within `border` pixels of each side.
+bool ZeroBorder(const cv::Mat& image, int border) {
+  if (border == 0) return true;
+  const cv::Rect inner(border, border, image.cols - 2 * border, image.rows - 2 * border);
+  cv::Mat outside = image != 0;
+  outside(inner).setTo(0);
+  return cv::countNonZero(outside) == 0;
+}
+
 }  // namespace
 
-MaskedCorrelator::MaskedCorrelator(const cv::Mat& image) : image_size_(image.size()) {
-  FLEETLOC_CHECK(image.type() == CV_32FC1 && !image.empty());
-  dft_size_ = {cv::getOptimalDFTSize(image.cols), cv::getOptimalDFTSize(image.rows)};
+MaskedCorrelator::MaskedCorrelator(const cv::Mat& image, int zero_border_px)
+    : image_size_(image.size()), zero_border_px_(zero_border_px) {
+  FLEETLOC_CHECK(image.type() == CV_32FC1 && !image.empty() && zero_border_px >= 0 &&
+                 2 * zero_border_px < std::min(image.cols, image.rows) &&
+                 ZeroBorder(image, zero_border_px));
+  // A cyclic correlation of this length reads, past the image's end, only the zero border at
+  // its start (and the image's own end is zero as far as it is left out).
+  dft_size_ = {cv::getOptimalDFTSize(image.cols - zero_border_px),
+               cv::getOptimalDFTSize(image.rows - zero_border_px)};
   spectrum_ = Spectrum(image, dft_size_);
   row_sums_sq_ = RowPrefixSumsOfSquares(image);
 }
 
+void MaskedCorrelator::CheckLargerThanZeroBorder(const cv::Mat& templ) const {
+  // Then every placement has its own cell of the cyclic output.
+  FLEETLOC_CHECK(templ.cols > zero_border_px_ && templ.rows > zero_border_px_);
+}
+
 void MaskedCorrelator::Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores) const {
+  CheckLargerThanZeroBorder(templ);
   const Prepared p = Prepare(templ, mask, image_size_);
   const cv::Size valid = ValidSize(image_size_, templ.size());
   const cv::Size size = templ.size();
@@ -135,6 +181,7 @@ void MaskedCorrelator::Match(const cv::Mat& templ, const cv::Mat& mask, cv::Mat*
 
 void MaskedCorrelator::MatchWithTurned(const cv::Mat& templ, const cv::Mat& mask, cv::Mat* scores,
                                        cv::Mat* turned_scores) const {
+  CheckLargerThanZeroBorder(templ);
   const Prepared p = Prepare(templ, mask, image_size_);
   const cv::Size valid = ValidSize(image_size_, templ.size());
   const cv::Size size = templ.size();

@@ -14,8 +14,11 @@ namespace fleetloc::imaging {
 
 class MaskedCorrelator {
  public:
-  // `image`: CV_32FC1, not empty.
-  explicit MaskedCorrelator(const cv::Mat& image);
+  // `image`: CV_32FC1, not empty, and zero within `zero_border_px` of each side (checked; less
+  // than half its short side): the transforms are that much shorter, as a cyclic correlation may
+  // then wrap into the border's zeros. Templates must be larger than zero_border_px both ways
+  // (checked).
+  explicit MaskedCorrelator(const cv::Mat& image, int zero_border_px = 0);
 
   // The same as cv::matchTemplate(image, templ, *scores, cv::TM_CCORR_NORMED, mask) up to float
   // rounding: scores (CV_32F, (W − w + 1) × (H − h + 1)) at every placement of the template's
@@ -33,7 +36,10 @@ class MaskedCorrelator {
   std::size_t MemoryBytes() const;
 
  private:
+  void CheckLargerThanZeroBorder(const cv::Mat& templ) const;
+
   cv::Size image_size_, dft_size_;
+  int zero_border_px_ = 0;
   cv::Mat spectrum_;     // CCS-packed spectrum of I, dft_size_
   cv::Mat row_sums_sq_;  // row prefix sums of I²: (W + 1) × H, (y, x) = Σ_{x' < x} I(y, x')²
 };

@@ -201,7 +201,11 @@ Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
     level->geo.origin_y += pad_m;
     level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px *
                               (k == 0 ? options.sweep_heading_step_factor : 1.0);
-    level->correlator = std::make_unique<imaging::MaskedCorrelator>(level->normalized);
+    // Every rotated frame is wider and taller than the frame's short side: the correlator's
+    // transforms may wrap into that much of the zero border.
+    const int short_side_px = std::min(camera.width_px, camera.height_px) >> level->level;
+    level->correlator = std::make_unique<imaging::MaskedCorrelator>(
+        level->normalized, std::min(level->pad_px, short_side_px - 1));
     (k == 0 ? search->coarse_ : search->fine_) = level;
   }
   return search;
