@@ -125,12 +125,12 @@ TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
   const cv::Mat photo = PlainConcrete();
   mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
   const geometry::CameraModel camera = SmallCamera();
-  DensePlaceSearchOptions one_stripe;
-  one_stripe.threads = 1;
-  auto serial = DensePlaceSearch::Create(floor, camera, one_stripe);
-  auto parallel = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  DensePlaceSearchOptions two_stripes;
+  two_stripes.threads = 2;
+  auto serial = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  auto parallel = DensePlaceSearch::Create(floor, camera, two_stripes);
   ASSERT_TRUE(serial.ok() && parallel.ok());
-  ASSERT_EQ((*parallel)->options().threads, 2);
+  ASSERT_EQ((*serial)->options().threads, 1);
   const int threads_before = cv::getNumThreads();
   cv::setNumThreads(2);
   sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);

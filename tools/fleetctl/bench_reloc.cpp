@@ -103,7 +103,9 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   const mosaic::MosaicLayout layout = store->layout();
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(s.tile_cache_bytes));
-  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), s.relocalizer);
+  mapmatch::RelocalizerOptions options = s.relocalizer;
+  options.dense.threads = options.dense_fine.threads = s.threads;
+  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), options);
   if (!relocalizer.ok()) return relocalizer.status();
   const bool multi = s.relocalizer.trajectory_frames > 1;
   RelocTrial out;
