@@ -117,9 +117,9 @@ void Normalized(const cv::Mat& numerator, const cv::Mat& image_sq, double templ_
   cv::divide(numerator, denominator, *scores);
 }
 
-// The template with its unused pixels zeroed, the mask as 0 / 1 (CV_32F), and Σ (T·M)².
+// The template with its unused pixels zeroed, and Σ (T·M)².
 struct Prepared {
-  cv::Mat masked, used;
+  cv::Mat masked;
   double templ_sq = 0;
 };
 
@@ -129,8 +129,6 @@ Prepared Prepare(const cv::Mat& templ, const cv::Mat& mask, cv::Size image_size)
                  templ.rows <= image_size.height);
   Prepared p;
   p.masked = cv::Mat::zeros(templ.size(), CV_32F);
-  mask.convertTo(p.used, CV_32F, 1.0 / 255.0);
-  cv::threshold(p.used, p.used, 0.0, 1.0, cv::THRESH_BINARY);
   templ.copyTo(p.masked, mask);
   p.templ_sq = p.masked.dot(p.masked);
   return p;
@@ -206,17 +204,16 @@ void MatchAtFewPlacements(const cv::Mat& image, const cv::Mat& templ, const cv::
                           cv::Mat* scores) {
   FLEETLOC_CHECK(image.type() == CV_32FC1);
   const Prepared p = Prepare(templ, mask, image.size());
-  const cv::Mat image_sq = image.mul(image);
-  scores->create(ValidSize(image.size(), templ.size()), CV_32F);
-  // Hand-written over the placements (each sum a library dot product): the transforms of
+  const cv::Size valid = ValidSize(image.size(), templ.size());
+  const cv::Mat image_energy = MaskedEnergy(RowPrefixSumsOfSquares(image), mask, valid);
+  scores->create(valid, CV_32F);
+  // Hand-written over the placements (each numerator a library dot product): the transforms of
   // cv::matchTemplate cost twice the instructions for the dense search's refinement (callgrind).
   for (int y = 0; y < scores->rows; ++y) {
     for (int x = 0; x < scores->cols; ++x) {
-      const cv::Rect under(cv::Point(x, y), templ.size());
-      const double numerator = p.masked.dot(image(under));
-      const double image_energy = std::max(p.used.dot(image_sq(under)), 0.0);
-      scores->at<float>(y, x) =
-          static_cast<float>(numerator / std::sqrt(image_energy * p.templ_sq));
+      const double numerator = p.masked.dot(image(cv::Rect(cv::Point(x, y), templ.size())));
+      const double energy = std::max(static_cast<double>(image_energy.at<float>(y, x)), 0.0);
+      scores->at<float>(y, x) = static_cast<float>(numerator / std::sqrt(energy * p.templ_sq));
     }
   }
 }

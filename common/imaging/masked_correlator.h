@@ -45,8 +45,9 @@ class MaskedCorrelator {
 };
 
 // The same as cv::matchTemplate(image, templ, *scores, cv::TM_CCORR_NORMED, mask) up to float
-// rounding, by one pair of dot products per placement: faster than the transforms when there are
-// only a few placements (the dense place search's refinement: 9 × 9 of a 200-pixel template).
+// rounding, by one dot product per placement (Σ M·I² from the image's row prefix sums, as in
+// MaskedCorrelator): faster than the transforms when there are only a few placements (the dense
+// place search's refinement: 9 × 9 of a 200-pixel template).
 // The same input rules as MaskedCorrelator::Match.
 void MatchAtFewPlacements(const cv::Mat& image, const cv::Mat& templ, const cv::Mat& mask,
                           cv::Mat* scores);
