@@ -135,8 +135,7 @@ TEST(MaskedCorrelator, ShorterTransformsOverAZeroBorderGiveTheSameScores) {
       const cv::Mat turned_covered =
           CoveredPixels(image, turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
       EXPECT_LT(WorstDifference(scores, expected, covered), 1e-4) << "template " << k;
-      EXPECT_LT(WorstDifference(turned, expected_turned, turned_covered), 1e-4)
-          << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected_turned, turned_covered), 1e-4) << "template " << k;
     }
   }
 }

@@ -8,9 +8,9 @@
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 #include <utility>
 #include <vector>
-#include <random>
 
 #include "mapmatch/test_floors.h"
 #include "sim/camera_renderer.h"
@@ -158,7 +158,8 @@ TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
     EXPECT_EQ(a[i].camera_in_map.theta, b[i].camera_in_map.theta);
   }
   const DensePeak alt_a = (*serial)->Alternative({frame}, {geometry::Pose2{}}, a[0].camera_in_map);
-  const DensePeak alt_b = (*parallel)->Alternative({frame}, {geometry::Pose2{}}, a[0].camera_in_map);
+  const DensePeak alt_b =
+      (*parallel)->Alternative({frame}, {geometry::Pose2{}}, a[0].camera_in_map);
   EXPECT_EQ(alt_a.correlation, alt_b.correlation);
   EXPECT_EQ(alt_a.camera_in_map.y, alt_b.camera_in_map.y);
   cv::setNumThreads(threads_before);
