@@ -130,7 +130,8 @@ TEST(MaskedCorrelator, ShorterTransformsOverAZeroBorderGiveTheSameScores) {
       correlator.MatchWithTurned(cut.templ, cut.mask, &scores, &turned);
       ASSERT_EQ(scores.size(), expected.size());
       // Where the mask covers only the border both are 0 / 0: compared where it covers at least
-      // a tenth of the image's own pixels (every placement reaching into the border is among them).
+      // a tenth of the image's own pixels (the turned map's reads that wrap around start well
+      // inside that range: at x ≥ 200 − w + 1 of up to 237 − w).
       const cv::Mat covered = CoveredPixels(image, cut.mask) >= 0.1 * cv::countNonZero(cut.mask);
       const cv::Mat turned_covered =
           CoveredPixels(image, turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
