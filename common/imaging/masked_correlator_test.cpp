@@ -1,5 +1,6 @@
 // MaskedCorrelator against cv::matchTemplate's masked TM_CCORR_NORMED on random images, templates
-// and rotated-rectangle masks, also for the template turned by π; bad inputs abort.
+// and rotated-rectangle masks, also for the template turned by π and over an image with a zero
+// border (shorter transforms); bad inputs abort.
 #include "imaging/masked_correlator.h"
 
 #include <gtest/gtest.h>
@@ -44,10 +45,19 @@ Cut CutFrom(const cv::Mat& image, int k, bool symmetric) {
   return cut;
 }
 
-double WorstDifference(const cv::Mat& a, const cv::Mat& b) {
+double WorstDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& where = cv::Mat()) {
   double worst = 0;
-  cv::minMaxLoc(cv::abs(a - b), nullptr, &worst);
+  cv::minMaxLoc(cv::abs(a - b), nullptr, &worst, nullptr, nullptr, where);
   return worst;
+}
+
+// At every placement of the mask, how many of its pixels fall on non-zero image pixels.
+cv::Mat CoveredPixels(const cv::Mat& image, const cv::Mat& mask) {
+  cv::Mat content, used, covered;
+  cv::Mat(image != 0).convertTo(content, CV_32F, 1.0 / 255.0);
+  mask.convertTo(used, CV_32F, 1.0 / 255.0);
+  cv::matchTemplate(content, used, covered, cv::TM_CCORR);
+  return covered;
 }
 
 TEST(MaskedCorrelator, EqualsMatchTemplateWithARotatedMask) {
@@ -65,6 +75,20 @@ TEST(MaskedCorrelator, EqualsMatchTemplateWithARotatedMask) {
     EXPECT_EQ(best, cut.rect.tl());  // the template's own place correlates 1
     EXPECT_NEAR(scores.at<float>(cut.rect.y, cut.rect.x), 1.0, 1e-4);
   }
+}
+
+TEST(MaskedCorrelator, EqualsMatchTemplateWithAMaskOfSeveralRunsARow) {
+  const cv::Mat image = RandomImage({157, 131}, 5);
+  const MaskedCorrelator correlator(image);
+  const cv::Rect rect(30, 20, 50, 40);
+  cv::Mat mask(rect.size(), CV_8U);
+  cv::RNG(6).fill(mask, cv::RNG::UNIFORM, 0, 2);  // about half the pixels, many runs a row
+  mask *= 255;
+  cv::Mat expected, scores;
+  cv::matchTemplate(image, image(rect), expected, cv::TM_CCORR_NORMED, mask);
+  correlator.Match(image(rect), mask, &scores);
+  EXPECT_LT(WorstDifference(scores, expected), 1e-4);
+  EXPECT_NEAR(scores.at<float>(rect.y, rect.x), 1.0, 1e-4);
 }
 
 TEST(MaskedCorrelator, TheTurnedTemplateEqualsMatchTemplateWithBothFlipped) {
@@ -89,6 +113,34 @@ TEST(MaskedCorrelator, TheTurnedTemplateEqualsMatchTemplateWithBothFlipped) {
   }
 }
 
+TEST(MaskedCorrelator, ShorterTransformsOverAZeroBorderGiveTheSameScores) {
+  constexpr int kBorder = 40;  // the templates below are 47 to 61 pixels a side
+  cv::Mat image;
+  cv::copyMakeBorder(RandomImage({157, 131}, 7), image, kBorder, kBorder, kBorder, kBorder,
+                     cv::BORDER_CONSTANT, 0);
+  const MaskedCorrelator correlator(image, kBorder);
+  for (const bool symmetric : {false, true}) {
+    for (int k = 0; k < 3; ++k) {
+      const Cut cut = CutFrom(image, k, symmetric);
+      cv::Mat turned_templ, turned_mask, expected, expected_turned, scores, turned;
+      cv::flip(cut.templ, turned_templ, -1);
+      cv::flip(cut.mask, turned_mask, -1);
+      cv::matchTemplate(image, cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
+      cv::matchTemplate(image, turned_templ, expected_turned, cv::TM_CCORR_NORMED, turned_mask);
+      correlator.MatchWithTurned(cut.templ, cut.mask, &scores, &turned);
+      ASSERT_EQ(scores.size(), expected.size());
+      // Where the mask covers only the border both are 0 / 0: compared where it covers at least
+      // a tenth of the image's own pixels (the turned map's reads that wrap around start well
+      // inside that range: at x ≥ 200 − w + 1 of up to 237 − w).
+      const cv::Mat covered = CoveredPixels(image, cut.mask) >= 0.1 * cv::countNonZero(cut.mask);
+      const cv::Mat turned_covered =
+          CoveredPixels(image, turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
+      EXPECT_LT(WorstDifference(scores, expected, covered), 1e-4) << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected_turned, turned_covered), 1e-4) << "template " << k;
+    }
+  }
+}
+
 TEST(MaskedCorrelator, AtFewPlacementsEqualsMatchTemplate) {
   const cv::Mat image = RandomImage({157, 131}, 4);
   for (int k = 0; k < 3; ++k) {
@@ -102,6 +154,16 @@ TEST(MaskedCorrelator, AtFewPlacementsEqualsMatchTemplate) {
     EXPECT_LT(WorstDifference(scores, expected), 1e-4) << "template " << k;
     EXPECT_NEAR(scores.at<float>(4, 4), 1.0, 1e-4);
   }
+}
+
+TEST(MaskedCorrelatorDeathTest, ANonZeroBorderOrATemplateNoLargerThanTheBorderAborts) {
+  EXPECT_DEATH(MaskedCorrelator(RandomImage({80, 60}, 8), 10), "");
+  cv::Mat image;
+  cv::copyMakeBorder(RandomImage({80, 60}, 8), image, 10, 10, 10, 10, cv::BORDER_CONSTANT, 0);
+  const MaskedCorrelator correlator(image, 10);
+  cv::Mat scores;
+  EXPECT_DEATH(
+      correlator.Match(cv::Mat::zeros(10, 20, CV_32F), cv::Mat::ones(10, 20, CV_8U), &scores), "");
 }
 
 TEST(MaskedCorrelatorDeathTest, ATemplateLargerThanTheImageAborts) {

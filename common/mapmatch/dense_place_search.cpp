@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "imaging/masked_correlator.h"
@@ -96,6 +98,17 @@ void FiniteScores(cv::Mat* scores) {
   scores->setTo(0.0f, cv::abs(*scores) > 1.0f);
 }
 
+// body(i) for every i in [0, n), on up to `threads` stripes of OpenCV's pool; body(i) may write
+// only what belongs to i.
+void InParallel(int n, int threads, const std::function<void(int)>& body) {
+  cv::parallel_for_(
+      cv::Range(0, n),
+      [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i) body(i);
+      },
+      std::min(n, threads));
+}
+
 // Sub-pixel offset of a peak from three samples (quadratic), within ±0.5.
 double QuadraticOffset(double left, double centre, double right) {
   const double denominator = left - 2 * centre + right;
@@ -144,6 +157,8 @@ Status Validate(const DensePlaceSearchOptions& o) {
     return InvalidInput("dense place search: max_peaks must be 2..coarse_peaks");
   if (!(o.max_refine_level_mpx > 0.0 && o.max_refine_level_mpx <= 100.0))
     return InvalidInput("dense place search: max_refine_level_mpx must be in (0, 100]");
+  if (o.threads < 1 || o.threads > 2)
+    return InvalidInput("dense place search: threads must be 1..2");
   return Status::Ok();
 }
 
@@ -186,7 +201,11 @@ Result<std::unique_ptr<DensePlaceSearch>> DensePlaceSearch::Create(
     level->geo.origin_y += pad_m;
     level->heading_step_rad = options.heading_step_scale / level->half_diagonal_px *
                               (k == 0 ? options.sweep_heading_step_factor : 1.0);
-    level->correlator = std::make_unique<imaging::MaskedCorrelator>(level->normalized);
+    // Every rotated frame is wider and taller than the frame's short side: the correlator's
+    // transforms may wrap into that much of the zero border.
+    const int short_side_px = std::min(camera.width_px, camera.height_px) >> level->level;
+    level->correlator = std::make_unique<imaging::MaskedCorrelator>(
+        level->normalized, std::min(level->pad_px, short_side_px - 1));
     (k == 0 ? search->coarse_ : search->fine_) = level;
   }
   return search;
@@ -285,13 +304,25 @@ void DensePlaceSearch::Sweep(const cv::Mat& frame,
                              SweepLevel level) const {
   const cv::Mat normalized = NormalizedFrame(frame, level);
   const int half = heading_steps(level) / 2;
-  cv::Mat centred, turned;
-  for (int k = 0; k < half; ++k) {
-    const double theta = sweep_heading_rad(k, level);
-    const int suppress_px = ScoresAtAndTurned(normalized, theta, level, &centred, &turned);
-    if (suppress_px == 0) continue;
-    visit({k, theta, centred, suppress_px});
-    visit({k + half, sweep_heading_rad(k + half, level), turned, suppress_px});
+  // One heading pair a stripe, then visited in heading order (as one stripe would).
+  struct PairMaps {
+    cv::Mat centred, turned;
+    int suppress_px = 0;
+  };
+  std::vector<PairMaps> batch(options_.threads);
+  for (int first = 0; first < half; first += options_.threads) {
+    const int count = std::min(options_.threads, half - first);
+    InParallel(count, options_.threads, [&](int i) {
+      PairMaps& m = batch[i];
+      m.suppress_px = ScoresAtAndTurned(normalized, sweep_heading_rad(first + i, level), level,
+                                        &m.centred, &m.turned);
+    });
+    for (int i = 0; i < count; ++i) {
+      const int k = first + i;
+      if (batch[i].suppress_px == 0) continue;
+      visit({k, sweep_heading_rad(k, level), batch[i].centred, batch[i].suppress_px});
+      visit({k + half, sweep_heading_rad(k + half, level), batch[i].turned, batch[i].suppress_px});
+    }
   }
 }
 
@@ -363,11 +394,18 @@ DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
   const double resolution = sweep_resolution_m(fine);
   const Eigen::Vector2d own = SweepPixel(first * centre_ground, fine);
   const int radius_px = static_cast<int>(std::ceil(separation_m() / resolution));
-  DensePeak best{first * motions.back(), 0.0};
-  cv::Mat scores;
-  for (int j = -2; j <= 2; ++j) {
-    const double theta = first.theta + j * step;
-    cv::Mat sum = cv::Mat::zeros(sweep_size(fine), CV_32F);
+  // The frames' mean map at each of the 5 headings, own place blanked, and its best place; the
+  // headings on parallel stripes, chosen in heading order.
+  constexpr int kHeadings = 5;
+  struct Place {
+    double value = 0;
+    cv::Point at;
+  };
+  std::vector<Place> places(kHeadings);
+  const auto theta_of = [&](int slot) { return first.theta + (slot - kHeadings / 2) * step; };
+  InParallel(kHeadings, options_.threads, [&](int slot) {
+    const double theta = theta_of(slot);
+    cv::Mat sum = cv::Mat::zeros(sweep_size(fine), CV_32F), scores;
     for (std::size_t i = 0; i < frames.size(); ++i) {
       ScoresAt(normalized[i], theta + motions[i].theta, fine, &scores);
       const Eigen::Vector2d offset = motions[i] * centre_ground - centre_ground;
@@ -378,11 +416,14 @@ DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
         sum,
         cv::Point(static_cast<int>(std::lround(own.x())), static_cast<int>(std::lround(own.y()))),
         radius_px, cv::Scalar(-1), cv::FILLED);
-    double value = 0;
-    cv::Point at;
-    cv::minMaxLoc(sum, nullptr, &value, nullptr, &at);
-    if (value <= best.correlation) continue;
-    best = {SweepPose(Eigen::Vector2d(at.x, at.y), theta, fine) * motions.back(), value};
+    cv::minMaxLoc(sum, nullptr, &places[slot].value, nullptr, &places[slot].at);
+  });
+  DensePeak best{first * motions.back(), 0.0};
+  for (int slot = 0; slot < kHeadings; ++slot) {
+    const Place& p = places[slot];
+    if (p.value <= best.correlation) continue;
+    best = {SweepPose(Eigen::Vector2d(p.at.x, p.at.y), theta_of(slot), fine) * motions.back(),
+            p.value};
   }
   return best;
 }
@@ -412,9 +453,11 @@ std::vector<DensePeak> DensePlaceSearch::Search(
     const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
   FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
                  frame.rows == camera_.height_px);
-  std::vector<DensePeak> refined;
-  for (const DensePeak& p : DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks))
-    refined.push_back(Refine(frame, p));
+  const std::vector<DensePeak> coarse =
+      DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks);
+  std::vector<DensePeak> refined(coarse.size());
+  InParallel(static_cast<int>(coarse.size()), options_.threads,
+             [&](int i) { refined[i] = Refine(frame, coarse[i]); });
   return DistinctBest(std::move(refined), options_.max_peaks);
 }
 

@@ -38,6 +38,13 @@ struct DensePlaceSearchOptions {
   int max_peaks = 4;            // distinct refined poses returned
   // Mosaics whose refine level has more pixels are refused (the search would be too slow).
   double max_refine_level_mpx = 0.6;
+  // Heading pairs of a sweep, refinements and alternative headings computed at once, each on
+  // its own stripe of cv::parallel_for_ (so at most cv::getNumThreads() at a time). Results do
+  // not depend on it: every stripe fills its own slot and the slots are read in heading order.
+  // At most 2: the vehicles' CPUs are small. 1 by default: on a loaded 2-core machine the
+  // stripes wait for each other at every pair of headings and 2 measured slower (benchmarks.md,
+  // session 32); not yet measured on an idle one.
+  int threads = 1;
 };
 
 // Flat range checks; InvalidInput naming the field.

@@ -1,12 +1,16 @@
 // DensePlaceSearch on a real plain-concrete photograph (data/stress_floors): sim-rendered frames at
 // random poses and headings are found within the search's resolution; a floor made of one photo
-// twice side by side gives two equally good distinct peaks; bad input is refused.
+// twice side by side gives two equally good distinct peaks; two stripes give exactly one's
+// results; bad input is refused.
 #include "mapmatch/dense_place_search.h"
 
 #include <gtest/gtest.h>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "mapmatch/test_floors.h"
 #include "sim/camera_renderer.h"
@@ -117,6 +121,50 @@ TEST(DensePlaceSearch, TheSweepsTurnedHeadingsEqualHeadingsComputedAlone) {
 // sweep_heading_step_factor 2 sweeps half the headings, the refine level keeps its steps, and a
 // refinement over ±4 of them still finds clean frames (on dusty floors it lost poses: not the
 // relocalizer's default, docs/benchmarks.md 2026-11-26 session 31).
+TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
+  const cv::Mat photo = PlainConcrete();
+  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  const geometry::CameraModel camera = SmallCamera();
+  DensePlaceSearchOptions two_stripes;
+  two_stripes.threads = 2;
+  auto serial = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  auto parallel = DensePlaceSearch::Create(floor, camera, two_stripes);
+  ASSERT_TRUE(serial.ok() && parallel.ok());
+  ASSERT_EQ((*serial)->options().threads, 1);
+  const int threads_before = cv::getNumThreads();
+  cv::setNumThreads(2);
+  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
+  std::mt19937_64 rng(13);
+  const cv::Mat frame =
+      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  // Every map, in the same order, bit for bit.
+  std::vector<std::pair<int, cv::Mat>> serial_maps;
+  (*serial)->Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
+    serial_maps.emplace_back(map.k, map.scores.clone());
+  });
+  std::size_t seen = 0;
+  (*parallel)->Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
+    ASSERT_LT(seen, serial_maps.size());
+    EXPECT_EQ(map.k, serial_maps[seen].first);
+    EXPECT_EQ(cv::norm(map.scores, serial_maps[seen].second, cv::NORM_INF), 0.0) << map.k;
+    ++seen;
+  });
+  EXPECT_EQ(seen, serial_maps.size());
+  const std::vector<DensePeak> a = (*serial)->Search(frame), b = (*parallel)->Search(frame);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].correlation, b[i].correlation);
+    EXPECT_EQ(a[i].camera_in_map.x, b[i].camera_in_map.x);
+    EXPECT_EQ(a[i].camera_in_map.theta, b[i].camera_in_map.theta);
+  }
+  const DensePeak alt_a = (*serial)->Alternative({frame}, {geometry::Pose2{}}, a[0].camera_in_map);
+  const DensePeak alt_b =
+      (*parallel)->Alternative({frame}, {geometry::Pose2{}}, a[0].camera_in_map);
+  EXPECT_EQ(alt_a.correlation, alt_b.correlation);
+  EXPECT_EQ(alt_a.camera_in_map.y, alt_b.camera_in_map.y);
+  cv::setNumThreads(threads_before);
+}
+
 TEST(DensePlaceSearch, AWiderSweepStepSweepsHalfTheHeadingsAndStillFindsCleanFrames) {
   const cv::Mat photo = PlainConcrete();
   mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
@@ -155,6 +203,9 @@ TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
   options = DensePlaceSearchOptions{};
   options.refine_heading_steps = 0;
+  EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
+  options = DensePlaceSearchOptions{};
+  options.threads = 3;  // the vehicles' CPUs are small
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
   options = DensePlaceSearchOptions{};
   options.max_refine_level_mpx = 0.01;  // the photo has 0.066 Mpx at the refine level

@@ -55,6 +55,11 @@ void TrajectoryPlaceSearch::Begin(const cv::Mat& frame, const geometry::Pose2& c
 void TrajectoryPlaceSearch::Accumulate(const DensePlaceSearch::SweepMap& map) {
   const int steps = static_cast<int>(sum_.size());
   const int k = ((map.k - turn_) % steps + steps) % steps;
+  // The first frame's maps need no shift (warpAffine by zero would copy them exactly).
+  if (offset_.isZero()) {
+    sum_[k] += map.scores;
+    return;
+  }
   const Eigen::Vector2d d = Eigen::Rotation2Dd(dense_->sweep_heading_rad(k, level_)) * offset_;
   sum_[k] += ShiftedScores(map.scores, d, dense_->sweep_resolution_m(level_));
 }

@@ -2,6 +2,7 @@
 #include "bench_reloc.h"
 
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <random>
 
 #include "io/progress_log.h"
@@ -102,7 +103,9 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
   const mosaic::MosaicLayout layout = store->layout();
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(s.tile_cache_bytes));
-  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), s.relocalizer);
+  mapmatch::RelocalizerOptions options = s.relocalizer;
+  options.dense.threads = options.dense_fine.threads = s.threads;
+  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), options);
   if (!relocalizer.ok()) return relocalizer.status();
   const bool multi = s.relocalizer.trajectory_frames > 1;
   RelocTrial out;
@@ -113,9 +116,11 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
     const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
+    cv::setNumThreads(s.threads);
     Result<mapmatch::Relocalization> r =
         multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth))
               : (*relocalizer)->Relocalize(frame);
+    cv::setNumThreads(1);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
     out.runs.push_back(*r);
     if (r->twin_checked && !r->found) out.refused.push_back(RefusedTwin(*r, truth, s));

@@ -31,6 +31,10 @@ struct RelocTrialSettings {
   long long tile_cache_bytes = 64LL << 20;  // per trial (cold)
   int width_px = 640, height_px = 480;      // the camera's frames
   sim::RenderOptions render;                // camera effects (default: `fleetctl sim`'s)
+  // OpenCV threads while a frame is relocalized, and the dense searches' stripes
+  // (DensePlaceSearchOptions::threads); 1 otherwise, so the index builds fork with no worker
+  // busy and the rendering stays on one core.
+  int threads = 1;
   mapmatch::RelocalizerOptions relocalizer;
 };
 

@@ -193,6 +193,11 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
                   "reports both)")
       ->check(CLI::Range(1, 20))
       ->capture_default_str();
+  cmd->add_option("--threads", args->trials.threads,
+                  "OpenCV threads while a frame is relocalized (the dense searches' heading pairs "
+                  "on 2 stripes; results do not depend on it)")
+      ->check(CLI::Range(1, 2))
+      ->capture_default_str();
   cmd->add_option("--fine-sweep-step-factor",
                   args->trials.relocalizer.dense_fine.sweep_heading_step_factor,
                   "The fine dense search's sweep heading step, times its default")
