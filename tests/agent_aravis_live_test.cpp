@@ -109,18 +109,26 @@ LiveRun DriveLive(testing::MapServerFixture& server, const cv::Mat& floor, const
     auto odometry_ptr = testing::PublishOdometry(p, drive.odometry(), faults.odometry);
     live_sim::OdometryPublisher& odometry = *odometry_ptr;
     // The start pose, as RViz's "2D Pose Estimate" sends it (a few mm and a few tenths of a
-    // degree off), while the vehicle stands; then the camera starts.
+    // degree off), while the vehicle stands, once the agent reads odometry and initialpose (an
+    // agent slow to start under load would refuse a pose older than the odometry it has); then
+    // the camera starts.
     testing::SleepUntilHost(start + 0.1);
+    double camera_at = start + 0.2;
     if (!faults.no_start_pose) {
-      EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 5));
-      const geometry::Pose2 truth = drive.TruthAt(start + 0.1);
+      EXPECT_TRUE(Eventually(
+          [&] { return init_writer->MatchedReaders() > 0 && odometry.MatchedReaders() > 0; }, 20));
+      const double given_t = std::max(start + 0.1, camera_io::HostNow() + 0.1);
+      EXPECT_LT(given_t, drive.first_frame_t() - 0.5) << "the agent took too long to start";
+      testing::SleepUntilHost(given_t);
+      camera_at = given_t + 0.1;
+      const geometry::Pose2 truth = drive.TruthAt(given_t);
       geometry::PoseWithCovariance given{{truth.x + 0.002, truth.y - 0.001, truth.theta + 0.003},
                                          Eigen::Matrix3d::Zero()};
       given.covariance.diagonal() << 4e-6, 4e-6, 3e-5;
-      const transport::RosPoseMessage initial(start + 0.1, "map", given);
+      const transport::RosPoseMessage initial(given_t, "map", given);
       EXPECT_TRUE(init_writer->Write(initial.get()).ok());
     }
-    testing::SleepUntilHost(start + 0.2);
+    testing::SleepUntilHost(camera_at);
     auto camera =
         std::make_unique<testing::FakeGigECamera>(&drive, start - 100.0, faults.lost_ratio);
     long long filled = 0;
@@ -272,9 +280,11 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
   Faults faults;
-  // Unplugged for 2 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
-  // while the camera is still gone (with 1.5 s, under load the first reopening came too late).
-  faults.camera_gone_at = 3.0, faults.camera_back_at = 5.0;
+  // Unplugged for 3 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
+  // while the camera is still gone (with 1.5 s, and at times with 2 s, under load the first
+  // reopening came after the camera was back).
+  faults.camera_gone_at = 3.0;
+  faults.camera_back_at = 6.0;
   // Odometry 1.0-1.1 s after the first frame carries NaN; 2.0-2.05 s it is stamped 1 s back.
   std::vector<double> odometry_t;
   faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
@@ -288,8 +298,8 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   };
   int after_return = 0;
   const LiveRun run =
-      DriveLive(server, floor, "faults", 90, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        after_return = PosesOnTruthFrom(drive, r, 6.0);
+      DriveLive(server, floor, "faults", 100, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+        after_return = PosesOnTruthFrom(drive, r, 7.0);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :

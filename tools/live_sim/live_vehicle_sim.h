@@ -72,6 +72,7 @@ class OdometryPublisher {
       Mangle mangle = nullptr, double min_gap_s = 0.0, const std::string& topic = "rt/odom");
   ~OdometryPublisher();
   bool done() const { return done_; }
+  int MatchedReaders() const { return writer_->MatchedReaders(); }  // e.g. the agent's
 
  private:
   OdometryPublisher() = default;
