@@ -45,6 +45,21 @@ Cut CutFrom(const cv::Mat& image, int k, bool symmetric) {
   return cut;
 }
 
+// cv::matchTemplate's masked NCC of the cut's template, and of it turned by π with its mask.
+struct Expected {
+  cv::Mat scores, turned, turned_mask;
+};
+
+Expected ExpectedScores(const cv::Mat& image, const Cut& cut) {
+  Expected e;
+  cv::Mat turned_templ;
+  cv::flip(cut.templ, turned_templ, -1);
+  cv::flip(cut.mask, e.turned_mask, -1);
+  cv::matchTemplate(image, cut.templ, e.scores, cv::TM_CCORR_NORMED, cut.mask);
+  cv::matchTemplate(image, turned_templ, e.turned, cv::TM_CCORR_NORMED, e.turned_mask);
+  return e;
+}
+
 double WorstDifference(const cv::Mat& a, const cv::Mat& b, const cv::Mat& where = cv::Mat()) {
   double worst = 0;
   cv::minMaxLoc(cv::abs(a - b), nullptr, &worst, nullptr, nullptr, where);
@@ -97,15 +112,12 @@ TEST(MaskedCorrelator, TheTurnedTemplateEqualsMatchTemplateWithBothFlipped) {
   for (const bool symmetric : {false, true}) {
     for (int k = 0; k < 3; ++k) {
       const Cut cut = CutFrom(image, k, symmetric);
-      cv::Mat turned_templ, turned_mask, expected, expected_turned, scores, turned;
-      cv::flip(cut.templ, turned_templ, -1);
-      cv::flip(cut.mask, turned_mask, -1);
-      cv::matchTemplate(image, cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
-      cv::matchTemplate(image, turned_templ, expected_turned, cv::TM_CCORR_NORMED, turned_mask);
+      const Expected expected = ExpectedScores(image, cut);
+      cv::Mat scores, turned;
       correlator.MatchWithTurned(cut.templ, cut.mask, &scores, &turned);
-      ASSERT_EQ(turned.size(), expected_turned.size());
-      EXPECT_LT(WorstDifference(scores, expected), 1e-4) << "template " << k;
-      EXPECT_LT(WorstDifference(turned, expected_turned), 1e-4)
+      ASSERT_EQ(turned.size(), expected.turned.size());
+      EXPECT_LT(WorstDifference(scores, expected.scores), 1e-4) << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected.turned), 1e-4)
           << "template " << k << (symmetric ? ", symmetric mask" : "");
       // The turned template is not the image's own content: nowhere near 1 at the cut.
       EXPECT_LT(turned.at<float>(cut.rect.y, cut.rect.x), 0.9);
@@ -122,21 +134,19 @@ TEST(MaskedCorrelator, ShorterTransformsOverAZeroBorderGiveTheSameScores) {
   for (const bool symmetric : {false, true}) {
     for (int k = 0; k < 3; ++k) {
       const Cut cut = CutFrom(image, k, symmetric);
-      cv::Mat turned_templ, turned_mask, expected, expected_turned, scores, turned;
-      cv::flip(cut.templ, turned_templ, -1);
-      cv::flip(cut.mask, turned_mask, -1);
-      cv::matchTemplate(image, cut.templ, expected, cv::TM_CCORR_NORMED, cut.mask);
-      cv::matchTemplate(image, turned_templ, expected_turned, cv::TM_CCORR_NORMED, turned_mask);
+      const Expected expected = ExpectedScores(image, cut);
+      cv::Mat scores, turned;
       correlator.MatchWithTurned(cut.templ, cut.mask, &scores, &turned);
-      ASSERT_EQ(scores.size(), expected.size());
+      ASSERT_EQ(scores.size(), expected.scores.size());
       // Where the mask covers only the border both are 0 / 0: compared where it covers at least
       // a tenth of the image's own pixels (the turned map's reads that wrap around start well
       // inside that range: at x ≥ 200 − w + 1 of up to 237 − w).
       const cv::Mat covered = CoveredPixels(image, cut.mask) >= 0.1 * cv::countNonZero(cut.mask);
       const cv::Mat turned_covered =
-          CoveredPixels(image, turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
-      EXPECT_LT(WorstDifference(scores, expected, covered), 1e-4) << "template " << k;
-      EXPECT_LT(WorstDifference(turned, expected_turned, turned_covered), 1e-4) << "template " << k;
+          CoveredPixels(image, expected.turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
+      EXPECT_LT(WorstDifference(scores, expected.scores, covered), 1e-4) << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected.turned, turned_covered), 1e-4)
+          << "template " << k;
     }
   }
 }
