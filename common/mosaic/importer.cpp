@@ -7,7 +7,7 @@
 
 #include "mosaic/pyramid_builder.h"
 #include "mosaic/row_image_io.h"
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 #include "mosaic/tile_key.h"
 #include "mosaic/tile_store.h"
 

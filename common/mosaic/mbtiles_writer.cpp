@@ -8,7 +8,7 @@
 #include <sstream>
 #include <iomanip>
 
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 namespace {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <initializer_list>
 
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 namespace {

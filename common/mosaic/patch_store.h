@@ -23,7 +23,7 @@
 
 #include "base/status.h"
 #include "geometry/pose2.h"
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 

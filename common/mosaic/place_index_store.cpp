@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 namespace {

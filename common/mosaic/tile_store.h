@@ -15,7 +15,7 @@
 #include "mosaic/mosaic_metadata.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/raster_source.h"
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 #include "mosaic/tile_key.h"
 
 namespace fleetloc::mosaic {

@@ -12,7 +12,7 @@
 
 #include "base/status.h"
 #include "mapping/vehicle_reputation.h"
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 

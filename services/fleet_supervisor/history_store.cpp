@@ -9,7 +9,6 @@
 
 namespace fleetloc::fleet_supervisor {
 
-namespace sqlite = mosaic::sqlite;
 using fleet::Alert;
 
 namespace {

@@ -12,7 +12,7 @@
 
 #include "base/status.h"
 #include "fleet/fleet_state.h"
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -62,11 +62,11 @@ class HistoryStore {
   Result<bool> KnowsVehicle(const std::string& vehicle_id);
 
  private:
-  explicit HistoryStore(mosaic::sqlite::Db db) : db_(std::move(db)) {}
+  explicit HistoryStore(sqlite::Db db) : db_(std::move(db)) {}
   Status CreateSchema();
 
   std::mutex mutex_;
-  mosaic::sqlite::Db db_;
+  sqlite::Db db_;
 };
 
 }  // namespace fleetloc::fleet_supervisor

@@ -13,7 +13,7 @@ constexpr double kT0 = 1.7e9;
 std::string TempDb(const std::string& name) {
   const auto path = std::filesystem::temp_directory_path() /
                     (name + "_" + std::to_string(::getpid()) + ".db");
-  mosaic::sqlite::RemoveDatabaseFiles(path.string());
+  sqlite::RemoveDatabaseFiles(path.string());
   return path.string();
 }
 
@@ -63,7 +63,7 @@ TEST(HistoryStore, RowsRoundTripAndRangesAreOldestFirstWithTheNewestKept) {
   EXPECT_EQ(h->back().health.camera_frame_drops, 7u);
   EXPECT_EQ(h->back().health.last_error, "tile 0/1/2 timed out");
   EXPECT_TRUE((*store)->Poses("agv-3", kT0, kT0 + 100, 10)->empty());
-  mosaic::sqlite::RemoveDatabaseFiles(path);
+  sqlite::RemoveDatabaseFiles(path);
 }
 
 TEST(HistoryStore, RetentionDeletesOldRowsAndClearedAlertsOnly) {
@@ -86,7 +86,7 @@ TEST(HistoryStore, RetentionDeletesOldRowsAndClearedAlertsOnly) {
   ASSERT_EQ(alerts->size(), 1u);
   EXPECT_EQ(alerts->front().kind, fleet::AlertKind::kSilent);
   EXPECT_FALSE(alerts->front().cleared_t.has_value());
-  mosaic::sqlite::RemoveDatabaseFiles(path);
+  sqlite::RemoveDatabaseFiles(path);
 }
 
 TEST(HistoryStore, ReopenedStoreGivesEachVehiclesNewestStateAndOpenAlerts) {
@@ -114,7 +114,7 @@ TEST(HistoryStore, ReopenedStoreGivesEachVehiclesNewestStateAndOpenAlerts) {
   EXPECT_EQ(open->front().kind, fleet::AlertKind::kLockLost);
   EXPECT_TRUE(*(*store)->KnowsVehicle("agv-2"));
   EXPECT_FALSE(*(*store)->KnowsVehicle("agv-5"));
-  mosaic::sqlite::RemoveDatabaseFiles(path);
+  sqlite::RemoveDatabaseFiles(path);
 }
 
 TEST(HistoryStore, AFileThatIsNotAHistoryIsRefused) {
@@ -124,13 +124,13 @@ TEST(HistoryStore, AFileThatIsNotAHistoryIsRefused) {
     ASSERT_TRUE(store.ok());
   }
   {
-    mosaic::sqlite::Db db = std::move(mosaic::sqlite::OpenDb(path, 2).value());
-    ASSERT_TRUE(mosaic::sqlite::Exec(db.get(), "UPDATE history_meta SET value = 'other/9'").ok());
+    sqlite::Db db = std::move(sqlite::OpenDb(path, 2).value());
+    ASSERT_TRUE(sqlite::Exec(db.get(), "UPDATE history_meta SET value = 'other/9'").ok());
   }
   auto store = HistoryStore::Open(path);
   ASSERT_FALSE(store.ok());
   EXPECT_NE(store.status().message().find("not a fleetloc history"), std::string::npos);
-  mosaic::sqlite::RemoveDatabaseFiles(path);
+  sqlite::RemoveDatabaseFiles(path);
 }
 
 }  // namespace

@@ -32,10 +32,10 @@ constexpr const char* kVictim =
 
 // Outboxes written before sends were tied to a boot lack sent_boot: their patches are due at once.
 Status AddSentBoot(sqlite3* db, const std::string& path) {
-  auto info = mosaic::sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('outbox') WHERE name = 'sent_boot'");
+  auto info = sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('outbox') WHERE name = 'sent_boot'");
   if (!info.ok()) return Internal(path + ": " + info.status().message());
   if (sqlite3_step(info->get()) == SQLITE_ROW) return Status::Ok();
-  if (Status s = mosaic::sqlite::Exec(db, "ALTER TABLE outbox ADD COLUMN sent_boot TEXT NOT NULL DEFAULT ''");
+  if (Status s = sqlite::Exec(db, "ALTER TABLE outbox ADD COLUMN sent_boot TEXT NOT NULL DEFAULT ''");
       !s.ok()) {
     return Internal(path + ": cannot add the sent_boot column: " + s.message());
   }
@@ -53,7 +53,7 @@ OutboxTime OutboxNow() {
 }
 
 Result<std::unique_ptr<PatchOutbox>> PatchOutbox::Open(const std::string& path, OutboxLimits limits) {
-  Result<mosaic::sqlite::Db> db = mosaic::sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  Result<sqlite::Db> db = sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   if (!db.ok()) return db.status();
   sqlite3_busy_timeout(db->get(), 5000);
   std::unique_ptr<PatchOutbox> outbox(new PatchOutbox(path, std::move(db).value(), limits));
@@ -63,7 +63,7 @@ Result<std::unique_ptr<PatchOutbox>> PatchOutbox::Open(const std::string& path, 
 }
 
 Status PatchOutbox::Exec(const std::string& what, const char* sql) {
-  if (Status s = mosaic::sqlite::Exec(db_.get(), sql); !s.ok()) {
+  if (Status s = sqlite::Exec(db_.get(), sql); !s.ok()) {
     return Internal(path_ + ": cannot " + what + ": " + s.message());
   }
   return Status::Ok();
@@ -73,14 +73,14 @@ Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
   std::lock_guard lock(mutex_);
   FLEETLOC_RETURN_IF_ERROR(Exec("begin", "BEGIN IMMEDIATE"));
   auto fail = [&](const std::string& what) -> Status {
-    const std::string message = mosaic::sqlite::ErrorMessage(db_.get());
-    (void)mosaic::sqlite::Exec(db_.get(), "ROLLBACK");
+    const std::string message = sqlite::ErrorMessage(db_.get());
+    (void)sqlite::Exec(db_.get(), "ROLLBACK");
     return Internal(path_ + ": " + what + ": " + message);
   };
-  auto next = mosaic::sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'next_sequence'");
+  auto next = sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'next_sequence'");
   if (!next.ok() || sqlite3_step(next->get()) != SQLITE_ROW) return fail("reading the sequence");
   p->sequence = static_cast<uint64_t>(sqlite3_column_int64(next->get(), 0));
-  auto insert = mosaic::sqlite::Prepare(
+  auto insert = sqlite::Prepare(
       db_.get(),
       "INSERT INTO outbox(sequence, stamp, mosaic_id, mosaic_version, x, y, theta, covariance,"
       " quality, resolution, png) VALUES(?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11)");
@@ -96,7 +96,7 @@ Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
   sqlite3_bind_double(s, 9, p->quality), sqlite3_bind_double(s, 10, p->resolution_m);
   sqlite3_bind_blob(s, 11, p->png.data(), static_cast<int>(p->png.size()), SQLITE_STATIC);
   if (sqlite3_step(s) != SQLITE_DONE) return fail("storing the patch");
-  if (!mosaic::sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'").ok()) {
+  if (!sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'").ok()) {
     return fail("advancing the sequence");
   }
   Result<long long> dropped = EnforceLimitsLocked();
@@ -112,18 +112,18 @@ Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
 Result<long long> PatchOutbox::EnforceLimitsLocked() {
   long long dropped = 0;
   for (;;) {
-    auto totals = mosaic::sqlite::Prepare(db_.get(), "SELECT COUNT(*), TOTAL(LENGTH(png)) FROM outbox");
+    auto totals = sqlite::Prepare(db_.get(), "SELECT COUNT(*), TOTAL(LENGTH(png)) FROM outbox");
     if (!totals.ok() || sqlite3_step(totals->get()) != SQLITE_ROW) return Internal("counting the outbox");
     const long long count = sqlite3_column_int64(totals->get(), 0);
     const auto bytes = static_cast<long long>(sqlite3_column_double(totals->get(), 1));
     if (count <= limits_.max_patches && bytes <= limits_.max_bytes) break;
-    auto victim = mosaic::sqlite::Prepare(db_.get(), kVictim);
+    auto victim = sqlite::Prepare(db_.get(), kVictim);
     if (!victim.ok() || sqlite3_step(victim->get()) != SQLITE_ROW) return Internal("choosing a patch to drop");
     FLEETLOC_RETURN_IF_ERROR(RemoveLocked(static_cast<uint64_t>(sqlite3_column_int64(victim->get(), 0))));
     ++dropped;
   }
   if (dropped > 0) {
-    auto count = mosaic::sqlite::Prepare(db_.get(), "UPDATE meta SET value = value + ?1 WHERE name = 'dropped'");
+    auto count = sqlite::Prepare(db_.get(), "UPDATE meta SET value = value + ?1 WHERE name = 'dropped'");
     if (!count.ok()) return count.status();
     sqlite3_bind_int64(count->get(), 1, dropped);
     if (sqlite3_step(count->get()) != SQLITE_DONE) return Internal("counting dropped patches");
@@ -134,7 +134,7 @@ Result<long long> PatchOutbox::EnforceLimitsLocked() {
 Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& now, double retry_after_s,
                                                              int max) {
   std::lock_guard lock(mutex_);
-  auto select = mosaic::sqlite::Prepare(
+  auto select = sqlite::Prepare(
       db_.get(),
       "SELECT sequence, stamp, mosaic_id, mosaic_version, x, y, theta, covariance, quality,"
       " resolution, png FROM outbox WHERE last_sent < 0 OR sent_boot != ?3 OR last_sent < ?1"
@@ -166,13 +166,13 @@ Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& n
 
 Status PatchOutbox::MarkSent(uint64_t sequence, const OutboxTime& now) {
   std::lock_guard lock(mutex_);
-  auto update = mosaic::sqlite::Prepare(db_.get(),
+  auto update = sqlite::Prepare(db_.get(),
                                         "UPDATE outbox SET last_sent = ?1, sent_boot = ?3 WHERE sequence = ?2");
   if (!update.ok()) return Internal(path_ + ": " + update.status().message());
   sqlite3_bind_double(update->get(), 1, now.monotonic_s);
   sqlite3_bind_int64(update->get(), 2, static_cast<sqlite3_int64>(sequence));
   sqlite3_bind_text(update->get(), 3, now.boot_id.c_str(), -1, SQLITE_TRANSIENT);
-  if (sqlite3_step(update->get()) != SQLITE_DONE) return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+  if (sqlite3_step(update->get()) != SQLITE_DONE) return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
   return Status::Ok();
 }
 
@@ -180,7 +180,7 @@ Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& serv
                                       const std::vector<std::string>& required) {
   std::lock_guard lock(mutex_);
   auto insert =
-      mosaic::sqlite::Prepare(db_.get(),
+      sqlite::Prepare(db_.get(),
                               "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
                               " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
   if (!insert.ok()) return Internal(path_ + ": " + insert.status().message());
@@ -188,7 +188,7 @@ Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& serv
   sqlite3_bind_text(insert->get(), 2, server_id.c_str(), -1, SQLITE_TRANSIENT);
   if (sqlite3_step(insert->get()) != SQLITE_DONE) {
     return Internal(path_ +
-                    ": recording an acknowledgement: " + mosaic::sqlite::ErrorMessage(db_.get()));
+                    ": recording an acknowledgement: " + sqlite::ErrorMessage(db_.get()));
   }
   Result<std::vector<std::string>> acked = AckedByLocked(sequence);
   if (!acked.ok()) return acked.status();
@@ -201,7 +201,7 @@ Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& serv
 
 Result<std::vector<std::string>> PatchOutbox::AckedByLocked(uint64_t sequence) {
   auto select =
-      mosaic::sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
+      sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
   if (!select.ok()) return Internal(path_ + ": " + select.status().message());
   sqlite3_bind_int64(select->get(), 1, static_cast<sqlite3_int64>(sequence));
   std::vector<std::string> servers;
@@ -220,11 +220,11 @@ Status PatchOutbox::RemoveLocked(uint64_t sequence) {
   // Acks first: interrupted in between, the patch is only sent again (servers are idempotent).
   for (const char* sql :
        {"DELETE FROM acks WHERE sequence = ?1", "DELETE FROM outbox WHERE sequence = ?1"}) {
-    auto remove = mosaic::sqlite::Prepare(db_.get(), sql);
+    auto remove = sqlite::Prepare(db_.get(), sql);
     if (!remove.ok()) return Internal(path_ + ": " + remove.status().message());
     sqlite3_bind_int64(remove->get(), 1, static_cast<sqlite3_int64>(sequence));
     if (sqlite3_step(remove->get()) != SQLITE_DONE) {
-      return Internal(path_ + ": " + mosaic::sqlite::ErrorMessage(db_.get()));
+      return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
     }
   }
   return Status::Ok();
@@ -232,14 +232,14 @@ Status PatchOutbox::RemoveLocked(uint64_t sequence) {
 
 Result<long long> PatchOutbox::Dropped() {
   std::lock_guard lock(mutex_);
-  auto count = mosaic::sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'dropped'");
+  auto count = sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'dropped'");
   if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW) return Internal(path_ + ": reading the drop count");
   return static_cast<long long>(sqlite3_column_int64(count->get(), 0));
 }
 
 Result<long long> PatchOutbox::Size() {
   std::lock_guard lock(mutex_);
-  auto count = mosaic::sqlite::Prepare(db_.get(), "SELECT COUNT(*) FROM outbox");
+  auto count = sqlite::Prepare(db_.get(), "SELECT COUNT(*) FROM outbox");
   if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW) return Internal(path_ + ": counting the outbox");
   return static_cast<long long>(sqlite3_column_int64(count->get(), 0));
 }

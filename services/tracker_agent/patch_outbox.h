@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 #include "transport/patch_client.h"
 
 namespace fleetloc::tracker_agent {
@@ -59,7 +59,7 @@ class PatchOutbox {
   Result<long long> Dropped();
 
  private:
-  PatchOutbox(std::string path, mosaic::sqlite::Db db, OutboxLimits limits)
+  PatchOutbox(std::string path, sqlite::Db db, OutboxLimits limits)
       : path_(std::move(path)), db_(std::move(db)), limits_(limits) {}
   // Drops patches until the outbox is within its limits; the number dropped.
   Result<long long> EnforceLimitsLocked();
@@ -68,7 +68,7 @@ class PatchOutbox {
   Result<std::vector<std::string>> AckedByLocked(uint64_t sequence);
   const std::string path_;
   std::mutex mutex_;
-  mosaic::sqlite::Db db_;
+  sqlite::Db db_;
   const OutboxLimits limits_;
 };
 

@@ -1,11 +1,11 @@
 // SQLite RAII helpers.
-#include "mosaic/sqlite_util.h"
+#include "sqlite/sqlite_util.h"
 
 #include <sqlite3.h>
 
 #include <filesystem>
 
-namespace fleetloc::mosaic::sqlite {
+namespace fleetloc::sqlite {
 
 void DbCloser::operator()(sqlite3* db) const { sqlite3_close_v2(db); }
 
@@ -53,4 +53,4 @@ ScopedReset::~ScopedReset() {
   sqlite3_clear_bindings(stmt_);
 }
 
-}  // namespace fleetloc::mosaic::sqlite
+}  // namespace fleetloc::sqlite

@@ -1,5 +1,6 @@
-// Thin RAII over the SQLite C API for the tile store: owned connections and statements, statement
-// reset guards and error messages as Status. Internal to fleetloc_mosaic_store.
+// Thin RAII over the SQLite C API: owned connections and statements, statement reset guards and
+// error messages as Status. Used by the tile store, the agent's patch outbox and the supervisor's
+// history (fleetloc_sqlite: an adapter library, beside the pure ones).
 #pragma once
 
 #include <memory>
@@ -11,7 +12,7 @@
 struct sqlite3;
 struct sqlite3_stmt;
 
-namespace fleetloc::mosaic::sqlite {
+namespace fleetloc::sqlite {
 
 struct DbCloser {
   void operator()(sqlite3* db) const;  // sqlite3_close_v2: also rolls back an open transaction
@@ -51,4 +52,4 @@ class ScopedReset {
   sqlite3_stmt* stmt_;
 };
 
-}  // namespace fleetloc::mosaic::sqlite
+}  // namespace fleetloc::sqlite
