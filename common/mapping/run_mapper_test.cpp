@@ -45,8 +45,8 @@ struct SyntheticRun {
   std::vector<Pose2> true_cameras;
 };
 
-// Odometry with 3 % distance error and a heading bias of 0.01 rad per frame.
-SyntheticRun MakeRun(tracking::TestScene& scene) {
+// Odometry with 3 % distance error and a heading bias of `heading_bias_rad` per frame.
+SyntheticRun MakeRun(tracking::TestScene& scene, double heading_bias_rad = 0.01) {
   SyntheticRun run;
   run.input.camera = scene.camera;
   run.input.initial_base_in_map = TrueBase(0, scene.camera);
@@ -55,7 +55,7 @@ SyntheticRun MakeRun(tracking::TestScene& scene) {
     if (k > 0) {
       const Pose2 step =
           geometry::Between(TrueBase(k - 1, scene.camera), TrueBase(k, scene.camera));
-      odom = odom * Pose2{step.x * 1.03, step.y * 1.03, step.theta + 0.01};
+      odom = odom * Pose2{step.x * 1.03, step.y * 1.03, step.theta + heading_bias_rad};
     }
     run.input.frame_times_s.push_back(0.2 * k);
     run.input.odometry.push_back(odom);
@@ -116,7 +116,8 @@ TEST(RunMapper, RegistrationAndLoopClosureUndoDriftingOdometry) {
 
 TEST(RunMapper, OdometryBridgesFramesThatCannotRegisterAndTheLoopHoldsTheRest) {
   tracking::TestScene scene = Scene();
-  SyntheticRun run = MakeRun(scene);
+  // A heading bias far beyond the odometry model's noise, even with the camera's lever arm.
+  SyntheticRun run = MakeRun(scene, 0.03);
   for (int k = 10; k <= 11; ++k) run.frames[k].setTo(128);  // e.g. a bright reflection
   const Result<MappedRun> mapped = MapRun(run.input, LoaderOf(run.frames), SmallFrameOptions());
   ASSERT_TRUE(mapped.ok()) << mapped.status().message();

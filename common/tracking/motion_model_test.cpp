@@ -55,7 +55,15 @@ TEST(MotionModel, CameraIncrementOfATurnOnTheSpotMovesAMountedCamera) {
   EXPECT_NEAR(c.pose.x, -0.4, 1e-12);
   EXPECT_NEAR(c.pose.y, 0.4, 1e-12);
   EXPECT_NEAR(c.pose.theta, M_PI / 2, 1e-12);
-  EXPECT_TRUE(c.covariance.isApprox(IncrementCovariance(c.pose, 0.5, n)));
+  // base_link does not move, so its heading error alone moves the camera, across the lever: the
+  // lever ends along +y of the camera's start frame, and a further turn δθ moves the camera by
+  // −0.4·δθ in x.
+  const double heading_sigma = n.heading_sigma_per_rad * M_PI / 2 + n.heading_sigma_per_s * 0.5 +
+                               n.floor_sigma_m;
+  EXPECT_NEAR(std::sqrt(c.covariance(2, 2)), heading_sigma, 1e-12);
+  EXPECT_NEAR(std::sqrt(c.covariance(0, 0)), 0.4 * heading_sigma, 1e-5);
+  EXPECT_LT(std::sqrt(c.covariance(1, 1)), 2e-5);  // the floor sigma only
+  EXPECT_NEAR(c.covariance(0, 2), -0.4 * heading_sigma * heading_sigma, 1e-8);
 }
 
 }  // namespace
