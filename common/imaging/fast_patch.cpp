@@ -62,6 +62,15 @@ void NormalizeRow(const float* in, const float* mean_sum, const float* sq_sum, c
   }
 }
 
+FLEETLOC_VECTOR_CLONES
+void VarianceRow(const float* mean_sum, const float* sq_sum, const float* inv_n, float* out,
+                 int n) {
+  for (int x = 0; x < n; ++x) {
+    const float mean = mean_sum[x] * inv_n[x];
+    out[x] = std::max(0.0f, sq_sum[x] * inv_n[x] - mean * mean);
+  }
+}
+
 // A float dot product with 8-wide AVX2 multiply-adds (the compiler may not reorder a float sum
 // into SIMD lanes by itself).
 __attribute__((target("avx2,fma"))) float DotAvx2(const float* a, const float* b, int n) {
@@ -160,7 +169,8 @@ void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
 
 }  // namespace
 
-cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon) {
+cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
+                       cv::Mat* local_variance) {
   CV_Assert(window_px >= 3 && window_px % 2 == 1);
   const cv::Mat f = AsFloat(patch);
   const int rows = f.rows, cols = f.cols, half = window_px / 2;
@@ -175,6 +185,7 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon) {
   for (int x = 0; x < cols; ++x) inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
   for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), col_sum.data(), col_sq.data(), cols, 1);
   cv::Mat out(f.size(), CV_32F);
+  if (local_variance) local_variance->create(f.size(), CV_32F);
   const int interior_begin = std::min(half, cols), interior_end = std::max(interior_begin, cols - half);
   for (int y = 0; y < rows; ++y) {
     if (y > 0 && y_hi[y] > y_hi[y - 1]) {
@@ -200,6 +211,9 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon) {
     ScaleInto(inv_cols.data(), inv_rows, inv_n.data(), cols);
     NormalizeRow(f.ptr<float>(y), sum.data(), sq.data(), inv_n.data(), epsilon,
                  out.ptr<float>(y), cols);
+    if (local_variance) {
+      VarianceRow(sum.data(), sq.data(), inv_n.data(), local_variance->ptr<float>(y), cols);
+    }
   }
   return out;
 }

@@ -14,7 +14,10 @@ namespace fleetloc::imaging {
 
 // (I − μ_w) / (σ_w + ε) with an odd window_px; the window is clipped at the patch border (the
 // caller normalizes a patch with a margin and crops it). Input CV_8UC1 or CV_32FC1; returns CV_32F.
-cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon = 2.0f);
+// `local_variance`, when given, receives σ_w² (CV_32F, grey levels²), which the normalization
+// computes anyway.
+cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon = 2.0f,
+                       cv::Mat* local_variance = nullptr);
 
 // dst(i, j) = bilinear src at dst_to_src · (j, i, 1) (pixel-index coordinates, as
 // cv::warpAffine with WARP_INVERSE_MAP); 0 outside src. src CV_8UC1 or CV_32FC1; returns CV_32F.

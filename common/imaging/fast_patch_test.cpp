@@ -24,6 +24,21 @@ TEST(NormalizePatch, MatchesOpenCvNormalizationAwayFromTheBorder) {
   EXPECT_LT(cv::norm(fast(interior), reference(interior), cv::NORM_INF), 1e-3);
 }
 
+TEST(NormalizePatch, GivesTheLocalVarianceOfOpenCvsBoxFilterAwayFromTheBorder) {
+  const cv::Mat patch = Gravel()(cv::Rect(100, 120, 60, 50));
+  cv::Mat variance;
+  const cv::Mat normalized = NormalizePatch(patch, 11, 2.0f, &variance);
+  EXPECT_LT(cv::norm(normalized, NormalizePatch(patch, 11), cv::NORM_INF), 1e-6);
+  cv::Mat f, mean, mean_sq;
+  patch.convertTo(f, CV_32F);
+  cv::boxFilter(f, mean, CV_32F, {11, 11});
+  cv::boxFilter(f.mul(f), mean_sq, CV_32F, {11, 11});
+  const cv::Mat reference = mean_sq - mean.mul(mean);
+  const cv::Rect interior(5, 5, 50, 40);
+  ASSERT_GT(cv::mean(reference(interior))[0], 10.0);  // a textured patch
+  EXPECT_LT(cv::norm(variance(interior), reference(interior), cv::NORM_INF), 0.05);
+}
+
 TEST(ResampleAffine, MatchesWarpAffineBilinear) {
   const cv::Mat src = Gravel()(cv::Rect(50, 50, 120, 120)).clone();
   const double c = std::cos(0.3), s = std::sin(0.3);

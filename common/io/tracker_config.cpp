@@ -77,6 +77,8 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"peak_exclusion_px", &d.peak_exclusion_px},
           {"max_heading_steps", &d.max_heading_steps},
           {"significant_peak_ends_search", &d.significant_peak_ends_search},
+          {"verify_rival_peak", &d.verify_rival_peak},
+          {"rival_same_place_px", &d.rival_same_place_px},
           {"max_sigma_px", &d.max_sigma_px},
           {"min_correlation", &d.min_correlation},
           {"min_strong_correlation", &d.min_strong_correlation},

@@ -92,18 +92,32 @@ class DirectAligner {
                               Linearization* final_fit, bool fit_gain) const;
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
+  struct LevelSamples;
+  LevelSamples SampleLevel(const Level& level, const MosaicBlock& source,
+                           const geometry::Pose2& pose) const;
+  void AccumulateWeighted(const Level& level, const LevelSamples& samples,
+                          const std::vector<float>& residuals, double cutoff,
+                          Linearization* lin) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
                           const geometry::Pose2& pose, double sigma, double gain) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
   int SearchLevel(double sigma_px) const;
   const char* Verdict(const DirectAlignment& fit, bool prediction_confirms) const;
-  geometry::Pose2 CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
-                               const geometry::Pose2& start, DirectAlignment* out) const;
+  // The search's best peak, and the best outside its exclusion radius (the rival).
   struct SearchHit {
-    geometry::Pose2 pose;
+    geometry::Pose2 pose, rival_pose;
     double correlation = 0.0, peak_ratio = 1.0, peak_z = 0.0;
   };
+  SearchHit CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
+                         const geometry::Pose2& start, DirectAlignment* out) const;
+  void CompareWithRival(const std::vector<Level>& levels, int search_level,
+                        const geometry::PoseWithCovariance& prior,
+                        const geometry::Pose2& rival_start, geometry::Pose2* pose,
+                        DirectAlignment* out, Linearization* final_fit) const;
+  geometry::Pose2 AlignLevels(const std::vector<Level>& levels, int coarsest,
+                              const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
+                              DirectAlignment* out, Linearization* final_fit) const;
   SearchHit SearchAt(const Level& level, const imaging::SpectralNcc& frame_ncc,
                      const geometry::Pose2& pose, int r) const;
   static cv::Rect InnerRect(const Level& level);

@@ -119,7 +119,9 @@ TEST(DirectAligner, TakesASignificantPeakThatThePredictionDoesNotExpect) {
     const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
     EXPECT_GT(fit.prior_chi2, options.max_prior_chi2);
     EXPECT_EQ(fit.valid, min_z == 8.0) << "z " << fit.peak_z << ": " << fit.reason;
-    if (fit.valid) EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+    if (fit.valid) {
+      EXPECT_LT(CentreErrorPx(f.scene, fit.posterior.pose, base), 0.1);
+    }
   }
 }
 
@@ -215,6 +217,54 @@ TEST(DirectAligner, RefusesAFrameOfAnotherFloor) {
     const DirectAlignment fit = f.aligner.Align(frame, prior, prior.pose);
     EXPECT_FALSE(fit.valid) << "sigma " << sigma_m << ": correlation " << fit.correlation;
     EXPECT_LT(fit.peak_z, 8.0) << "sigma " << sigma_m;
+  }
+}
+
+// A floor whose coarse content repeats every `period_px` (one period of the gravel photo smoothed
+// by 1 px, tiled: tiles, painted grids) under the photo's own finest texture times `fine_gain`,
+// which does not repeat. At the search level the repeats look alike.
+cv::Mat TiledFloor(const cv::Mat& photo, int period_px, double fine_gain) {
+  cv::Mat f, coarse;
+  photo.convertTo(f, CV_32F);
+  cv::GaussianBlur(f, coarse, {0, 0}, 1.0);
+  const cv::Mat fine = f - coarse;
+  const cv::Mat tile = coarse(cv::Rect(200, 200, period_px, period_px)).clone();
+  cv::Mat floor(f.size(), CV_32F);
+  for (int y = 0; y < f.rows; ++y) {
+    for (int x = 0; x < f.cols; ++x) {
+      floor.at<float>(y, x) =
+          tile.at<float>(y % period_px, x % period_px) + fine_gain * fine.at<float>(y, x);
+    }
+  }
+  floor.convertTo(floor, CV_8U);
+  return floor;
+}
+
+// The search's peaks one period apart are ambiguous; aligning the rival peak as well tells them
+// apart where the fine texture differs, and refuses where even the aligned fits look alike.
+TEST(DirectAligner, ARepeatedCoarsePatternIsToldApartByAligningTheRivalPeak) {
+  for (const double fine_gain : {2.0, 1.0}) {
+    TestScene scene;
+    scene.floor = TiledFloor(scene.floor, 32, fine_gain);
+    mosaic::ImageRasterSource source(scene.floor, scene.geo);
+    NormalizedMosaic normalized(&source, 7, 16 << 20);
+    const Pose2 base = TrueBase();
+    const cv::Mat frame = scene.Render(base, 1.0, 0.0);
+    const PoseWithCovariance prior =
+        Prior(scene, base, {0.001, -0.001, 0.0}, {0.005, 0.005, 0.005});
+    DirectAlignOptions options = SmallCameraOptions();
+    for (const bool verify : {false, true}) {
+      options.verify_rival_peak = verify;
+      const DirectAligner aligner(options, scene.camera, &normalized);
+      const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
+      SCOPED_TRACE(testing::Message() << "fine gain " << fine_gain << ", verify " << verify
+                                      << ": " << fit.reason << ", peak ratio " << fit.peak_ratio);
+      EXPECT_TRUE(fit.searched);
+      EXPECT_EQ(fit.valid, verify && fine_gain == 2.0);
+      if (fit.valid) {
+        EXPECT_LT(CentreErrorPx(scene, fit.posterior.pose, base), 0.1);
+      }
+    }
   }
 }
 

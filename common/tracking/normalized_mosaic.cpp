@@ -22,8 +22,9 @@ NormalizedMosaic::NormalizedMosaic(mosaic::RasterSource* mosaic, int window_leve
       level0_sigma_px_(level0_sigma_px),
       cache_(std::make_unique<mosaic::TileCache>(cache_bytes)) {}
 
-cv::Mat NormalizedMosaic::Normalize(const cv::Mat& image, int level) const {
-  cv::Mat normalized = imaging::NormalizePatch(image, WindowAt(level));
+cv::Mat NormalizedMosaic::Normalize(const cv::Mat& image, int level,
+                                    cv::Mat* local_variance) const {
+  cv::Mat normalized = imaging::NormalizePatch(image, WindowAt(level), 2.0f, local_variance);
   if (level == 0 && level0_sigma_px_ > 0) {
     const int k = 2 * SmoothingRadius(level0_sigma_px_) + 1;
     cv::GaussianBlur(normalized, normalized, {k, k}, level0_sigma_px_);

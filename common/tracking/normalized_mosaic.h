@@ -21,8 +21,9 @@ class NormalizedMosaic {
                    double level0_sigma_px = 0.0);
 
   // `image` (a frame or part of one, at `level`) normalized exactly as the mosaic is. Pixels
-  // within MarginAt(level) of its border see only part of their neighbourhood.
-  cv::Mat Normalize(const cv::Mat& image, int level) const;
+  // within MarginAt(level) of its border see only part of their neighbourhood. `local_variance`,
+  // when given, receives the image's variance over the normalization window.
+  cv::Mat Normalize(const cv::Mat& image, int level, cv::Mat* local_variance = nullptr) const;
   int MarginAt(int level) const;
 
   // CV_32F normalized pixels of `rect` at `level`; outside the mosaic 0.

@@ -73,6 +73,8 @@ Status Validate(const DirectAlignOptions& d) {
   }
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z",
                                  "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.rival_same_place_px >= 0, "direct.rival_same_place_px",
+                                 "must be >= 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
                                  "direct.max_prior_chi2", "and max_weak_prior_chi2 must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_distinct_prior_chi2 >= d.max_prior_chi2,

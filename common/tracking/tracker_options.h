@@ -90,6 +90,12 @@ struct DirectAlignOptions {
   // (second peak ≤ max_distinct_peak_ratio of it) ends the search there: the alignment fits the
   // rest of the turn (docs/benchmarks.md, "Significant peaks end the heading search").
   bool significant_peak_ends_search = true;
+  // A fit refused after a search whose second peak exceeds max_distinct_peak_ratio of the best
+  // aligns that rival too and is judged again on the two aligned fits
+  // (DirectAligner::CompareWithRival); a rival converging within rival_same_place_px of the best
+  // is the same place.
+  bool verify_rival_peak = true;
+  double rival_same_place_px = 1.0;
   // Validation of the final fit. Always: the image pins the position (max_sigma_px) and the
   // finest level correlates at all. Then either a strong fit (a distinct coarse peak, a clear
   // coarse correlation, an innovation up to max_prior_chi2) or a weak one that the prediction

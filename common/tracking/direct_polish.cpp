@@ -1,0 +1,98 @@
+// The dense aligner's final refinement at full resolution: every pixel of the frame against the
+// mosaic view blurred to the frame's own blur (see DirectAligner::Polish in direct_aligner.h).
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/convex_polygon.h"
+#include "tracking/dense_linearization.h"
+#include "tracking/direct_aligner.h"
+#include "tracking/direct_aligner_parts.h"
+#include "tracking/frame_mosaic_warp.h"
+#include "tracking/predicted_view.h"
+#include "tracking/view_blur.h"
+
+namespace fleetloc::tracking {
+
+using geometry::Difference;
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
+using direct_detail::GrownBy;
+
+// Per row of `inner`, the columns (relative to inner.x) whose pixel and its gradient neighbours
+// fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
+std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner) const {
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  constexpr double kSpare = 3.0;
+  const geometry::ConvexPolygon mosaic_in_frame =
+      MosaicInFrame(FrameMosaicWarp::For(pose, camera_, layout.geo), layout.width_px,
+                    layout.height_px, kSpare);
+  std::vector<cv::Range> spans(inner.height);
+  for (int y = 0; y < inner.height; ++y) {
+    const auto [lo, hi] = geometry::SpanAtY(mosaic_in_frame, inner.y + y + 0.5);
+    spans[y].start = lo > hi ? 0 : std::max(0, static_cast<int>(std::ceil(lo - 0.5)) - inner.x);
+    spans[y].end = lo > hi ? 0 : std::min(inner.width, static_cast<int>(std::floor(hi - 0.5)) + 1 - inner.x);
+  }
+  return spans;
+}
+
+// Every pixel of the frame at full resolution, from a pose already within a fraction of a pixel
+// (see DirectAligner::Polish).
+DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
+                                      const Pose2& start, double view_blur_px) const {
+  DirectAlignment out;
+  const int b = mosaic_->MarginAt(0);
+  const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
+  const mosaic::MosaicLayout& layout = mosaic_->layout();
+  const std::vector<cv::Range> spans = SpansInMosaic(start, inner);
+  int points = 0;
+  for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
+  if (points < inner.area() / 4) {
+    out.reason = "frame mostly outside the mosaic";
+    return out;
+  }
+  const cv::Mat normalized = mosaic_->Normalize(frame, 0);
+  const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
+  const Eigen::Vector2d principal(camera_.cx_px, camera_.cy_px);
+  // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
+  double blur = std::max(0.0, view_blur_px);
+  if (view_blur_px < 0 && options_.max_view_blur_px > 0) {
+    const int m = BlurMarginPx(options_.max_view_blur_px);
+    const cv::Mat wide = RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
+                                              FrameMosaicWarp::For(start, camera_, layout.geo), 0);
+    blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
+                        options_.view_blur_step_px, options_.tukey_c);
+  }
+  out.view_blur_px = blur;
+  const int m = BlurMarginPx(blur);
+  const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
+    const cv::Mat view = BlurredView(
+        RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
+                             FrameMosaicWarp::For(pose, camera_, layout.geo), 0),
+        blur, m);
+    return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma,
+                               gain);
+  };
+  Linearization fit;
+  const Pose2 pose = GaussNewton(linearize, 0, options_.polish_iterations, prior, start,
+                                 options_.converged_px, &out.iterations, &fit,
+                                 options_.fit_contrast);
+  out.points = fit.points;
+  out.correlation = out.coarse_correlation = fit.correlation;
+  out.inlier_fraction = fit.inlier_fraction;
+  Combine(fit, prior, pose, &out);
+  const double moved_px =
+      Difference(out.posterior.pose, start).head<2>().norm() / camera_.resolution_m;
+  if (out.reason[0] == '\0') {
+    if (moved_px > options_.max_polish_shift_px) {
+      out.reason = "polish moved too far";
+    } else if (fit.correlation < options_.min_polish_correlation) {
+      out.reason = "polish does not correlate";
+    } else if (out.sigma_px > options_.max_sigma_px) {
+      out.reason = "weakly constrained";
+    }
+  }
+  out.valid = out.reason[0] == '\0';
+  return out;
+}
+
+}  // namespace fleetloc::tracking
