@@ -129,6 +129,24 @@ def read(root, rel):
 # ---------------------------------------------------------------------------------------------
 # Lexing: blank out comments, literals and preprocessor lines, keeping every newline.
 
+def token_before(text, i):
+    """The identifier or number ending just before text[i]."""
+    k = i - 1
+    while k >= 0 and (text[k].isalnum() or text[k] in "_."):
+        k -= 1
+    return text[k + 1:i]
+
+
+def literal_end(text, i):
+    """The end (exclusive) of the string or character literal opening at text[i]; a literal
+    left open ends with its line."""
+    quote = text[i]
+    j = i + 1
+    while j < len(text) and text[j] != quote and text[j] != "\n":
+        j += 2 if text[j] == "\\" else 1
+    return j + 1 if j < len(text) and text[j] == quote else min(j, len(text))
+
+
 def blank_code(text):
     """Returns text with comments, string/char/raw-string literals and preprocessor directives
     replaced by spaces (newlines kept, so offsets map to the same lines)."""
@@ -180,11 +198,7 @@ def blank_code(text):
             continue
         if c == '"':
             # Raw string: R"delim( ... )delim", with an optional u8/u/U/L prefix before the R.
-            k = i - 1
-            while k >= 0 and (text[k].isalnum() or text[k] == "_"):
-                k -= 1
-            prefix = text[k + 1:i]
-            if prefix in ("R", "u8R", "uR", "UR", "LR"):
+            if token_before(text, i) in ("R", "u8R", "uR", "UR", "LR"):
                 open_paren = text.find("(", i + 1)
                 delim = text[i + 1:open_paren]
                 end = text.find(")" + delim + '"', open_paren + 1)
@@ -192,26 +206,18 @@ def blank_code(text):
                 blank(i, j)
                 i = j
                 continue
-            j = i + 1
-            while j < n and text[j] != '"' and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            blank(i, min(j + 1, n))
-            i = j + 1
+            j = literal_end(text, i)
+            blank(i, j)
+            i = j
             continue
         if c == "'":
             # A digit separator (1'000'000, 0xFF'FF) when the token before starts with a digit.
-            k = i - 1
-            while k >= 0 and (text[k].isalnum() or text[k] in "_."):
-                k -= 1
-            token = text[k + 1:i]
-            if token and token[0].isdigit():
+            if token_before(text, i)[:1].isdigit():
                 i += 1
                 continue
-            j = i + 1
-            while j < n and text[j] != "'" and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
-            blank(i, min(j + 1, n))
-            i = j + 1
+            j = literal_end(text, i)
+            blank(i, j)
+            i = j
             continue
         i += 1
     return "".join(out)
