@@ -139,6 +139,63 @@ Result<double> Exposition::Value(const std::string& name, const std::map<std::st
   return NotFound("no sample " + name);
 }
 
+namespace {
+
+// A "# HELP" or "# TYPE" line (other comments are skipped) into `e`; what is wrong with it, or "".
+std::string ParseMetadataLine(std::string_view line, Exposition* e, std::set<std::string>* help_seen) {
+  const bool help = line.starts_with("# HELP "), type = line.starts_with("# TYPE ");
+  if (!help && !type) return "";  // a comment
+  std::string_view rest = line.substr(7);
+  const size_t n = NameLength(rest, true);
+  if (n == 0 || (n < rest.size() && rest[n] != ' ')) return "bad metric name in HELP/TYPE";
+  const std::string name(rest.substr(0, n));
+  const std::string_view arg = n < rest.size() ? rest.substr(n + 1) : std::string_view();
+  if (help) {
+    if (!help_seen->insert(name).second) return "second HELP for " + name;
+    return "";
+  }
+  static const std::set<std::string_view> kTypes = {"counter", "gauge", "histogram", "summary", "untyped"};
+  if (!kTypes.contains(arg)) return "unknown type '" + std::string(arg) + "'";
+  for (const Sample& s : e->samples) {
+    if (s.name == name || s.name.starts_with(name + "_")) {
+      if (FamilyOf(s.name, {{name, std::string(arg)}}) == name) return "TYPE of " + name + " after its samples";
+    }
+  }
+  if (!e->types.emplace(name, std::string(arg)).second) return "second TYPE for " + name;
+  return "";
+}
+
+// A sample line appended to `e`; what is wrong with it, or "".
+std::string ParseSampleLine(std::string_view line, Exposition* e) {
+  Sample s;
+  const size_t n = NameLength(line, true);
+  if (n == 0) return "expected a metric name";
+  s.name = std::string(line.substr(0, n));
+  line.remove_prefix(n);
+  if (!line.empty() && line[0] == '{') {
+    std::string error;
+    if (!ParseLabels(&line, &s.labels, &error)) return error;
+  }
+  if (line.empty() || line[0] != ' ') return "expected a space before the value";
+  line.remove_prefix(1);
+  const size_t space = line.find(' ');
+  if (!ParseValue(line.substr(0, space), &s.value)) return "bad value '" + std::string(line.substr(0, space)) + "'";
+  if (space != std::string_view::npos) {
+    long long timestamp = 0;
+    const std::string_view ts = line.substr(space + 1);
+    auto [ptr, ec] = std::from_chars(ts.data(), ts.data() + ts.size(), timestamp);
+    if (ec != std::errc() || ptr != ts.data() + ts.size()) return "bad timestamp";
+  }
+  const std::string family = FamilyOf(s.name, e->types);
+  if (family.empty()) return "sample " + s.name + " before its TYPE line";
+  const std::string& type = e->types[family];
+  if (type == "counter" && s.value < 0) return "negative counter " + s.name;
+  e->samples.push_back(std::move(s));
+  return "";
+}
+
+}  // namespace
+
 Result<Exposition> ParseExposition(std::string_view text) {
   Exposition e;
   std::set<std::string> help_seen;
@@ -149,54 +206,9 @@ Result<Exposition> ParseExposition(std::string_view text) {
     std::string_view line = text.substr(0, end);
     text.remove_prefix(end + 1);
     ++line_no;
-    auto bad = [&](const std::string& what) { return InvalidInput("line " + std::to_string(line_no) + ": " + what); };
     if (line.empty()) continue;
-    if (line[0] == '#') {
-      const bool help = line.starts_with("# HELP "), type = line.starts_with("# TYPE ");
-      if (!help && !type) continue;  // a comment
-      std::string_view rest = line.substr(7);
-      const size_t n = NameLength(rest, true);
-      if (n == 0 || (n < rest.size() && rest[n] != ' ')) return bad("bad metric name in HELP/TYPE");
-      const std::string name(rest.substr(0, n));
-      const std::string_view arg = n < rest.size() ? rest.substr(n + 1) : std::string_view();
-      if (help) {
-        if (!help_seen.insert(name).second) return bad("second HELP for " + name);
-        continue;
-      }
-      static const std::set<std::string_view> kTypes = {"counter", "gauge", "histogram", "summary", "untyped"};
-      if (!kTypes.contains(arg)) return bad("unknown type '" + std::string(arg) + "'");
-      for (const Sample& s : e.samples) {
-        if (s.name == name || s.name.starts_with(name + "_")) {
-          if (FamilyOf(s.name, {{name, std::string(arg)}}) == name) return bad("TYPE of " + name + " after its samples");
-        }
-      }
-      if (!e.types.emplace(name, std::string(arg)).second) return bad("second TYPE for " + name);
-      continue;
-    }
-    Sample s;
-    const size_t n = NameLength(line, true);
-    if (n == 0) return bad("expected a metric name");
-    s.name = std::string(line.substr(0, n));
-    line.remove_prefix(n);
-    if (!line.empty() && line[0] == '{') {
-      std::string error;
-      if (!ParseLabels(&line, &s.labels, &error)) return bad(error);
-    }
-    if (line.empty() || line[0] != ' ') return bad("expected a space before the value");
-    line.remove_prefix(1);
-    const size_t space = line.find(' ');
-    if (!ParseValue(line.substr(0, space), &s.value)) return bad("bad value '" + std::string(line.substr(0, space)) + "'");
-    if (space != std::string_view::npos) {
-      long long timestamp = 0;
-      const std::string_view ts = line.substr(space + 1);
-      auto [ptr, ec] = std::from_chars(ts.data(), ts.data() + ts.size(), timestamp);
-      if (ec != std::errc() || ptr != ts.data() + ts.size()) return bad("bad timestamp");
-    }
-    const std::string family = FamilyOf(s.name, e.types);
-    if (family.empty()) return bad("sample " + s.name + " before its TYPE line");
-    const std::string& type = e.types[family];
-    if (type == "counter" && s.value < 0) return bad("negative counter " + s.name);
-    e.samples.push_back(std::move(s));
+    const std::string error = line[0] == '#' ? ParseMetadataLine(line, &e, &help_seen) : ParseSampleLine(line, &e);
+    if (!error.empty()) return InvalidInput("line " + std::to_string(line_no) + ": " + error);
   }
   if (Status shape = CheckHistograms(e); !shape.ok()) return shape;
   return e;

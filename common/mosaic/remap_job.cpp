@@ -157,6 +157,41 @@ mapping::RemapOptions ComputeOptions(const RemapRequest& request) {
   return options;
 }
 
+// The patches to judge; those of quarantined vehicles are refused unjudged.
+std::vector<const PatchRecord*> ToJudge(const std::vector<PatchRecord>& query, Verdicts& verdicts) {
+  std::vector<const PatchRecord*> judged;
+  for (const PatchRecord& p : query) {
+    if (verdicts.Quarantined(p.vehicle_id)) {
+      verdicts.RefuseUnjudged(p);
+    } else {
+      judged.push_back(&p);
+    }
+  }
+  return judged;
+}
+
+// The computed tiles committed as version + 1 (`result` completed), unless none changed or the job
+// was cancelled.
+Result<RemapResult> CommitRemap(TileStore& store, PatchStore& patches, const std::vector<PatchRecord>& folded,
+                                const mapping::RemapTiles& computed, long long version, RemapResult result,
+                                const std::function<void(const std::string&, int, int)>& report,
+                                const std::atomic<bool>* cancel) {
+  if (computed.tiles.empty()) return result;  // nothing to change
+  if (cancel != nullptr && cancel->load()) return InvalidInput("cancelled");
+  report("commit", 0, 1);
+  // Marks first, tiles second: the marks only count once the version is committed.
+  FLEETLOC_RETURN_IF_ERROR(patches.MarkFolded(folded, version + 1));
+  Result<long long> committed =
+      Commit(store, computed.tiles, [&](int done, int total) { report("commit", done, total); });
+  if (!committed.ok()) {
+    (void)patches.ClearUncommittedMarks(version);
+    return committed.status();
+  }
+  result.new_version = *committed;
+  for (const auto& [key, tile] : computed.tiles) result.changed_tiles.push_back(key);
+  return result;
+}
+
 }  // namespace
 
 std::string RemapSummary(const RemapResult& r, size_t max_chars) {
@@ -209,14 +244,7 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   if (!standings.ok()) return standings.status();
   RemapResult result{layout.version, {}, 0, 0, 0, 0, {}, {}};
   Verdicts verdicts(std::move(standings).value(), request.policy.reputation, &result);
-  std::vector<const PatchRecord*> judged;
-  for (const PatchRecord& p : *query) {
-    if (verdicts.Quarantined(p.vehicle_id)) {
-      verdicts.RefuseUnjudged(p);
-    } else {
-      judged.push_back(&p);
-    }
-  }
+  const std::vector<const PatchRecord*> judged = ToJudge(*query, verdicts);
   MosaicView view(layout, [&store](const TileKey& k) { return store.ReadTile(k); },
                   std::make_shared<TileCache>(size_t{64} << 20));
   const auto fetch = [&](const TileKey& key) {
@@ -246,20 +274,8 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
     for (const auto& [key, tile] : computed->tiles) result.changed_tiles.push_back(key);
     return result;
   }
-  if (computed->tiles.empty()) return result;  // nothing to change
-  if (cancel != nullptr && cancel->load()) return InvalidInput("cancelled");
-  report("commit", 0, 1);
-  // Marks first, tiles second: the marks only count once the version is committed.
-  FLEETLOC_RETURN_IF_ERROR(patches.MarkFolded(verdicts.folded(), layout.version + 1));
-  Result<long long> version =
-      Commit(store, computed->tiles, [&](int done, int total) { report("commit", done, total); });
-  if (!version.ok()) {
-    (void)patches.ClearUncommittedMarks(layout.version);
-    return version.status();
-  }
-  result.new_version = *version;
-  for (const auto& [key, tile] : computed->tiles) result.changed_tiles.push_back(key);
-  return result;
+  return CommitRemap(store, patches, verdicts.folded(), *computed, layout.version, std::move(result), report,
+                     cancel);
 }
 
 }  // namespace fleetloc::mosaic

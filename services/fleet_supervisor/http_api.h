@@ -23,6 +23,11 @@
 #include "fleet_supervisor/supervisor_config.h"
 #include "transport/remap_client.h"
 
+namespace httplib {
+struct Request;
+struct Response;
+}  // namespace httplib
+
 namespace fleetloc::fleet_supervisor {
 
 class GuardedServer;
@@ -54,7 +59,29 @@ class HttpApi {
   void Stop();
 
  private:
+  using Request = httplib::Request;
+  using Response = httplib::Response;
+
+  // http_routes.cpp: the hooks (counting, JSON errors) and one handler per route of api_routes.h.
+  void Hooks();
   void Routes();
+  // A vehicle id from the path (false, answered: 400 malformed, 404 unknown).
+  bool VehicleId(const Request& req, Response& res, std::string* id);
+  // The maintainer token of a change request (false, answered: 401, 403 or 429).
+  bool Authorized(const Request& req, Response& res);
+  void GetOpenApi(const Request& req, Response& res);
+  void GetHealthz(const Request& req, Response& res);
+  void GetReadyz(const Request& req, Response& res);
+  void GetFleet(const Request& req, Response& res);
+  void GetVehicle(const Request& req, Response& res);
+  void GetVehicleHistory(const Request& req, Response& res);
+  void GetAlerts(const Request& req, Response& res);
+  void GetMosaic(const Request& req, Response& res);
+  void GetTile(const Request& req, Response& res);
+  void GetRemapJobs(const Request& req, Response& res);
+  void PostRemap(const Request& req, Response& res);
+  void GetAuth(const Request& req, Response& res);
+  void GetStats(const Request& req, Response& res);
 
   ApiContext ctx_;
   AuthThrottle throttle_;

@@ -91,11 +91,16 @@ double Rms(const std::vector<double>& errors) {
   return errors.empty() ? 0.0 : std::sqrt(sum / errors.size());
 }
 
-}  // namespace
+// The mosaic served, the drive rendered ahead of its start and written as a run for the offline
+// tracker.
+struct PreparedDrive {
+  std::string mosaic;
+  std::unique_ptr<live_sim::PlannedDrive> drive;
+  io::Run run;
+  double start = 0;  // host time of the drive's first frame
+};
 
-Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
-  const std::string work = io::AbsoluteDir(s.work_dir).string();
-  fs::create_directories(work);
+Result<PreparedDrive> PrepareDrive(const LiveAgentBenchSettings& s, const std::string& work) {
   Result<std::string> mosaic =
       EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
   if (!mosaic.ok()) return mosaic.status();
@@ -113,18 +118,21 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     return Internal("rendering took longer than planned; use fewer --frames");
   Result<io::Run> run = WriteDriveRun(d, work + "/live_run");
   if (!run.ok()) return run.status();
-  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
-                                        {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)},
-                                        work + "/map_server.log");
-  if (!server.ok()) return server.status();
-  const nlohmann::json config = AgentConfig(s, work);
-  FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(work + "/live_agent.json", config.dump(2)));
-  const std::string summary_path = work + "/live_agent_summary.json";
-  fs::remove(summary_path);
-  auto agent = io::ChildProcess::Start(
-      io::ExecutableDir() + "/tracker_agent",
-      {"--config", work + "/live_agent.json", "--summary", summary_path}, work + "/live_agent.log");
-  if (!agent.ok()) return agent.status();
+  return PreparedDrive{*mosaic, std::move(drive).value(), std::move(run).value(), start};
+}
+
+// What the vehicle heard while it drove: the ROS 2 poses by stamp, and the agent's own pose
+// stream (which carries the lock state).
+struct HeardPoses {
+  std::map<double, geometry::Pose2> poses;
+  std::vector<transport::PoseReport> reports;
+};
+
+// Drives the vehicle past the running agent: the start pose (as RViz's "2D Pose Estimate") while
+// it stands, then odometry and the fake camera; the poses heard meanwhile. The agent and the map
+// server are stopped at the end.
+Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::PlannedDrive& d,
+                                  double start, io::ChildProcess& agent, io::ChildProcess& server) {
   auto participant = transport::Participant::Create(s.domain);
   if (!participant.ok()) return participant.status();
   const transport::Participant& p = *participant;
@@ -144,15 +152,14 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   auto fleet_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *fleet_topic, transport::Qos().Reliable().Volatile().KeepLast(5000));
   if (!fleet_reader.ok()) return fleet_reader.status();
-  std::map<double, geometry::Pose2> poses;
-  std::vector<transport::PoseReport> reports;
+  HeardPoses heard;
   auto take = [&] {
     (void)pose_reader->TakeAll([&](const PoseMsg& m, const dds_sample_info_t&) {
       const transport::RosPoseStamped pose = transport::FromIdl(m);
-      poses[pose.t] = pose.pose.pose;
+      heard.poses[pose.t] = pose.pose.pose;
     });
     (void)fleet_reader->TakeAll([&](const fleetloc_VehiclePose& m, const dds_sample_info_t&) {
-      reports.push_back(transport::FromIdl(m));
+      heard.reports.push_back(transport::FromIdl(m));
     });
   };
   {
@@ -173,32 +180,53 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     take();
   }
-  agent->Stop(SIGTERM);
-  server->Stop(SIGTERM);
-  Result<std::string> text = io::ReadFileText(summary_path);
-  if (!text.ok()) return text.status();
-  const nlohmann::json summary = nlohmann::json::parse(*text);
-  std::vector<double> live_errors, stamp_offsets;
+  agent.Stop(SIGTERM);
+  server.Stop(SIGTERM);
+  return heard;
+}
+
+// The live run against the truth and the offline tracker.
+struct LiveOutcome {
+  nlohmann::json summary;            // the agent's --summary
+  std::vector<double> live_errors;   // of the frames' ROS 2 poses, m
+  double stamp_offset_ms = 0;        // median pose stamp − true capture time
+  nlohmann::json by_state = nlohmann::json::object();  // the agent's pose stream by lock state
+  long long false_locks = 0;
+  replay::Accuracy accuracy;         // the offline tracker's
+  double live_rms = 0, ratio = 0;    // live, and live / offline
+};
+
+// The frames' ROS 2 poses against the truth: errors, and the stamps' median offset.
+void CompareFramePoses(const std::map<double, geometry::Pose2>& poses, live_sim::PlannedDrive& d,
+                       LiveOutcome* o) {
+  std::vector<double> stamp_offsets;
   for (const auto& [t, pose] : poses) {
     const int i = d.FrameAt(t);
     if (std::abs(t - d.frame_t(i)) > 0.02) continue;  // the initial pose
     const geometry::Pose2& truth = d.sim().truth()[i].pose;
-    live_errors.push_back(std::hypot(pose.x - truth.x, pose.y - truth.y));
+    o->live_errors.push_back(std::hypot(pose.x - truth.x, pose.y - truth.y));
     stamp_offsets.push_back(t - d.frame_t(i));  // the pose's stamp minus the true capture time
   }
-  const double stamp_offset_ms = Median(stamp_offsets) * 1000.0;
-  // Lock states vs truth: a frame's pose against the truth of the planned frame nearest its
-  // stamp, an odometry-rate pose against the truth at its time. A tracked or relocalized frame pose more
-  // than kFalseLockM from the truth is a false lock.
-  constexpr double kFalseLockM = 0.002;
-  nlohmann::json by_state = nlohmann::json::object();
-  long long false_locks = 0;
+  o->stamp_offset_ms = Median(stamp_offsets) * 1000.0;
+}
+
+// Lock states vs truth: a frame's pose against the truth of the planned frame nearest its
+// stamp, an odometry-rate pose against the truth at its time. A tracked or relocalized frame pose more
+// than kFalseLockM from the truth is a false lock.
+constexpr double kFalseLockM = 0.002;
+
+// The agent's pose stream against the truth, by lock state (and written to
+// live_poses_vs_truth.csv).
+void CompareLockStates(const HeardPoses& heard, live_sim::PlannedDrive& d, const std::string& work,
+                       LiveOutcome* o) {
+  const std::map<double, geometry::Pose2>& poses = heard.poses;
+  nlohmann::json& by_state = o->by_state;
   std::string pose_log = "t,state,frame,stamp_minus_frame_s,at_frame,error_m,error_shifted_m\n";
   // An odometry-rate pose is propagated from the last frame's pose, which is the truth at the
   // frame's true capture but stamped (stamp − capture) later: it is also compared with the truth
   // that much earlier (error_shifted_m), which it matches when its error is the stamp's.
   double frame_stamp_offset_s = 0.0;
-  for (const transport::PoseReport& r : reports) {
+  for (const transport::PoseReport& r : heard.reports) {
     // A frame's pose (not an odometry-rate one): the ROS 2 pose topic has it too (every state
     // but lost), or it is lost (published at frame times only).
     const int i = d.FrameAt(r.t);
@@ -224,7 +252,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
     if (error > 0.0005) e["over_1px"] = e.value("over_1px", 0) + 1;
     if (at_frame && error > kFalseLockM && (r.state == tracking::LockState::kTracking ||
                                             r.state == tracking::LockState::kRelocalized)) {
-      ++false_locks;
+      ++o->false_locks;
       spdlog::warn("false lock: {} pose at t={:.3f} is {:.1f} mm from the truth",
                    tracking::LockStateName(r.state), r.t, error * 1000);
     }
@@ -233,23 +261,10 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
                             at_frame ? 1 : 0, error, error_shifted);
   }
   (void)io::WriteFileAtomically(work + "/live_poses_vs_truth.csv", pose_log);
-  spdlog::info("bench agent ({}): offline tracker over the same frames", s.source);
-  Result<replay::ReplayResult> offline = TrackOffline(*mosaic, *run, {}, 256);
-  if (!offline.ok()) return offline.status();
-  const replay::Accuracy accuracy = replay::Evaluate(offline->poses, run->truth, run->camera.model);
-  const double live_rms = Rms(live_errors), ratio = live_rms / accuracy.position_rms_m;
-  const double p50 = summary["capture_to_pose_ms"]["p50"],
-               p99 = summary["capture_to_pose_ms"]["p99"];
-  const double cycle_p99 = summary["cycle_ms"]["p99"], cycle_median = summary["cycle_ms"]["median"];
-  const nlohmann::json& latency = summary["capture_to_pose_ms"];
-  std::printf(
-      "\nlive vehicle: aravis fake GigE Vision camera 640x480 Mono8 at %.0f Hz read by %s, ROS 2 "
-      "odometry, %d frames, odometry extrapolation up to %.0f ms\n",
-      s.rate_hz,
-      s.source == "aravis"                    ? "the aravis source"
-      : s.gstreamer_timestamps == "device" ? "aravissrc (gstreamer, the camera's timestamps)"
-                                              : "aravissrc (gstreamer, do-timestamp)",
-      s.frames, s.odometry_extrapolation_s * 1000);
+}
+
+// The capture-to-pose latency: overall, after the first poses, the first ones and by stage.
+void PrintLatency(const nlohmann::json& latency, double p50, double p99, double stamp_offset_ms) {
   std::printf("capture -> pose on the wire: p50 %.2f ms, p99 %.2f ms (%lld poses)\n", p50, p99,
               latency["frames"].get<long long>());
   std::printf("  after the first %lld poses: p50 %.2f ms, p99 %.2f ms (%lld poses)\n",
@@ -268,6 +283,23 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
               "from the true capture: p50 %.2f ms, p99 %.2f ms after the first poses)\n",
               stamp_offset_ms, latency["steady"]["p50"].get<double>() + stamp_offset_ms,
               latency["steady"]["p99"].get<double>() + stamp_offset_ms);
+}
+
+void PrintOutcome(const LiveAgentBenchSettings& s, const LiveOutcome& o, size_t reports) {
+  const nlohmann::json& summary = o.summary;
+  const double p50 = summary["capture_to_pose_ms"]["p50"],
+               p99 = summary["capture_to_pose_ms"]["p99"];
+  const double cycle_p99 = summary["cycle_ms"]["p99"], cycle_median = summary["cycle_ms"]["median"];
+  const nlohmann::json& latency = summary["capture_to_pose_ms"];
+  std::printf(
+      "\nlive vehicle: aravis fake GigE Vision camera 640x480 Mono8 at %.0f Hz read by %s, ROS 2 "
+      "odometry, %d frames, odometry extrapolation up to %.0f ms\n",
+      s.rate_hz,
+      s.source == "aravis"                    ? "the aravis source"
+      : s.gstreamer_timestamps == "device" ? "aravissrc (gstreamer, the camera's timestamps)"
+                                              : "aravissrc (gstreamer, do-timestamp)",
+      s.frames, s.odometry_extrapolation_s * 1000);
+  PrintLatency(latency, p50, p99, o.stamp_offset_ms);
   std::printf("frames run on extrapolated odometry: %lld (up to %.2f ms past the newest sample)\n",
               summary["odometry_extrapolation"]["frames"].get<long long>(),
               summary["odometry_extrapolation"]["max_ms"].get<double>());
@@ -280,30 +312,75 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   std::printf(
       "position rms vs truth: live %.4f mm over %zu frames, offline %.4f mm over %zu -> "
       "live/offline %.3f\n",
-      live_rms * 1000, live_errors.size(), accuracy.position_rms_m * 1000, accuracy.frames, ratio);
+      o.live_rms * 1000, o.live_errors.size(), o.accuracy.position_rms_m * 1000, o.accuracy.frames,
+      o.ratio);
   std::printf("frames dropped before tracking: %lld\n",
               summary["input_dropped_frames"].get<long long>());
-  std::printf("lock states vs truth (agent pose stream, %zu poses): %s\n", reports.size(),
-              by_state.dump().c_str());
+  std::printf("lock states vs truth (agent pose stream, %zu poses): %s\n", reports,
+              o.by_state.dump().c_str());
   std::printf("false locks (tracking/relocalized frame pose > %.0f mm from truth): %lld\n",
-              kFalseLockM * 1000, false_locks);
-  if (s.json.empty()) return Status::Ok();
+              kFalseLockM * 1000, o.false_locks);
+}
+
+Status WriteOutcomeJson(const LiveAgentBenchSettings& s, const LiveOutcome& o) {
+  const nlohmann::json& summary = o.summary;
   const nlohmann::json out{{"source", s.source},
                            {"gstreamer_timestamps", s.gstreamer_timestamps},
                            {"odometry_extrapolation", summary["odometry_extrapolation"]},
-                           {"stamp_offset_ms", stamp_offset_ms},
+                           {"stamp_offset_ms", o.stamp_offset_ms},
                            {"frames", s.frames},
                            {"rate_hz", s.rate_hz},
                            {"capture_to_pose_ms", summary["capture_to_pose_ms"]},
                            {"cycle_ms", summary["cycle_ms"]},
-                           {"live_rms_m", live_rms},
-                           {"live_frames", live_errors.size()},
-                           {"offline_rms_m", accuracy.position_rms_m},
-                           {"live_offline_ratio", ratio},
+                           {"live_rms_m", o.live_rms},
+                           {"live_frames", o.live_errors.size()},
+                           {"offline_rms_m", o.accuracy.position_rms_m},
+                           {"live_offline_ratio", o.ratio},
                            {"input_dropped_frames", summary["input_dropped_frames"]},
-                           {"lock_states_vs_truth", by_state},
-                           {"false_locks", false_locks}};
+                           {"lock_states_vs_truth", o.by_state},
+                           {"false_locks", o.false_locks}};
   return io::WriteFileAtomically(s.json, out.dump(2) + "\n");
+}
+
+}  // namespace
+
+Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
+  const std::string work = io::AbsoluteDir(s.work_dir).string();
+  fs::create_directories(work);
+  Result<PreparedDrive> prepared = PrepareDrive(s, work);
+  if (!prepared.ok()) return prepared.status();
+  live_sim::PlannedDrive& d = *prepared->drive;
+  const std::string& mosaic = prepared->mosaic;
+  const io::Run& run = prepared->run;
+  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
+                                        {"--mosaic", mosaic, "--domain", std::to_string(s.domain)},
+                                        work + "/map_server.log");
+  if (!server.ok()) return server.status();
+  const nlohmann::json config = AgentConfig(s, work);
+  FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(work + "/live_agent.json", config.dump(2)));
+  const std::string summary_path = work + "/live_agent_summary.json";
+  fs::remove(summary_path);
+  auto agent = io::ChildProcess::Start(
+      io::ExecutableDir() + "/tracker_agent",
+      {"--config", work + "/live_agent.json", "--summary", summary_path}, work + "/live_agent.log");
+  if (!agent.ok()) return agent.status();
+  Result<HeardPoses> heard = DriveAndListen(s, d, prepared->start, *agent, *server);
+  if (!heard.ok()) return heard.status();
+  Result<std::string> text = io::ReadFileText(summary_path);
+  if (!text.ok()) return text.status();
+  LiveOutcome o;
+  o.summary = nlohmann::json::parse(*text);
+  CompareFramePoses(heard->poses, d, &o);
+  CompareLockStates(*heard, d, work, &o);
+  spdlog::info("bench agent ({}): offline tracker over the same frames", s.source);
+  Result<replay::ReplayResult> offline = TrackOffline(mosaic, run, {}, 256);
+  if (!offline.ok()) return offline.status();
+  o.accuracy = replay::Evaluate(offline->poses, run.truth, run.camera.model);
+  o.live_rms = Rms(o.live_errors);
+  o.ratio = o.live_rms / o.accuracy.position_rms_m;
+  PrintOutcome(s, o, heard->reports.size());
+  if (s.json.empty()) return Status::Ok();
+  return WriteOutcomeJson(s, o);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -75,7 +75,9 @@ nlohmann::json ToJson(const TileLatency& l) {
           {"p50_ms", l.p50_ms},     {"p99_ms", l.p99_ms},     {"max_ms", l.max_ms}};
 }
 
-Status RunFloodBench(FloodBenchArgs a) {
+// A fresh copy of the demo mosaic for the server to grow (its path), and the server's
+// configuration beside it (map_server.json: a high patch rate, the quota).
+Result<std::string> PrepareFloodMosaic(const FloodBenchArgs& a) {
   fs::create_directories(a.tiles.work_dir);
   Result<std::string> demo =
       EnsureDemoMosaic(a.tiles.work_dir, "rock_dirt_2048.png", "flood_bench_demo.db");
@@ -91,6 +93,30 @@ Status RunFloodBench(FloodBenchArgs a) {
         {"burst", 1000},
         {"max_mb_per_vehicle",
          a.quota_mb}}}}.dump();
+  return mosaic;
+}
+
+void PrintFlood(const FloodBenchArgs& a, int vehicles, const TileLatency& idle,
+                const TileLatency& flooded, const nlohmann::json& out, double seconds,
+                double stored_mb, double mb_before) {
+  std::printf("tile request -> tile, %d vehicles at %.0f Hz each, %.0f s per phase\n", vehicles,
+              a.tiles.rate_hz, a.tiles.seconds);
+  std::printf("  alone:        p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
+              idle.p50_ms, idle.p99_ms, idle.max_ms, idle.answered, idle.requests);
+  std::printf("  during flood: p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
+              flooded.p50_ms, flooded.p99_ms, flooded.max_ms, flooded.answered,
+              flooded.requests);
+  std::printf(
+      "flood: %.0f MB sent in %.1f s (%.1f MB/s), %.1f MB stored (quota %d MB); mosaic file %.1f "
+      "-> %.1f MB\n",
+      out["flood_mb_sent"].get<double>(), seconds, out["flood_mb_per_s_sent"].get<double>(),
+      stored_mb, a.quota_mb, mb_before, out["file_mb_after"].get<double>());
+}
+
+Status RunFloodBench(FloodBenchArgs a) {
+  Result<std::string> prepared = PrepareFloodMosaic(a);
+  if (!prepared.ok()) return prepared.status();
+  const std::string mosaic = *prepared, config = a.tiles.work_dir + "/map_server.json";
   auto server =
       io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
                               {"--config", config, "--domain", std::to_string(a.tiles.domain)},
@@ -141,18 +167,7 @@ Status RunFloodBench(FloodBenchArgs a) {
       {"file_mb_before", mb_before},
       {"file_mb_after", FileMb(mosaic)},
       {"growth", growth}};
-  std::printf("tile request -> tile, %d vehicles at %.0f Hz each, %.0f s per phase\n", vehicles,
-              a.tiles.rate_hz, a.tiles.seconds);
-  std::printf("  alone:        p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
-              idle->p50_ms, idle->p99_ms, idle->max_ms, idle->answered, idle->requests);
-  std::printf("  during flood: p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
-              flooded->p50_ms, flooded->p99_ms, flooded->max_ms, flooded->answered,
-              flooded->requests);
-  std::printf(
-      "flood: %.0f MB sent in %.1f s (%.1f MB/s), %.1f MB stored (quota %d MB); mosaic file %.1f "
-      "-> %.1f MB\n",
-      out["flood_mb_sent"].get<double>(), seconds, out["flood_mb_per_s_sent"].get<double>(),
-      stored_mb, a.quota_mb, mb_before, out["file_mb_after"].get<double>());
+  PrintFlood(a, vehicles, *idle, *flooded, out, seconds, stored_mb, mb_before);
   if (!a.json.empty()) std::ofstream(a.json) << out.dump(2) << "\n";
   return Status::Ok();
 }

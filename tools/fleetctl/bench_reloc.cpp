@@ -195,12 +195,32 @@ nlohmann::json RefusedTwins(const std::vector<RelocTrial>& trials) {
   return refused;
 }
 
+// Every attempt's time and its stages' times, over all trials.
+struct AttemptTimes {
+  std::vector<double> attempt_ms, detect, match, verify, dense, dense_fine, trajectory;
+};
+
+AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
+  AttemptTimes a;
+  for (const RelocTrial& t : trials) {
+    for (const mapmatch::Relocalization& r : t.runs) {
+      a.attempt_ms.push_back(Ms(r) + r.trajectory_ms);
+      a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms), a.verify.push_back(r.verify_ms);
+      // The dense stages' p50 over the attempts they ran in.
+      if (r.dense) a.dense.push_back(r.dense_ms - r.dense_fine_ms);
+      if (r.dense_fine) a.dense_fine.push_back(r.dense_fine_ms);
+      if (r.trajectory_frames > 0) a.trajectory.push_back(r.trajectory_ms);
+    }
+  }
+  return a;
+}
+
 }  // namespace
 
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
   int correct = 0, within = 0, wrong = 0, not_found = 0;
   int single_within = 0, single_wrong = 0, single_none = 0;
-  std::vector<double> to_pose_ms, attempt_ms, detect, match, verify, dense, dense_fine, trajectory;
+  std::vector<double> to_pose_ms;
   for (const RelocTrial& t : trials) {
     single_within += t.single_correct && t.single_time_s <= s.target_s;
     single_wrong += t.single_found && !t.single_correct;
@@ -210,15 +230,11 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
     wrong += t.found && !t.correct;
     not_found += !t.found;
     if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
-    for (const mapmatch::Relocalization& r : t.runs) {
-      attempt_ms.push_back(Ms(r) + r.trajectory_ms);
-      detect.push_back(r.detect_ms), match.push_back(r.match_ms), verify.push_back(r.verify_ms);
-      // The dense stages' p50 over the attempts they ran in.
-      if (r.dense) dense.push_back(r.dense_ms - r.dense_fine_ms);
-      if (r.dense_fine) dense_fine.push_back(r.dense_fine_ms);
-      if (r.trajectory_frames > 0) trajectory.push_back(r.trajectory_ms);
-    }
   }
+  const AttemptTimes times = TimesOf(trials);
+  const std::vector<double>&attempt_ms = times.attempt_ms, &detect = times.detect, &match = times.match,
+                           &verify = times.verify, &dense = times.dense, &dense_fine = times.dense_fine,
+                           &trajectory = times.trajectory;
   const double n = static_cast<double>(trials.size());
   const auto pct = [](const std::vector<double>& v) {
     return nlohmann::json{{"p50", replay::Percentile(v, 50)},

@@ -167,6 +167,23 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
   return io::WriteFileAtomically(args.json, json.dump(2) + "\n");
 }
 
+// The options of --stress runs.
+void AddStressOptions(CLI::App* cmd, RelocStressArgs& st) {
+  cmd->add_option("--manifest", st.manifest, "Stress floors manifest (with --stress)");
+  cmd->add_option("--split", st.split, "tuning, holdout or all (with --stress)")
+      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
+  cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
+      ->delimiter(',');
+  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');
+  cmd->add_option("--conditions", st.conditions,
+                  "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
+      ->delimiter(',');
+  cmd->add_option("--layouts", st.layouts,
+                  "single (the floor alone) and/or repeated (the floor twice side by side; "
+                  "with --stress)")
+      ->delimiter(',');
+}
+
 }  // namespace
 
 void RegisterBenchReloc(CLI::App& bench, Status* result) {
@@ -217,20 +234,7 @@ void RegisterBenchReloc(CLI::App& bench, Status* result) {
   cmd->add_flag("--stress", args->stress,
                 "The stress floors (data/stress_floors) × --sizes × --conditions × --layouts "
                 "instead of one large composed floor");
-  RelocStressArgs& st = args->stressed;
-  cmd->add_option("--manifest", st.manifest, "Stress floors manifest (with --stress)");
-  cmd->add_option("--split", st.split, "tuning, holdout or all (with --stress)")
-      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
-  cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
-      ->delimiter(',');
-  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');
-  cmd->add_option("--conditions", st.conditions,
-                  "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
-      ->delimiter(',');
-  cmd->add_option("--layouts", st.layouts,
-                  "single (the floor alone) and/or repeated (the floor twice side by side; "
-                  "with --stress)")
-      ->delimiter(',');
+  AddStressOptions(cmd, args->stressed);
   cmd->callback([args, result] { *result = RunBenchReloc(*args); });
 }
 

@@ -124,7 +124,8 @@ void ReadStream(int port, const std::atomic<bool>& stop, std::vector<double>* la
   });
 }
 
-Status RunSupervisorBench(const SupervisorBenchArgs& a) {
+// A fleet_supervisor process on a fresh history and a free HTTP port (`port`).
+Result<io::ChildProcess> StartSupervisor(const SupervisorBenchArgs& a, int* port) {
   fs::create_directories(a.work_dir);
   const std::string port_file = a.work_dir + "/port", history = a.work_dir + "/history.db";
   fs::remove(port_file), fs::remove(history);
@@ -134,12 +135,38 @@ Status RunSupervisorBench(const SupervisorBenchArgs& a) {
   auto supervisor = io::ChildProcess::Start(io::ExecutableDir() + "/fleet_supervisor", args,
                                             a.work_dir + "/fleet_supervisor.log");
   if (!supervisor.ok()) return supervisor.status();
-  int port = 0;
-  for (int i = 0; i < 200 && port <= 0; ++i) {
+  *port = 0;
+  for (int i = 0; i < 200 && *port <= 0; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    std::ifstream(port_file) >> port;
+    std::ifstream(port_file) >> *port;
   }
-  if (port <= 0) return Internal("the supervisor did not start; see " + a.work_dir + "/fleet_supervisor.log");
+  if (*port <= 0) return Internal("the supervisor did not start; see " + a.work_dir + "/fleet_supervisor.log");
+  return supervisor;
+}
+
+void PrintSupervisorBench(const SupervisorBenchArgs& a, const nlohmann::json& out, double warmup_s,
+                          size_t latency_samples) {
+  const nlohmann::json& timeline = out["timeline"];
+  std::printf("fleet supervisor under %d vehicles (poses %.0f Hz, health 1 Hz), %.0f s after a %.0f s warm-up\n",
+              a.vehicles, a.pose_hz, a.seconds, warmup_s);
+  std::printf("%4s %12s %12s %10s %8s %8s\n", "s", "published", "received", "hist.queue", "cpu s", "rss MB");
+  for (const nlohmann::json& row : timeline) {
+    std::printf("%4d %12lld %12lld %10lld %8.2f %8.1f\n", row["s"].get<int>(), row["published"].get<long long>(),
+                row["received"].get<long long>(), row["history_queue"].get<long long>(), row["cpu_s"].get<double>(),
+                row["rss_mb"].get<double>());
+  }
+  std::printf("received / published: %.3f\n", out["poses_received"].get<double>() / std::max(1.0, out["poses_published"].get<double>()));
+  std::printf("pose published -> in the live stream: p50 %.1f ms, p95 %.1f ms, p99 %.1f ms (%zu samples)\n",
+              out["latency_ms"]["p50"].get<double>(), out["latency_ms"]["p95"].get<double>(),
+              out["latency_ms"]["p99"].get<double>(), latency_samples);
+  std::printf("supervisor: %.1f %% of one core, max RSS %.1f MB\n", out["supervisor_cpu_percent"].get<double>(),
+              out["supervisor_rss_mb_max"].get<double>());
+}
+
+Status RunSupervisorBench(const SupervisorBenchArgs& a) {
+  int port = 0;
+  auto supervisor = StartSupervisor(a, &port);
+  if (!supervisor.ok()) return supervisor.status();
   std::atomic<bool> stop{false};
   std::atomic<long long> published{0};
   std::vector<double> latencies;
@@ -179,19 +206,7 @@ Status RunSupervisorBench(const SupervisorBenchArgs& a) {
       {"latency_ms", {{"p50", replay::Percentile(latencies, 50)}, {"p95", replay::Percentile(latencies, 95)},
                       {"p99", replay::Percentile(latencies, 99)}}},
       {"supervisor_cpu_percent", cpu_pct}, {"supervisor_rss_mb_max", max_rss}, {"timeline", timeline}};
-  std::printf("fleet supervisor under %d vehicles (poses %.0f Hz, health 1 Hz), %.0f s after a %.0f s warm-up\n",
-              a.vehicles, a.pose_hz, a.seconds, warmup_s);
-  std::printf("%4s %12s %12s %10s %8s %8s\n", "s", "published", "received", "hist.queue", "cpu s", "rss MB");
-  for (const nlohmann::json& row : timeline) {
-    std::printf("%4d %12lld %12lld %10lld %8.2f %8.1f\n", row["s"].get<int>(), row["published"].get<long long>(),
-                row["received"].get<long long>(), row["history_queue"].get<long long>(), row["cpu_s"].get<double>(),
-                row["rss_mb"].get<double>());
-  }
-  std::printf("received / published: %.3f\n", out["poses_received"].get<double>() / std::max(1.0, out["poses_published"].get<double>()));
-  std::printf("pose published -> in the live stream: p50 %.1f ms, p95 %.1f ms, p99 %.1f ms (%zu samples)\n",
-              out["latency_ms"]["p50"].get<double>(), out["latency_ms"]["p95"].get<double>(),
-              out["latency_ms"]["p99"].get<double>(), latencies.size());
-  std::printf("supervisor: %.1f %% of one core, max RSS %.1f MB\n", cpu_pct, max_rss);
+  PrintSupervisorBench(a, out, warmup_s, latencies.size());
   if (!a.json.empty()) std::ofstream(a.json) << out.dump(2) << "\n";
   if (supervisor->Stop(SIGTERM) != 0) return Internal("the supervisor did not stop cleanly");
   return Status::Ok();

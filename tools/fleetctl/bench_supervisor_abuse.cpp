@@ -140,6 +140,42 @@ void Print(const char* title, const Phase& p) {
   }
 }
 
+// Until the map server listens for re-mapping commands (a job is accepted), at most 10 s.
+void WaitForRemapCommands(httplib::Client& http) {
+  for (int i = 0; i < 100; ++i) {
+    const httplib::Headers maintainer = {{"Authorization", std::string("Bearer ") + kToken}};
+    auto r = http.Post("/api/remap", maintainer, R"({"region": [0, 0, 0.05, 0.05]})",
+                       "application/json");
+    if (r && r->status == 202) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+nlohmann::json AbuseJson(const AbuseBenchArgs& a, const AbuseStats& attack, const Phase& idle,
+                         const Phase& attacked, double peak_rss, const nlohmann::json& counters) {
+  return {
+      {"attack",
+       {{"idle", a.abuse.idle},
+        {"streams", a.abuse.streams},
+        {"slow", a.abuse.slow},
+        {"flood_mb", a.abuse.flood_mb},
+        {"connects", attack.connects},
+        {"closed_by_server", attack.closed_by_server},
+        {"streams_answered", attack.streams_answered},
+        {"streams_refused", attack.streams_refused},
+        {"flood_mb_sent", attack.flood_mb_sent}}},
+      {"idle",
+       {{"fleet", idle.fleet.Summary()},
+        {"remap", idle.remap.Summary()},
+        {"max_rss_mb", idle.max_rss_mb}}},
+      {"attacked",
+       {{"fleet", attacked.fleet.Summary()},
+        {"remap", attacked.remap.Summary()},
+        {"max_rss_mb", attacked.max_rss_mb}}},
+      {"supervisor_peak_rss_mb", peak_rss},
+      {"supervisor_counters", counters}};
+}
+
 Status RunAbuseBench(AbuseBenchArgs a) {
   const long files = io::RaiseOpenFileLimit();
   if (files < a.abuse.idle + a.abuse.streams + a.abuse.slow + 64) {
@@ -167,13 +203,7 @@ Status RunAbuseBench(AbuseBenchArgs a) {
   if (a.abuse.port <= 0)
     return Internal("the supervisor did not start; see " + a.work_dir + "/fleet_supervisor.log");
   httplib::Client http("127.0.0.1", a.abuse.port);
-  for (int i = 0; i < 100; ++i) {  // until the map server listens for re-mapping commands
-    const httplib::Headers maintainer = {{"Authorization", std::string("Bearer ") + kToken}};
-    auto r = http.Post("/api/remap", maintainer, R"({"region": [0, 0, 0.05, 0.05]})",
-                       "application/json");
-    if (r && r->status == 202) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  WaitForRemapCommands(http);
   const Phase idle = Measure(a.abuse.port, supervisor->pid(), a.idle_seconds, a.requests_hz);
   HttpAbuse abuse(a.abuse);
   abuse.Start();
@@ -183,28 +213,9 @@ Status RunAbuseBench(AbuseBenchArgs a) {
   abuse.Stop();
   const AbuseStats attack = abuse.stats();
   const double peak_rss = io::UsageOf(supervisor->pid()).peak_rss_mb;
-  nlohmann::json out = {
-      {"attack",
-       {{"idle", a.abuse.idle},
-        {"streams", a.abuse.streams},
-        {"slow", a.abuse.slow},
-        {"flood_mb", a.abuse.flood_mb},
-        {"connects", attack.connects},
-        {"closed_by_server", attack.closed_by_server},
-        {"streams_answered", attack.streams_answered},
-        {"streams_refused", attack.streams_refused},
-        {"flood_mb_sent", attack.flood_mb_sent}}},
-      {"idle",
-       {{"fleet", idle.fleet.Summary()},
-        {"remap", idle.remap.Summary()},
-        {"max_rss_mb", idle.max_rss_mb}}},
-      {"attacked",
-       {{"fleet", attacked.fleet.Summary()},
-        {"remap", attacked.remap.Summary()},
-        {"max_rss_mb", attacked.max_rss_mb}}},
-      {"supervisor_peak_rss_mb", peak_rss},
-      {"supervisor_counters",
-       stats ? nlohmann::json::parse(stats->body, nullptr, false) : nlohmann::json()}};
+  const nlohmann::json out = AbuseJson(
+      a, attack, idle, attacked, peak_rss,
+      stats ? nlohmann::json::parse(stats->body, nullptr, false) : nlohmann::json());
   std::printf(
       "supervisor under %d idle sockets, %d live streams (half never read), %d slow senders and "
       "a %.0f MB header flood (%.0f MB sent, %lld connections)\n",
