@@ -11,9 +11,8 @@ Status Check(bool ok, const char* field, const char* rule) {
   return ok ? Status::Ok() : InvalidInput(std::string("tracker option '") + field + "' " + rule);
 }
 
-}  // namespace
-
-Status Validate(const DirectAlignOptions& d) {
+// The pyramid, the Gauss–Newton iterations, the polish and the view blur.
+Status ValidateDirectLevels(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.coarsest_side_px >= 16, "direct.coarsest_side_px", "must be ≥ 16"));
   FLEETLOC_RETURN_IF_ERROR(
@@ -37,6 +36,11 @@ Status Validate(const DirectAlignOptions& d) {
                                  "direct.view_blur_step_px", "must be in [0.1, 2]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_every_frames >= 1, "direct.view_blur_every_frames",
                                  "must be ≥ 1"));
+  return Status::Ok();
+}
+
+// The robust weights, the coarse search and the validation of a fit.
+Status ValidateDirectSearch(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.tukey_c > 1, "direct.tukey_c", "must be > 1"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.occluder_contrast_ratio > 1, "direct.occluder_contrast_ratio", "must be > 1"));
@@ -82,7 +86,8 @@ Status Validate(const DirectAlignOptions& d) {
   return Status::Ok();
 }
 
-Status Validate(const TrackerOptions& o) {
+// Template sizes, texture selection and matching.
+Status ValidateTemplates(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.template_size_px >= 8 && o.template_size_px <= 128 && o.template_size_px % 4 == 0,
             "template_size_px", "must be a multiple of 4, in [8, 128]"));
@@ -118,6 +123,11 @@ Status Validate(const TrackerOptions& o) {
                                  "min_peak_correlation", "must be in (-1, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_ambiguity_ratio > 0 && o.max_ambiguity_ratio <= 1,
                                  "max_ambiguity_ratio", "must be in (0, 1]"));
+  return Status::Ok();
+}
+
+// The search radii, the coarse levels, the filter and the fall-backs.
+Status ValidateSearchAndFilter(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.search_sigma_multiple > 0, "search_sigma_multiple", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
@@ -151,8 +161,10 @@ Status Validate(const TrackerOptions& o) {
       Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_max_frame_pixels >= 0, "polish_max_frame_pixels", "must be ≥ 0"));
-  FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
-  const auto& n = o.odometry;
+  return Status::Ok();
+}
+
+Status ValidateOdometryNoise(const OdometryNoiseOptions& n) {
   FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&
                                      n.heading_sigma_per_rad >= 0 && n.heading_sigma_per_m >= 0 &&
                                      n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0 &&
@@ -160,6 +172,20 @@ Status Validate(const TrackerOptions& o) {
                                      n.extrapolation_angular_accel_rad_s2 >= 0,
                                  "odometry", "noise terms must be ≥ 0 (floor_sigma_m > 0)"));
   return Status::Ok();
+}
+
+}  // namespace
+
+Status Validate(const DirectAlignOptions& d) {
+  FLEETLOC_RETURN_IF_ERROR(ValidateDirectLevels(d));
+  return ValidateDirectSearch(d);
+}
+
+Status Validate(const TrackerOptions& o) {
+  FLEETLOC_RETURN_IF_ERROR(ValidateTemplates(o));
+  FLEETLOC_RETURN_IF_ERROR(ValidateSearchAndFilter(o));
+  FLEETLOC_RETURN_IF_ERROR(Validate(o.direct));
+  return ValidateOdometryNoise(o.odometry);
 }
 
 }  // namespace fleetloc::tracking
