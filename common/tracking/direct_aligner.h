@@ -28,7 +28,7 @@ struct DirectAlignment {
   geometry::PoseWithCovariance posterior;    // camera_ground in map: prior and image combined
   geometry::PoseWithCovariance measurement;  // the image alone (covariance of the image term)
   double correlation = 0.0;                  // weighted NCC at the finest level
-  double coarse_correlation = 0.0;           // weighted NCC at the coarsest level
+  double coarse_correlation = 0.0;  // weighted NCC at the level above the finest (or the search's)
   double inlier_fraction = 0.0;              // at the finest level
   double peak_ratio = 0.0;                   // of the coarse search (0 when none ran)
   // The search peak's correlation above the rest of the search surface, in its standard

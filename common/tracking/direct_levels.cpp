@@ -150,7 +150,7 @@ DirectAligner::LevelSamples DirectAligner::SampleLevel(const Level& level,
   for (size_t i = 0; i < n; ++i) {
     const PixelPoint& p = level.points[i];
     const Eigen::Vector2f m = linear * Eigen::Vector2f(p.u, p.v) + offset;
-    float sample[3];
+    float sample[3] = {0.0f, 0.0f, 0.0f};
     s.valid[i] = source.Sample(m.x(), m.y(), sample);
     if (!s.valid[i]) continue;
     s.values[i] = sample[0];
