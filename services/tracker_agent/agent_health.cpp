@@ -40,7 +40,8 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
         in.place_index_ready ? "localization lost: relocalizing"
                              : "localization lost and no place index yet to relocalize with");
   }
-  if (lock_state() == tracking::LockState::kCoasting) add("coasting", fleetloc_HEALTH_WARN, "odometry only");
+  if (lock_state() == tracking::LockState::kCoasting)
+    add("coasting", fleetloc_HEALTH_WARN, "odometry only");
   if (!in.map_server_reachable) {
     add("map_server_unreachable", fleetloc_HEALTH_WARN,
         in.unreachable_servers.empty()
@@ -48,7 +49,8 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
             : in.unreachable_servers + ": their tiles from the cache only");
   }
   if (in.loader.timeouts > 0) {
-    add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
+    add("tile_timeouts", fleetloc_HEALTH_WARN,
+        std::to_string(in.loader.timeouts) + " tile waits timed out");
   }
   if (const PositionUpdateStats* u = in.position_update; u && u->last_rejected) {
     // While the newest fit was rejected (an issue name alone reads as a problem on the
@@ -62,12 +64,15 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
         counts + "; last rejected: " + u->last_reason);
   }
   for (const InputIssue& issue : in.input_issues) {
-    add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN, issue.message);
+    add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN,
+        issue.message);
   }
-  if (dropped > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
+  if (dropped > 0)
+    add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
   if (in.patch_outbox_dropped > 0) {
     add("patch_outbox_full", fleetloc_HEALTH_WARN,
-        std::to_string(in.patch_outbox_dropped) + " patches dropped from the full outbox (oldest, lowest quality)");
+        std::to_string(in.patch_outbox_dropped) +
+            " patches dropped from the full outbox (oldest, lowest quality)");
   }
   h->level = fleetloc_HEALTH_OK;
   for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "mosaic/tile_cache.h"
-#include "tracker_agent/health_counters.h"
 #include "tracker_agent/agent_position_update.h"
+#include "tracker_agent/health_counters.h"
 #include "tracker_agent/vehicle_input.h"
 #include "transport/dds_tile_loader.h"
 #include "transport/fleetloc_types.h"
@@ -24,11 +24,11 @@ class AgentHealth : public HealthCounters {
     transport::DdsTileLoaderStats loader;
     size_t tiles_pending = 0;
     size_t patch_outbox = 0;
-    bool map_server_reachable = false;     // every map server owning part of the mosaic
-    std::string unreachable_servers;       // their ids when not, comma-separated
-    bool place_index_ready = false;  // relocalization possible
+    bool map_server_reachable = false;  // every map server owning part of the mosaic
+    std::string unreachable_servers;    // their ids when not, comma-separated
+    bool place_index_ready = false;     // relocalization possible
     const PositionUpdateStats* position_update = nullptr;  // null: no position updates
-    long long patch_outbox_dropped = 0;  // patches the full outbox dropped (ever, this vehicle)
+    long long patch_outbox_dropped = 0;    // patches the full outbox dropped (ever, this vehicle)
     std::vector<InputIssue> input_issues;  // the live input's (camera, odometry)
     long long input_dropped = 0;           // frames the input lost before the agent saw them
   };

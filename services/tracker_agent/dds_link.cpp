@@ -33,42 +33,56 @@ Result<std::unique_ptr<DdsLink>> DdsLink::Create(const AgentConfig& config,
                                                  AgentHealth* health) {
   std::unique_ptr<DdsLink> link(new DdsLink(config, health));
   FLEETLOC_RETURN_IF_ERROR(link->OpenStreams());
-  spdlog::info("waiting up to {} s for a map server on domain {}", config.mosaic_wait_s, config.domain_id);
+  spdlog::info("waiting up to {} s for a map server on domain {}", config.mosaic_wait_s,
+               config.domain_id);
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                             std::chrono::duration<double>(config.mosaic_wait_s));
   FLEETLOC_RETURN_IF_ERROR(link->AwaitMosaic(deadline));
-  FLEETLOC_RETURN_IF_ERROR(tracking::CheckCameraResolution(
-      camera.resolution_m, link->layout_.geo.resolution, "vehicle " + config.vehicle_id + "'s camera"));
+  FLEETLOC_RETURN_IF_ERROR(
+      tracking::CheckCameraResolution(camera.resolution_m, link->layout_.geo.resolution,
+                                      "vehicle " + config.vehicle_id + "'s camera"));
   FLEETLOC_RETURN_IF_ERROR(link->OpenTiles(deadline));
   FLEETLOC_RETURN_IF_ERROR(link->OpenRelocalizer(camera));
   if (config.ros.enabled) {
-    FLEETLOC_RETURN_IF_ERROR(
-        TakeInto(RosBridge::Create(*link->participant_, config.ros, config.vehicle_id), &link->ros_));
+    FLEETLOC_RETURN_IF_ERROR(TakeInto(
+        RosBridge::Create(*link->participant_, config.ros, config.vehicle_id), &link->ros_));
   }
   return link;
 }
 
 Status DdsLink::OpenStreams() {
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(
-      transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}), &participant_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
+               &participant_));
   const transport::Participant& p = *participant_;
   FLEETLOC_RETURN_IF_ERROR(TakeInto(transport::TileClient::Create(p, config_.vehicle_id), &tiles_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      transport::Topic<fleetloc_VehiclePose>::Create(p, topics::kVehiclePose), &pose_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      transport::Topic<fleetloc_VehicleHealth>::Create(p, topics::kVehicleHealth), &health_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      transport::Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
   const std::string& id = config_.vehicle_id;  // its streams go in its own partition
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(p, id, *pose_topic_, transport::PoseStreamQos()), &pose_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(
+                                        p, id, *pose_topic_, transport::PoseStreamQos()),
+                                    &pose_writer_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(p, id, *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
-  return AssignTo(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_reader_);
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(
+                   p, id, *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)),
+               &health_writer_));
+  return AssignTo(transport::Reader<fleetloc_TileUpdate>::Create(p.get(), *update_topic_,
+                                                                 transport::DurableStateQos(32)),
+                  &update_reader_);
 }
 
 Status DdsLink::AwaitMosaic(std::chrono::steady_clock::time_point deadline) {
   std::optional<fleetloc_MosaicInfo> info;
   while (!(info = tiles_->LatestMosaicInfo()) || !tiles_->RequestsMatched()) {
     if (std::chrono::steady_clock::now() > deadline) {
-      return Internal("no map server announced a mosaic on domain " + std::to_string(config_.domain_id));
+      return Internal("no map server announced a mosaic on domain " +
+                      std::to_string(config_.domain_id));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -89,9 +103,11 @@ Status DdsLink::OpenTiles(std::chrono::steady_clock::time_point deadline) {
   loader_ = std::make_unique<transport::DdsTileLoader>(
       tiles_.get(), layout_.mosaic_id, layout_.tile_size_px,
       std::chrono::milliseconds(config_.tile_timeout_ms));
-  loader_->SetReachability([this](const mosaic::TileKey& key) { return map_servers_->Reachable(key); });
+  loader_->SetReachability(
+      [this](const mosaic::TileKey& key) { return map_servers_->Reachable(key); });
   loader_->SetRoundTripObserver([this](double seconds) { tile_round_trip_.Observe(seconds); });
-  tile_cache_ = std::make_shared<mosaic::TileCache>(static_cast<size_t>(config_.tile_cache_mb) << 20);
+  tile_cache_ =
+      std::make_shared<mosaic::TileCache>(static_cast<size_t>(config_.tile_cache_mb) << 20);
   view_ = std::make_unique<mosaic::MosaicView>(layout_, loader_->AsTileLoader(), tile_cache_);
   return Status::Ok();
 }
@@ -133,22 +149,29 @@ void DdsLink::WaitForPlaceIndex() {
   }
 }
 
-Status DdsLink::Prefetch(const std::vector<mosaic::TileKey>& keys) { return loader_->Prefetch(keys); }
+Status DdsLink::Prefetch(const std::vector<mosaic::TileKey>& keys) {
+  return loader_->Prefetch(keys);
+}
 
-Result<size_t> DdsLink::DecodeArrived(size_t max_tiles) { return loader_->DecodeArrived(max_tiles); }
+Result<size_t> DdsLink::DecodeArrived(size_t max_tiles) {
+  return loader_->DecodeArrived(max_tiles);
+}
 
 bool DdsLink::Settled() const { return loader_->pending() == 0 && loader_->encoded() == 0; }
 
 bool DdsLink::Cached(const mosaic::TileKey& key) const { return tile_cache_->Contains(key); }
 
 void DdsLink::PublishPose(const PoseToPublish& pose) {
-  const transport::PoseReport report{config_.vehicle_id, pose.t, pose.base, pose.state, layout_.version};
+  const transport::PoseReport report{config_.vehicle_id, pose.t, pose.base, pose.state,
+                                     layout_.version};
   if (Status sent = pose_writer_->Write(transport::ToIdl(report)); !sent.ok()) {
     health_.RecordError(sent.message());
   }
   // The ROS 2 pose topic: poses at frame times and given start poses, not lost ones.
-  if (!ros_ || pose.state == tracking::LockState::kLost || pose.origin == PoseOrigin::kOdometry) return;
-  if (Status sent = ros_->PublishPose(pose.t, pose.base); !sent.ok()) health_.RecordError(sent.message());
+  if (!ros_ || pose.state == tracking::LockState::kLost || pose.origin == PoseOrigin::kOdometry)
+    return;
+  if (Status sent = ros_->PublishPose(pose.t, pose.base); !sent.ok())
+    health_.RecordError(sent.message());
   // The pose of the frame in its cycle (a given start pose has no capture).
   if (pose.origin == PoseOrigin::kFrame && pose.cycle) {
     capture_latency_.Record(pose.cycle->times, pose.cycle->cycle_start, camera_io::HostNow());
@@ -169,14 +192,18 @@ std::optional<transport::RosPoseStamped> DdsLink::TakeInitialPose() {
 void DdsLink::ApplyTileUpdates(
     const std::function<void(const std::vector<mosaic::TileKey>&)>& drop_from_tracker) {
   (void)update_reader_->TakeAll([&](const fleetloc_TileUpdate& update, const dds_sample_info_t&) {
-    if (transport::GetBounded(update.mosaic_id) != layout_.mosaic_id || update.version <= layout_.version) return;
+    if (transport::GetBounded(update.mosaic_id) != layout_.mosaic_id ||
+        update.version <= layout_.version)
+      return;
     std::vector<mosaic::TileKey> changed;
-    for (uint32_t i = 0; i < update.tiles._length; ++i) changed.push_back(transport::FromIdl(update.tiles._buffer[i]));
+    for (uint32_t i = 0; i < update.tiles._length; ++i)
+      changed.push_back(transport::FromIdl(update.tiles._buffer[i]));
     for (const mosaic::TileKey& key : changed) tile_cache_->Erase(key);
     drop_from_tracker(changed);
     loader_->Invalidate(changed, update.version);
     layout_.version = update.version;
-    spdlog::info("mosaic version {}: {} tiles dropped from the caches", update.version, changed.size());
+    spdlog::info("mosaic version {}: {} tiles dropped from the caches", update.version,
+                 changed.size());
   });
 }
 
@@ -197,7 +224,8 @@ void DdsLink::PublishHealth(AgentHealth::Inputs in) {
   health_.Fill(in, &health, &issues);
   if (Status sent = health_writer_->Write(health); !sent.ok()) health_.RecordError(sent.message());
   if (ros_) {
-    if (Status sent = ros_->PublishDiagnostics(transport::ToSeconds(health.stamp), health); !sent.ok()) {
+    if (Status sent = ros_->PublishDiagnostics(transport::ToSeconds(health.stamp), health);
+        !sent.ok()) {
       health_.RecordError(sent.message());
     }
   }

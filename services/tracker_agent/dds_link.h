@@ -66,7 +66,8 @@ class DdsLink : public TileSupply, public PosePublisher {
   std::optional<transport::RosPoseStamped> TakeInitialPose();
   // Takes the TileUpdates of newer versions of our mosaic: their tiles leave the cache, then
   // `drop_from_tracker` is told of them, then the loader forgets them.
-  void ApplyTileUpdates(const std::function<void(const std::vector<mosaic::TileKey>&)>& drop_from_tracker);
+  void ApplyTileUpdates(
+      const std::function<void(const std::vector<mosaic::TileKey>&)>& drop_from_tracker);
   // A map server is reachable when it reads our tile requests (DDS match) and was heard from
   // (ServiceHealth) within map_server_timeout_s; the tile loader stops waiting for the tiles of
   // one that is not.

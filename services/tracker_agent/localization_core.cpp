@@ -119,8 +119,10 @@ void LocalizationCore::Track(double t, const cv::Mat& frame, const FrameTimes& t
     return;
   }
   if (std::exchange(tracker_warm_up_, std::nullopt)) {
-    spdlog::info("warm-up: a frame came before the tiles around the {} were ready ({} "
-                 "normalized); it does the rest in its cycle", warm_up_what_, warm_up_tiles_);
+    spdlog::info(
+        "warm-up: a frame came before the tiles around the {} were ready ({} "
+        "normalized); it does the rest in its cycle",
+        warm_up_what_, warm_up_tiles_);
   }
   // Ask for the predicted footprint's missing tiles in one batch before the tracker needs them
   // (one round trip instead of one per tile it reads).
@@ -131,7 +133,8 @@ void LocalizationCore::Track(double t, const cv::Mat& frame, const FrameTimes& t
   if (options_.live) frame_in_cycle_ = FrameCycle{times, camera_io::HostNow()};
   const auto start = std::chrono::steady_clock::now();
   tracking::FrameResult result = tracker_.Track(frame, t, *odom, ExtrapolatedSpan(t));
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (std::exchange(provisional_, false) && result.state != tracking::LockState::kTracking) {
     spdlog::warn("the relocalized pose did not hold at t={:.3f}: lost again", t);
     result.state = tracking::LockState::kLost;
@@ -160,7 +163,8 @@ bool LocalizationCore::NeedsRelocalization(const tracking::FrameResult& result) 
 
 bool LocalizationCore::TryRelocalize(double t, const cv::Mat& frame, const geometry::Pose2& odom) {
   GlobalRelocalization& relocalization = *ports_.relocalization;
-  if (!relocalization.ready() || t - last_relocalize_t_ < options_.relocalize_interval_s) return false;
+  if (!relocalization.ready() || t - last_relocalize_t_ < options_.relocalize_interval_s)
+    return false;
   last_relocalize_t_ = t;
   Result<mapmatch::Relocalization> found = relocalization.Relocalize(frame, odom);
   if (!found.ok()) {
@@ -174,10 +178,11 @@ bool LocalizationCore::TryRelocalize(double t, const cv::Mat& frame, const geome
     return false;
   }
   const geometry::PoseWithCovariance& base = found->base_in_map;
-  spdlog::info("relocalized at t={:.3f}: ({:.4f}, {:.4f}, {:.2f} deg), {} inliers, {} frame(s), "
-               "{:.0f} ms",
-               t, base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
-               found->from_trajectory ? found->trajectory_frames : 1, relocalization.last_ms());
+  spdlog::info(
+      "relocalized at t={:.3f}: ({:.4f}, {:.4f}, {:.2f} deg), {} inliers, {} frame(s), "
+      "{:.0f} ms",
+      t, base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
+      found->from_trajectory ? found->trajectory_frames : 1, relocalization.last_ms());
   tracker_.Reset(base, odom);
   started_ = true, provisional_ = true, coasting_in_a_row_ = 0;
   if (position_update_) position_update_->Forget();  // its points were placed before the jump

@@ -44,7 +44,8 @@ void LocalizationCore::PublishMapToOdom(double t, const geometry::Pose2& base) {
 }
 
 void LocalizationCore::PublishDeferredMapToOdom() {
-  while (!deferred_map_to_odom_.empty() && deferred_map_to_odom_.front().first <= latest_odometry_t_) {
+  while (!deferred_map_to_odom_.empty() &&
+         deferred_map_to_odom_.front().first <= latest_odometry_t_) {
     const auto [t, base] = deferred_map_to_odom_.front();
     deferred_map_to_odom_.pop_front();
     const Result<geometry::Pose2> odom = odometry_.At(t);

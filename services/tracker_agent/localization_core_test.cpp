@@ -74,9 +74,11 @@ class CountedFrames : public TrackedFrameObserver {
 class LocalizationCoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    floor_ = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png", cv::IMREAD_GRAYSCALE);
+    floor_ = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
+                        cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(floor_.empty());
-    source_ = std::make_unique<mosaic::ImageRasterSource>(floor_, geometry::Geotransform{0.0, floor_.rows * 0.0005, 0.0005});
+    source_ = std::make_unique<mosaic::ImageRasterSource>(
+        floor_, geometry::Geotransform{0.0, floor_.rows * 0.0005, 0.0005});
     camera_.model = sim::DefaultSimCameraModel(320, 240, 0.0005);
     sim::SimOptions options;
     options.timing.frames = 20;
@@ -85,10 +87,12 @@ class LocalizationCoreTest : public ::testing::Test {
     simulator_ = std::move(simulator).value();
   }
 
-  std::unique_ptr<LocalizationCore> MakeCore(const std::optional<geometry::PoseWithCovariance>& initial) {
+  std::unique_ptr<LocalizationCore> MakeCore(
+      const std::optional<geometry::PoseWithCovariance>& initial) {
     const LocalizationPorts ports{&tiles_, &relocalization_, &poses_, &tracked_, &health_};
-    return std::make_unique<LocalizationCore>(LocalizationOptions{}, tracking::TrackerOptions{}, camera_,
-                                              source_->layout(), source_.get(), initial, ports, nullptr);
+    return std::make_unique<LocalizationCore>(LocalizationOptions{}, tracking::TrackerOptions{},
+                                              camera_, source_->layout(), source_.get(), initial,
+                                              ports, nullptr);
   }
 
   geometry::PoseWithCovariance InitialPose() const {
@@ -103,11 +107,13 @@ class LocalizationCoreTest : public ::testing::Test {
     size_t o = 0;
     int f = 0;
     while (o < odometry.size() || f < static_cast<int>(truth.size())) {
-      if (o < odometry.size() && (f >= static_cast<int>(truth.size()) || odometry[o].t <= truth[f].t)) {
+      if (o < odometry.size() &&
+          (f >= static_cast<int>(truth.size()) || odometry[o].t <= truth[f].t)) {
         core->OnOdometry(odometry[o].t, odometry[o].pose);
         ++o;
       } else {
-        core->AddDownwardFrame(truth[f].t, simulator_->RenderFrame(f).image, {truth[f].t, 0.0, 0.0});
+        core->AddDownwardFrame(truth[f].t, simulator_->RenderFrame(f).image,
+                               {truth[f].t, 0.0, 0.0});
         ++f;
       }
     }

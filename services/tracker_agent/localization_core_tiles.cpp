@@ -24,7 +24,8 @@ void LocalizationCore::Prefetch(double t, const geometry::Pose2& base) {
   std::set<mosaic::TileKey> keys;
   for (const geometry::Pose2& pose : along) AddFootprintTiles(pose, &keys);
   const std::vector<mosaic::TileKey> missing(keys.begin(), keys.end());
-  if (Status asked = ports_.tiles->Prefetch(missing); !asked.ok()) health_.RecordError(asked.message());
+  if (Status asked = ports_.tiles->Prefetch(missing); !asked.ok())
+    health_.RecordError(asked.message());
 }
 
 void LocalizationCore::DecodeArrivedTiles(size_t max_tiles) {
@@ -37,7 +38,8 @@ void LocalizationCore::AddFootprintTiles(const geometry::Pose2& base,
   // The footprint's bounding box grown by the margin, at level 0 and at the coarse levels.
   const geometry::Pose2 camera = base * camera_.model.mount;
   const double reach_m = (std::hypot(camera_.model.width_px, camera_.model.height_px) / 2 +
-                          options_.prefetch_margin_px) * layout_.geo.resolution;
+                          options_.prefetch_margin_px) *
+                         layout_.geo.resolution;
   const double u = (camera.x - layout_.geo.origin_x) / layout_.geo.resolution;
   const double v = (layout_.geo.origin_y - camera.y) / layout_.geo.resolution;
   const int r = static_cast<int>(reach_m / layout_.geo.resolution);
@@ -83,7 +85,8 @@ void LocalizationCore::WarmUpTracker() {
   const auto start = std::chrono::steady_clock::now();
   const int normalized = tracker_.WarmUp(*tracker_warm_up_, kTilesNormalizedPerTurn);
   warm_up_tiles_ += normalized;
-  warm_up_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  warm_up_ms_ +=
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   if (normalized == kTilesNormalizedPerTurn) return;  // more next turn
   tracker_warm_up_.reset();
   spdlog::info("warm-up: {} normalized tiles around the {} ready ({:.1f} ms of work)",

@@ -80,7 +80,8 @@ class PosePublisher {
 class TrackedFrameObserver {
  public:
   virtual ~TrackedFrameObserver() = default;
-  virtual void FrameTracked(double t, const cv::Mat& frame, const tracking::FrameResult& result) = 0;
+  virtual void FrameTracked(double t, const cv::Mat& frame,
+                            const tracking::FrameResult& result) = 0;
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -26,8 +26,8 @@ Result<std::unique_ptr<PatchCollector>> PatchCollector::Create(
   const std::string outbox_path = config.outbox_path.empty()
                                       ? "fleetloc-outbox-" + config.vehicle_id + ".db"
                                       : config.outbox_path;
-  auto outbox = PatchOutbox::Open(outbox_path, {config.outbox_max_patches,
-                                               static_cast<long long>(config.outbox_max_mb) << 20});
+  auto outbox = PatchOutbox::Open(
+      outbox_path, {config.outbox_max_patches, static_cast<long long>(config.outbox_max_mb) << 20});
   if (!outbox.ok()) return outbox.status();
   collector->outbox_ = std::move(outbox).value();
   return collector;
@@ -35,7 +35,9 @@ Result<std::unique_ptr<PatchCollector>> PatchCollector::Create(
 
 void PatchCollector::FrameTracked(double t, const cv::Mat& frame,
                                   const tracking::FrameResult& result) {
-  if (result.state != tracking::LockState::kTracking || t - last_patch_t_ < config_.patch_min_interval_s) return;
+  if (result.state != tracking::LockState::kTracking ||
+      t - last_patch_t_ < config_.patch_min_interval_s)
+    return;
   const geometry::Pose2 camera = result.base_in_map.pose * camera_.mount;
   const cv::Mat view = tracking::RenderPredictedView(
       view_, {0, 0, frame.cols, frame.rows},
@@ -51,7 +53,8 @@ void PatchCollector::FrameTracked(double t, const cv::Mat& frame,
   patch.mosaic_version = layout_.version;
   patch.pose = camera;  // camera_ground of the image centre (principal point)
   // The camera pose's covariance: the base's, carried through the rigid mount (first order).
-  const geometry::PoseWithCovariance cam = geometry::ComposeFixed(result.base_in_map, camera_.mount);
+  const geometry::PoseWithCovariance cam =
+      geometry::ComposeFixed(result.base_in_map, camera_.mount);
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(patch.covariance) = cam.covariance;
   patch.quality = static_cast<float>(std::min(1.0, result.inliers / 20.0));
   patch.resolution_m = camera_.resolution_m;
@@ -104,14 +107,16 @@ void PatchCollector::Pump(bool map_server_reachable) {
 }
 
 void PatchCollector::Drain(const std::atomic<bool>& stop, bool map_server_reachable) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.drain_s);
+  const auto end =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.drain_s);
   Result<long long> left = outbox_->Size();
   while (!stop.load() && left.ok() && *left > 0 && std::chrono::steady_clock::now() < end) {
     Pump(map_server_reachable);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     left = outbox_->Size();
   }
-  if (left.ok() && *left > 0) spdlog::warn("{} patches stay in the outbox for the next start", *left);
+  if (left.ok() && *left > 0)
+    spdlog::warn("{} patches stay in the outbox for the next start", *left);
 }
 
 long long PatchCollector::waiting() {

@@ -39,8 +39,12 @@ class PatchCollector : public TrackedFrameObserver {
   PatchCollector(const AgentConfig& config, const geometry::CameraModel& camera,
                  const mosaic::MosaicLayout* layout, mosaic::RasterSource* view,
                  const MapServerDirectory* map_servers, HealthCounters* health)
-      : config_(config), camera_(camera), layout_(*layout), view_(view),
-        map_servers_(*map_servers), health_(*health) {}
+      : config_(config),
+        camera_(camera),
+        layout_(*layout),
+        view_(view),
+        map_servers_(*map_servers),
+        health_(*health) {}
   // One acknowledgement (DecideAck): counts it for its replica, or drops a rejected patch.
   void TakeAck(const transport::ReceivedAck& ack);
 

@@ -41,7 +41,8 @@ Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
                                         dds.view(), &dds.map_servers(), &agent->health_);
   if (!patches.ok()) return patches.status();
   agent->patches_ = std::move(patches).value();
-  const LocalizationPorts ports{&dds, &dds.relocalizer(), &dds, agent->patches_.get(), &agent->health_};
+  const LocalizationPorts ports{&dds, &dds.relocalizer(), &dds, agent->patches_.get(),
+                                &agent->health_};
   agent->core_ = std::make_unique<LocalizationCore>(LocalizationOptionsFor(config), options, camera,
                                                     dds.layout(), dds.view(), initial, ports,
                                                     std::move(position_update));
@@ -67,7 +68,8 @@ void TrackerAgent::HandleEvent(const InputEvent& e) {
 
 void TrackerAgent::PumpBetweenEvents() {
   link_->UpdateMapServerReachability();
-  link_->ApplyTileUpdates([this](const std::vector<mosaic::TileKey>& changed) { core_->DropTiles(changed); });
+  link_->ApplyTileUpdates(
+      [this](const std::vector<mosaic::TileKey>& changed) { core_->DropTiles(changed); });
   core_->BetweenEvents();
   link_->relocalizer().Poll();
   patches_->Pump(link_->map_server_reachable());
@@ -86,7 +88,8 @@ void TrackerAgent::PublishHealth() {
   in.patch_outbox = static_cast<size_t>(patches_->waiting());
   in.position_update = core_->position_update() ? &core_->position_update()->stats() : nullptr;
   in.patch_outbox_dropped = patches_->dropped();
-  if (input_ != nullptr) in.input_issues = input_->Issues(), in.input_dropped = input_->DroppedFrames();
+  if (input_ != nullptr)
+    in.input_issues = input_->Issues(), in.input_dropped = input_->DroppedFrames();
   link_->PublishHealth(std::move(in));
 }
 
@@ -121,10 +124,16 @@ Status TrackerAgent::WriteSummary() {
         {"p95", health_.CyclePercentile(95, 10000)},
         {"p99", health_.CyclePercentile(99, 10000)}}},
       {"tiles",
-       {{"requested", tiles.requested}, {"received", tiles.received}, {"waited", tiles.waited},
-        {"timeouts", tiles.timeouts}, {"unserved", tiles.unserved}, {"errors", tiles.errors},
-        {"invalidated", tiles.invalidated}, {"refreshed", tiles.refreshed},
-        {"stale", tiles.stale}, {"reasked", tiles.reasked}}},
+       {{"requested", tiles.requested},
+        {"received", tiles.received},
+        {"waited", tiles.waited},
+        {"timeouts", tiles.timeouts},
+        {"unserved", tiles.unserved},
+        {"errors", tiles.errors},
+        {"invalidated", tiles.invalidated},
+        {"refreshed", tiles.refreshed},
+        {"stale", tiles.stale},
+        {"reasked", tiles.reasked}}},
       {"relocalization",
        {{"index_version", relocalizer.index_version()},
         {"indexes_loaded", reloc.indexes_loaded},
@@ -136,7 +145,8 @@ Status TrackerAgent::WriteSummary() {
         {"ambiguous", reloc.ambiguous},
         {"mean_ms", reloc.attempts > 0 ? reloc.total_ms / reloc.attempts : 0.0}}}};
   const AgentPositionUpdate* position_update = core_->position_update();
-  summary["position_update"] = position_update ? ToJson(position_update->stats()) : nlohmann::json::object();
+  summary["position_update"] =
+      position_update ? ToJson(position_update->stats()) : nlohmann::json::object();
   summary["position_update"]["enabled"] = position_update != nullptr;
   summary["capture_to_pose_ms"] = link_->capture_latency().Summary();
   const ExtrapolationStats extrapolation = core_->extrapolation();
@@ -173,7 +183,8 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   const Status summary = config_.summary_path.empty() ? Status::Ok() : WriteSummary();
   input_ = nullptr;
   FLEETLOC_RETURN_IF_ERROR(summary);
-  spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(), health_.CyclePercentile(50));
+  spdlog::info("stopping after {} frames (cycle median {:.2f} ms)", health_.frames(),
+               health_.CyclePercentile(50));
   return Status::Ok();
 }
 
