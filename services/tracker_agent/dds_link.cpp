@@ -44,11 +44,12 @@ Result<std::unique_ptr<DdsLink>> DdsLink::Create(const AgentConfig& config,
                                       "vehicle " + config.vehicle_id + "'s camera"));
   FLEETLOC_RETURN_IF_ERROR(link->OpenTiles(deadline));
   FLEETLOC_RETURN_IF_ERROR(link->OpenRelocalizer(camera));
-  if (config.ros.enabled) {
-    FLEETLOC_RETURN_IF_ERROR(TakeInto(
-        RosBridge::Create(*link->participant_, config.ros, config.vehicle_id), &link->ros_));
-  }
   return link;
+}
+
+Status DdsLink::OpenRosBridge() {
+  if (!config_.ros.enabled) return Status::Ok();
+  return TakeInto(RosBridge::Create(*participant_, config_.ros, config_.vehicle_id), &ros_);
 }
 
 Status DdsLink::OpenStreams() {

@@ -31,11 +31,15 @@ class DdsLink : public TileSupply, public PosePublisher {
  public:
   // Joins config.domain_id, waits (up to mosaic_wait_s) for a map server's MosaicInfo and for
   // servers covering the whole mosaic, checks `camera`'s resolution against it and opens the
-  // tiles, the place index channel and (config.ros.enabled) the ROS 2 bridge. Errors it meets
-  // later go to `health`, which must outlive the link.
+  // tiles and the place index channel. Errors it meets later go to `health`, which must outlive
+  // the link.
   static Result<std::unique_ptr<DdsLink>> Create(const AgentConfig& config,
                                                  const geometry::CameraModel& camera,
                                                  AgentHealth* health);
+
+  // The ROS 2 bridge (config.ros.enabled), opened last, once the agent is otherwise ready: the
+  // vehicle's stack starts sending odometry and start poses when it sees the bridge's readers.
+  Status OpenRosBridge();
 
   const transport::Participant& participant() const { return *participant_; }
   // The mosaic as announced, its version raised by each TileUpdate taken.

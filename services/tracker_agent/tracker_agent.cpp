@@ -46,6 +46,7 @@ Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
   agent->core_ = std::make_unique<LocalizationCore>(LocalizationOptionsFor(config), options, camera,
                                                     dds.layout(), dds.view(), initial, ports,
                                                     std::move(position_update));
+  FLEETLOC_RETURN_IF_ERROR(dds.OpenRosBridge());
   agent->metrics_ = std::make_unique<metrics::ServiceMetrics>(config.metrics, "tracker_agent");
   if (!agent->metrics_->error().empty()) agent->health_.RecordError(agent->metrics_->error());
   return agent;
