@@ -60,6 +60,68 @@ Status Validate(const AgentConfig& c) {
 
 bool IsLiveSource(const std::string& source) { return source == "aravis" || source == "gstreamer"; }
 
+namespace {
+
+// The configuration's strings and integers (in `fields`) into *c.
+Status ReadTextAndIntegerFields(const io::JsonFields& fields, AgentConfig* c) {
+  for (const auto& [key, target] : {std::pair{"vehicle_id", &c->vehicle_id}, {"dds_config", &c->dds_config_path},
+                                    {"run", &c->run_path}, {"tracker", &c->tracker_options_path},
+                                    {"outbox", &c->outbox_path}, {"source", &c->source},
+                                    {"sim_floor", &c->sim_floor}, {"start_pose", &c->start_pose},
+                                    {"landmarks", &c->landmarks_path}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
+  }
+  for (const auto& [key, target] : {std::pair{"domain", &c->domain_id}, {"tile_cache_mb", &c->tile_cache_mb},
+                                    {"tile_timeout_ms", &c->tile_timeout_ms},
+                                    {"prefetch_margin_px", &c->prefetch_margin_px},
+                                    {"sim_seed", &c->sim_seed},
+                                    {"outbox_max_patches", &c->outbox_max_patches},
+                                    {"outbox_max_mb", &c->outbox_max_mb},
+                                    {"relocalize_after_coasting_frames", &c->relocalize_after_coasting_frames},
+                                    {"relocalize_trajectory_frames", &c->relocalize_trajectory_frames}}) {
+    if (!fields.Has(key)) continue;
+    double value = 0;
+    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
+    if (value != static_cast<int>(value)) return fields.Error(key, "must be an integer");
+    *target = static_cast<int>(value);
+  }
+  return Status::Ok();
+}
+
+// The configuration's real numbers and flags (in `fields`) into *c.
+Status ReadRealAndFlagFields(const io::JsonFields& fields, AgentConfig* c) {
+  for (const auto& [key, target] : {std::pair{"health_period_s", &c->health_period_s},
+                                    {"map_server_timeout_s", &c->map_server_timeout_s},
+                                    {"mosaic_wait_s", &c->mosaic_wait_s},
+                                    {"patch_min_interval_s", &c->patch_min_interval_s},
+                                    {"patch_min_changed", &c->patch_min_changed},
+                                    {"patch_retry_s", &c->patch_retry_s},
+                                    {"sim_resolution_m", &c->sim_resolution_m},
+                                    {"sim_speed_px_s", &c->sim_speed_px_s},
+                                    {"sim_rate_hz", &c->sim_rate_hz},
+                                    {"position_update_period_s", &c->position_update_period_s},
+                                    {"position_update_window_s", &c->position_update_window_s}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
+  }
+  if (fields.Has("sim_start_fraction")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("sim_start_fraction", &c->sim_start_fraction));
+  }
+  for (const auto& [key, target] : {std::pair{"drain_s", &c->drain_s},
+                                    {"prefetch_ahead_s", &c->prefetch_ahead_s},
+                                    {"relocalize_interval_s", &c->relocalize_interval_s},
+                                    {"position_update_half_life_s",
+                                     &c->position_update_half_life_s}}) {
+    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, target));
+  }
+  if (fields.Has("relocalize_on_lost")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.Bool("relocalize_on_lost", &c->relocalize_on_lost));
+  }
+  if (fields.Has("paced")) FLEETLOC_RETURN_IF_ERROR(fields.Bool("paced", &c->paced));
+  return Status::Ok();
+}
+
+}  // namespace
+
 Result<AgentConfig> LoadAgentConfig(const std::string& path) {
   Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
   if (!json.ok()) return json.status();
@@ -76,54 +138,8 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
   AgentConfig c;
-  for (const auto& [key, target] : {std::pair{"vehicle_id", &c.vehicle_id}, {"dds_config", &c.dds_config_path},
-                                    {"run", &c.run_path}, {"tracker", &c.tracker_options_path},
-                                    {"outbox", &c.outbox_path}, {"source", &c.source},
-                                    {"sim_floor", &c.sim_floor}, {"start_pose", &c.start_pose},
-                                    {"landmarks", &c.landmarks_path}}) {
-    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString(key, target));
-  }
-  for (const auto& [key, target] : {std::pair{"domain", &c.domain_id}, {"tile_cache_mb", &c.tile_cache_mb},
-                                    {"tile_timeout_ms", &c.tile_timeout_ms},
-                                    {"prefetch_margin_px", &c.prefetch_margin_px},
-                                    {"sim_seed", &c.sim_seed},
-                                    {"outbox_max_patches", &c.outbox_max_patches},
-                                    {"outbox_max_mb", &c.outbox_max_mb},
-                                    {"relocalize_after_coasting_frames", &c.relocalize_after_coasting_frames},
-                                    {"relocalize_trajectory_frames", &c.relocalize_trajectory_frames}}) {
-    if (!fields.Has(key)) continue;
-    double value = 0;
-    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
-    if (value != static_cast<int>(value)) return fields.Error(key, "must be an integer");
-    *target = static_cast<int>(value);
-  }
-  for (const auto& [key, target] : {std::pair{"health_period_s", &c.health_period_s},
-                                    {"map_server_timeout_s", &c.map_server_timeout_s},
-                                    {"mosaic_wait_s", &c.mosaic_wait_s},
-                                    {"patch_min_interval_s", &c.patch_min_interval_s},
-                                    {"patch_min_changed", &c.patch_min_changed},
-                                    {"patch_retry_s", &c.patch_retry_s},
-                                    {"sim_resolution_m", &c.sim_resolution_m},
-                                    {"sim_speed_px_s", &c.sim_speed_px_s},
-                                    {"sim_rate_hz", &c.sim_rate_hz},
-                                    {"position_update_period_s", &c.position_update_period_s},
-                                    {"position_update_window_s", &c.position_update_window_s}}) {
-    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber(key, target));
-  }
-  if (fields.Has("sim_start_fraction")) {
-    FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber("sim_start_fraction", &c.sim_start_fraction));
-  }
-  for (const auto& [key, target] : {std::pair{"drain_s", &c.drain_s},
-                                    {"prefetch_ahead_s", &c.prefetch_ahead_s},
-                                    {"relocalize_interval_s", &c.relocalize_interval_s},
-                                    {"position_update_half_life_s",
-                                     &c.position_update_half_life_s}}) {
-    if (fields.Has(key)) FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, target));
-  }
-  if (fields.Has("relocalize_on_lost")) {
-    FLEETLOC_RETURN_IF_ERROR(fields.Bool("relocalize_on_lost", &c.relocalize_on_lost));
-  }
-  if (fields.Has("paced")) FLEETLOC_RETURN_IF_ERROR(fields.Bool("paced", &c.paced));
+  FLEETLOC_RETURN_IF_ERROR(ReadTextAndIntegerFields(fields, &c));
+  FLEETLOC_RETURN_IF_ERROR(ReadRealAndFlagFields(fields, &c));
   if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
   c.ros.enabled = IsLiveSource(c.source);  // the default; "ros.enabled" overrides
   FLEETLOC_RETURN_IF_ERROR(ReadLiveOptions(fields, *json, &c.live, &c.ros));

@@ -1,37 +1,12 @@
-// Health bookkeeping and VehicleHealth filling.
+// VehicleHealth filling from the counts and the DDS side's state.
 #include "tracker_agent/agent_health.h"
 
 #include <cmath>
 
-#include "replay/replay.h"
 #include "transport/pose_messages.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::tracker_agent {
-
-void AgentHealth::RecordFrame(const tracking::FrameResult& result, double cycle_ms) {
-  cycle_ms_.push_back(cycle_ms);
-  if (cycle_ms_.size() > 10000) cycle_ms_.pop_front();
-  state_ = result.state;
-  inliers_ = result.inliers;
-  ++frames_;
-}
-
-void AgentHealth::RecordDroppedFrame(const std::string& error) {
-  ++dropped_;
-  last_error_ = error;
-}
-
-void AgentHealth::RecordError(const std::string& error) { last_error_ = error; }
-
-void AgentHealth::RecordRelocalization(bool found) {
-  if (found) state_ = tracking::LockState::kRelocalized;
-}
-
-double AgentHealth::CyclePercentile(double percent, size_t window) const {
-  const size_t n = std::min(window, cycle_ms_.size());
-  return replay::Percentile({cycle_ms_.end() - static_cast<long>(n), cycle_ms_.end()}, percent);
-}
 
 void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
                        std::vector<fleetloc_HealthIssue>* issues) const {
@@ -39,19 +14,19 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   h->wire_version = fleetloc_CURRENT_WIRE_VERSION;
   transport::SetBounded(h->vehicle_id, in.vehicle_id);
   h->stamp = transport::NowStamp();
-  h->lock_state = transport::ToIdl(state_);
+  h->lock_state = transport::ToIdl(lock_state());
   h->cycle_ms_p50 = static_cast<float>(CyclePercentile(50));
   h->cycle_ms_p95 = static_cast<float>(CyclePercentile(95));
   h->cycle_ms_p99 = static_cast<float>(CyclePercentile(99));
-  h->inliers = static_cast<uint32_t>(inliers_);
+  h->inliers = static_cast<uint32_t>(inliers());
   const long long lookups = in.cache.hits + in.cache.misses;
   h->cache_hit_rate = lookups > 0 ? static_cast<float>(in.cache.hits) / lookups : 1.0f;
   h->tiles_pending = static_cast<uint32_t>(in.tiles_pending);
   h->patch_outbox = static_cast<uint32_t>(in.patch_outbox);
   h->map_server_reachable = in.map_server_reachable;
-  const long long dropped = dropped_ + in.input_dropped;
+  const long long dropped = dropped_frames() + in.input_dropped;
   h->camera_frame_drops = static_cast<uint64_t>(dropped);
-  transport::SetBounded(h->last_error, last_error_);
+  transport::SetBounded(h->last_error, last_error());
   issues->clear();
   auto add = [&](const char* name, fleetloc_HealthLevel level, const std::string& message) {
     fleetloc_HealthIssue issue{};
@@ -60,12 +35,13 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
     transport::SetBounded(issue.message, message);
     issues->push_back(issue);
   };
-  if (state_ == tracking::LockState::kLost) {
+  if (lock_state() == tracking::LockState::kLost) {
     add("lock_lost", fleetloc_HEALTH_ERROR,
         in.place_index_ready ? "localization lost: relocalizing"
                              : "localization lost and no place index yet to relocalize with");
   }
-  if (state_ == tracking::LockState::kCoasting) add("coasting", fleetloc_HEALTH_WARN, "odometry only");
+  if (lock_state() == tracking::LockState::kCoasting)
+    add("coasting", fleetloc_HEALTH_WARN, "odometry only");
   if (!in.map_server_reachable) {
     add("map_server_unreachable", fleetloc_HEALTH_WARN,
         in.unreachable_servers.empty()
@@ -73,7 +49,8 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
             : in.unreachable_servers + ": their tiles from the cache only");
   }
   if (in.loader.timeouts > 0) {
-    add("tile_timeouts", fleetloc_HEALTH_WARN, std::to_string(in.loader.timeouts) + " tile waits timed out");
+    add("tile_timeouts", fleetloc_HEALTH_WARN,
+        std::to_string(in.loader.timeouts) + " tile waits timed out");
   }
   if (const PositionUpdateStats* u = in.position_update; u && u->last_rejected) {
     // While the newest fit was rejected (an issue name alone reads as a problem on the
@@ -87,12 +64,15 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
         counts + "; last rejected: " + u->last_reason);
   }
   for (const InputIssue& issue : in.input_issues) {
-    add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN, issue.message);
+    add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN,
+        issue.message);
   }
-  if (dropped > 0) add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
+  if (dropped > 0)
+    add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
   if (in.patch_outbox_dropped > 0) {
     add("patch_outbox_full", fleetloc_HEALTH_WARN,
-        std::to_string(in.patch_outbox_dropped) + " patches dropped from the full outbox (oldest, lowest quality)");
+        std::to_string(in.patch_outbox_dropped) +
+            " patches dropped from the full outbox (oldest, lowest quality)");
   }
   h->level = fleetloc_HEALTH_OK;
   for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);

@@ -3,58 +3,38 @@
 // error, turned into a VehicleHealth with a level (OK / WARN / ERROR) and named issues.
 #pragma once
 
-#include <deque>
 #include <string>
 #include <vector>
 
 #include "mosaic/tile_cache.h"
 #include "tracker_agent/agent_position_update.h"
+#include "tracker_agent/health_counters.h"
 #include "tracker_agent/vehicle_input.h"
-#include "tracking/frame_localizer.h"
 #include "transport/dds_tile_loader.h"
 #include "transport/fleetloc_types.h"
 
 namespace fleetloc::tracker_agent {
 
-class AgentHealth {
+// The counts (HealthCounters) and the VehicleHealth made of them and of the DDS side's state.
+class AgentHealth : public HealthCounters {
  public:
-  void RecordFrame(const tracking::FrameResult& result, double cycle_ms);
-  void RecordDroppedFrame(const std::string& error);
-  void RecordError(const std::string& error);
-  // A global relocalization attempt; a found pose makes the lock state `relocalized`.
-  void RecordRelocalization(bool found);
-  // The lock state changed without a frame (started without downward frames, a position update).
-  void RecordLockState(tracking::LockState state) { state_ = state; }
-
   struct Inputs {
     std::string vehicle_id;
     mosaic::TileCacheStats cache;
     transport::DdsTileLoaderStats loader;
     size_t tiles_pending = 0;
     size_t patch_outbox = 0;
-    bool map_server_reachable = false;     // every map server owning part of the mosaic
-    std::string unreachable_servers;       // their ids when not, comma-separated
-    bool place_index_ready = false;  // relocalization possible
+    bool map_server_reachable = false;  // every map server owning part of the mosaic
+    std::string unreachable_servers;    // their ids when not, comma-separated
+    bool place_index_ready = false;     // relocalization possible
     const PositionUpdateStats* position_update = nullptr;  // null: no position updates
-    long long patch_outbox_dropped = 0;  // patches the full outbox dropped (ever, this vehicle)
+    long long patch_outbox_dropped = 0;    // patches the full outbox dropped (ever, this vehicle)
     std::vector<InputIssue> input_issues;  // the live input's (camera, odometry)
     long long input_dropped = 0;           // frames the input lost before the agent saw them
   };
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,
             std::vector<fleetloc_HealthIssue>* issue_storage) const;
-
-  // Over the last `window` frames (at most 10,000).
-  double CyclePercentile(double percent, size_t window = 200) const;
-  long long frames() const { return frames_; }
-
- private:
-  std::deque<double> cycle_ms_;  // the last 10,000 frames (health uses the last 200)
-  tracking::LockState state_ = tracking::LockState::kLost;
-  int inliers_ = 0;
-  long long frames_ = 0;
-  long long dropped_ = 0;
-  std::string last_error_;
 };
 
 }  // namespace fleetloc::tracker_agent

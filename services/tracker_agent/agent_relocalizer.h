@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mapmatch/relocalizer.h"
+#include "tracker_agent/localization_ports.h"
 #include "transport/place_index_channel.h"
 
 namespace fleetloc::tracker_agent {
@@ -26,26 +27,27 @@ struct RelocalizationStats {
   double total_ms = 0.0;
 };
 
-class AgentRelocalizer {
+class AgentRelocalizer : public GlobalRelocalization {
  public:
   // `mosaic` (the agent's view of `mosaic_id`) must outlive this object.
   static Result<std::unique_ptr<AgentRelocalizer>> Create(
       const transport::Participant& participant, std::string mosaic_id,
       mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
       const mapmatch::RelocalizerOptions& options);
-  ~AgentRelocalizer();
+  ~AgentRelocalizer() override;
 
   // Takes arrived index chunks; starts loading a newly completed index in the background and
   // swaps in one whose loading finished. Cheap; call once per loop.
   void Poll();
-  bool ready() const { return relocalizer_ != nullptr; }
+  bool ready() const override { return relocalizer_ != nullptr; }
   long long index_version() const { return index_version_; }
   // Relocalizes `frame` (rectified, the camera's size) taken at `base_in_odom`; frames that find
   // nothing alone are combined with odometry (Relocalizer's multi-frame search). Requires ready().
   Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame,
-                                              const geometry::Pose2& base_in_odom);
+                                              const geometry::Pose2& base_in_odom) override;
   // Forgets the frames held for the multi-frame search (the vehicle tracks again).
-  void ResetTrajectory();
+  void ResetTrajectory() override;
+  double last_ms() const override { return stats_.last_ms; }
   const RelocalizationStats& stats() const { return stats_; }
   std::uint64_t chunks_rejected() const { return receiver_->rejected(); }
 
