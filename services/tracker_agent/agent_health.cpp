@@ -10,6 +10,15 @@ namespace fleetloc::tracker_agent {
 
 void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
                        std::vector<fleetloc_HealthIssue>* issues) const {
+  FillFigures(in, h);
+  ListIssues(in, issues);
+  h->level = fleetloc_HEALTH_OK;
+  for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);
+  h->issues._buffer = issues->data();
+  h->issues._length = h->issues._maximum = static_cast<uint32_t>(issues->size());
+}
+
+void AgentHealth::FillFigures(const Inputs& in, fleetloc_VehicleHealth* h) const {
   *h = {};
   h->wire_version = fleetloc_CURRENT_WIRE_VERSION;
   transport::SetBounded(h->vehicle_id, in.vehicle_id);
@@ -27,6 +36,10 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
   const long long dropped = dropped_frames() + in.input_dropped;
   h->camera_frame_drops = static_cast<uint64_t>(dropped);
   transport::SetBounded(h->last_error, last_error());
+}
+
+void AgentHealth::ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>* issues) const {
+  const long long dropped = dropped_frames() + in.input_dropped;
   issues->clear();
   auto add = [&](const char* name, fleetloc_HealthLevel level, const std::string& message) {
     fleetloc_HealthIssue issue{};
@@ -74,10 +87,6 @@ void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
         std::to_string(in.patch_outbox_dropped) +
             " patches dropped from the full outbox (oldest, lowest quality)");
   }
-  h->level = fleetloc_HEALTH_OK;
-  for (const fleetloc_HealthIssue& issue : *issues) h->level = std::max(h->level, issue.level);
-  h->issues._buffer = issues->data();
-  h->issues._length = h->issues._maximum = static_cast<uint32_t>(issues->size());
 }
 
 }  // namespace fleetloc::tracker_agent

@@ -35,6 +35,11 @@ class AgentHealth : public HealthCounters {
   // Fills `health` (its issues point into `issue_storage`, which must outlive the write).
   void Fill(const Inputs& in, fleetloc_VehicleHealth* health,
             std::vector<fleetloc_HealthIssue>* issue_storage) const;
+
+ private:
+  // The message's figures, and the issues that explain its level.
+  void FillFigures(const Inputs& in, fleetloc_VehicleHealth* health) const;
+  void ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>* issues) const;
 };
 
 }  // namespace fleetloc::tracker_agent
