@@ -114,10 +114,10 @@ FleetSummary FleetState::Summary() const {
       ++s.unknown;
     } else {
       switch (pose->lock) {
-        case tracking::LockState::kTracking: ++s.tracking; break;
-        case tracking::LockState::kCoasting: ++s.coasting; break;
-        case tracking::LockState::kLost: ++s.lost; break;
-        case tracking::LockState::kRelocalized: ++s.relocalized; break;
+        case localization::LockState::kTracking: ++s.tracking; break;
+        case localization::LockState::kCoasting: ++s.coasting; break;
+        case localization::LockState::kLost: ++s.lost; break;
+        case localization::LockState::kRelocalized: ++s.relocalized; break;
       }
     }
     for (const auto& [kind, alert] : entry.open) {

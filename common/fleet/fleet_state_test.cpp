@@ -6,7 +6,7 @@
 namespace fleetloc::fleet {
 namespace {
 
-using tracking::LockState;
+using localization::LockState;
 constexpr double kT0 = 1.7e9;
 
 PoseSample Pose(double t, double x, LockState lock = LockState::kTracking, double dev_m = 0.001) {

@@ -70,7 +70,7 @@ VehicleAlerts::Measure VehicleAlerts::Measured(AlertKind kind, double now, doubl
     }
     case AlertKind::kLockLost: {
       if (!pose) return {};
-      return {pose->lock == tracking::LockState::kLost ? 1.0 : 0.0, "localization lost"};
+      return {pose->lock == localization::LockState::kLost ? 1.0 : 0.0, "localization lost"};
     }
     case AlertKind::kUncertainty: {
       if (!pose) return {};

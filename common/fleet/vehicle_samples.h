@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "tracking/frame_localizer.h"
+#include "localization/lock_state.h"
 
 namespace fleetloc::fleet {
 
@@ -16,7 +16,7 @@ struct PoseSample {
   double t = 0.0;  // Unix seconds (the publisher's stamp)
   double x = 0.0, y = 0.0, theta = 0.0;
   double cov_xx = 0.0, cov_xy = 0.0, cov_yy = 0.0, cov_tt = 0.0;
-  tracking::LockState lock = tracking::LockState::kLost;
+  localization::LockState lock = localization::LockState::kLost;
   double localization_score = 0.0;  // 0..1
   double deviation_range_m = 0.0;   // 3 sigma of position
   long long mosaic_version = 0;
@@ -29,7 +29,7 @@ struct HealthSample {
   double t = 0.0;  // Unix seconds
   HealthLevel level = HealthLevel::kOk;
   std::vector<std::string> issues;  // names of the reported issues
-  tracking::LockState lock = tracking::LockState::kLost;
+  localization::LockState lock = localization::LockState::kLost;
   double cycle_ms_p50 = 0.0, cycle_ms_p95 = 0.0, cycle_ms_p99 = 0.0;
   int inliers = 0;
   double cache_hit_rate = 1.0;

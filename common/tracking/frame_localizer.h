@@ -7,14 +7,15 @@
 #include <string>
 
 #include "geometry/pose2.h"
+#include "localization/lock_state.h"
 
 namespace fleetloc::tracking {
 
-enum class LockState { kTracking, kCoasting, kLost, kRelocalized };
+using localization::LockState;
+using localization::LockStateName;
 
 // What became of a frame's dense alignment (tracking/direct_aligner.h).
 enum class DirectUse { kNotRun, kUsed, kRefused, kDisagreed };
-const char* LockStateName(LockState state);
 const char* DirectUseName(DirectUse use);  // "not_run", "used", "refused", "disagreed"
 
 struct FrameResult {

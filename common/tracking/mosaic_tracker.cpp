@@ -35,19 +35,6 @@ const cv::Mat& PyramidLevel(std::vector<cv::Mat>* pyramid, int level) {
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
-const char* LockStateName(LockState state) {  // declared in frame_localizer.h
-  switch (state) {
-    case LockState::kTracking:
-      return "tracking";
-    case LockState::kCoasting:
-      return "coasting";
-    case LockState::kLost:
-      return "lost";
-    case LockState::kRelocalized:
-      return "relocalized";
-  }
-  return "lost";
-}
 
 const char* DirectUseName(DirectUse use) {  // declared in frame_localizer.h
   switch (use) {

@@ -18,7 +18,7 @@ json PoseJson(const fleet::PoseSample& p) {
           {"y", p.y},
           {"theta", p.theta},
           {"cov", {p.cov_xx, p.cov_xy, p.cov_yy, p.cov_tt}},
-          {"lock", tracking::LockStateName(p.lock)},
+          {"lock", localization::LockStateName(p.lock)},
           {"score", p.localization_score},
           {"deviation_m", p.deviation_range_m},
           {"mosaic_version", p.mosaic_version}};
@@ -28,7 +28,7 @@ json HealthJson(const fleet::HealthSample& h) {
   return {{"t", h.t},
           {"level", fleet::HealthLevelName(h.level)},
           {"issues", h.issues},
-          {"lock", tracking::LockStateName(h.lock)},
+          {"lock", localization::LockStateName(h.lock)},
           {"cycle_ms", {h.cycle_ms_p50, h.cycle_ms_p95, h.cycle_ms_p99}},
           {"inliers", h.inliers},
           {"cache_hit_rate", h.cache_hit_rate},
@@ -112,7 +112,7 @@ json PoseHistoryJson(const std::vector<StoredPose>& poses, size_t max_points) {
     const fleet::PoseSample& p = poses[i].pose;
     out["t"].push_back(poses[i].received), out["x"].push_back(p.x), out["y"].push_back(p.y);
     out["theta"].push_back(p.theta), out["deviation_m"].push_back(p.deviation_range_m);
-    out["score"].push_back(p.localization_score), out["lock"].push_back(tracking::LockStateName(p.lock));
+    out["score"].push_back(p.localization_score), out["lock"].push_back(localization::LockStateName(p.lock));
   }
   return out;
 }

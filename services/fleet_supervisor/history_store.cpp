@@ -81,7 +81,7 @@ StoredPose ReadPose(sqlite3_stmt* s) {
   for (int i = 0; i < 9; ++i) {
     if (targets[i]) *targets[i] = sqlite3_column_double(s, 1 + i);
   }
-  p.lock = static_cast<tracking::LockState>(std::clamp(sqlite3_column_int(s, 10), 0, 3));
+  p.lock = static_cast<localization::LockState>(std::clamp(sqlite3_column_int(s, 10), 0, 3));
   p.localization_score = sqlite3_column_double(s, 11);
   p.deviation_range_m = sqlite3_column_double(s, 12);
   p.mosaic_version = sqlite3_column_int64(s, 13);
@@ -116,7 +116,7 @@ StoredHealth ReadHealth(sqlite3_stmt* s) {
   r.received = sqlite3_column_double(s, 2);
   h.level = static_cast<fleet::HealthLevel>(std::clamp(sqlite3_column_int(s, 3), 0, 3));
   h.issues = SplitIssues(Text(s, 4));
-  h.lock = static_cast<tracking::LockState>(std::clamp(sqlite3_column_int(s, 5), 0, 3));
+  h.lock = static_cast<localization::LockState>(std::clamp(sqlite3_column_int(s, 5), 0, 3));
   h.cycle_ms_p50 = sqlite3_column_double(s, 6);
   h.cycle_ms_p95 = sqlite3_column_double(s, 7);
   h.cycle_ms_p99 = sqlite3_column_double(s, 8);

@@ -21,7 +21,7 @@ StoredPose Pose(const std::string& id, double t, double x) {
   StoredPose p;
   p.vehicle_id = id, p.received = t + 0.01;
   p.pose.t = t, p.pose.x = x, p.pose.y = -x, p.pose.theta = 0.5, p.pose.cov_xx = 1e-6;
-  p.pose.lock = tracking::LockState::kCoasting, p.pose.deviation_range_m = 0.003;
+  p.pose.lock = localization::LockState::kCoasting, p.pose.deviation_range_m = 0.003;
   p.pose.mosaic_version = 2;
   return p;
 }
@@ -52,7 +52,7 @@ TEST(HistoryStore, RowsRoundTripAndRangesAreOldestFirstWithTheNewestKept) {
   // Received 0.01 s after their stamps: the newest 5 received in [10, 50], oldest first.
   EXPECT_DOUBLE_EQ(range->front().pose.t, kT0 + 45);
   EXPECT_DOUBLE_EQ(range->back().pose.x, 4.9);
-  EXPECT_EQ(range->back().pose.lock, tracking::LockState::kCoasting);
+  EXPECT_EQ(range->back().pose.lock, localization::LockState::kCoasting);
   EXPECT_EQ(range->back().pose.mosaic_version, 2);
   auto h = (*store)->Health("agv-1", kT0, kT0 + 1000, 100);
   ASSERT_TRUE(h.ok());

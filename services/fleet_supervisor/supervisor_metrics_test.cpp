@@ -9,7 +9,7 @@
 namespace fleetloc::fleet_supervisor {
 namespace {
 
-fleet::PoseSample Pose(tracking::LockState lock) {
+fleet::PoseSample Pose(localization::LockState lock) {
   fleet::PoseSample p;
   p.t = 100;
   p.lock = lock;
@@ -25,9 +25,9 @@ metrics::Exposition Parse(metrics::FamilyBuilder* b) {
 
 TEST(SupervisorMetrics, CountsVehiclesByLockStateAndReportsEachVehiclesHealth) {
   fleet::FleetState fleet({}, {});
-  fleet.OnPose("agv-1", Pose(tracking::LockState::kTracking), 100);
-  fleet.OnPose("agv-2", Pose(tracking::LockState::kTracking), 100);
-  fleet.OnPose("agv-3", Pose(tracking::LockState::kLost), 100);
+  fleet.OnPose("agv-1", Pose(localization::LockState::kTracking), 100);
+  fleet.OnPose("agv-2", Pose(localization::LockState::kTracking), 100);
+  fleet.OnPose("agv-3", Pose(localization::LockState::kLost), 100);
   fleet::HealthSample h;
   h.cycle_ms_p95 = 12.5;
   h.patch_outbox = 17;

@@ -61,7 +61,7 @@ nlohmann::json VisualizationMessage(const Vda5050Header& h, const std::string& s
       {"theta", geometry::WrapAngle(pose.theta)},
       {"mapId", Vda5050MapId(mosaic_id, pose.mosaic_version)},
       {"mapDescription", "fleetloc floor mosaic " + mosaic_id + " version " + std::to_string(pose.mosaic_version)},
-      {"positionInitialized", pose.lock != tracking::LockState::kLost},
+      {"positionInitialized", pose.lock != localization::LockState::kLost},
       {"localizationScore", std::clamp(pose.localization_score, 0.0, 1.0)},
       {"deviationRange", std::max(0.0, pose.deviation_range_m)}};
   if (velocity) m["velocity"] = {{"vx", velocity->vx}, {"vy", velocity->vy}, {"omega", velocity->omega}};

@@ -53,7 +53,7 @@ TEST(Vda5050, VelocityIsInTheVehicleFrame) {
 TEST(Vda5050, VisualizationCarriesThePositionFieldsTheSchemaRequires) {
   fleet::PoseSample p;
   p.x = 1.5, p.y = -2.25, p.theta = 4.0;  // wrapped into (-pi, pi]
-  p.lock = tracking::LockState::kTracking;
+  p.lock = localization::LockState::kTracking;
   p.localization_score = 1.3;  // clamped to [0, 1]
   p.deviation_range_m = 0.004;
   p.mosaic_version = 3;
@@ -74,7 +74,7 @@ TEST(Vda5050, VisualizationCarriesThePositionFieldsTheSchemaRequires) {
   EXPECT_EQ(a["deviationRange"], 0.004);
   EXPECT_EQ(m["velocity"]["vx"], 0.5);
   EXPECT_EQ(m["velocity"]["omega"], 0.1);
-  p.lock = tracking::LockState::kLost;
+  p.lock = localization::LockState::kLost;
   const nlohmann::json lost = VisualizationMessage({}, "SN-7", 42, 0, p, "floor-a", std::nullopt);
   EXPECT_EQ(lost["agvPosition"]["positionInitialized"], false);
   EXPECT_FALSE(lost.contains("velocity"));

@@ -6,7 +6,12 @@
 #include "fleet_supervisor/fleet_listener.h"
 #include "fleet_supervisor/fleet_view.h"
 
+// Eigen (through the transport headers) before httplib: <resolv.h>, which httplib includes,
+// defines `_res`, a name Eigen's headers use.
+// clang-format off
+#include <Eigen/Core>
 #include <httplib.h>
+// clang-format on
 #include <spdlog/spdlog.h>
 
 #include <chrono>
