@@ -76,9 +76,16 @@ for pkg in map-server supervisor agent; do
   grep -qx "/etc/fleetloc/${config[$pkg]}" "$work/conffiles" || fail "$pkg: ${config[$pkg]} is not a conffile"
   grep -q "adduser --system" "$work/postinst" || fail "$pkg: postinst does not make the fleetloc user"
   depends="$(field "$d" Depends)"
-  for need in fleetloc-common libopencv libddsc libsystemd0 libc6; do
+  for need in fleetloc-common libddsc libsystemd0 libc6; do
     grep -q "$need" <<<"$depends" || fail "$pkg: Depends lacks $need: $depends"
   done
+  # The map server and the agent run image code; the supervisor links no OpenCV (its fleet logic
+  # shares only the lock-state vocabulary with the tracker), so its package must not pull it in.
+  if [ "$pkg" = supervisor ]; then
+    ! grep -q libopencv <<<"$depends" || fail "$pkg: depends on OpenCV, which it does not use: $depends"
+  else
+    grep -q libopencv <<<"$depends" || fail "$pkg: Depends lacks libopencv: $depends"
+  fi
   dpkg-deb --fsys-tarfile "$d" | tar -x -O "./lib/systemd/system/${unit[$pkg]}" >"$work/units/${unit[$pkg]/@.service/@agv-1.service}"
   grep -q "^ExecStart=/usr/bin/${binary[$pkg]} " "$work/units/${unit[$pkg]/@.service/@agv-1.service}" ||
     fail "$pkg: the unit does not start /usr/bin/${binary[$pkg]}"
