@@ -52,23 +52,20 @@ void ScaleInto(const float* in, float scale, float* out, int n) {
   for (int x = 0; x < n; ++x) out[x] = in[x] * scale;
 }
 
+// The window mean and variance of each pixel of a row, from its window sums.
 FLEETLOC_VECTOR_CLONES
-void NormalizeRow(const float* in, const float* mean_sum, const float* sq_sum, const float* inv_n,
-                  float epsilon, float* out, int n) {
+void MomentsRow(const float* mean_sum, const float* sq_sum, const float* inv_n, float* mean,
+                float* variance, int n) {
   for (int x = 0; x < n; ++x) {
-    const float mean = mean_sum[x] * inv_n[x];
-    const float variance = std::max(0.0f, sq_sum[x] * inv_n[x] - mean * mean);
-    out[x] = (in[x] - mean) / (std::sqrt(variance) + epsilon);
+    mean[x] = mean_sum[x] * inv_n[x];
+    variance[x] = std::max(0.0f, sq_sum[x] * inv_n[x] - mean[x] * mean[x]);
   }
 }
 
 FLEETLOC_VECTOR_CLONES
-void VarianceRow(const float* mean_sum, const float* sq_sum, const float* inv_n, float* out,
-                 int n) {
-  for (int x = 0; x < n; ++x) {
-    const float mean = mean_sum[x] * inv_n[x];
-    out[x] = std::max(0.0f, sq_sum[x] * inv_n[x] - mean * mean);
-  }
+void NormalizeRow(const float* in, const float* mean, const float* variance, float epsilon,
+                  float* out, int n) {
+  for (int x = 0; x < n; ++x) out[x] = (in[x] - mean[x]) / (std::sqrt(variance[x]) + epsilon);
 }
 
 // A float dot product with 8-wide AVX2 multiply-adds (the compiler may not reorder a float sum
@@ -181,7 +178,7 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   // prefix sums (interior columns as a difference of shifted prefixes, borders clipped).
   std::vector<float> col_sum(cols, 0.0f), col_sq(cols, 0.0f);
   std::vector<float> prefix(cols + 1), prefix_sq(cols + 1), sum(cols), sq(cols), inv_n(cols);
-  std::vector<float> inv_cols(cols);
+  std::vector<float> inv_cols(cols), mean(cols), variance_row(cols);
   for (int x = 0; x < cols; ++x) inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
   for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), col_sum.data(), col_sq.data(), cols, 1);
   cv::Mat out(f.size(), CV_32F);
@@ -209,11 +206,9 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
     }
     const float inv_rows = 1.0f / static_cast<float>(y_hi[y] - y_lo[y]);
     ScaleInto(inv_cols.data(), inv_rows, inv_n.data(), cols);
-    NormalizeRow(f.ptr<float>(y), sum.data(), sq.data(), inv_n.data(), epsilon,
-                 out.ptr<float>(y), cols);
-    if (local_variance) {
-      VarianceRow(sum.data(), sq.data(), inv_n.data(), local_variance->ptr<float>(y), cols);
-    }
+    float* variance = local_variance ? local_variance->ptr<float>(y) : variance_row.data();
+    MomentsRow(sum.data(), sq.data(), inv_n.data(), mean.data(), variance, cols);
+    NormalizeRow(f.ptr<float>(y), mean.data(), variance, epsilon, out.ptr<float>(y), cols);
   }
   return out;
 }
