@@ -55,12 +55,6 @@ inline constexpr int kScoreBlocks = 8;
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total);
 
-// Tukey's biweight: (1 − (r/c)²)² inside the cut-off c, 0 outside.
-inline double TukeyWeight(double r, double cutoff) {
-  const double x = r / cutoff;
-  return x * x >= 1.0 ? 0.0 : (1.0 - x * x) * (1.0 - x * x);
-}
-
 // The whole frame at level 0. `frame`: the normalized frame (CV_32F). `view`: the normalized
 // mosaic rendered at the pose (CV_32F) over `inner` grown by one pixel on each side, for the
 // central-difference gradient. `inner`: the frame pixels used (inside `frame`). `principal_px`:

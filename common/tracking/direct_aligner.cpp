@@ -122,6 +122,11 @@ Pose2 DirectAligner::AlignLevels(const std::vector<Level>& levels, int coarsest,
     if (level.points.size() < 3) continue;
     // Coarser levels only need to hand the next level a start well inside its basin.
     const double tolerance = options_.converged_px * (l == finest_level_ ? 1.0 : 5.0);
+    // Only the two finest levels' fits are judged: the others need no linearization at the end.
+    if (l > finest_level_ + 1) {
+      pose = AlignLevel(level, prior, pose, tolerance, &out->iterations, nullptr);
+      continue;
+    }
     pose = AlignLevel(level, prior, pose, tolerance, &out->iterations, final_fit);
     out->points = final_fit->points;
     out->inlier_fraction = final_fit->inlier_fraction;
@@ -130,7 +135,7 @@ Pose2 DirectAligner::AlignLevels(const std::vector<Level>& levels, int coarsest,
     // measured, also when a wide prediction moved the search coarser (where a weak floor keeps
     // less texture: painted pavement at 640×480 under `all`, right fits correlating 0.23 at the
     // 80×60 search level and 0.38–0.40 at 160×120).
-    if (l == coarsest || l == finest_level_ + 1) out->coarse_correlation = final_fit->correlation;
+    if (l == finest_level_ + 1 || l == coarsest) out->coarse_correlation = final_fit->correlation;
   }
   return pose;
 }

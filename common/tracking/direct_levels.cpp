@@ -9,7 +9,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/dense_linearization.h"
@@ -45,6 +47,56 @@ cv::Mat OccluderMask(const cv::Mat& variance, int window, double ratio) {
   cv::Mat mask = variance > ratio * ratio * median_variance;
   cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, {window, window}));
   return mask;
+}
+
+// The score block (kScoreBlocks² over the level, row-major) holding `point`.
+int ScoreBlock(const PixelPoint& point, const cv::Size& level_size) {
+  const int bx = std::min(kScoreBlocks - 1, static_cast<int>(point.u * kScoreBlocks / level_size.width));
+  const int by =
+      std::min(kScoreBlocks - 1, static_cast<int>(point.v * kScoreBlocks / level_size.height));
+  return by * kScoreBlocks + bx;
+}
+
+// One texel of WithGradients: the value at `x` of `row` with the neighbours `left`/`right` in
+// the row and the pixels `up`/`down` above and below it.
+inline void StoreTexel(float value, float left, float right, float up, float down, float* out) {
+  out[0] = value;
+  out[1] = 0.5f * (right - left);
+  out[2] = 0.5f * (down - up);
+  out[3] = 0.0f;
+}
+
+// `block` (CV_32F) with its gradients, interleaved as the bilinear sampler reads them: value,
+// d/dx, d/dy (half the neighbours' difference, 0 on the block's edge as OpenCV's reflected border
+// gives), 0. One vectorized pass where two Sobel filters and a merge took three, and the same
+// floats: the halving is exact.
+cv::Mat WithGradients(const cv::Mat& block) {
+  cv::Mat texels(block.size(), CV_32FC4);
+  const int last_x = block.cols - 1, last_y = block.rows - 1;
+  for (int y = 0; y <= last_y; ++y) {
+    const float* row = block.ptr<float>(y);
+    const float* up = block.ptr<float>(y > 0 ? y - 1 : std::min(1, last_y));
+    const float* down = block.ptr<float>(y < last_y ? y + 1 : std::max(0, last_y - 1));
+    float* out = texels.ptr<float>(y);
+    if (last_x < 2) {  // too narrow for an inside
+      for (int x = 0; x <= last_x; ++x) StoreTexel(row[x], 0, 0, up[x], down[x], out + 4 * x);
+      continue;
+    }
+    StoreTexel(row[0], row[1], row[1], up[0], down[0], out);
+    int x = 1;
+#if CV_SIMD128
+    const cv::v_float32x4 half = cv::v_setall_f32(0.5f), zero = cv::v_setzero_f32();
+    for (; x + 4 <= last_x; x += 4) {
+      const cv::v_float32x4 gx = half * (cv::v_load(row + x + 1) - cv::v_load(row + x - 1));
+      const cv::v_float32x4 gy = half * (cv::v_load(down + x) - cv::v_load(up + x));
+      cv::v_store_interleave(out + 4 * x, cv::v_load(row + x), gx, gy, zero);
+    }
+#endif
+    for (; x < last_x; ++x) StoreTexel(row[x], row[x - 1], row[x + 1], up[x], down[x], out + 4 * x);
+    StoreTexel(row[last_x], row[last_x - 1], row[last_x - 1], up[last_x], down[last_x],
+               out + 4 * last_x);
+  }
+  return texels;
 }
 
 }  // namespace
@@ -93,7 +145,9 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
             point.dv0 = static_cast<float>((y + 0.5) * (1 << l) - camera_.cy_px);
           }
         }
-        if (best > 1e-4f) level.points.push_back(point);
+        if (best <= 1e-4f) continue;
+        point.block = static_cast<std::uint8_t>(ScoreBlock(point, t.size()));
+        level.points.push_back(point);
       }
     }
   }
@@ -120,100 +174,86 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
                          static_cast<int>(std::ceil(max_y - min_y)) + 2 * kMargin + 1);
   source.level_size = {std::max(1, (layout.width_px + (1 << l) - 1) >> l),
                        std::max(1, (layout.height_px + (1 << l) - 1) >> l)};
-  const cv::Mat block = mosaic_->ReadBlock(l, source.rect);
-  cv::Mat grad_x, grad_y;
-  cv::Sobel(block, grad_x, CV_32F, 1, 0, 1, 0.5);
-  cv::Sobel(block, grad_y, CV_32F, 0, 1, 1, 0.5);
-  cv::merge(std::vector<cv::Mat>{block, grad_x, grad_y, cv::Mat::zeros(block.size(), CV_32F)},
-            source.texels);
+  source.texels = WithGradients(mosaic_->ReadBlock(l, source.rect));
   return std::make_unique<MosaicBlock>(std::move(source));
 }
 
-// The mosaic view at each of the level's points when the camera is at `pose`, and the Jacobian
-// of the residual with respect to the warp increment (before the contrast gain).
+// The mosaic view at each of the level's points and the residuals' Jacobians (before the gain).
 DirectAligner::LevelSamples DirectAligner::SampleLevel(const Level& level,
                                                        const MosaicBlock& source,
-                                                       const Pose2& pose) const {
-  const FrameMosaicWarp warp =
-      FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level);
-  // The Jacobian takes the gradient of the warped mosaic (clean, noise-free) in frame axes rather
-  // than the frame's own: the noisy frame gradient overstates the curvature and makes the
-  // inverse-compositional steps too short (measured: linear convergence at ratio 0.75 on a plain
-  // floor; with the mosaic's gradient, 2–4 iterations per level).
-  const Eigen::Matrix2f to_frame = warp.linear.transpose().cast<float>();
-  const Eigen::Matrix2f linear = warp.linear.cast<float>();
-  const Eigen::Vector2f offset = warp.offset.cast<float>();
-  const float scale = 1.0f / (1 << level.level);
+                                                       const LevelWarp& warp) const {
   const size_t n = level.points.size();
   LevelSamples s;
   s.jacobians.resize(n), s.valid.resize(n), s.values.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const PixelPoint& p = level.points[i];
-    const Eigen::Vector2f m = linear * Eigen::Vector2f(p.u, p.v) + offset;
-    float sample[3] = {0.0f, 0.0f, 0.0f};
-    s.valid[i] = source.Sample(m.x(), m.y(), sample);
+    s.valid[i] = warp.At(source, level.points[i], &s.values[i], &s.jacobians[i]);
     if (!s.valid[i]) continue;
-    s.values[i] = sample[0];
-    s.stv += p.value * sample[0], s.svv += sample[0] * sample[0];
-    const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
-    s.jacobians[i] =
-        Eigen::Vector3f(-g.y() * scale, -g.x() * scale, (g.x() * p.dv0 - g.y() * p.du0) * scale);
+    s.stv += level.points[i].value * s.values[i], s.svv += s.values[i] * s.values[i];
   }
   return s;
 }
 
 // Residuals, robust weights and the weighted normal equations of `level` at `pose` (sigma ≤ 0:
-// estimated from the residuals' MAD), with the fit's quality and the per-block scores the
-// sandwich covariance needs.
+// estimated from the residuals' MAD; gain ≤ 0: the least-squares contrast), with the fit's
+// quality and the per-block scores the sandwich covariance needs. With both known (every pass
+// of a level but its first) the points are sampled and summed in one pass.
 Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
                                        const Pose2& pose, double sigma, double gain) const {
-  LevelSamples s = SampleLevel(level, source, pose);
+  const LevelWarp warp(
+      FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level),
+      level.level);
   Linearization lin;
+  if (sigma > 0 && gain > 0) {
+    lin.sigma = sigma, lin.gain = gain;
+    WeightedSums sums(options_.tukey_c * sigma, gain);
+    float value;
+    Eigen::Vector3f jacobian;
+    for (const PixelPoint& p : level.points) {
+      if (warp.At(source, p, &value, &jacobian)) sums.Add(p, value, jacobian);
+    }
+    sums.Finish(&lin);
+    return lin;
+  }
+  const LevelSamples s = SampleLevel(level, source, warp);
   lin.gain = gain > 0 ? gain : LeastSquaresGain(s.stv, s.svv);
-  const size_t n = level.points.size();
-  std::vector<float> residuals(n), magnitudes;
-  magnitudes.reserve(n);
-  for (size_t i = 0; i < n; ++i) {
+  std::vector<float> magnitudes;
+  magnitudes.reserve(level.points.size());
+  for (size_t i = 0; i < level.points.size(); ++i) {
     if (!s.valid[i]) continue;
-    residuals[i] = level.points[i].value - static_cast<float>(lin.gain) * s.values[i];
-    s.jacobians[i] *= static_cast<float>(lin.gain);
-    magnitudes.push_back(std::abs(residuals[i]));
+    magnitudes.push_back(
+        std::abs(level.points[i].value - static_cast<float>(lin.gain) * s.values[i]));
   }
   lin.points = static_cast<int>(magnitudes.size());
   if (lin.points < 3) return lin;
-  lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(magnitudes));
-  AccumulateWeighted(level, s, residuals, options_.tukey_c * lin.sigma, &lin);
+  lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(std::move(magnitudes)));
+  WeightedSums sums(options_.tukey_c * lin.sigma, lin.gain);
+  for (size_t i = 0; i < level.points.size(); ++i) {
+    if (s.valid[i]) sums.Add(level.points[i], s.values[i], s.jacobians[i]);
+  }
+  sums.Finish(&lin);
   return lin;
 }
 
-// The Tukey-weighted normal equations, correlation sums and per-block scores of the residuals.
-void DirectAligner::AccumulateWeighted(const Level& level, const LevelSamples& s,
-                                       const std::vector<float>& residuals, double cutoff,
-                                       Linearization* lin) const {
-  std::vector<Eigen::Vector3d> block_scores(kScoreBlocks * kScoreBlocks, Eigen::Vector3d::Zero());
-  std::vector<int> block_counts(kScoreBlocks * kScoreBlocks, 0);
+void DirectAligner::WeightedSums::Finish(Linearization* lin) const {
+  lin->points = points_;
+  if (points_ < 3) return;
+  std::vector<Eigen::Vector3d> block_scores(blocks_.size());
+  std::vector<int> block_counts(blocks_.size());
   CorrelationSums c;
+  std::array<double, 6> h{};
   int inliers = 0;
-  for (size_t i = 0; i < residuals.size(); ++i) {
-    if (!s.valid[i]) continue;
-    const double w = TukeyWeight(residuals[i], cutoff);
-    const PixelPoint& p = level.points[i];
-    const double t = p.value, v = s.values[i];
-    c.sw += w, c.st += w * t, c.sv += w * v, c.stt += w * t * t, c.svv += w * v * v;
-    c.stv += w * t * v;
-    if (w > 0.5) ++inliers;
-    if (w <= 0.0) continue;
-    const Eigen::Vector3d j = s.jacobians[i].cast<double>();
-    lin->h.noalias() += w * j * j.transpose();
-    lin->g.noalias() += (w * residuals[i]) * j;
-    const int bx =
-        std::min(kScoreBlocks - 1, static_cast<int>(p.u * kScoreBlocks / level.normalized.cols));
-    const int by =
-        std::min(kScoreBlocks - 1, static_cast<int>(p.v * kScoreBlocks / level.normalized.rows));
-    block_scores[by * kScoreBlocks + bx] += (w * residuals[i]) * j;
-    ++block_counts[by * kScoreBlocks + bx];
+  for (size_t k = 0; k < blocks_.size(); ++k) {
+    const Block& b = blocks_[k];
+    c.sw += b.sums[0], c.st += b.sums[1], c.sv += b.sums[2];
+    c.stt += b.sums[3], c.svv += b.sums[4], c.stv += b.sums[5];
+    for (int e = 0; e < 6; ++e) h[e] += b.h[e];
+    block_scores[k] = b.score.cast<double>();
+    block_counts[k] = b.count;
+    lin->g += block_scores[k];
+    inliers += b.inliers;
   }
-  lin->inlier_fraction = double(inliers) / lin->points;
+  lin->h << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
+  lin->inlier_fraction = double(inliers) / points_;
   lin->correlation = c.Correlation();
   lin->next_gain = c.Gain();
   lin->score_spread = ScoreSpread(block_scores, block_counts, lin->g);
@@ -235,7 +275,8 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
 
 // Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the
 // current pose (the residual scale estimated at the first, then kept); stops once a step moves no
-// pixel of the level more than `tolerance_px`. The final linearization in `final_fit`.
+// pixel of the level more than `tolerance_px`. The final linearization in `final_fit` (when
+// not null).
 Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                                  const PoseWithCovariance& prior, Pose2 pose, double tolerance_px,
                                  int* iterations, Linearization* final_fit, bool fit_gain) const {
@@ -265,7 +306,7 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
     const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level);
     if (moved_px < tolerance_px) break;
   }
-  *final_fit = linearize(pose, sigma, gain);
+  if (final_fit != nullptr) *final_fit = linearize(pose, sigma, gain);
   return pose;
 }
 
