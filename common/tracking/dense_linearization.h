@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -54,6 +55,29 @@ inline constexpr int kScoreBlocks = 8;
 // n/(n − 1) over the n blocks that have pixels.
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total);
+
+// The pixels one level of the dense alignment uses, as arrays grouped by score block: block b's
+// pixels are [block_start[b], block_start[b + 1]).
+struct PointSet {
+  std::vector<float> u, v;      // level coordinates (pixel centres at i + 0.5)
+  std::vector<float> value;     // the normalized frame there
+  std::vector<float> du0, dv0;  // level-0 offsets from the principal point (rotation column)
+  std::array<int, kScoreBlocks * kScoreBlocks + 1> block_start{};
+  size_t size() const { return value.size(); }
+};
+
+// The mosaic view at a PointSet's pixels: its value, and its gradient in frame axes per level-0
+// pixel (the Jacobian's factors); `seen` is 1 where the pixel's view lies in the mosaic, else 0
+// (and the others 0).
+struct PointViews {
+  std::vector<float> value, gx, gy, seen;
+  explicit PointViews(size_t n) : value(n), gx(n), gy(n), seen(n) {}
+};
+
+// The robust normal equations over a PointSet's seen pixels, as LinearizeWholeFrame's: residuals
+// t − gain·v, sigma ≤ 0 estimated from their MAD, gain ≤ 0 their least-squares contrast.
+Linearization LinearizePoints(const PointSet& points, const PointViews& views, double tukey_c,
+                              double sigma, double gain);
 
 // The whole frame at level 0. `frame`: the normalized frame (CV_32F). `view`: the normalized
 // mosaic rendered at the pose (CV_32F) over `inner` grown by one pixel on each side, for the

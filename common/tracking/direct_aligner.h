@@ -93,10 +93,6 @@ class DirectAligner {
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;
-  class WeightedSums;
-  struct LevelSamples;
-  LevelSamples SampleLevel(const Level& level, const MosaicBlock& source,
-                           const LevelWarp& warp) const;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
                           const geometry::Pose2& pose, double sigma, double gain) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,

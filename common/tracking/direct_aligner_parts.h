@@ -6,7 +6,6 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <opencv2/core.hpp>
 #include <opencv2/core/hal/intrin.hpp>
 #include <vector>
@@ -19,16 +18,6 @@
 
 namespace fleetloc::tracking {
 namespace direct_detail {
-
-// One selected frame pixel: its level coordinates, normalized value, and its level-0 offset from
-// the principal point (for the rotation column of the Jacobian), and its score block (the
-// sandwich covariance's, kScoreBlocks² over the level).
-struct PixelPoint {
-  float u = 0, v = 0;
-  float value = 0;
-  float du0 = 0, dv0 = 0;
-  std::uint8_t block = 0;
-};
 
 cv::Rect GrownBy(const cv::Rect& rect, int margin);
 double Median(std::vector<float> values);
@@ -47,21 +36,12 @@ struct DirectAligner::MosaicBlock {
   cv::Rect rect;   // level pixels
   cv::Size level_size;
 
-  // Bilinear value and gradient (out[0..2]; out[3] is scratch) at continuous level coordinates;
-  // false outside the block or the mosaic. The channels are interpolated together from one
-  // interleaved texel, a quarter of the memory traffic of three planes, in one 4-lane vector
-  // where the CPU has them (OpenCV's universal intrinsics: SSE2 or NEON; the same arithmetic, in
-  // the same order, as the scalar form).
-  bool Sample(float x, float y, float out[4]) const {
-    if (x < 0.5f || y < 0.5f || x > level_size.width - 0.5f || y > level_size.height - 0.5f) {
-      return false;
-    }
-    const float bx = x - 0.5f - rect.x, by = y - 0.5f - rect.y;
-    const int x0 = cvFloor(bx), y0 = cvFloor(by);
-    if (x0 < 0 || y0 < 0 || x0 + 1 >= texels.cols || y0 + 1 >= texels.rows) return false;
-    const float fx = bx - x0, fy = by - y0;
-    const float* r0 = texels.ptr<float>(y0) + 4 * x0;
-    const float* r1 = texels.ptr<float>(y0 + 1) + 4 * x0;
+  // Bilinear value and gradient (out[0..2]; out[3] is scratch) between the texels at r0, r0 + 4
+  // (top row) and r1, r1 + 4 (bottom row), at fractions fx, fy. The channels are interpolated
+  // together from one interleaved texel, a quarter of the memory traffic of three planes, in one
+  // 4-lane vector where the CPU has them (OpenCV's universal intrinsics: SSE2 or NEON; the same
+  // arithmetic, in the same order, as the scalar form).
+  static void Bilinear(const float* r0, const float* r1, float fx, float fy, float out[4]) {
 #if CV_SIMD128
     const cv::v_float32x4 a = cv::v_load(r0), b = cv::v_load(r0 + 4);
     const cv::v_float32x4 c = cv::v_load(r1), d = cv::v_load(r1 + 4);
@@ -75,11 +55,10 @@ struct DirectAligner::MosaicBlock {
       out[ch] = top + fy * (bottom - top);
     }
 #endif
-    return true;
   }
 };
 
-// The frame → view warp of one level at one pose, in float, and the residual's Jacobian there.
+// The frame → view warp of one level at one pose, in float, and the view it gives a level's pixels.
 // The Jacobian takes the gradient of the warped mosaic (clean, noise-free) in frame axes rather
 // than the frame's own: the noisy frame gradient overstates the curvature and makes the
 // inverse-compositional steps too short (measured: linear convergence at ratio 0.75 on a plain
@@ -91,18 +70,30 @@ struct DirectAligner::LevelWarp {
         offset(level_warp.offset.cast<float>()),
         scale(1.0f / static_cast<float>(1 << level)) {}
 
-  // The view's value at `p` and the residual's Jacobian (before the contrast gain); false where
-  // `p` falls outside the block or the mosaic.
-  bool At(const MosaicBlock& source, const direct_detail::PixelPoint& p, float* value,
-          Eigen::Vector3f* jacobian) const {
-    const Eigen::Vector2f m = linear * Eigen::Vector2f(p.u, p.v) + offset;
-    float sample[4];
-    if (!source.Sample(m.x(), m.y(), sample)) return false;
-    *value = sample[0];
-    const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
-    *jacobian = Eigen::Vector3f(-g.y() * scale, -g.x() * scale,
-                                (g.x() * p.dv0 - g.y() * p.du0) * scale);
-    return true;
+  // The view at every pixel of `points`: bilinear at continuous level coordinates, unseen outside
+  // the block or the mosaic (the bounds as floats once, out of the loop).
+  PointViews Views(const MosaicBlock& source, const PointSet& points) const {
+    PointViews views(points.size());
+    const float max_x = source.level_size.width - 0.5f, max_y = source.level_size.height - 0.5f;
+    const float origin_x = static_cast<float>(source.rect.x);
+    const float origin_y = static_cast<float>(source.rect.y);
+    const int last_x0 = source.texels.cols - 2, last_y0 = source.texels.rows - 2;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2f m = linear * Eigen::Vector2f(points.u[i], points.v[i]) + offset;
+      if (!(m.x() >= 0.5f && m.y() >= 0.5f && m.x() <= max_x && m.y() <= max_y)) continue;
+      const float bx = m.x() - 0.5f - origin_x, by = m.y() - 0.5f - origin_y;
+      if (!(bx >= 0.0f && by >= 0.0f)) continue;
+      const int x0 = static_cast<int>(bx), y0 = static_cast<int>(by);  // the floor, as bx, by ≥ 0
+      if (x0 > last_x0 || y0 > last_y0) continue;
+      float sample[4];
+      MosaicBlock::Bilinear(source.texels.ptr<float>(y0) + 4 * x0,
+                            source.texels.ptr<float>(y0 + 1) + 4 * x0, bx - x0, by - y0, sample);
+      const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
+      views.value[i] = sample[0];
+      views.gx[i] = g.x() * scale, views.gy[i] = g.y() * scale;
+      views.seen[i] = 1.0f;
+    }
+    return views;
   }
 
   Eigen::Matrix2f linear, to_frame;
@@ -110,62 +101,12 @@ struct DirectAligner::LevelWarp {
   float scale;
 };
 
-// The Tukey-weighted normal equations, correlation sums and per-block scores of a level's
-// residuals t − gain·v. Summed per score block in float (a block holds at most a few hundred
-// points, where float keeps six digits), then over the blocks in double.
-class DirectAligner::WeightedSums {
- public:
-  WeightedSums(double cutoff, double gain)
-      : inverse_cutoff_(static_cast<float>(1.0 / cutoff)), gain_(static_cast<float>(gain)) {}
-
-  // One point: its frame value t, the view's value v and the Jacobian before the gain.
-  void Add(const direct_detail::PixelPoint& p, float v, const Eigen::Vector3f& jacobian) {
-    ++points_;
-    const float t = p.value, r = t - gain_ * v;
-    const float x = r * inverse_cutoff_, x2 = x * x;
-    if (x2 >= 1.0f) return;  // weight 0: adds nothing
-    const float w = (1.0f - x2) * (1.0f - x2);
-    Block& b = blocks_[p.block];
-    b.sums[0] += w, b.sums[1] += w * t, b.sums[2] += w * v;
-    b.sums[3] += w * t * t, b.sums[4] += w * v * v, b.sums[5] += w * t * v;
-    const Eigen::Vector3f j = jacobian * gain_, wj = w * j;
-    b.h[0] += wj.x() * j.x(), b.h[1] += wj.x() * j.y(), b.h[2] += wj.x() * j.z();
-    b.h[3] += wj.y() * j.y(), b.h[4] += wj.y() * j.z(), b.h[5] += wj.z() * j.z();
-    b.score += r * wj;
-    ++b.count;
-    b.inliers += w > 0.5f;
-  }
-
-  // The sums into `lin` (its h, g, correlation, next gain, inlier fraction, score spread, points).
-  void Finish(Linearization* lin) const;
-
- private:
-  struct Block {
-    std::array<float, 6> sums{};  // Σw, Σw·t, Σw·v, Σw·t², Σw·v², Σw·t·v
-    std::array<float, 6> h{};     // upper triangle of Σ w·J·Jᵀ
-    Eigen::Vector3f score = Eigen::Vector3f::Zero();  // Σ w·r·J
-    int count = 0, inliers = 0;
-  };
-  float inverse_cutoff_, gain_;
-  int points_ = 0;
-  std::array<Block, kScoreBlocks * kScoreBlocks> blocks_{};
-};
-
 struct DirectAligner::Level {
   int level = 0;
   cv::Mat normalized;  // CV_32F, the frame at this level, locally normalized
   cv::Mat searched;    // the same with occluders set to 0 (the floor's mean), for the search
   int border = 0;      // pixels whose normalization window was clipped
-  std::vector<direct_detail::PixelPoint> points;
-};
-
-// The mosaic view at a level's points and the residuals' Jacobians (before the contrast gain);
-// `valid` is 0 where a point falls outside the block or the mosaic.
-struct DirectAligner::LevelSamples {
-  std::vector<float> values;
-  std::vector<Eigen::Vector3f> jacobians;
-  std::vector<char> valid;
-  double stv = 0.0, svv = 0.0;  // Σ frame·view and Σ view² over the valid points
+  PointSet points;  // grouped by score block
 };
 
 }  // namespace fleetloc::tracking

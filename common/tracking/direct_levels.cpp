@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/dense_linearization.h"
@@ -26,7 +25,6 @@ using geometry::Pose2;
 using geometry::PoseWithCovariance;
 using direct_detail::ApplyStep;
 using direct_detail::Median;
-using direct_detail::PixelPoint;
 using direct_detail::RotationBlock;
 
 namespace {
@@ -49,12 +47,40 @@ cv::Mat OccluderMask(const cv::Mat& variance, int window, double ratio) {
   return mask;
 }
 
+// One chosen frame pixel: its level coordinates, normalized value, level-0 offset from the
+// principal point (for the rotation column of the Jacobian) and score block.
+struct PixelPoint {
+  float u = 0, v = 0;
+  float value = 0;
+  float du0 = 0, dv0 = 0;
+  int block = 0;
+};
+
 // The score block (kScoreBlocks² over the level, row-major) holding `point`.
 int ScoreBlock(const PixelPoint& point, const cv::Size& level_size) {
-  const int bx = std::min(kScoreBlocks - 1, static_cast<int>(point.u * kScoreBlocks / level_size.width));
+  const int bx =
+      std::min(kScoreBlocks - 1, static_cast<int>(point.u * kScoreBlocks / level_size.width));
   const int by =
       std::min(kScoreBlocks - 1, static_cast<int>(point.v * kScoreBlocks / level_size.height));
   return by * kScoreBlocks + bx;
+}
+
+// `chosen` as arrays grouped by score block, each block's pixels in the order chosen.
+PointSet Grouped(const std::vector<PixelPoint>& chosen) {
+  PointSet set;
+  for (const PixelPoint& p : chosen) ++set.block_start[p.block + 1];
+  for (int b = 0; b < kScoreBlocks * kScoreBlocks; ++b) {
+    set.block_start[b + 1] += set.block_start[b];
+  }
+  const size_t n = chosen.size();
+  set.u.resize(n), set.v.resize(n), set.value.resize(n), set.du0.resize(n), set.dv0.resize(n);
+  std::array<int, kScoreBlocks * kScoreBlocks> next{};
+  std::copy(set.block_start.begin(), set.block_start.end() - 1, next.begin());
+  for (const PixelPoint& p : chosen) {
+    const int i = next[p.block]++;
+    set.u[i] = p.u, set.v[i] = p.v, set.value[i] = p.value, set.du0[i] = p.du0, set.dv0[i] = p.dv0;
+  }
+  return set;
 }
 
 // One texel of WithGradients: the value at `x` of `row` with the neighbours `left`/`right` in
@@ -99,10 +125,45 @@ cv::Mat WithGradients(const cv::Mat& block) {
   return texels;
 }
 
+// At a level whose normalized frame is `t`, the strongest-gradient unoccluded pixel of every
+// cell (cells sized so that at most `max_points` are kept), away from the clipped `border`,
+// grouped by score block. `principal`: the principal point in level-0 px.
+PointSet ChoosePoints(const cv::Mat& t, const cv::Mat& occluded, int border, int level,
+                      const cv::Point2d& principal, int max_points) {
+  const int b = border, w = t.cols - 2 * b, h = t.rows - 2 * b;
+  if (w <= 0 || h <= 0) return {};
+  const int cell = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / max_points))));
+  std::vector<PixelPoint> chosen;
+  for (int cy = b; cy < b + h; cy += cell) {
+    for (int cx = b; cx < b + w; cx += cell) {
+      float best = 1e-4f;
+      PixelPoint point;
+      for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
+        const float* row = t.ptr<float>(y);
+        const uchar* masked = occluded.ptr<uchar>(y);
+        for (int x = cx; x < std::min(cx + cell, b + w); ++x) {
+          if (masked[x]) continue;
+          const float gx = 0.5f * (row[x + 1] - row[x - 1]);
+          const float gy = 0.5f * (t.ptr<float>(y + 1)[x] - t.ptr<float>(y - 1)[x]);
+          const float g2 = gx * gx + gy * gy;
+          if (g2 <= best) continue;
+          best = g2;
+          point.u = x + 0.5f, point.v = y + 0.5f, point.value = row[x];
+          point.du0 = static_cast<float>((x + 0.5) * (1 << level) - principal.x);
+          point.dv0 = static_cast<float>((y + 0.5) * (1 << level) - principal.y);
+        }
+      }
+      if (best <= 1e-4f) continue;
+      point.block = ScoreBlock(point, t.size());
+      chosen.push_back(point);
+    }
+  }
+  return Grouped(chosen);
+}
+
 }  // namespace
 
-// The pyramid, normalized like the mosaic, and at each level the strongest-gradient pixel of
-// every cell (cells sized so that at most max_points are kept), away from the clipped border.
+// The pyramid, normalized like the mosaic, and each level's chosen pixels (ChoosePoints).
 std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame, int finest,
                                                              int coarsest) const {
   std::vector<Level> levels(coarsest + 1);
@@ -121,35 +182,8 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
       level.searched = level.normalized.clone();
       level.searched.setTo(0.0f, occluded);
     }
-    const cv::Mat& t = level.normalized;
-    const int b = level.border, w = t.cols - 2 * b, h = t.rows - 2 * b;
-    if (w <= 0 || h <= 0) continue;
-    const int cell =
-        std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / options_.max_points))));
-    for (int cy = b; cy < b + h; cy += cell) {
-      for (int cx = b; cx < b + w; cx += cell) {
-        float best = 1e-4f;
-        PixelPoint point;
-        for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
-          const float* row = t.ptr<float>(y);
-          const uchar* masked = occluded.ptr<uchar>(y);
-          for (int x = cx; x < std::min(cx + cell, b + w); ++x) {
-            if (masked[x]) continue;
-            const float gx = 0.5f * (row[x + 1] - row[x - 1]);
-            const float gy = 0.5f * (t.ptr<float>(y + 1)[x] - t.ptr<float>(y - 1)[x]);
-            const float g2 = gx * gx + gy * gy;
-            if (g2 <= best) continue;
-            best = g2;
-            point.u = x + 0.5f, point.v = y + 0.5f, point.value = row[x];
-            point.du0 = static_cast<float>((x + 0.5) * (1 << l) - camera_.cx_px);
-            point.dv0 = static_cast<float>((y + 0.5) * (1 << l) - camera_.cy_px);
-          }
-        }
-        if (best <= 1e-4f) continue;
-        point.block = static_cast<std::uint8_t>(ScoreBlock(point, t.size()));
-        level.points.push_back(point);
-      }
-    }
+    level.points = ChoosePoints(level.normalized, occluded, level.border, l,
+                                {camera_.cx_px, camera_.cy_px}, options_.max_points);
   }
   return levels;
 }
@@ -178,85 +212,16 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
   return std::make_unique<MosaicBlock>(std::move(source));
 }
 
-// The mosaic view at each of the level's points and the residuals' Jacobians (before the gain).
-DirectAligner::LevelSamples DirectAligner::SampleLevel(const Level& level,
-                                                       const MosaicBlock& source,
-                                                       const LevelWarp& warp) const {
-  const size_t n = level.points.size();
-  LevelSamples s;
-  s.jacobians.resize(n), s.valid.resize(n), s.values.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    s.valid[i] = warp.At(source, level.points[i], &s.values[i], &s.jacobians[i]);
-    if (!s.valid[i]) continue;
-    s.stv += level.points[i].value * s.values[i], s.svv += s.values[i] * s.values[i];
-  }
-  return s;
-}
-
 // Residuals, robust weights and the weighted normal equations of `level` at `pose` (sigma ≤ 0:
 // estimated from the residuals' MAD; gain ≤ 0: the least-squares contrast), with the fit's
-// quality and the per-block scores the sandwich covariance needs. With both known (every pass
-// of a level but its first) the points are sampled and summed in one pass.
+// quality and the per-block scores the sandwich covariance needs.
 Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
                                        const Pose2& pose, double sigma, double gain) const {
   const LevelWarp warp(
       FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level),
       level.level);
-  Linearization lin;
-  if (sigma > 0 && gain > 0) {
-    lin.sigma = sigma, lin.gain = gain;
-    WeightedSums sums(options_.tukey_c * sigma, gain);
-    float value;
-    Eigen::Vector3f jacobian;
-    for (const PixelPoint& p : level.points) {
-      if (warp.At(source, p, &value, &jacobian)) sums.Add(p, value, jacobian);
-    }
-    sums.Finish(&lin);
-    return lin;
-  }
-  const LevelSamples s = SampleLevel(level, source, warp);
-  lin.gain = gain > 0 ? gain : LeastSquaresGain(s.stv, s.svv);
-  std::vector<float> magnitudes;
-  magnitudes.reserve(level.points.size());
-  for (size_t i = 0; i < level.points.size(); ++i) {
-    if (!s.valid[i]) continue;
-    magnitudes.push_back(
-        std::abs(level.points[i].value - static_cast<float>(lin.gain) * s.values[i]));
-  }
-  lin.points = static_cast<int>(magnitudes.size());
-  if (lin.points < 3) return lin;
-  lin.sigma = sigma > 0 ? sigma : std::max(1e-3, 1.4826 * Median(std::move(magnitudes)));
-  WeightedSums sums(options_.tukey_c * lin.sigma, lin.gain);
-  for (size_t i = 0; i < level.points.size(); ++i) {
-    if (s.valid[i]) sums.Add(level.points[i], s.values[i], s.jacobians[i]);
-  }
-  sums.Finish(&lin);
-  return lin;
-}
-
-void DirectAligner::WeightedSums::Finish(Linearization* lin) const {
-  lin->points = points_;
-  if (points_ < 3) return;
-  std::vector<Eigen::Vector3d> block_scores(blocks_.size());
-  std::vector<int> block_counts(blocks_.size());
-  CorrelationSums c;
-  std::array<double, 6> h{};
-  int inliers = 0;
-  for (size_t k = 0; k < blocks_.size(); ++k) {
-    const Block& b = blocks_[k];
-    c.sw += b.sums[0], c.st += b.sums[1], c.sv += b.sums[2];
-    c.stt += b.sums[3], c.svv += b.sums[4], c.stv += b.sums[5];
-    for (int e = 0; e < 6; ++e) h[e] += b.h[e];
-    block_scores[k] = b.score.cast<double>();
-    block_counts[k] = b.count;
-    lin->g += block_scores[k];
-    inliers += b.inliers;
-  }
-  lin->h << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
-  lin->inlier_fraction = double(inliers) / points_;
-  lin->correlation = c.Correlation();
-  lin->next_gain = c.Gain();
-  lin->score_spread = ScoreSpread(block_scores, block_counts, lin->g);
+  return LinearizePoints(level.points, warp.Views(source, level.points), options_.tukey_c, sigma,
+                         gain);
 }
 
 // Robust MAP Gauss–Newton at one level from `pose`: the level's final pose, its linearization
