@@ -135,5 +135,73 @@ TEST(LinearizeWholeFrame, AFittedGainRemovesTheBiasOfAFrameAtLowContrast) {
   EXPECT_LT(error_fitted, 0.5 * error_fixed) << "fixed gain: " << error_fixed;
 }
 
+// Every pixel of `inner` as a PointSet, grouped in LinearizeWholeFrame's score blocks, with the
+// view's value and central-difference gradient there (`view` laid out as LinearizeWholeFrame's).
+void AllPixels(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
+               const cv::Point2d& principal, PointSet* points, PointViews* views) {
+  std::vector<std::vector<int>> by_block(kScoreBlocks * kScoreBlocks);
+  for (int y = 0; y < inner.height; ++y) {
+    for (int x = 0; x < inner.width; ++x) {
+      const int block = (y * kScoreBlocks / inner.height) * kScoreBlocks;
+      int bx = 0;
+      while ((bx + 1) * inner.width / kScoreBlocks <= x) ++bx;
+      by_block[block + bx].push_back(y * inner.width + x);
+    }
+  }
+  *views = PointViews(static_cast<size_t>(inner.area()));
+  for (int b = 0; b < kScoreBlocks * kScoreBlocks; ++b) {
+    points->block_start[b + 1] = points->block_start[b] + static_cast<int>(by_block[b].size());
+    for (int k : by_block[b]) {
+      const int x = k % inner.width, y = k / inner.width;
+      const size_t i = points->value.size();
+      points->u.push_back(x + 0.5f), points->v.push_back(y + 0.5f);
+      points->value.push_back(frame.at<float>(inner.y + y, inner.x + x));
+      points->du0.push_back(static_cast<float>(inner.x + x + 0.5 - principal.x));
+      points->dv0.push_back(static_cast<float>(inner.y + y + 0.5 - principal.y));
+      views->value[i] = view.at<float>(y + 1, x + 1);
+      views->gx[i] = 0.5f * (view.at<float>(y + 1, x + 2) - view.at<float>(y + 1, x));
+      views->gy[i] = 0.5f * (view.at<float>(y + 2, x + 1) - view.at<float>(y, x + 1));
+      views->seen[i] = 1.0f;
+    }
+  }
+}
+
+// The sparse levels' sums (LinearizePoints) over every pixel are the whole-frame sums, with an
+// occluder, a fitted gain and an estimated scale: one set of equations, two layouts.
+TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
+  const WaveTexture texture;
+  const cv::Rect inner(10, 10, 180, 140);
+  cv::Mat frame = 0.7 * texture.Render({200, 160}, {0, 0});
+  frame(cv::Rect(30, 30, 60, 50)).setTo(2.0f);
+  const cv::Mat view = ShiftedView(texture, inner, {0.3, -0.2});
+  const cv::Point2d principal(100.0, 80.0);
+  PointSet points;
+  PointViews views(0);
+  AllPixels(frame, view, inner, principal, &points, &views);
+  for (const double gain : {1.0, 0.0}) {
+    const Linearization whole = LinearizeWholeFrame(frame, view, inner, {},
+                                                    {principal.x, principal.y}, 4.685, 0.0, gain);
+    const Linearization sparse = LinearizePoints(points, views, 4.685, whole.sigma, whole.gain);
+    EXPECT_EQ(sparse.points, whole.points);
+    EXPECT_NEAR(sparse.correlation, whole.correlation, 1e-5);
+    EXPECT_NEAR(sparse.inlier_fraction, whole.inlier_fraction, 1e-5);
+    EXPECT_NEAR(sparse.next_gain, whole.next_gain, 1e-5);
+    EXPECT_LT((sparse.h - whole.h).norm(), 1e-5 * whole.h.norm());
+    EXPECT_LT((sparse.g - whole.g).norm(), 1e-4 * whole.g.norm() + 1e-6);
+    EXPECT_LT(sparse.inlier_fraction, 0.95);  // the occluder is weighted out in both
+  }
+  // The score spread shares the total out by pixel count: the whole frame counts every pixel of
+  // a block, the sparse levels the pixels with weight > 0. With no pixel weighted out they agree.
+  const Linearization whole =
+      LinearizeWholeFrame(frame, view, inner, {}, {principal.x, principal.y}, 4.685, 1e3, 1.0);
+  const Linearization sparse = LinearizePoints(points, views, 4.685, 1e3, 1.0);
+  EXPECT_LT((sparse.score_spread - whole.score_spread).norm(), 1e-4 * whole.score_spread.norm());
+  // Unseen pixels add nothing: half the pixels unseen, half the points.
+  for (size_t i = 0; i < views.seen.size(); i += 2) {
+    views.seen[i] = 0.0f, views.value[i] = views.gx[i] = views.gy[i] = 0.0f;
+  }
+  EXPECT_EQ(LinearizePoints(points, views, 4.685, 0.0, 0.0).points, inner.area() / 2);
+}
+
 }  // namespace
 }  // namespace fleetloc::tracking
