@@ -187,7 +187,7 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
     FrameResult* stats) const {
   if (templates && !options_.direct_refine) return templates;
   if (!templates && direct_tried) return std::nullopt;
-  const std::optional<PoseWithCovariance> dense = AlignDirect(
+  std::optional<PoseWithCovariance> dense = AlignDirect(
       frame, prior, templates ? templates->pose : prior.pose, templates.has_value(), stats);
   if (!dense) return templates;
   if (!templates) return dense;

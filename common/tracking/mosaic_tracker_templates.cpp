@@ -155,7 +155,7 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
                                                     options_.texture_window_px);
   stats->select_ms += MsSince(t_texture);
   for (const TemplateScale& scale : scales) {
-    const std::optional<PoseWithCovariance> fit =
+    std::optional<PoseWithCovariance> fit =
         MatchTemplatesAt(&pyramid, texture, prior, frame_radius, scale, stats);
     if (fit) {
       stats->template_size_px = scale.size_px;
