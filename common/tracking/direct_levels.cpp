@@ -125,35 +125,51 @@ cv::Mat WithGradients(const cv::Mat& block) {
   return texels;
 }
 
+// The squared central-difference gradient of row y of `t` over columns [x0, x1) into `g2`
+// (indexed by column), 0 where `occluded`.
+void SquaredGradientRow(const cv::Mat& t, const cv::Mat& occluded, int y, int x0, int x1,
+                        float* g2) {
+  const float* row = t.ptr<float>(y);
+  const float* up = t.ptr<float>(y - 1);
+  const float* down = t.ptr<float>(y + 1);
+  const uchar* masked = occluded.ptr<uchar>(y);
+  for (int x = x0; x < x1; ++x) {
+    const float gx = 0.5f * (row[x + 1] - row[x - 1]);
+    const float gy = 0.5f * (down[x] - up[x]);
+    g2[x] = masked[x] ? 0.0f : gx * gx + gy * gy;
+  }
+}
+
 // At a level whose normalized frame is `t`, the strongest-gradient unoccluded pixel of every
-// cell (cells sized so that at most `max_points` are kept), away from the clipped `border`,
-// grouped by score block. `principal`: the principal point in level-0 px.
+// cell (cells sized so that at most `max_points` are kept; the first in row order among equals),
+// away from the clipped `border`, grouped by score block. `principal`: the principal point in
+// level-0 px.
 PointSet ChoosePoints(const cv::Mat& t, const cv::Mat& occluded, int border, int level,
                       const cv::Point2d& principal, int max_points) {
   const int b = border, w = t.cols - 2 * b, h = t.rows - 2 * b;
   if (w <= 0 || h <= 0) return {};
   const int cell = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(w) * h / max_points))));
+  const int cells_x = (w + cell - 1) / cell;
+  std::vector<float> g2(t.cols);
   std::vector<PixelPoint> chosen;
   for (int cy = b; cy < b + h; cy += cell) {
-    for (int cx = b; cx < b + w; cx += cell) {
-      float best = 1e-4f;
-      PixelPoint point;
-      for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
-        const float* row = t.ptr<float>(y);
-        const uchar* masked = occluded.ptr<uchar>(y);
+    std::vector<float> best(cells_x, 1e-4f);
+    std::vector<cv::Point> best_at(cells_x);
+    for (int y = cy; y < std::min(cy + cell, b + h); ++y) {
+      SquaredGradientRow(t, occluded, y, b, b + w, g2.data());
+      for (int c = 0, cx = b; c < cells_x; ++c, cx += cell) {
         for (int x = cx; x < std::min(cx + cell, b + w); ++x) {
-          if (masked[x]) continue;
-          const float gx = 0.5f * (row[x + 1] - row[x - 1]);
-          const float gy = 0.5f * (t.ptr<float>(y + 1)[x] - t.ptr<float>(y - 1)[x]);
-          const float g2 = gx * gx + gy * gy;
-          if (g2 <= best) continue;
-          best = g2;
-          point.u = x + 0.5f, point.v = y + 0.5f, point.value = row[x];
-          point.du0 = static_cast<float>((x + 0.5) * (1 << level) - principal.x);
-          point.dv0 = static_cast<float>((y + 0.5) * (1 << level) - principal.y);
+          if (g2[x] > best[c]) best[c] = g2[x], best_at[c] = {x, y};
         }
       }
-      if (best <= 1e-4f) continue;
+    }
+    for (int c = 0; c < cells_x; ++c) {
+      if (best[c] <= 1e-4f) continue;
+      const int x = best_at[c].x, y = best_at[c].y;
+      PixelPoint point;
+      point.u = x + 0.5f, point.v = y + 0.5f, point.value = t.ptr<float>(y)[x];
+      point.du0 = static_cast<float>((x + 0.5) * (1 << level) - principal.x);
+      point.dv0 = static_cast<float>((y + 0.5) * (1 << level) - principal.y);
       point.block = ScoreBlock(point, t.size());
       chosen.push_back(point);
     }
