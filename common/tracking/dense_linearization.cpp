@@ -19,6 +19,16 @@ double LeastSquaresGain(double stv, double svv) {
 
 double CorrelationSums::Gain() const { return LeastSquaresGain(stv, svv); }
 
+void FinishLinearization(const CorrelationSums& c, double inliers,
+                         const std::vector<Eigen::Vector3d>& block_scores,
+                         const std::vector<int>& block_counts, Linearization* lin) {
+  lin->h(1, 0) = lin->h(0, 1), lin->h(2, 0) = lin->h(0, 2), lin->h(2, 1) = lin->h(1, 2);
+  lin->correlation = c.Correlation();
+  lin->next_gain = c.Gain();
+  lin->inlier_fraction = inliers / lin->points;
+  lin->score_spread = ScoreSpread(block_scores, block_counts, lin->g);
+}
+
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total) {
   int pixels = 0, used_blocks = 0;
@@ -197,11 +207,7 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
       block_counts[by * kScoreBlocks + bx] += b1 - b0;
     }
   }
-  lin.h(1, 0) = lin.h(0, 1), lin.h(2, 0) = lin.h(0, 2), lin.h(2, 1) = lin.h(1, 2);
-  lin.correlation = c.Correlation();
-  lin.next_gain = c.Gain();
-  lin.inlier_fraction = inliers / lin.points;
-  lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
+  FinishLinearization(c, inliers, block_scores, block_counts, &lin);
   return lin;
 }
 

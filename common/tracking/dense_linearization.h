@@ -51,6 +51,13 @@ double LeastSquaresGain(double stv, double svv);
 // sums gives the sandwich covariance's middle term.
 inline constexpr int kScoreBlocks = 8;
 
+// Completes `lin` from sums taken over its pixels (h's upper triangle, g, points already set):
+// h's lower triangle, the correlation and next gain from `c`, the inlier fraction and the score
+// spread of the blocks.
+void FinishLinearization(const CorrelationSums& c, double inliers,
+                         const std::vector<Eigen::Vector3d>& block_scores,
+                         const std::vector<int>& block_counts, Linearization* lin);
+
 // Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
 // n/(n − 1) over the n blocks that have pixels.
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,

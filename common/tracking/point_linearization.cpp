@@ -124,11 +124,7 @@ Linearization LinearizePoints(const PointSet& p, const PointViews& view, double 
     block_counts[b] = static_cast<int>(std::lround(s[kUsed]));
     lin.g += block_scores[b];
   }
-  lin.h(1, 0) = lin.h(0, 1), lin.h(2, 0) = lin.h(0, 2), lin.h(2, 1) = lin.h(1, 2);
-  lin.correlation = c.Correlation();
-  lin.next_gain = c.Gain();
-  lin.inlier_fraction = inliers / lin.points;
-  lin.score_spread = ScoreSpread(block_scores, block_counts, lin.g);
+  FinishLinearization(c, inliers, block_scores, block_counts, &lin);
   return lin;
 }
 
