@@ -1,5 +1,5 @@
 // Streaming composition of a floor image to PGM.
-#include "composed_floor.h"
+#include "support/composed_floor.h"
 
 #include <spdlog/spdlog.h>
 
@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <span>
 
-#include "floor_images.h"
+#include "support/floor_images.h"
 #include "mosaic/row_image_io.h"
 #include "io/progress_log.h"
 

@@ -1,5 +1,5 @@
 // Floor photograph discovery and loading.
-#include "floor_images.h"
+#include "support/floor_images.h"
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,5 @@
 // Command-line lists of numbers (see parse_numbers.h).
-#include "parse_numbers.h"
+#include "support/parse_numbers.h"
 
 #include <charconv>
 #include <cmath>

@@ -1,5 +1,5 @@
 // A relocalization result as JSON (see reloc_index.h).
-#include "reloc_index.h"
+#include "support/reloc_index.h"
 
 namespace fleetloc::fleetctl {
 

@@ -1,6 +1,6 @@
 // Simulated run writer: frames rendered on this thread and encoded on a second one, then the
 // run's tables.
-#include "sim_run_writer.h"
+#include "support/sim_run_writer.h"
 
 #include <chrono>
 #include <cstdio>

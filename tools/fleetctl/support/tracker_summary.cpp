@@ -1,5 +1,5 @@
 // JSON summary of a tracked run.
-#include "tracker_summary.h"
+#include "support/tracker_summary.h"
 
 #include <cmath>
 #include <map>

@@ -1,5 +1,5 @@
 // Live agent vs offline tracker, same run, side by side.
-#include "bench_agent.h"
+#include "harness/agent/bench_agent.h"
 
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -8,13 +8,13 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "bench_paths.h"
+#include "harness/common/bench_paths.h"
 #include "io/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
-#include "tracker_summary.h"
+#include "support/tracker_summary.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -44,7 +44,7 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   Result<io::Run> run = io::ReadRun(run_dir);
   if (!run.ok()) return run.status();
   spdlog::info("bench agent: offline tracker");
-  Result<replay::ReplayResult> offline = TrackOffline(*mosaic, *run, {}, 256);
+  Result<replay::ReplayResult> offline = fleetctl::TrackOffline(*mosaic, *run, {}, 256);
   if (!offline.ok()) return offline.status();
   spdlog::info("bench agent: map_server and tracker_agent (fast replay) on domain {}", s.domain);
   auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
@@ -80,4 +80,4 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   return io::WriteFileAtomically(s.json, out.dump(2) + "\n");
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

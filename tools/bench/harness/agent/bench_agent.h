@@ -7,7 +7,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct AgentBenchSettings {
   std::string work_dir;
@@ -18,4 +18,4 @@ struct AgentBenchSettings {
 
 Status RunAgentBench(const AgentBenchSettings& settings);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,5 +1,5 @@
 // The live-camera agent benchmark: drive, serve, track, compare.
-#include "bench_agent_live.h"
+#include "harness/agent/bench_agent_live.h"
 
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -13,20 +13,20 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "bench_paths.h"
+#include "harness/common/bench_paths.h"
 #include "camera_io/camera_source.h"
-#include "floor_images.h"
+#include "support/floor_images.h"
 #include "io/child_process.h"
 #include "io/file_util.h"
 #include "live_sim/live_vehicle_sim.h"
 #include "tracker_agent/ros_bridge.h"
-#include "tracker_summary.h"
+#include "support/tracker_summary.h"
 #include "transport/pose_messages.h"
 #include "transport/ros_messages.h"
 #include "transport/topic_names.h"
 #include "transport/vehicle_streams.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -105,7 +105,7 @@ Result<PreparedDrive> PrepareDrive(const LiveAgentBenchSettings& s, const std::s
       EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
   if (!mosaic.ok()) return mosaic.status();
   // The floor the mosaic was imported from: the demo image itself.
-  Result<cv::Mat> floor = io::ReadGrayImage(DefaultFloorsDir() / "rock_dirt_2048.png");
+  Result<cv::Mat> floor = io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
   if (!floor.ok()) return floor.status();
   const double warmup_s = 3.0 + s.frames * 0.02;  // rendering ahead
   const double start = std::ceil(camera_io::HostNow() + warmup_s);
@@ -373,7 +373,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   CompareFramePoses(heard->poses, d, &o);
   CompareLockStates(*heard, d, work, &o);
   spdlog::info("bench agent ({}): offline tracker over the same frames", s.source);
-  Result<replay::ReplayResult> offline = TrackOffline(mosaic, run, {}, 256);
+  Result<replay::ReplayResult> offline = fleetctl::TrackOffline(mosaic, run, {}, 256);
   if (!offline.ok()) return offline.status();
   o.accuracy = replay::Evaluate(offline->poses, run.truth, run.camera.model);
   o.live_rms = Rms(o.live_errors);
@@ -383,4 +383,4 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   return WriteOutcomeJson(s, o);
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -9,7 +9,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct LiveAgentBenchSettings {
   std::string work_dir;
@@ -26,4 +26,4 @@ struct LiveAgentBenchSettings {
 
 Status RunLiveAgentBench(const LiveAgentBenchSettings& settings);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

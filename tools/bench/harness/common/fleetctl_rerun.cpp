@@ -1,5 +1,5 @@
 // fleetctl as a child process: posix_spawn with redirected output, wait4 for its resource usage.
-#include "fleetctl_rerun.h"
+#include "harness/common/fleetctl_rerun.h"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -12,7 +12,7 @@
 
 extern char** environ;
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 Result<RerunResult> RunFleetctlChild(const std::vector<std::string>& args,
                                   const std::filesystem::path& stdout_file,
@@ -49,4 +49,4 @@ Result<RerunResult> RunFleetctlChild(const std::vector<std::string>& args,
   return run;
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

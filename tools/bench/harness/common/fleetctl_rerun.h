@@ -8,7 +8,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct RerunResult {
   int exit_code = -1;  // -1 when killed by a signal
@@ -23,4 +23,4 @@ Result<RerunResult> RunFleetctlChild(const std::vector<std::string>& args,
                                   const std::filesystem::path& stdout_file,
                                   const std::filesystem::path& stderr_file);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

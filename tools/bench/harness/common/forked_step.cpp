@@ -1,5 +1,5 @@
 // fork + pipe + wait4.
-#include "forked_step.h"
+#include "harness/common/forked_step.h"
 
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <fstream>
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 // Writes all of `text` to `fd`, retrying short writes; false on error.
@@ -98,4 +98,4 @@ long long ResidentBytes() {
   return 0;
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

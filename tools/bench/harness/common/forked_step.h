@@ -7,7 +7,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct ChildRun {
   std::string output;  // what the work returned
@@ -26,4 +26,4 @@ Result<ChildRun> RunInChild(const std::function<Result<std::string>()>& work);
 // The calling process's resident set now (VmRSS), bytes; 0 if /proc cannot tell.
 long long ResidentBytes();
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -13,26 +13,19 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "bench_paths.h"
-#include "bench_tiles.h"
-#include "commands.h"
+#include "harness/common/bench_paths.h"
+#include "harness/tiles/bench_tiles.h"
+#include "harness/map_server/bench_patch_flood.h"
 #include "io/child_process.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "transport/patch_client.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-struct FloodBenchArgs {
-  TileBenchSettings tiles;  // vehicles (first entry), rate_hz, seconds, domain, work_dir
-  double flood_mb_per_s = 100;
-  int quota_mb = 64;
-  std::string json;
-};
 
 double FileMb(const std::string& path) {
   std::error_code ec;
@@ -77,7 +70,7 @@ nlohmann::json ToJson(const TileLatency& l) {
 
 // A fresh copy of the demo mosaic for the server to grow (its path), and the server's
 // configuration beside it (map_server.json: a high patch rate, the quota).
-Result<std::string> PrepareFloodMosaic(const FloodBenchArgs& a) {
+Result<std::string> PrepareFloodMosaic(const PatchFloodBenchArgs& a) {
   fs::create_directories(a.tiles.work_dir);
   Result<std::string> demo =
       EnsureDemoMosaic(a.tiles.work_dir, "rock_dirt_2048.png", "flood_bench_demo.db");
@@ -96,7 +89,7 @@ Result<std::string> PrepareFloodMosaic(const FloodBenchArgs& a) {
   return mosaic;
 }
 
-void PrintFlood(const FloodBenchArgs& a, int vehicles, const TileLatency& idle,
+void PrintFlood(const PatchFloodBenchArgs& a, int vehicles, const TileLatency& idle,
                 const TileLatency& flooded, const nlohmann::json& out, double seconds,
                 double stored_mb, double mb_before) {
   std::printf("tile request -> tile, %d vehicles at %.0f Hz each, %.0f s per phase\n", vehicles,
@@ -113,7 +106,9 @@ void PrintFlood(const FloodBenchArgs& a, int vehicles, const TileLatency& idle,
       stored_mb, a.quota_mb, mb_before, out["file_mb_after"].get<double>());
 }
 
-Status RunFloodBench(FloodBenchArgs a) {
+}  // namespace
+
+Status RunPatchFloodBench(PatchFloodBenchArgs a) {
   Result<std::string> prepared = PrepareFloodMosaic(a);
   if (!prepared.ok()) return prepared.status();
   const std::string mosaic = *prepared, config = a.tiles.work_dir + "/map_server.json";
@@ -172,34 +167,4 @@ Status RunFloodBench(FloodBenchArgs a) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchPatchFlood(CLI::App& bench, Status* result) {
-  auto a = std::make_shared<FloodBenchArgs>();
-  a->tiles.work_dir = (fs::temp_directory_path() / "fleetloc-bench-flood").string();
-  a->tiles.domain = 92;
-  a->tiles.seconds = 10;
-  a->tiles.vehicles = {10};
-  CLI::App* cmd = bench.add_subcommand(
-      "patch-flood",
-      "Tile latency for other vehicles while one floods the map server with patches; disk growth");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--vehicles", a->tiles.vehicles.front(), "Vehicles asking for tiles")
-      ->check(CLI::Range(1, 500));
-  cmd->add_option("--rate-hz", a->tiles.rate_hz, "Tile requests per vehicle per second")
-      ->check(CLI::Range(0.1, 1000.0));
-  cmd->add_option("--seconds", a->tiles.seconds, "Measured seconds per phase")
-      ->check(CLI::Range(1.0, 3600.0));
-  cmd->add_option("--flood-mb-per-s", a->flood_mb_per_s,
-                  "Patch bytes per second the flooding vehicle sends")
-      ->check(CLI::Range(0.1, 10000.0));
-  cmd->add_option("--quota-mb", a->quota_mb,
-                  "The flooding vehicle's quota (patch_intake.max_mb_per_vehicle)")
-      ->check(CLI::Range(1, 1 << 20));
-  cmd->add_option("--domain", a->tiles.domain, "DDS domain")->check(CLI::Range(0, 232));
-  cmd->add_option("--work-dir", a->tiles.work_dir, "Directory for the mosaic and logs");
-  cmd->add_option("--json", a->json, "Write every number as JSON");
-  cmd->callback([a, result] { *result = RunFloodBench(*a); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

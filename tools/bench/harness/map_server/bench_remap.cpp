@@ -13,23 +13,17 @@
 #include <opencv2/core/utility.hpp>
 #include <random>
 
-#include "bench_paths.h"
-#include "commands.h"
-#include "floor_images.h"
-#include "forked_step.h"
+#include "harness/common/bench_paths.h"
+#include "harness/map_server/bench_remap.h"
+#include "support/floor_images.h"
+#include "harness/common/forked_step.h"
 #include "io/run.h"
 #include "mosaic/remap_job.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RemapBenchArgs {
-  int patches = 1000;
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-remap").string();
-  std::string json;
-};
 
 constexpr double kRes = 0.0005;
 
@@ -42,7 +36,7 @@ Result<std::string> MosaicWithPatches(const RemapBenchArgs& a) {
   const std::string path = a.work_dir + "/remap_bench.db";
   fs::remove(path), fs::remove(path + "-wal"), fs::remove(path + "-shm");
   fs::copy_file(*demo, path);
-  Result<cv::Mat> floor = io::ReadGrayImage(DefaultFloorsDir() / "rock_dirt_2048.png");
+  Result<cv::Mat> floor = io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
   if (!floor.ok()) return floor.status();
   auto store = mosaic::PatchStore::Open(path);
   if (!store.ok()) return store.status();
@@ -72,6 +66,8 @@ nlohmann::json Usage(const ChildRun& run) {
           {"cpu_s", run.user_s + run.system_s},
           {"peak_rss_mb", static_cast<double>(run.peak_rss_bytes) / (1 << 20)}};
 }
+
+}  // namespace
 
 Status RunRemapBench(const RemapBenchArgs& a) {
   cv::setNumThreads(1);  // one core; and no worker threads may exist when the steps fork
@@ -130,18 +126,4 @@ Status RunRemapBench(const RemapBenchArgs& a) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchRemap(CLI::App& bench, Status* result) {
-  auto a = std::make_shared<RemapBenchArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "remap", "A re-mapping job over many stored patches: time and peak memory");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--patches", a->patches, "Patches stored before the job")
-      ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--work-dir", a->work_dir, "Directory for the mosaic");
-  cmd->add_option("--json", a->json, "Write every number as JSON");
-  cmd->callback([a, result] { *result = RunRemapBench(*a); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,6 +1,6 @@
 // fleetctl bench mapfit: mean shift vs RANSAC (two kinds) vs ICP on the same map-fit problems
 // (see bench_mapfit.h).
-#include "bench_mapfit.h"
+#include "harness/mapfit/bench_mapfit.h"
 
 #include <spdlog/spdlog.h>
 
@@ -13,24 +13,16 @@
 #include <string>
 #include <vector>
 
-#include "bench_mapfit_problems.h"
+#include "harness/mapfit/bench_mapfit_problems.h"
 #include "mapmatch/map_fit.h"
 #include "mapmatch/robust_map_fit.h"
 #include "peers/map_fit_peers.h"
 #include "peers/pair_ransac_map_fit.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-
-struct BenchMapFitArgs {
-  int trials = 500;  // per outlier level and seed
-  std::vector<unsigned> seeds{1};
-  std::vector<unsigned> held_out_seeds;  // reported in a table of their own
-  std::vector<double> outlier_percents;  // default per kind
-  MapFitTrialOptions problems;
-};
 
 using FitMethod = std::function<mapmatch::MapFitResult(const MapFitTrial&)>;
 struct Method {
@@ -143,7 +135,7 @@ void PrintCounts(const std::vector<double>& outlier_percents,
 }
 
 // One table: every outlier level over `seeds`, `trials` problems per level and seed.
-void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
+void RunTable(const MapFitBenchArgs& args, const std::vector<unsigned>& seeds,
               const std::string& title) {
   const std::vector<Method> methods = Methods();
   std::vector<MapFitTrials> streams;
@@ -169,7 +161,9 @@ void RunTable(const BenchMapFitArgs& args, const std::vector<unsigned>& seeds,
   PrintCounts(args.outlier_percents, table);
 }
 
-Status RunBenchMapFit(BenchMapFitArgs args) {
+}  // namespace
+
+Status RunMapFitBench(MapFitBenchArgs args) {
   cv::setNumThreads(1);
   if (args.problems.kind != "corridor" && args.problems.kind != "rooms")
     return InvalidInput("--kind: must be corridor or rooms, got '" + args.problems.kind + "'");
@@ -189,34 +183,4 @@ Status RunBenchMapFit(BenchMapFitArgs args) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchMapFit(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<BenchMapFitArgs>();
-  CLI::App* command =
-      bench.add_subcommand("mapfit", "Map fit: mean shift vs RANSAC vs ICP on the same problems");
-  command->option_defaults()->always_capture_default();
-  command->add_option("--kind", args->problems.kind, "Problems: corridor or rooms");
-  command->add_option("--trials", args->trials, "Problems per outlier level and seed")
-      ->check(CLI::Range(1, 1000000));
-  command->add_option("--seed", args->seeds, "Simulation seeds (the tuning table)")->delimiter(',');
-  command
-      ->add_option("--held-out-seed", args->held_out_seeds,
-                   "Seeds kept out of tuning, reported in a table of their own")
-      ->delimiter(',');
-  command
-      ->add_option("--outliers", args->outlier_percents,
-                   "Outlier percentages (default 50,70,80,90 corridor; 70,80,90 rooms)")
-      ->delimiter(',')
-      ->check(CLI::Range(0.0, 99.0));
-  command->add_option("--map-landmarks", args->problems.map_landmarks,
-                      "rooms: landmarks in each building");
-  command
-      ->add_option("--points", args->problems.points,
-                   "rooms: exactly this many points per problem (0: 8-12 inliers per seen "
-                   "landmark and the outliers to match)")
-      ->check(CLI::Range(0, 100000));
-  command->callback([args, result] { *result = RunBenchMapFit(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -5,13 +5,23 @@
 // table for the tuning seeds and one for the held-out seeds. Progress on stderr.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include <vector>
 
 #include "base/status.h"
+#include "harness/mapfit/bench_mapfit_problems.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
-// Adds `mapfit` to the `bench` subcommand.
-void RegisterBenchMapFit(CLI::App& bench, Status* result);
+struct MapFitBenchArgs {
+  int trials = 500;  // per outlier level and seed
+  std::vector<unsigned> seeds{1};
+  std::vector<unsigned> held_out_seeds;  // reported in a table of their own
+  std::vector<double> outlier_percents;  // default per kind
+  MapFitTrialOptions problems;
+};
 
-}  // namespace fleetloc::fleetctl
+// Prints the tuning table and, with held-out seeds, theirs. InvalidInput for an unknown kind or
+// too few map landmarks.
+Status RunMapFitBench(MapFitBenchArgs args);
+
+}  // namespace fleetloc::bench

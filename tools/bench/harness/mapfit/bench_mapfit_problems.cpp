@@ -1,11 +1,11 @@
 // The corridor and rooms problems of `fleetctl bench mapfit` (see bench_mapfit_problems.h).
-#include "bench_mapfit_problems.h"
+#include "harness/mapfit/bench_mapfit_problems.h"
 
 #include <cmath>
 
 #include "mapmatch/room_map_problem.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
@@ -85,4 +85,4 @@ std::string DescribeTrials(const MapFitTrialOptions& options) {
          "the vehicle; uniform outliers; start 2-5 cm and 1-2 deg off; radius 0.3 m";
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -12,7 +12,7 @@
 
 #include "mapmatch/map_fit_problem.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct MapFitTrial {
   std::vector<Eigen::Vector2d> map;  // the landmark map the points are fitted to
@@ -43,4 +43,4 @@ class MapFitTrials {
 // One line describing the problems of `options.kind` for the bench's header.
 std::string DescribeTrials(const MapFitTrialOptions& options);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

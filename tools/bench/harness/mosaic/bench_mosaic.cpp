@@ -1,5 +1,5 @@
 // One size of `fleetctl bench mosaic`: compose, import and lookup rounds, each in a child process.
-#include "bench_mosaic.h"
+#include "harness/mosaic/bench_mosaic.h"
 
 #include <spdlog/spdlog.h>
 
@@ -8,11 +8,11 @@
 #include <functional>
 #include <string>
 
-#include "composed_floor.h"
+#include "support/composed_floor.h"
 #include "mosaic/importer.h"
 #include "io/progress_log.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -36,7 +36,7 @@ Result<ChildRun> Compose(cv::Size size, const MosaicBenchSettings& settings, con
   options.seed = settings.seed;
   spdlog::info("bench mosaic {}: composing {}", SizeName(size), pgm.string());
   return RunInChild([&]() -> Result<std::string> {
-    FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(settings.photos, options, pgm.string()));
+    FLEETLOC_RETURN_IF_ERROR(fleetctl::ComposeFloorPgm(settings.photos, options, pgm.string()));
     return std::string();
   });
 }
@@ -110,4 +110,4 @@ void RemoveSizeFiles(const MosaicBenchSettings& settings, const MosaicSizeBench&
   RemoveMosaicFiles(bench.mosaic);
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "base/status.h"
-#include "forked_step.h"
-#include "mosaic_lookups.h"
+#include "harness/common/forked_step.h"
+#include "harness/mosaic/mosaic_lookups.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct MosaicBenchSettings {
   std::vector<std::string> photos;  // floor photographs the source floor is composed from
@@ -49,4 +49,4 @@ Status AddLookupRound(const MosaicBenchSettings& settings, int round, MosaicSize
 // Removes the size's PGM and mosaic unless settings.keep_files.
 void RemoveSizeFiles(const MosaicBenchSettings& settings, const MosaicSizeBench& bench);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,5 +1,5 @@
 // The mosaic-build benchmark: each step as a child fleetctl process, the distortion in-process.
-#include "bench_mosaic_build.h"
+#include "harness/mosaic/bench_mosaic_build.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,31 +12,19 @@
 #include <string>
 #include <vector>
 
-#include "bench_mosaic_distortion.h"
-#include "bench_tracker.h"
-#include "floor_images.h"
-#include "fleetctl_rerun.h"
+#include "harness/mosaic/bench_mosaic_distortion.h"
+#include "harness/tracker/bench_tracker.h"
+#include "support/floor_images.h"
+#include "harness/common/fleetctl_rerun.h"
 #include "io/file_util.h"
 #include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Settings {
-  std::string floor;  // default: rock_dirt_2048.png of the demo floors
-  double resolution_m = 0.0005;
-  int mapping_frames = 160;  // a little more than one lap of the figure eight at 300 px/s
-  double mapping_speed_px_s = 300.0;
-  int fast_frames = 200;
-  double rate_hz = 5.0;
-  int seed = 11;  // the fast run uses seed + 1
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-mosaic-build").string();
-  std::string json;
-};
 
 struct Step {
   RerunResult run;
@@ -76,7 +64,7 @@ Result<Step> RunStep(const std::string& name, const std::vector<std::string>& ar
   return step;
 }
 
-std::vector<std::string> SimArgs(const Settings& s, const fs::path& out, int frames, int seed) {
+std::vector<std::string> SimArgs(const MosaicBuildBenchArgs& s, const fs::path& out, int frames, int seed) {
   return {"sim",
           "--image",
           s.floor,
@@ -105,7 +93,7 @@ std::string Fixed(const nlohmann::json& value, int digits) {
   return out.str();
 }
 
-void PrintReport(const Settings& s, const nlohmann::json& j) {
+void PrintReport(const MosaicBuildBenchArgs& s, const nlohmann::json& j) {
   const nlohmann::json& b = j["build"];
   const nlohmann::json& m = b["summary"];
   const nlohmann::json& d = j["distortion"];
@@ -140,7 +128,7 @@ void PrintReport(const Settings& s, const nlohmann::json& j) {
   }
 }
 
-nlohmann::json SettingsJson(const Settings& s, const fs::path& work) {
+nlohmann::json SettingsJson(const MosaicBuildBenchArgs& s, const fs::path& work) {
   return {{"floor", s.floor},
           {"resolution_m", s.resolution_m},
           {"mapping_frames", s.mapping_frames},
@@ -152,7 +140,7 @@ nlohmann::json SettingsJson(const Settings& s, const fs::path& work) {
 }
 
 // The slow mapping run, `mosaic build` on it and the built mosaic's distortion, into *json.
-Status MapAndBuild(const Settings& s, const fs::path& work, nlohmann::json* json) {
+Status MapAndBuild(const MosaicBuildBenchArgs& s, const fs::path& work, nlohmann::json* json) {
   const fs::path mapping_run = work / "mapping_run", built = work / "built.db";
   std::vector<std::string> mapping_sim = SimArgs(s, mapping_run, s.mapping_frames, s.seed);
   mapping_sim.insert(mapping_sim.end(), {"--speed-px-s", std::to_string(s.mapping_speed_px_s),
@@ -177,7 +165,7 @@ Status MapAndBuild(const Settings& s, const fs::path& work, nlohmann::json* json
 }
 
 // The fast run, tracked on the built mosaic and on the floor imported directly, into *json.
-Status TrackFastRun(const Settings& s, const fs::path& work, nlohmann::json* json) {
+Status TrackFastRun(const MosaicBuildBenchArgs& s, const fs::path& work, nlohmann::json* json) {
   const fs::path fast_run = work / "fast_run", imported = work / "imported.db";
   Result<Step> fast = RunStep("sim_fast", SimArgs(s, fast_run, s.fast_frames, s.seed + 1), work);
   if (!fast.ok()) return fast.status();
@@ -199,8 +187,10 @@ Status TrackFastRun(const Settings& s, const fs::path& work, nlohmann::json* jso
   return Status::Ok();
 }
 
-Status RunBenchMosaicBuild(Settings s) {
-  if (s.floor.empty()) s.floor = (DefaultFloorsDir() / "rock_dirt_2048.png").string();
+}  // namespace
+
+Status RunMosaicBuildBench(MosaicBuildBenchArgs s) {
+  if (s.floor.empty()) s.floor = (fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png").string();
   const fs::path work = io::AbsoluteDir(s.work_dir);
   std::error_code ec;
   fs::create_directories(work, ec);
@@ -213,26 +203,4 @@ Status RunBenchMosaicBuild(Settings s) {
   return io::WriteFileAtomically(s.json, json.dump(2) + "\n");
 }
 
-}  // namespace
-
-void RegisterBenchMosaicBuild(CLI::App& bench, Status* result) {
-  auto s = std::make_shared<Settings>();
-  CLI::App* cmd = bench.add_subcommand(
-      "mosaic-build",
-      "Mapping run -> mosaic build -> distortion vs the true floor -> fast run tracked on it");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--floor", s->floor, "Floor image (default: demo rock_dirt_2048.png)");
-  cmd->add_option("--resolution", s->resolution_m, "Metres per pixel of the floor image");
-  cmd->add_option("--mapping-frames", s->mapping_frames, "Frames of the slow mapping run")
-      ->check(CLI::Range(2, 1000000));
-  cmd->add_option("--mapping-speed-px-s", s->mapping_speed_px_s, "Mapping run speed");
-  cmd->add_option("--fast-frames", s->fast_frames, "Frames of the fast run tracked")
-      ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--rate-hz", s->rate_hz, "Frame rate of both runs");
-  cmd->add_option("--seed", s->seed, "Seed of the mapping run (the fast run: seed + 1)");
-  cmd->add_option("--work-dir", s->work_dir, "Runs, mosaics and each step's output and log");
-  cmd->add_option("--json", s->json, "Write every number to this JSON file");
-  cmd->callback([s, result] { *result = RunBenchMosaicBuild(*s); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,6 +1,6 @@
 // `fleetctl bench mosaic-distortion`: the file side of the distortion measurement — the true floor
 // image and the built mosaic's level 0 over the same map extent, measured by the mapping library.
-#include "bench_mosaic_distortion.h"
+#include "harness/mosaic/bench_mosaic_distortion.h"
 
 #include <iostream>
 #include <memory>
@@ -10,7 +10,7 @@
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 namespace fs = std::filesystem;
 
@@ -57,13 +57,9 @@ Result<mapping::DistortionReport> MeasureBuiltMosaicDistortion(const fs::path& b
 
 namespace {
 
-struct DistortionArgs {
-  std::string mosaic;
-  std::string truth;
-  double resolution_m = 0.0005;
-};
+}  // namespace
 
-Status RunBenchDistortion(const DistortionArgs& args) {
+Status RunMosaicDistortionBench(const MosaicDistortionBenchArgs& args) {
   Result<mapping::DistortionReport> report =
       MeasureBuiltMosaicDistortion(args.mosaic, args.truth, args.resolution_m);
   if (!report.ok()) return report.status();
@@ -71,19 +67,4 @@ Status RunBenchDistortion(const DistortionArgs& args) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchMosaicDistortion(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<DistortionArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "mosaic-distortion", "Local distortion of a mosaic against the true floor image (JSON)");
-  cmd->add_option("--mosaic", args->mosaic, "Built mosaic")->required();
-  cmd->add_option("--truth", args->truth,
-                  "True floor image, top-left corner at map (0, height * resolution)")
-      ->required();
-  cmd->add_option("--resolution", args->resolution_m, "Metres per pixel of the image")
-      ->capture_default_str();
-  cmd->callback([args, result] { *result = RunBenchDistortion(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

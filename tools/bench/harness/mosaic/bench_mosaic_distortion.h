@@ -2,17 +2,13 @@
 // distortion against the true floor image it was mapped from (see mapping/mosaic_distortion.h).
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "base/status.h"
 #include "mapping/mosaic_distortion.h"
 
-namespace fleetloc::fleetctl {
-
-// Adds `mosaic-distortion` (the measurement alone, as JSON on stdout) to the `bench` subcommand.
-void RegisterBenchMosaicDistortion(CLI::App& bench, Status* result);
+namespace fleetloc::bench {
 
 // The distortion of the mosaic in `built_db` against `truth_image` placed as `fleetctl sim
 // --image` places it (top-left corner at map (0, height · resolution)): the built mosaic's level 0
@@ -25,4 +21,13 @@ Result<mapping::DistortionReport> MeasureBuiltMosaicDistortion(
 // Every number of a report but the per-patch list.
 nlohmann::json DistortionJson(const mapping::DistortionReport& report);
 
-}  // namespace fleetloc::fleetctl
+struct MosaicDistortionBenchArgs {
+  std::string mosaic;
+  std::string truth;
+  double resolution_m = 0.0005;
+};
+
+// The measurement alone, as JSON on stdout. The measurement's error on failure.
+Status RunMosaicDistortionBench(const MosaicDistortionBenchArgs& args);
+
+}  // namespace fleetloc::bench

@@ -1,11 +1,11 @@
 // Table, verdict and JSON of the mosaic store benchmark.
-#include "bench_mosaic_report.h"
+#include "harness/mosaic/bench_mosaic_report.h"
 
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 constexpr double kMiB = 1024.0 * 1024.0;
@@ -133,4 +133,4 @@ nlohmann::json ScalingVerdictJson(const ScalingVerdict& v) {
           {"max_lookup_p50_ratio", kMaxLookupP50Ratio}};
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -6,9 +6,9 @@
 #include <ostream>
 #include <vector>
 
-#include "bench_mosaic.h"
+#include "harness/mosaic/bench_mosaic.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 // Bounded: the import's peak RSS grows at most this much from the smallest to the largest size
 // (whose pixel count is ~100× in the default sizes): memory follows the strip width, not the area.
@@ -35,4 +35,4 @@ void PrintScalingVerdict(std::ostream& out, const ScalingVerdict& verdict);
 nlohmann::json MosaicSizeJson(const MosaicSizeBench& size);
 nlohmann::json ScalingVerdictJson(const ScalingVerdict& verdict);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,5 +1,5 @@
 // Lookup latency of a mosaic store: random tiles by key and random tracker-sized blocks.
-#include "mosaic_lookups.h"
+#include "harness/mosaic/mosaic_lookups.h"
 
 #include <chrono>
 #include <memory>
@@ -11,7 +11,7 @@
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -154,4 +154,4 @@ Result<LookupRun> LookupRunFromJson(const nlohmann::json& json) {
   }
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

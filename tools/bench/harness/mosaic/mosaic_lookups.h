@@ -11,7 +11,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct LookupSettings {
   int tile_samples = 400;              // random level-0 tiles read, each way
@@ -62,4 +62,4 @@ nlohmann::json LookupRunJson(const LookupRun& run);
 // is missing or mistyped (a bug: the text is fleetctl's own).
 Result<LookupRun> LookupRunFromJson(const nlohmann::json& json);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -11,34 +11,23 @@
 #include <string>
 #include <vector>
 
-#include "bench_mosaic.h"
-#include "bench_mosaic_report.h"
-#include "commands.h"
-#include "composed_floor.h"
-#include "floor_images.h"
+#include "harness/mosaic/bench_mosaic.h"
+#include "harness/mosaic/bench_mosaic_report.h"
+#include "harness/mosaic/run_mosaic_bench.h"
+#include "support/composed_floor.h"
+#include "support/floor_images.h"
 #include "io/file_util.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct BenchMosaicArgs {
-  std::vector<std::string> sizes{"3200x3200", "10240x10240", "32768x32768"};
-  std::string floors_dir;
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-mosaic").string();
-  std::string json;
-  int tile_samples = 2000;  // in all rounds
-  int block_samples = 300;  // in all rounds
-  int rounds = 5;
-  MosaicBenchSettings settings;
-};
 
 Result<std::vector<cv::Size>> ParseSizes(const std::vector<std::string>& texts) {
   if (texts.empty()) return InvalidInput("--sizes: name at least one WIDTHxHEIGHT");
   std::vector<cv::Size> sizes;
   for (const std::string& text : texts) {
-    Result<cv::Size> size = ParsePixelSize(text, "--sizes");
+    Result<cv::Size> size = fleetctl::ParsePixelSize(text, "--sizes");
     if (!size.ok()) return size.status();
     sizes.push_back(*size);
   }
@@ -46,8 +35,8 @@ Result<std::vector<cv::Size>> ParseSizes(const std::vector<std::string>& texts) 
 }
 
 Result<std::vector<std::string>> FloorPhotos(const std::string& floors_dir) {
-  Result<std::vector<fs::path>> images = ListFloorImages(
-      floors_dir.empty() ? DefaultFloorsDir() : fs::path(floors_dir), "--floors-dir");
+  Result<std::vector<fs::path>> images = fleetctl::ListFloorImages(
+      floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(floors_dir), "--floors-dir");
   if (!images.ok()) return images.status();
   std::vector<std::string> photos;
   for (const fs::path& image : *images) photos.push_back(image.string());
@@ -87,7 +76,9 @@ nlohmann::json SettingsJson(const MosaicBenchSettings& s, int rounds) {
           {"threads", 1}};
 }
 
-Status RunBenchMosaic(BenchMosaicArgs& args) {
+}  // namespace
+
+Status RunMosaicBench(MosaicBenchArgs& args) {
   Result<std::vector<cv::Size>> sizes = ParseSizes(args.sizes);
   if (!sizes.ok()) return sizes.status();
   Result<std::vector<std::string>> photos = FloorPhotos(args.floors_dir);
@@ -114,33 +105,4 @@ Status RunBenchMosaic(BenchMosaicArgs& args) {
   return io::WriteFileAtomically(args.json, json.dump(2) + "\n");
 }
 
-}  // namespace
-
-void AddBenchMosaicCommand(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<BenchMosaicArgs>();
-  MosaicBenchSettings& s = args->settings;
-  CLI::App* cmd = bench.add_subcommand(
-      "mosaic", "Mosaic store at scale: import time and peak RSS, tile and block lookup latency");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--sizes", args->sizes, "Image sizes WIDTHxHEIGHT, comma-separated")
-      ->delimiter(',');
-  cmd->add_option("--floors-dir", args->floors_dir,
-                  "Floor photos to compose from (default: the source tree's " +
-                      std::string(kFloorsSubdir) + ")");
-  cmd->add_option("--work-dir", args->work_dir, "Composed floors and mosaics, one dir per size");
-  cmd->add_option("--json", args->json, "Write every number to this JSON file");
-  cmd->add_option("--block", s.block_px, "Composition block side, px")->check(CLI::Range(16, 4096));
-  cmd->add_option("--seed", s.seed, "Composition and sampling seed");
-  cmd->add_option("--tile-samples", args->tile_samples, "Random tiles read, each way, per size")
-      ->check(CLI::Range(1, 10000000));
-  cmd->add_option("--block-samples", args->block_samples,
-                  "Random blocks read cold and warm, per size")
-      ->check(CLI::Range(1, 10000000));
-  cmd->add_option("--rounds", args->rounds,
-                  "Lookup rounds taking the sizes in turn (samples split between rounds)")
-      ->check(CLI::Range(1, 1000));
-  cmd->add_flag("--keep-files", s.keep_files, "Keep each size's PGM and mosaic");
-  cmd->callback([args, result] { *result = RunBenchMosaic(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,17 +1,17 @@
 // Relocalization trials (see bench_reloc.h).
-#include "bench_reloc.h"
+#include "harness/reloc/bench_reloc.h"
 
 #include <chrono>
 #include <opencv2/core/utility.hpp>
 #include <random>
 
 #include "io/progress_log.h"
-#include "reloc_index.h"
+#include "support/reloc_index.h"
 #include "replay/replay.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 // The bench's camera: the settings' frame size at the mosaic's resolution, mounted 0.40 m ahead
@@ -149,7 +149,7 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
     const RelocTrial& t = trials[i];
     if (t.correct) continue;
     nlohmann::json runs = nlohmann::json::array();
-    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(RelocalizationJson(r));
+    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(fleetctl::RelocalizationJson(r));
     failures.push_back({{"trial", i},
                         {"found", t.found},
                         {"error_m", t.error_m},
@@ -298,4 +298,4 @@ Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore
   return trials;
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

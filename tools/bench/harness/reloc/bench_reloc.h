@@ -17,7 +17,7 @@
 #include "mosaic/tile_store.h"
 #include "sim/sim_options.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct RelocTrialSettings {
   int trials = 200;
@@ -75,4 +75,4 @@ Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore
 // failed trial with what the relocalizer saw, and the gate margins of every accepted pose.
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -1,5 +1,5 @@
 // Relocalization on the stress floors (see bench_reloc_stress.h): cells, their table, the summary.
-#include "bench_reloc_stress.h"
+#include "harness/reloc/bench_reloc_stress.h"
 
 #include <spdlog/spdlog.h>
 
@@ -9,13 +9,13 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "bench_stress.h"
-#include "bench_tracker.h"
+#include "harness/stress/bench_stress.h"
+#include "harness/tracker/bench_tracker.h"
 #include "io/file_util.h"
 #include "io/run.h"
 #include "mosaic/mosaic_view.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -225,4 +225,4 @@ Status RunRelocStress(const RelocStressArgs& args) {
   return io::WriteFileAtomically(args.json, nlohmann::json{{"cells", cells}}.dump(2) + "\n");
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "base/status.h"
-#include "bench_reloc.h"
+#include "harness/reloc/bench_reloc.h"
 #include "mapmatch/place_index.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct RelocStressArgs {
   std::string manifest;  // default: data/stress_floors/floors.json
@@ -33,4 +33,4 @@ struct RelocStressArgs {
 // condition; a cell's error otherwise.
 Status RunRelocStress(const RelocStressArgs& args);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -8,20 +8,14 @@
 #include <cstdio>
 #include <opencv2/core/utility.hpp>
 
-#include "commands.h"
+#include "harness/reloc/run_dense_probe.h"
 #include "io/run.h"
 #include "mapmatch/dense_place_search.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
-
-struct DenseProbeArgs {
-  std::string mosaic, run;
-  int every = 6;
-  mapmatch::DensePlaceSearchOptions dense;
-};
 
 // One frame's line; true when the best peak is within 1 cm of the truth.
 Result<bool> ProbeFrame(const mapmatch::DensePlaceSearch& search, const io::Run& run,
@@ -42,6 +36,8 @@ Result<bool> ProbeFrame(const mapmatch::DensePlaceSearch& search, const io::Run&
               right ? " OK" : "");
   return right;
 }
+
+}  // namespace
 
 Status RunDenseProbe(const DenseProbeArgs& args) {
   cv::setNumThreads(1);
@@ -67,23 +63,4 @@ Status RunDenseProbe(const DenseProbeArgs& args) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchDenseProbe(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<DenseProbeArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "dense-probe", "The dense place search on a run's frames: correlation at the truth, peaks");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--mosaic", args->mosaic, "Mosaic (SQLite tile store)")->required();
-  cmd->add_option("--run", args->run, "Run directory with truth.csv")->required();
-  cmd->add_option("--every", args->every, "Every k-th frame")->check(CLI::Range(1, 100000));
-  cmd->add_option("--min-short-side", args->dense.min_short_side_px,
-                  "Refine level: the coarsest whose frame short side is >= this");
-  cmd->add_option("--heading-step-scale", args->dense.heading_step_scale,
-                  "Heading step in frame half-diagonal pixels of the sweep level");
-  cmd->add_option("--max-refine-mpx", args->dense.max_refine_level_mpx,
-                  "Largest mosaic at the refine level (Mpx)");
-  cmd->callback([args, result] { *result = RunDenseProbe(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

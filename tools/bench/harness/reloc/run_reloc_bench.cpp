@@ -11,18 +11,18 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 
-#include "bench_reloc.h"
-#include "bench_reloc_stress.h"
-#include "commands.h"
-#include "composed_floor.h"
-#include "floor_images.h"
-#include "forked_step.h"
+#include "harness/reloc/bench_reloc.h"
+#include "harness/reloc/bench_reloc_stress.h"
+#include "harness/reloc/run_reloc_bench.h"
+#include "support/composed_floor.h"
+#include "support/floor_images.h"
+#include "harness/common/forked_step.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
 #include "mosaic/place_index_cache.h"
-#include "reloc_index.h"
+#include "support/reloc_index.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -33,29 +33,17 @@ mosaic::ImportOptions ImportAtHalfMillimetre() {
   return options;
 }
 
-struct BenchRelocArgs {
-  std::string mosaic;  // use this mosaic instead of composing one
-  std::string size = "12000x9000";
-  std::string floors_dir;
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-reloc").string();
-  std::string json;
-  mapmatch::PlaceIndexOptions index;
-  RelocTrialSettings trials;
-  bool stress = false;       // the stress floors instead (bench_reloc_stress.h)
-  RelocStressArgs stressed;  // its floors, sizes, conditions and layouts
-};
-
 // The composed, imported mosaic of args.size (kept in the work dir and reused when present).
-Result<std::string> PrepareMosaic(const BenchRelocArgs& args) {
+Result<std::string> PrepareMosaic(const RelocBenchArgs& args) {
   if (!args.mosaic.empty()) return args.mosaic;
-  Result<cv::Size> size = ParsePixelSize(args.size, "--size");
+  Result<cv::Size> size = fleetctl::ParsePixelSize(args.size, "--size");
   if (!size.ok()) return size.status();
   const fs::path dir = io::AbsoluteDir(args.work_dir);
   const std::string stem = "floor_" + args.size + "_seed" + std::to_string(args.trials.seed);
   const std::string db = (dir / (stem + ".db")).string();
   if (fs::exists(db)) return db;
-  Result<std::vector<fs::path>> photos = ListFloorImages(
-      args.floors_dir.empty() ? DefaultFloorsDir() : fs::path(args.floors_dir), "--floors-dir");
+  Result<std::vector<fs::path>> photos = fleetctl::ListFloorImages(
+      args.floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(args.floors_dir), "--floors-dir");
   if (!photos.ok()) return photos.status();
   sim::FloorComposerOptions compose{.width_px = size->width, .height_px = size->height};
   compose.seed = args.trials.seed;
@@ -63,7 +51,7 @@ Result<std::string> PrepareMosaic(const BenchRelocArgs& args) {
   const std::string pgm = (dir / (stem + ".pgm")).string();
   std::vector<std::string> names;
   for (const fs::path& p : *photos) names.push_back(p.string());
-  FLEETLOC_RETURN_IF_ERROR(ComposeFloorPgm(names, compose, pgm));
+  FLEETLOC_RETURN_IF_ERROR(fleetctl::ComposeFloorPgm(names, compose, pgm));
   Result<mosaic::MosaicLayout> imported = mosaic::ImportImage(pgm, ImportAtHalfMillimetre(), db);
   fs::remove(pgm);
   if (!imported.ok()) return imported.status();
@@ -112,7 +100,9 @@ void PrintSummary(const nlohmann::json& j) {
             << "RSS after trials " << j["rss_after_trials_bytes"] << " B\n";
 }
 
-Status RunBenchReloc(const BenchRelocArgs& args) {
+}  // namespace
+
+Status RunRelocBench(const RelocBenchArgs& args) {
   cv::setNumThreads(1);  // one core; and no worker threads may exist when the build forks
   FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.index));
   FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.trials.relocalizer));
@@ -167,75 +157,4 @@ Status RunBenchReloc(const BenchRelocArgs& args) {
   return io::WriteFileAtomically(args.json, json.dump(2) + "\n");
 }
 
-// The options of --stress runs.
-void AddStressOptions(CLI::App* cmd, RelocStressArgs& st) {
-  cmd->add_option("--manifest", st.manifest, "Stress floors manifest (with --stress)");
-  cmd->add_option("--split", st.split, "tuning, holdout or all (with --stress)")
-      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
-  cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
-      ->delimiter(',');
-  cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');
-  cmd->add_option("--conditions", st.conditions,
-                  "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
-      ->delimiter(',');
-  cmd->add_option("--layouts", st.layouts,
-                  "single (the floor alone) and/or repeated (the floor twice side by side; "
-                  "with --stress)")
-      ->delimiter(',');
-}
-
-}  // namespace
-
-void RegisterBenchReloc(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<BenchRelocArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "reloc", "Global relocalization from random poses on a >= 100 Mpx non-repeating mosaic");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--mosaic", args->mosaic, "Use this mosaic instead of composing one");
-  cmd->add_option("--size", args->size, "Composed floor size WIDTHxHEIGHT (without --mosaic)");
-  cmd->add_option("--floors-dir", args->floors_dir, "Floor photos to compose from");
-  cmd->add_option("--work-dir", args->work_dir, "Where the composed mosaic is kept");
-  cmd->add_option("--json", args->json, "Write every number to this JSON file");
-  cmd->add_option("--trials", args->trials.trials, "Random poses")->check(CLI::Range(1, 100000));
-  cmd->add_option("--attempts", args->trials.attempts, "Frames tried per trial")
-      ->check(CLI::Range(1, 50));
-  cmd->add_option("--seed", args->trials.seed, "Floor composition, poses and rendering seed");
-  cmd->add_option("--lsh-tables", args->index.lsh_tables, "LSH hash tables");
-  cmd->add_option("--lsh-key-bits", args->index.lsh_key_bits, "LSH key bits");
-  cmd->add_option("--lsh-multiprobe", args->index.lsh_multiprobe_level, "LSH multi-probe level");
-  cmd->add_option("--max-verified", args->trials.relocalizer.max_verified_candidates,
-                  "Candidates verified by a tracker cycle per frame");
-  cmd->add_option("--trajectory-frames", args->trials.relocalizer.trajectory_frames,
-                  "Frames combined with odometry when one is not enough (1: single frames; "
-                  "reports both)")
-      ->check(CLI::Range(1, 20))
-      ->capture_default_str();
-  cmd->add_option("--threads", args->trials.threads,
-                  "OpenCV threads while a frame is relocalized (the dense searches' heading pairs "
-                  "on 2 stripes; results do not depend on it)")
-      ->check(CLI::Range(1, 2))
-      ->capture_default_str();
-  cmd->add_option("--fine-sweep-step-factor",
-                  args->trials.relocalizer.dense_fine.sweep_heading_step_factor,
-                  "The fine dense search's sweep heading step, times its default")
-      ->check(CLI::Range(1.0, 4.0))
-      ->capture_default_str();
-  cmd->add_option("--fine-refine-heading-steps",
-                  args->trials.relocalizer.dense_fine.refine_heading_steps,
-                  "Refine-level heading steps either side the fine dense search refines over")
-      ->check(CLI::Range(1, 8))
-      ->capture_default_str();
-  cmd->add_flag("--trajectory-refine-level", args->trials.relocalizer.trajectory_refine_level,
-                "Sum the frames' heading sweeps at the dense search's refine level (slower)");
-  cmd->add_option("--trajectory-max-mb", args->trials.relocalizer.trajectory_max_mb,
-                  "Memory bound of the summed sweeps (multi-frame off above it)")
-      ->check(CLI::Range(1.0, 4096.0))
-      ->capture_default_str();
-  cmd->add_flag("--stress", args->stress,
-                "The stress floors (data/stress_floors) × --sizes × --conditions × --layouts "
-                "instead of one large composed floor");
-  AddStressOptions(cmd, args->stressed);
-  cmd->callback([args, result] { *result = RunBenchReloc(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

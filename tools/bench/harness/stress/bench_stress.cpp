@@ -1,5 +1,5 @@
 // Stress-suite pieces: the floors manifest, the camera conditions, floors scaled to the frame.
-#include "bench_stress.h"
+#include "harness/stress/bench_stress.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "io/run.h"
 #include "sim/stress_camera.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -131,4 +131,4 @@ Result<fs::path> FloorForFrame(const StressFloor& floor, int width_px, int heigh
   return scaled;
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

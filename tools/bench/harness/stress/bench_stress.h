@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "base/status.h"
-#include "bench_tracker.h"
+#include "harness/tracker/bench_tracker.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 // One manifest entry.
 struct StressFloor {
@@ -54,4 +54,4 @@ Status ApplyStressCondition(const std::string& name, BenchSettings* settings);
 Result<std::filesystem::path> FloorForFrame(const StressFloor& floor, int width_px, int height_px,
                                             const std::filesystem::path& dir);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

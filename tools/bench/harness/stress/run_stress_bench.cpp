@@ -10,28 +10,16 @@
 #include <opencv2/core/utility.hpp>
 #include <sstream>
 
-#include "bench_report.h"
-#include "bench_stress.h"
-#include "commands.h"
+#include "harness/tracker/bench_report.h"
+#include "harness/stress/bench_stress.h"
+#include "harness/stress/run_stress_bench.h"
 #include "io/file_util.h"
-#include "parse_numbers.h"
+#include "support/parse_numbers.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct StressArgs {
-  std::string manifest;
-  std::string split = "all";
-  std::vector<std::string> classes;  // empty: all
-  std::vector<std::string> sizes{"320x240", "640x480", "1280x1024"};
-  std::vector<std::string> conditions = StressConditionNames();
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-stress").string();
-  std::string json;
-  std::string tracker_config;
-  BenchSettings settings;
-};
 
 // A weak floor: the looser accuracy and time targets apply.
 bool PlainClass(const std::string& floor_class) {
@@ -93,7 +81,7 @@ void PrintRow(const StressFloor& floor, const FrameSize& size, const std::string
 
 // One cell: the floor scaled for the frame, the condition's run, every method replayed.
 Result<nlohmann::json> RunCell(const StressFloor& floor, const FrameSize& size,
-                               const std::string& condition, const StressArgs& args) {
+                               const std::string& condition, const TrackerStressBenchArgs& args) {
   BenchSettings settings = args.settings;
   settings.width_px = size.width;
   settings.height_px = size.height;
@@ -117,7 +105,9 @@ Result<nlohmann::json> RunCell(const StressFloor& floor, const FrameSize& size,
                         {"verdict", verdict}};
 }
 
-Status RunStress(StressArgs& args) {
+}  // namespace
+
+Status RunTrackerStressBench(TrackerStressBenchArgs& args) {
   FLEETLOC_RETURN_IF_ERROR(LoadBenchTrackerOptions(args.tracker_config, &args.settings));
   const fs::path manifest =
       args.manifest.empty() ? DefaultStressManifest() : fs::path(args.manifest);
@@ -158,38 +148,4 @@ Status RunStress(StressArgs& args) {
   return io::WriteFileAtomically(args.json, nlohmann::json{{"cells", cells}}.dump(2) + "\n");
 }
 
-}  // namespace
-
-void RegisterBenchStress(CLI::App& bench, Status* result) {
-  auto args = std::make_shared<StressArgs>();
-  CLI::App* stress = bench.add_subcommand(
-      "tracker-stress",
-      "The tracker and its peers on the stress floors (data/stress_floors) at several frame "
-      "sizes and camera conditions; holdout floors reported apart");
-  BenchSettings& s = args->settings;
-  s.frames = 150;
-  s.peer_frames = 20;
-  s.methods = {"fleetloc", "ecc", "orb", "sift"};
-  stress->add_option("--manifest", args->manifest,
-                     "Floors manifest (default: data/stress_floors/floors.json)");
-  stress->add_option("--split", args->split, "tuning, holdout or all")
-      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
-  stress->add_option("--classes", args->classes, "Floor classes to run (default: all)")
-      ->delimiter(',');
-  stress->add_option("--sizes", args->sizes, "Frame sizes WIDTHxHEIGHT")->delimiter(',');
-  stress->add_option("--conditions", args->conditions, "clean, fast, dusty, all, marks")->delimiter(',');
-  stress->add_option("--frames", s.frames, "Frames per cell")->check(CLI::Range(1, 1000000));
-  stress
-      ->add_option("--peer-frames", s.peer_frames, "Peers replay only the first N frames (0: all)")
-      ->check(CLI::Range(0, 1000000));
-  stress->add_option("--methods", s.methods, "fleetloc and peers (ecc, orb, sift, phase)")
-      ->delimiter(',');
-  stress->add_option("--seed", s.seed, "Simulation seed");
-  stress->add_option("--work-dir", args->work_dir, "Scaled floors, mosaics and runs");
-  stress->add_option("--json", args->json, "Write every number to this JSON file");
-  stress->add_option("--tracker-config", args->tracker_config,
-                     "fleetloc's tracker options (JSON, as fleetctl track --config)");
-  stress->callback([args, result] { *result = RunStress(*args); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -20,7 +20,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "commands.h"
+#include "harness/supervisor/bench_supervisor.h"
 #include "io/child_process.h"
 #include "replay/replay.h"
 #include "transport/topic_names.h"
@@ -28,21 +28,11 @@
 #include "transport/vehicle_streams.h"
 #include "transport/wire_util.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-struct SupervisorBenchArgs {
-  int vehicles = 500;
-  double pose_hz = 30;
-  double seconds = 20;
-  int domain = 102;
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-supervisor").string();
-  std::string json;
-  std::string supervisor_config;  // passed to the supervisor as --config (e.g. VDA 5050 on)
-};
 
 double Now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -163,6 +153,8 @@ void PrintSupervisorBench(const SupervisorBenchArgs& a, const nlohmann::json& ou
               out["supervisor_rss_mb_max"].get<double>());
 }
 
+}  // namespace
+
 Status RunSupervisorBench(const SupervisorBenchArgs& a) {
   int port = 0;
   auto supervisor = StartSupervisor(a, &port);
@@ -212,21 +204,4 @@ Status RunSupervisorBench(const SupervisorBenchArgs& a) {
   return Status::Ok();
 }
 
-}  // namespace
-
-void RegisterBenchSupervisor(CLI::App& bench, Status* result) {
-  auto a = std::make_shared<SupervisorBenchArgs>();
-  CLI::App* cmd = bench.add_subcommand("supervisor", "Fleet supervisor under a simulated fleet: backlog, stream latency, CPU, memory");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--vehicles", a->vehicles, "Simulated vehicles")->check(CLI::Range(1, 5000));
-  cmd->add_option("--pose-hz", a->pose_hz, "Poses per vehicle per second")->check(CLI::Range(0.5, 200.0));
-  cmd->add_option("--seconds", a->seconds, "Measured seconds (after a 3 s warm-up)")->check(CLI::Range(1.0, 3600.0));
-  cmd->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
-  cmd->add_option("--work-dir", a->work_dir, "Directory for the supervisor's history and log");
-  cmd->add_option("--json", a->json, "Write every number as JSON");
-  cmd->add_option("--supervisor-config", a->supervisor_config,
-                  "The supervisor's configuration (JSON), e.g. with \"vda5050\" enabled");
-  cmd->callback([a, result] { *result = RunSupervisorBench(*a); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -18,27 +18,17 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
-#include "commands.h"
-#include "http_abuse.h"
+#include "harness/supervisor/bench_supervisor_abuse.h"
+#include "harness/supervisor/http_abuse.h"
 #include "io/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-struct AbuseBenchArgs {
-  AbuseOptions abuse;
-  double seconds = 20;      // measured under attack (after a 2 s ramp)
-  double idle_seconds = 5;  // measured before the attack
-  double requests_hz = 5;   // operator requests per second (each: one GET, one POST)
-  int domain = 104;
-  std::string work_dir = (fs::temp_directory_path() / "fleetloc-bench-abuse").string();
-  std::string json;
-};
 
 constexpr const char* kToken = "bench-abuse-token-0123456789";
 
@@ -151,7 +141,7 @@ void WaitForRemapCommands(httplib::Client& http) {
   }
 }
 
-nlohmann::json AbuseJson(const AbuseBenchArgs& a, const AbuseStats& attack, const Phase& idle,
+nlohmann::json AbuseJson(const SupervisorAbuseBenchArgs& a, const AbuseStats& attack, const Phase& idle,
                          const Phase& attacked, double peak_rss, const nlohmann::json& counters) {
   return {
       {"attack",
@@ -176,7 +166,9 @@ nlohmann::json AbuseJson(const AbuseBenchArgs& a, const AbuseStats& attack, cons
       {"supervisor_counters", counters}};
 }
 
-Status RunAbuseBench(AbuseBenchArgs a) {
+}  // namespace
+
+Status RunSupervisorAbuseBench(SupervisorAbuseBenchArgs a) {
   const long files = io::RaiseOpenFileLimit();
   if (files < a.abuse.idle + a.abuse.streams + a.abuse.slow + 64) {
     return InvalidInput("the open-file limit " + std::to_string(files) + " is too low for " +
@@ -232,32 +224,4 @@ Status RunAbuseBench(AbuseBenchArgs a) {
   return stopped ? Status::Ok() : Internal("the supervisor did not stop cleanly");
 }
 
-}  // namespace
-
-void RegisterBenchSupervisorAbuse(CLI::App& bench, Status* result) {
-  auto a = std::make_shared<AbuseBenchArgs>();
-  CLI::App* cmd = bench.add_subcommand(
-      "supervisor-abuse",
-      "Fleet supervisor's API latency and memory under idle, streaming, slow and flooding clients");
-  cmd->option_defaults()->always_capture_default();
-  cmd->add_option("--idle", a->abuse.idle, "Idle sockets")->check(CLI::Range(0, 100000));
-  cmd->add_option("--streams", a->abuse.streams, "Live streams (/api/events), half never read")
-      ->check(CLI::Range(0, 100000));
-  cmd->add_option("--slow", a->abuse.slow, "Slow senders (one byte of an endless head per 100 ms)")
-      ->check(CLI::Range(0, 100000));
-  cmd->add_option("--flood-mb", a->abuse.flood_mb, "Header bytes to flood, MB")
-      ->check(CLI::Range(0.0, 100000.0));
-  cmd->add_option("--seconds", a->seconds, "Measured seconds under attack")
-      ->check(CLI::Range(1.0, 3600.0));
-  cmd->add_option("--idle-seconds", a->idle_seconds, "Measured seconds before the attack")
-      ->check(CLI::Range(1.0, 3600.0));
-  cmd->add_option("--requests-hz", a->requests_hz,
-                  "Operator requests per second (one GET and one POST each)")
-      ->check(CLI::Range(0.1, 100.0));
-  cmd->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
-  cmd->add_option("--work-dir", a->work_dir, "Directory for the mosaic, history and logs");
-  cmd->add_option("--json", a->json, "Write every number as JSON");
-  cmd->callback([a, result] { *result = RunAbuseBench(*a); });
-}
-
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

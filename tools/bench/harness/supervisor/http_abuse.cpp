@@ -1,5 +1,5 @@
 // Hostile HTTP clients: idle, streaming, slow and flooding connections.
-#include "http_abuse.h"
+#include "harness/supervisor/http_abuse.h"
 
 #include <arpa/inet.h>
 #include <poll.h>
@@ -13,7 +13,7 @@
 
 #include "io/loopback_socket.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 using namespace std::chrono_literals;
@@ -134,4 +134,4 @@ void HttpAbuse::Flood() {
   }
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct AbuseOptions {
   int port = 0;       // on 127.0.0.1
@@ -52,4 +52,4 @@ class HttpAbuse {
   std::atomic<long long> flood_bytes_{0};
 };
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

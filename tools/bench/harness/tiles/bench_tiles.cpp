@@ -1,5 +1,5 @@
 // Tile streaming benchmark against a real map_server process (see bench_tiles.h).
-#include "bench_tiles.h"
+#include "harness/tiles/bench_tiles.h"
 
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -11,8 +11,8 @@
 #include <random>
 #include <thread>
 
-#include "bench_paths.h"
-#include "ddsperf_peer.h"
+#include "harness/common/bench_paths.h"
+#include "harness/tiles/ddsperf_peer.h"
 #include "io/child_process.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
@@ -20,7 +20,7 @@
 #include "transport/tile_client.h"
 #include "transport/waitset.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -242,4 +242,4 @@ Status RunTileBench(const TileBenchSettings& s) {
   return io::WriteFileAtomically(s.json, ToJson(s, *tp, *peer, latencies, *ping).dump(2) + "\n");
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

@@ -9,7 +9,7 @@
 #include "base/status.h"
 #include "transport/participant.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct TileBenchSettings {
   std::string mosaic;                 // empty: import the demo floor into work_dir
@@ -43,4 +43,4 @@ struct TileLatency {
 Result<TileLatency> MeasureTileLatency(const transport::Participant& participant, int vehicles,
                                        const TileBenchSettings& settings);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

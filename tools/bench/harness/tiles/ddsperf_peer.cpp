@@ -1,5 +1,5 @@
 // Runs ddsperf pub/sub and ping/pong and parses their per-second report lines.
-#include "ddsperf_peer.h"
+#include "harness/tiles/ddsperf_peer.h"
 
 #include <signal.h>
 
@@ -10,7 +10,7 @@
 #include "io/child_process.h"
 #include "replay/replay.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 constexpr const char* kDdsperf = "/usr/bin/ddsperf";
@@ -81,4 +81,4 @@ Result<DdsperfLatency> RunDdsperfPingPong(int domain, int size_bytes, double sec
   return DdsperfLatency{replay::Percentile(p50, 50), replay::Percentile(p99, 50)};
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

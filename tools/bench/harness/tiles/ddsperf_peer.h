@@ -6,7 +6,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 struct DdsperfThroughput {
   double samples_per_s = 0;  // median of the per-second rates after the first second
@@ -26,4 +26,4 @@ Result<DdsperfLatency> RunDdsperfPingPong(int domain, int size_bytes, double sec
                                           const std::string& config_uri,
                                           const std::string& work_dir);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

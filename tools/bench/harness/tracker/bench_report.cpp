@@ -1,5 +1,5 @@
 // Benchmark tables and verdict.
-#include "bench_report.h"
+#include "harness/tracker/bench_report.h"
 
 #include <spdlog/fmt/fmt.h>
 
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <limits>
 
-#include "tracker_summary.h"
+#include "support/tracker_summary.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 constexpr double kComparableRmsFactor = 2.0;  // peers this close in accuracy are raced
@@ -138,7 +138,7 @@ std::vector<MethodReplay> OverallReplays(const std::vector<FloorBench>& floors) 
 std::vector<BenchRow> ScoreRows(std::vector<MethodReplay> replays) {
   std::vector<BenchRow> rows;
   for (MethodReplay& m : replays) {
-    nlohmann::json summary = TrackSummary(m.run, m.replayed);
+    nlohmann::json summary = fleetctl::TrackSummary(m.run, m.replayed);
     rows.push_back({std::move(m), std::move(summary)});
   }
   return rows;
@@ -234,4 +234,4 @@ nlohmann::json VerdictJson(const Verdict& verdict) {
           {"comparisons", comparisons}};
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

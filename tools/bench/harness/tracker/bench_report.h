@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "bench_tracker.h"
+#include "harness/tracker/bench_tracker.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 // The replays a floor's table shows: every method's, plus "fleetloc@N" (fleetloc's first N frames)
 // when the peers replayed only the first N frames, so fleetloc is judged on the peers' frames.
@@ -60,4 +60,4 @@ void PrintVerdict(std::ostream& out, const std::string& title, const Verdict& ve
 nlohmann::json RowsJson(const std::vector<BenchRow>& rows);
 nlohmann::json VerdictJson(const Verdict& verdict);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

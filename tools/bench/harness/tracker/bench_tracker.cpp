@@ -1,6 +1,6 @@
 // Per-floor tracker benchmark: mosaic import (reused while the image is unchanged), simulated run
 // written and read back, every method replayed over one warm tile cache.
-#include "bench_tracker.h"
+#include "harness/tracker/bench_tracker.h"
 
 #include <spdlog/spdlog.h>
 
@@ -13,10 +13,10 @@
 #include "mosaic/importer.h"
 #include "mosaic/tile_store.h"
 #include "peers/make_peer.h"
-#include "sim_run_writer.h"
+#include "support/sim_run_writer.h"
 #include "tracking/mosaic_tracker.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -102,17 +102,17 @@ Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& se
   const sim::SimOptions options = SimOptionsFor(settings);
   FLEETLOC_RETURN_IF_ERROR(sim::Validate(options));
   const io::CameraFile camera =
-      DefaultSimCamera(settings.width_px, settings.height_px, floor->layout().geo.resolution);
+      fleetctl::DefaultSimCamera(settings.width_px, settings.height_px, floor->layout().geo.resolution);
   Result<std::unique_ptr<sim::RunSimulator>> simulator =
       sim::RunSimulator::Create(floor, camera.model, options);
   if (!simulator.ok()) return simulator.status();
-  FLEETLOC_RETURN_IF_ERROR(PrepareRunDir(run_dir, /*overwrite=*/true));
+  FLEETLOC_RETURN_IF_ERROR(fleetctl::PrepareRunDir(run_dir, /*overwrite=*/true));
   const auto progress = [&run_dir](int done, int total) {
     if (done % kSimProgressEvery == 0 || done == total) {
       spdlog::info("bench: sim {} {}/{} frames", run_dir.string(), done, total);
     }
   };
-  Result<io::Run> written = WriteSimulatedRun(**simulator, camera, run_dir, "bench", progress);
+  Result<io::Run> written = fleetctl::WriteSimulatedRun(**simulator, camera, run_dir, "bench", progress);
   if (!written.ok()) return written.status();
   *summary = (*simulator)->summary();
   return io::ReadRun(run_dir);
@@ -229,4 +229,4 @@ Result<FloorBench> BenchFloor(const fs::path& image, const BenchSettings& settin
   return bench;
 }
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench

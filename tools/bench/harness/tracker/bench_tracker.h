@@ -15,7 +15,7 @@
 #include "sim/run_simulator.h"
 #include "tracking/tracker_options.h"
 
-namespace fleetloc::fleetctl {
+namespace fleetloc::bench {
 
 // "fleetloc" followed by the peers' names (peers::PeerNames()).
 std::vector<std::string> BenchMethodNames();
@@ -72,4 +72,4 @@ io::Run FirstFrames(const io::Run& run, std::size_t count);
 // camera); Internal on I/O failures.
 Result<FloorBench> BenchFloor(const std::filesystem::path& image, const BenchSettings& settings);
 
-}  // namespace fleetloc::fleetctl
+}  // namespace fleetloc::bench
