@@ -1,10 +1,10 @@
 // FleetListener: readers and their QoS.
-#include "fleet_supervisor/fleet_listener.h"
+#include "fleet_link/fleet_listener.h"
 
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
-namespace fleetloc::fleet_supervisor {
+namespace fleetloc::fleet_link {
 
 namespace topics = transport::topics;
 using transport::Qos;
@@ -67,4 +67,4 @@ uint64_t FleetListener::DeadlineMisses() const {
   return status.total_count;
 }
 
-}  // namespace fleetloc::fleet_supervisor
+}  // namespace fleetloc::fleet_link

@@ -1,5 +1,5 @@
 // The supervisor's JSON views: readiness (GET /readyz) from its checks.
-#include "fleet_supervisor/fleet_view.h"
+#include "fleet_supervisor/supervisor_view.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The supervisor's DDS readers of the fleet: every vehicle's VehiclePose and VehicleHealth and
-// every service's ServiceHealth, converted and checked (fleet_messages.h; a vehicle's samples
-// also against their writer's partition, transport/vehicle_streams.h). Samples that fail the
-// checks are returned as rejection messages for the supervisor to count.
+// The fleet's DDS readers (the supervisor's and `fleetctl status`'s): every vehicle's VehiclePose
+// and VehicleHealth and every service's ServiceHealth, converted and checked (fleet_messages.h; a
+// vehicle's samples also against their writer's partition, transport/vehicle_streams.h). Samples
+// that fail the checks are returned as rejection messages for the caller to count or log.
 #pragma once
 
 #include <memory>
@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "fleet/vehicle_samples.h"
-#include "fleet_supervisor/fleet_messages.h"
+#include "fleet_link/fleet_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 
-namespace fleetloc::fleet_supervisor {
+namespace fleetloc::fleet_link {
 
 struct Received {
   std::vector<std::pair<std::string, fleet::PoseSample>> poses;
@@ -55,4 +55,4 @@ class FleetListener {
   transport::Reader<fleetloc_ServiceHealth> services_;
 };
 
-}  // namespace fleetloc::fleet_supervisor
+}  // namespace fleetloc::fleet_link

@@ -1,22 +1,16 @@
-// The JSON the HTTP API and the live stream serve (field names are the dashboard's and any
-// script's interface; times are Unix seconds, lengths metres, angles radians, docs/formats.md).
+// The supervisor's own JSON views: readiness (GET /readyz), re-mapping jobs and history series.
+// The fleet itself (vehicles, alerts, summary) is fleet_link/fleet_view.h, shared with fleetctl.
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "fleet/fleet_state.h"
 #include "fleet_supervisor/history_store.h"
 #include "transport/remap_client.h"
 
 namespace fleetloc::fleet_supervisor {
 
-// One vehicle: newest pose (with the position covariance for the uncertainty ellipse), newest
-// health, silence; with `trail`, its recent positions.
-nlohmann::json VehicleJson(const fleet::VehicleState& vehicle, bool silent, bool trail);
-nlohmann::json AlertJson(const fleet::Alert& alert);
-nlohmann::json SummaryJson(const fleet::FleetSummary& summary);
 // One readiness condition of the supervisor (GET /readyz): its name, whether it holds, and why not.
 struct ReadinessCheck {
   std::string name;

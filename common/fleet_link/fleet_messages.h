@@ -10,7 +10,7 @@
 #include "fleet/vehicle_samples.h"
 #include "transport/fleetloc_types.h"
 
-namespace fleetloc::fleet_supervisor {
+namespace fleetloc::fleet_link {
 
 struct ServiceReport {
   std::string service_id;
@@ -24,4 +24,4 @@ Result<fleet::PoseSample> PoseFromIdl(const fleetloc_VehiclePose& pose);
 Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& health);
 Result<ServiceReport> ServiceFromIdl(const fleetloc_ServiceHealth& health);
 
-}  // namespace fleetloc::fleet_supervisor
+}  // namespace fleetloc::fleet_link

@@ -1,12 +1,12 @@
 // Wire → fleet samples.
-#include "fleet_supervisor/fleet_messages.h"
+#include "fleet_link/fleet_messages.h"
 
 #include <cmath>
 
 #include "transport/pose_messages.h"
 #include "transport/wire_util.h"
 
-namespace fleetloc::fleet_supervisor {
+namespace fleetloc::fleet_link {
 
 using transport::GetBounded;
 
@@ -92,4 +92,4 @@ Result<ServiceReport> ServiceFromIdl(const fleetloc_ServiceHealth& h) {
   return report;
 }
 
-}  // namespace fleetloc::fleet_supervisor
+}  // namespace fleetloc::fleet_link
