@@ -23,8 +23,9 @@ nlohmann::json ReadinessJson(const std::vector<ReadinessCheck>& checks, bool* re
 // A re-mapping job; the 64-bit command id as a string (JavaScript numbers hold 53 bits).
 nlohmann::json RemapJobJson(const transport::RemapProgress& job);
 
-// History series as column arrays over the supervisor's receive time ("t"), thinned to at most `max_points` per plotted quantity with
-// fleet::DecimateMinMax (poses by deviation range; health by cycle p95 and by inliers).
+// History series as column arrays over the supervisor's receive time ("t"), thinned to at most
+// `max_points` per plotted quantity with fleet::DecimateMinMax (poses by deviation range; health by
+// cycle p95 and by inliers).
 nlohmann::json PoseHistoryJson(const std::vector<StoredPose>& poses, size_t max_points);
 nlohmann::json HealthHistoryJson(const std::vector<StoredHealth>& health, size_t max_points);
 

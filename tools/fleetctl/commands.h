@@ -1,7 +1,8 @@
-// fleetctl subcommand registration, one scheme for every command: Register<Name>Command(s)(CLI::App&
-// parent, Status* result), defined in <name>_command(s).cpp, adds its subcommand(s) to the parent; a
-// subcommand's callback stores its outcome in *result (main turns it into the exit status of
-// docs/cli.md). The `bench` subcommands are declared in bench/bench_commands.h.
+// fleetctl subcommand registration, one scheme for every command:
+// Register<Name>Command(s)(CLI::App& parent, Status* result), defined in <name>_command(s).cpp,
+// adds its subcommand(s) to the parent; a subcommand's callback stores its outcome in *result (main
+// turns it into the exit status of docs/cli.md). The `bench` subcommands are declared in
+// bench/bench_commands.h.
 #pragma once
 
 #include <CLI/CLI.hpp>

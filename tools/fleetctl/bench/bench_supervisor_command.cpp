@@ -10,11 +10,15 @@ namespace fleetloc::fleetctl {
 
 void RegisterBenchSupervisorCommand(CLI::App& bench, Status* result) {
   auto a = std::make_shared<bench::SupervisorBenchArgs>();
-  CLI::App* cmd = bench.add_subcommand("supervisor", "Fleet supervisor under a simulated fleet: backlog, stream latency, CPU, memory");
+  CLI::App* cmd = bench.add_subcommand(
+      "supervisor",
+      "Fleet supervisor under a simulated fleet: backlog, stream latency, CPU, memory");
   cmd->option_defaults()->always_capture_default();
   cmd->add_option("--vehicles", a->vehicles, "Simulated vehicles")->check(CLI::Range(1, 5000));
-  cmd->add_option("--pose-hz", a->pose_hz, "Poses per vehicle per second")->check(CLI::Range(0.5, 200.0));
-  cmd->add_option("--seconds", a->seconds, "Measured seconds (after a 3 s warm-up)")->check(CLI::Range(1.0, 3600.0));
+  cmd->add_option("--pose-hz", a->pose_hz, "Poses per vehicle per second")
+      ->check(CLI::Range(0.5, 200.0));
+  cmd->add_option("--seconds", a->seconds, "Measured seconds (after a 3 s warm-up)")
+      ->check(CLI::Range(1.0, 3600.0));
   cmd->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
   cmd->add_option("--work-dir", a->work_dir, "Directory for the supervisor's history and log");
   cmd->add_option("--json", a->json, "Write every number as JSON");

@@ -17,7 +17,8 @@ void RegisterBenchTilesCommand(CLI::App& bench, Status* result) {
   tiles->add_option("--work-dir", s->work_dir, "Logs, configuration and the imported mosaic");
   tiles->add_option("--domain", s->domain, "DDS domain (ddsperf uses the next one)")
       ->check(CLI::Range(0, 231));
-  tiles->add_option("--seconds", s->seconds, "Duration of each phase")->check(CLI::Range(1.0, 600.0));
+  tiles->add_option("--seconds", s->seconds, "Duration of each phase")
+      ->check(CLI::Range(1.0, 600.0));
   tiles->add_option("--vehicles", s->vehicles, "Vehicle counts of the latency phases")
       ->delimiter(',')
       ->check(CLI::Range(1, 500));

@@ -20,7 +20,8 @@ struct MosaicBuildBenchArgs {
   int fast_frames = 200;
   double rate_hz = 5.0;
   int seed = 11;  // the fast run uses seed + 1
-  std::string work_dir = (std::filesystem::temp_directory_path() / "fleetloc-bench-mosaic-build").string();
+  std::string work_dir =
+      (std::filesystem::temp_directory_path() / "fleetloc-bench-mosaic-build").string();
   std::string json;
 };
 

@@ -14,7 +14,8 @@ namespace fleetloc::bench {
 struct MosaicBenchArgs {
   std::vector<std::string> sizes{"3200x3200", "10240x10240", "32768x32768"};
   std::string floors_dir;
-  std::string work_dir = (std::filesystem::temp_directory_path() / "fleetloc-bench-mosaic").string();
+  std::string work_dir =
+      (std::filesystem::temp_directory_path() / "fleetloc-bench-mosaic").string();
   std::string json;
   int tile_samples = 2000;  // in all rounds
   int block_samples = 300;  // in all rounds

@@ -14,7 +14,8 @@ struct SupervisorBenchArgs {
   double pose_hz = 30;
   double seconds = 20;
   int domain = 102;
-  std::string work_dir = (std::filesystem::temp_directory_path() / "fleetloc-bench-supervisor").string();
+  std::string work_dir =
+      (std::filesystem::temp_directory_path() / "fleetloc-bench-supervisor").string();
   std::string json;
   std::string supervisor_config;  // passed to the supervisor as --config (e.g. VDA 5050 on)
 };

@@ -23,8 +23,9 @@ namespace fs = std::filesystem;
 
 Result<std::vector<fs::path>> ResolveFloors(const TrackerBenchArgs& args) {
   if (args.floors.empty()) {
-    return fleetctl::ListFloorImages(args.floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(args.floors_dir),
-                           "--floors-dir");
+    return fleetctl::ListFloorImages(
+        args.floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(args.floors_dir),
+        "--floors-dir");
   }
   std::vector<fs::path> floors;
   for (const std::string& floor : args.floors) {
