@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "http_abuse.h"
+#include "harness/supervisor/http_abuse.h"
 
 namespace fleetloc {
 namespace {
@@ -85,10 +85,10 @@ TEST(SupervisorAbuse, TheApiKeepsAnsweringWhileHostileClientsHoldIdleStreamSlowA
   ASSERT_TRUE(http.Get("/api/fleet")) << supervisor.log();
   const double rss_before = io::UsageOf(supervisor.pid()).peak_rss_mb;
 
-  fleetctl::AbuseOptions options;
+  bench::AbuseOptions options;
   options.port = supervisor.port();
   options.idle = 300, options.streams = 40, options.slow = 20, options.flood_mb = 20;
-  fleetctl::HttpAbuse abuse(options);
+  bench::HttpAbuse abuse(options);
   abuse.Start();
   std::this_thread::sleep_for(std::chrono::seconds(1));  // let the attackers take their sockets
   const httplib::Headers maintainer = {{"Authorization", std::string("Bearer ") + kToken}};
@@ -107,7 +107,7 @@ TEST(SupervisorAbuse, TheApiKeepsAnsweringWhileHostileClientsHoldIdleStreamSlowA
   }
   const json stats = Stats(http);
   abuse.Stop();
-  const fleetctl::AbuseStats attack = abuse.stats();
+  const bench::AbuseStats attack = abuse.stats();
 
   EXPECT_EQ(fleet_ok, 40) << supervisor.log();
   EXPECT_EQ(remap_handled, 40);
@@ -154,10 +154,10 @@ TEST(SupervisorAbuse, ForeignHostsNulBytesRangesAndSurplusConnectionsAreRefused)
   // Two streams at most; the third is refused, and a stream carries snapshots.
   const std::string events = "GET /api/events HTTP/1.1\r\n" + host + "\r\n";
   {
-    fleetctl::AbuseOptions options;
+    bench::AbuseOptions options;
     options.port = port;
     options.idle = 0, options.streams = 3, options.slow = 0, options.flood_mb = 0;
-    fleetctl::HttpAbuse streams(options);
+    bench::HttpAbuse streams(options);
     streams.Start();
     std::this_thread::sleep_for(std::chrono::seconds(1));
     streams.Stop();
@@ -174,10 +174,10 @@ TEST(SupervisorAbuse, ForeignHostsNulBytesRangesAndSurplusConnectionsAreRefused)
   EXPECT_EQ(received.rfind("data: {", 0), 0u) << received.substr(0, 80);
 
   // Connections beyond max_connections are refused at once.
-  fleetctl::AbuseOptions options;
+  bench::AbuseOptions options;
   options.port = port;
   options.idle = 40, options.streams = 0, options.slow = 0, options.flood_mb = 0;
-  fleetctl::HttpAbuse idle(options);
+  bench::HttpAbuse idle(options);
   idle.Start();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   idle.Stop();

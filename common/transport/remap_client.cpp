@@ -9,47 +9,6 @@
 
 namespace fleetloc::transport {
 
-const char* RemapStateName(fleetloc_RemapState state) {
-  switch (state) {
-    case fleetloc_REMAP_QUEUED: return "queued";
-    case fleetloc_REMAP_RUNNING: return "running";
-    case fleetloc_REMAP_DONE: return "done";
-    case fleetloc_REMAP_FAILED: return "failed";
-    case fleetloc_REMAP_REJECTED: return "rejected";
-  }
-  return "unknown";
-}
-
-RemapProgress FromIdl(const fleetloc_RemapStatus& s) {
-  RemapProgress p;
-  p.command_id = s.command_id;
-  p.server_id = GetBounded(s.server_id);
-  p.state = s.state;
-  p.phase = GetBounded(s.phase);
-  p.progress = s.progress;
-  p.new_version = s.new_version;
-  p.tiles_changed = s.tiles_changed;
-  p.patches_folded = s.patches_folded;
-  p.patches_rejected = s.patches_rejected;
-  p.message = GetBounded(s.message);
-  p.t = ToSeconds(s.stamp);
-  return p;
-}
-
-nlohmann::json ToJson(const RemapProgress& p) {
-  return {{"command_id", p.command_id},
-          {"server_id", p.server_id},
-          {"state", RemapStateName(p.state)},
-          {"phase", p.phase},
-          {"progress", p.progress},
-          {"new_version", p.new_version},
-          {"tiles_changed", p.tiles_changed},
-          {"patches_folded", p.patches_folded},
-          {"patches_rejected", p.patches_rejected},
-          {"message", p.message},
-          {"t", p.t}};
-}
-
 Result<std::unique_ptr<RemapClient>> RemapClient::Create(const Participant& participant) {
   auto command_topic = Topic<fleetloc_RemapCommand>::Create(participant, topics::kRemapCommand);
   auto status_topic = Topic<fleetloc_RemapStatus>::Create(participant, topics::kRemapStatus);
@@ -94,15 +53,7 @@ Result<uint64_t> RemapClient::Send(const RemapRequest& r) {
   }
   std::random_device random;
   const uint64_t id = (static_cast<uint64_t>(random()) << 32) | random();
-  fleetloc_RemapCommand command{};
-  command.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-  command.command_id = id;
-  SetBounded(command.requester, r.requester);
-  SetBounded(command.mosaic_id, r.mosaic_id);
-  command.region = {r.x_min, r.y_min, r.x_max, r.y_max};
-  command.mode = r.replace ? fleetloc_REMAP_REPLACE : fleetloc_REMAP_BLEND;
-  command.stamp = NowStamp();
-  FLEETLOC_RETURN_IF_ERROR(SendRaw(command));
+  FLEETLOC_RETURN_IF_ERROR(SendRaw(ToIdl(r, id)));
   return id;
 }
 

@@ -1,43 +1,18 @@
 // The maintainer side of re-mapping: sends RemapCommand to the map server and follows the jobs'
-// RemapStatus. Shared by `fleetctl remap` and the fleet supervisor's dashboard.
+// RemapStatus (their conversions: remap_messages.h). Shared by `fleetctl remap` and the fleet
+// supervisor's dashboard.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "transport/remap_messages.h"
 #include "transport/typed_io.h"
 
 namespace fleetloc::transport {
-
-struct RemapRequest {
-  double x_min = 0, y_min = 0, x_max = 0, y_max = 0;  // map metres
-  bool replace = false;                               // else blend
-  std::string mosaic_id;                              // empty: the one the server serves
-  std::string requester;                              // at most 31 characters
-};
-
-// One RemapStatus as plain values.
-struct RemapProgress {
-  uint64_t command_id = 0;
-  std::string server_id;
-  fleetloc_RemapState state = fleetloc_REMAP_QUEUED;
-  std::string phase;
-  double progress = 0.0;  // 0..1
-  long long new_version = 0;
-  uint32_t tiles_changed = 0, patches_folded = 0, patches_rejected = 0;
-  std::string message;
-  double t = 0.0;  // the status's stamp, Unix seconds
-  bool final() const { return state >= fleetloc_REMAP_DONE; }
-};
-
-// "queued", "running", "done", "failed", "rejected".
-const char* RemapStateName(fleetloc_RemapState state);
-RemapProgress FromIdl(const fleetloc_RemapStatus& status);
-nlohmann::json ToJson(const RemapProgress& progress);
 
 class RemapClient {
  public:

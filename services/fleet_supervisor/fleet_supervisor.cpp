@@ -78,7 +78,7 @@ Status FleetSupervisor::Open() {
   FLEETLOC_RETURN_IF_ERROR(AssignTo(
       transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}), &participant_));
   const transport::Participant& p = *participant_;
-  FLEETLOC_RETURN_IF_ERROR(MoveTo(FleetListener::Create(p), &listener_));
+  FLEETLOC_RETURN_IF_ERROR(MoveTo(fleet_link::FleetListener::Create(p), &listener_));
   auto client = transport::TileClient::Create(p, config_.supervisor_id);
   if (!client.ok()) return client.status();
   tiles_ = std::make_unique<OverviewTiles>(
@@ -185,7 +185,7 @@ void FleetSupervisor::FlushHistory(double now) {
 
 void FleetSupervisor::Step(double now) {
   last_step_ = SteadyNow();
-  Received received;
+  fleet_link::Received received;
   if (Status taken = listener_->Take(&received); !taken.ok()) spdlog::error("{}", taken.message());
   fleet_->Apply(received, now, &pending_poses_, &pending_health_);
   fleet_->counters().history_queue = pending_poses_.size() + pending_health_.size();

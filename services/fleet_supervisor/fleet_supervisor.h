@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fleet_supervisor/event_stream.h"
-#include "fleet_supervisor/fleet_listener.h"
+#include "fleet_link/fleet_listener.h"
 #include "fleet_supervisor/history_store.h"
 #include "fleet_supervisor/http_api.h"
 #include "fleet_supervisor/overview_tiles.h"
@@ -52,7 +52,7 @@ class FleetSupervisor {
   std::unique_ptr<SharedFleet> fleet_;
   EventStream stream_;
   std::unique_ptr<transport::Participant> participant_;
-  std::unique_ptr<FleetListener> listener_;
+  std::unique_ptr<fleet_link::FleetListener> listener_;
   std::unique_ptr<OverviewTiles> tiles_;
   std::unique_ptr<transport::RemapClient> remap_;
   std::unique_ptr<transport::Topic<fleetloc_ServiceHealth>> health_topic_;

@@ -16,11 +16,11 @@
 #include "base/status.h"
 #include "fleet_supervisor/auth_throttle.h"
 #include "fleet_supervisor/event_stream.h"
-#include "fleet_supervisor/fleet_view.h"
 #include "fleet_supervisor/history_store.h"
 #include "fleet_supervisor/overview_tiles.h"
 #include "fleet_supervisor/shared_fleet.h"
 #include "fleet_supervisor/supervisor_config.h"
+#include "fleet_supervisor/supervisor_view.h"
 #include "transport/remap_client.h"
 
 namespace httplib {

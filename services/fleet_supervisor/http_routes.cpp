@@ -11,9 +11,10 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "fleet_link/fleet_view.h"
 #include "fleet_supervisor/api_routes.h"
-#include "fleet_supervisor/fleet_view.h"
 #include "fleet_supervisor/guarded_server.h"
+#include "fleet_supervisor/supervisor_view.h"
 #include "io/json_fields.h"
 #include "transport/wire_util.h"
 
@@ -244,7 +245,7 @@ void HttpApi::GetAlerts(const Request& req, Response& res) {
   auto alerts = ctx_.history->Alerts(q);
   if (!alerts.ok()) return Fail(res, 500, "history unavailable");
   json list = json::array();
-  for (const fleet::Alert& a : *alerts) list.push_back(AlertJson(a));
+  for (const fleet::Alert& a : *alerts) list.push_back(fleet_link::AlertJson(a));
   Reply(res, 200, {{"active", ctx_.fleet->ActiveAlerts()}, {"history", std::move(list)}});
 }
 

@@ -5,8 +5,9 @@
 
 #include <algorithm>
 
-#include "fleet_supervisor/fleet_view.h"
+#include "fleet_link/fleet_view.h"
 #include "fleet_supervisor/supervisor_metrics.h"
+#include "fleet_supervisor/supervisor_view.h"
 
 namespace fleetloc::fleet_supervisor {
 
@@ -41,7 +42,7 @@ SharedFleet::SharedFleet(const fleet::AlertOptions& alerts, const fleet::TrailOp
                          double history_period_s)
     : fleet_(alerts, trail), history_period_s_(history_period_s) {}
 
-void SharedFleet::Apply(const Received& in, double now, std::vector<StoredPose>* poses,
+void SharedFleet::Apply(const fleet_link::Received& in, double now, std::vector<StoredPose>* poses,
                         std::vector<StoredHealth>* health) {
   std::lock_guard lock(mutex_);
   for (const auto& [id, pose] : in.poses) {
@@ -56,7 +57,7 @@ void SharedFleet::Apply(const Received& in, double now, std::vector<StoredPose>*
     fleet_.OnHealth(id, h, now);
     health->push_back({id, now, h});
   }
-  for (const ServiceReport& s : in.services) services_[s.service_id] = {s, now};
+  for (const fleet_link::ServiceReport& s : in.services) services_[s.service_id] = {s, now};
   counters_.poses_received += in.poses.size();
   counters_.health_received += in.health.size();
   counters_.rejected_samples += in.rejections.size();
@@ -112,7 +113,7 @@ void SharedFleet::Restore(const std::vector<fleet::VehicleState>& vehicles,
 json SharedFleet::VehiclesJson(bool trails) const {
   json vehicles = json::array();
   fleet_.ForEach([&](const fleet::VehicleState& v) {
-    vehicles.push_back(VehicleJson(v, fleet_.Silent(v.id), trails));
+    vehicles.push_back(fleet_link::VehicleJson(v, fleet_.Silent(v.id), trails));
   });
   return vehicles;
 }
@@ -129,7 +130,7 @@ json SharedFleet::ServicesJson(double now) const {
 
 json SharedFleet::AlertsJson() const {
   json alerts = json::array();
-  for (const fleet::Alert& a : fleet_.ActiveAlerts()) alerts.push_back(AlertJson(a));
+  for (const fleet::Alert& a : fleet_.ActiveAlerts()) alerts.push_back(fleet_link::AlertJson(a));
   return alerts;
 }
 
@@ -142,7 +143,7 @@ json SharedFleet::JobsJson() const {
 json SharedFleet::Snapshot(double now) const {
   std::lock_guard lock(mutex_);
   return {{"t", now},
-          {"summary", SummaryJson(fleet_.Summary())},
+          {"summary", fleet_link::SummaryJson(fleet_.Summary())},
           {"vehicles", VehiclesJson(false)},
           {"alerts", AlertsJson()},
           {"remap_jobs", JobsJson()},
@@ -151,7 +152,7 @@ json SharedFleet::Snapshot(double now) const {
 
 json SharedFleet::Fleet(double now, bool trails) const {
   std::lock_guard lock(mutex_);
-  return {{"t", now}, {"summary", SummaryJson(fleet_.Summary())}, {"vehicles", VehiclesJson(trails)},
+  return {{"t", now}, {"summary", fleet_link::SummaryJson(fleet_.Summary())}, {"vehicles", VehiclesJson(trails)},
           {"services", ServicesJson(now)}};
 }
 
@@ -159,7 +160,7 @@ std::optional<json> SharedFleet::Vehicle(const std::string& id) const {
   std::lock_guard lock(mutex_);
   const fleet::VehicleState* v = fleet_.Find(id);
   if (!v) return std::nullopt;
-  return VehicleJson(*v, fleet_.Silent(id), true);
+  return fleet_link::VehicleJson(*v, fleet_.Silent(id), true);
 }
 
 json SharedFleet::ActiveAlerts() const {

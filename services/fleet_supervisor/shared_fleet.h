@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "fleet/fleet_state.h"
-#include "fleet_supervisor/fleet_listener.h"
+#include "fleet_link/fleet_listener.h"
 #include "fleet_supervisor/history_store.h"
 #include "transport/remap_client.h"
 
@@ -56,7 +56,7 @@ class SharedFleet {
 
   // DDS thread: applies the samples received at `now`; appends the rows to store (poses thinned
   // to one per vehicle per history period, every health report) and counts rejections.
-  void Apply(const Received& in, double now, std::vector<StoredPose>* poses,
+  void Apply(const fleet_link::Received& in, double now, std::vector<StoredPose>* poses,
              std::vector<StoredHealth>* health);
   // Appends the newest pose of every vehicle whose newest pose was thinned out of the history
   // (at shutdown, so that a restart restores the last known pose).
@@ -95,7 +95,7 @@ class SharedFleet {
   std::map<std::string, double> last_stored_;  // per vehicle: receive time of the last stored pose
   // Re-mapping jobs by command and server: with the mosaic split, every server runs each command.
   std::map<std::pair<uint64_t, std::string>, transport::RemapProgress> jobs_;
-  std::map<std::string, std::pair<ServiceReport, double>> services_;  // with the received time
+  std::map<std::string, std::pair<fleet_link::ServiceReport, double>> services_;  // with the received time
   std::string last_rejection_;
   SupervisorCounters counters_;
 };

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "transport/remap_messages.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::map_server {
@@ -142,21 +143,20 @@ void RemapService::Work() {
 void RemapService::Publish(uint64_t id, fleetloc_RemapState state, const std::string& phase,
                            double progress, const std::string& message,
                            const RemapOutcome* outcome) {
-  fleetloc_RemapStatus status{};
-  status.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-  status.command_id = id;
-  transport::SetBounded(status.server_id, server_id_);
-  status.state = state;
-  transport::SetBounded(status.phase, phase);
-  status.progress = static_cast<float>(progress);
-  transport::SetBounded(status.message, message);
-  status.stamp = transport::NowStamp();
+  transport::RemapProgress p;
+  p.command_id = id;
+  p.server_id = server_id_;
+  p.state = state;
+  p.phase = phase;
+  p.progress = progress;
+  p.message = message;
   if (outcome != nullptr) {
-    status.new_version = outcome->new_version;
-    status.tiles_changed = static_cast<uint32_t>(outcome->changed_tiles.size());
-    status.patches_folded = static_cast<uint32_t>(outcome->patches_folded);
-    status.patches_rejected = static_cast<uint32_t>(outcome->patches_rejected);
+    p.new_version = outcome->new_version;
+    p.tiles_changed = static_cast<uint32_t>(outcome->changed_tiles.size());
+    p.patches_folded = static_cast<uint32_t>(outcome->patches_folded);
+    p.patches_rejected = static_cast<uint32_t>(outcome->patches_rejected);
   }
+  const fleetloc_RemapStatus status = transport::ToIdl(p, transport::NowStamp());
   if (Status sent = status_writer_->Write(status); !sent.ok()) spdlog::warn("{}", sent.message());
 }
 

@@ -1,5 +1,8 @@
-// fleetctl subcommand registration. Each Register* adds its subcommands to the app; a subcommand's
-// callback stores its outcome in *result (main turns it into the exit status of docs/cli.md).
+// fleetctl subcommand registration, one scheme for every command:
+// Register<Name>Command(s)(CLI::App& parent, Status* result), defined in <name>_command(s).cpp,
+// adds its subcommand(s) to the parent; a subcommand's callback stores its outcome in *result (main
+// turns it into the exit status of docs/cli.md). The `bench` subcommands are declared in
+// bench/bench_commands.h.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -20,21 +23,8 @@ void RegisterMapmatchCommand(CLI::App& app, Status* result);
 void RegisterRelocCommand(CLI::App& app, Status* result);
 void RegisterStatusCommand(CLI::App& app, Status* result);
 
-// `mosaic vehicles` and `mosaic prune` (mosaic_upkeep_commands.cpp), added by
-// RegisterMosaicCommands.
-void AddMosaicUpkeepCommands(CLI::App& mosaic, Status* result);
-// `bench mosaic`, added to the `bench` subcommand by RegisterBenchCommand.
-void AddBenchMosaicCommand(CLI::App& bench, Status* result);
-// `bench reloc` (bench_reloc_command.cpp).
-void RegisterBenchReloc(CLI::App& bench, Status* result);
-void RegisterBenchDenseProbe(CLI::App& bench, Status* result);
-void RegisterBenchStress(CLI::App& bench, Status* result);
-// `bench supervisor` (bench_supervisor.cpp).
-void RegisterBenchSupervisor(CLI::App& bench, Status* result);
-// `bench remap` (bench_remap.cpp) and `bench patch-flood` (bench_patch_flood.cpp).
-void RegisterBenchRemap(CLI::App& bench, Status* result);
-void RegisterBenchPatchFlood(CLI::App& bench, Status* result);
-// `bench supervisor-abuse` (bench_supervisor_abuse.cpp).
-void RegisterBenchSupervisorAbuse(CLI::App& bench, Status* result);
+// `mosaic vehicles`, `mosaic prune` and `mosaic rollback` (mosaic_upkeep_commands.cpp), added to
+// `mosaic` by RegisterMosaicCommands.
+void RegisterMosaicUpkeepCommands(CLI::App& mosaic, Status* result);
 
 }  // namespace fleetloc::fleetctl

@@ -11,8 +11,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "commands.h"
-#include "composed_floor.h"
-#include "floor_images.h"
+#include "support/composed_floor.h"
+#include "support/floor_images.h"
 
 namespace fleetloc::fleetctl {
 namespace {

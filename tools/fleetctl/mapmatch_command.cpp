@@ -11,7 +11,7 @@
 #include "commands.h"
 #include "io/mapmatch_files.h"
 #include "mapmatch/robust_map_fit.h"
-#include "parse_numbers.h"
+#include "support/parse_numbers.h"
 
 namespace fleetloc::fleetctl {
 namespace {

@@ -24,7 +24,7 @@
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_build.h"
-#include "parse_numbers.h"
+#include "support/parse_numbers.h"
 #include "io/file_util.h"
 #include "io/progress_log.h"
 
@@ -170,7 +170,7 @@ Status RunExportMbtiles(const MbtilesArgs& args) {
   return Status::Ok();
 }
 
-void AddExportMbtiles(CLI::App& mosaic, Status* result) {
+void RegisterMosaicExportMbtilesCommand(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<MbtilesArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "export-mbtiles", "Write a mosaic as MBTiles (Web Mercator PNG tiles for QGIS or a web map)");
@@ -188,7 +188,7 @@ void AddExportMbtiles(CLI::App& mosaic, Status* result) {
   cmd->callback([args, result] { *result = RunExportMbtiles(*args); });
 }
 
-void AddImport(CLI::App& mosaic, Status* result) {
+void RegisterMosaicImportCommand(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<ImportArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "import", "Cut an image into a tiled, versioned SQLite mosaic with its pyramid");
@@ -200,7 +200,7 @@ void AddImport(CLI::App& mosaic, Status* result) {
   cmd->callback([args, result] { *result = RunImport(*args); });
 }
 
-void AddBuild(CLI::App& mosaic, Status* result) {
+void RegisterMosaicBuildCommand(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<BuildArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "build", "Build a mosaic from a mapping run (overlapping frames + odometry)");
@@ -216,7 +216,7 @@ struct InfoArgs {
   std::string dds_config;
 };
 
-void AddInfo(CLI::App& mosaic, Status* result) {
+void RegisterMosaicInfoCommand(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "info", "Print a mosaic's metadata as JSON (of a file, or as the map servers announce it)");
@@ -239,7 +239,7 @@ void AddInfo(CLI::App& mosaic, Status* result) {
   });
 }
 
-void AddExport(CLI::App& mosaic, Status* result) {
+void RegisterMosaicExportCommand(CLI::App& mosaic, Status* result) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* cmd = mosaic.add_subcommand("export", "Render (part of) a mosaic level to an image");
   cmd->add_option("MOSAIC", args->mosaic, "Mosaic file")->required();
@@ -257,12 +257,12 @@ void AddExport(CLI::App& mosaic, Status* result) {
 void RegisterMosaicCommands(CLI::App& app, Status* result) {
   CLI::App* mosaic = app.add_subcommand("mosaic", "Create, inspect and export mosaics");
   mosaic->require_subcommand(1);
-  AddImport(*mosaic, result);
-  AddBuild(*mosaic, result);
-  AddInfo(*mosaic, result);
-  AddExport(*mosaic, result);
-  AddExportMbtiles(*mosaic, result);
-  AddMosaicUpkeepCommands(*mosaic, result);
+  RegisterMosaicImportCommand(*mosaic, result);
+  RegisterMosaicBuildCommand(*mosaic, result);
+  RegisterMosaicInfoCommand(*mosaic, result);
+  RegisterMosaicExportCommand(*mosaic, result);
+  RegisterMosaicExportMbtilesCommand(*mosaic, result);
+  RegisterMosaicUpkeepCommands(*mosaic, result);
 }
 
 }  // namespace fleetloc::fleetctl

@@ -75,7 +75,7 @@ Status RunPrune(const PruneArgs& a) {
   return Status::Ok();
 }
 
-void AddPrune(CLI::App& mosaic, Status* result) {
+void RegisterMosaicPruneCommand(CLI::App& mosaic, Status* result) {
   auto a = std::make_shared<PruneArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "prune", "Delete tile versions older than the last kept ones, and old folded, refused or stale patches");
@@ -112,7 +112,7 @@ Status RunRollback(const RollbackArgs& a) {
   return Status::Ok();
 }
 
-void AddRollback(CLI::App& mosaic, Status* result) {
+void RegisterMosaicRollbackCommand(CLI::App& mosaic, Status* result) {
   auto a = std::make_shared<RollbackArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "rollback",
@@ -126,9 +126,9 @@ void AddRollback(CLI::App& mosaic, Status* result) {
 
 }  // namespace
 
-void AddMosaicUpkeepCommands(CLI::App& mosaic, Status* result) {
-  AddPrune(mosaic, result);
-  AddRollback(mosaic, result);
+void RegisterMosaicUpkeepCommands(CLI::App& mosaic, Status* result) {
+  RegisterMosaicPruneCommand(mosaic, result);
+  RegisterMosaicRollbackCommand(mosaic, result);
   auto args = std::make_shared<VehiclesArgs>();
   CLI::App* cmd = mosaic.add_subcommand(
       "vehicles",

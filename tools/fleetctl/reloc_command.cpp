@@ -15,7 +15,7 @@
 #include "mapmatch/self_similarity.h"
 #include "mosaic/tile_store.h"
 #include "mosaic/place_index_cache.h"
-#include "reloc_index.h"
+#include "support/reloc_index.h"
 
 namespace fleetloc::fleetctl {
 namespace {

@@ -17,8 +17,8 @@
 #include "io/run.h"
 #include "mosaic/tile_store.h"
 #include "sim/run_simulator.h"
-#include "parse_numbers.h"
-#include "sim_run_writer.h"
+#include "support/parse_numbers.h"
+#include "support/sim_run_writer.h"
 
 namespace fleetloc::fleetctl {
 namespace {

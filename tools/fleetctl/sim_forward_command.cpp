@@ -18,7 +18,7 @@
 #include "sim/forward_renderer.h"
 #include "sim/forward_run.h"
 #include "sim/random.h"
-#include "sim_run_writer.h"
+#include "support/sim_run_writer.h"
 
 namespace fleetloc::fleetctl {
 namespace {

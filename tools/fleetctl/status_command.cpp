@@ -2,9 +2,9 @@
 // ServiceHealth, MosaicInfo) and prints a fleet summary — a table, or JSON with --json (the same
 // vehicle fields as the supervisor's /api/fleet). With --supervisor URL it prints the supervisor's
 // view instead (GET /api/fleet), which includes vehicles that stopped talking, shown STALE.
-// Eigen (through the supervisor's headers) before httplib: see guarded_server.h.
-#include "fleet_supervisor/fleet_listener.h"
-#include "fleet_supervisor/fleet_view.h"
+// Eigen (through the transport headers) before httplib: see guarded_server.h.
+#include "fleet_link/fleet_listener.h"
+#include "fleet_link/fleet_view.h"
 
 // Eigen (through the transport headers) before httplib: <resolv.h>, which httplib includes,
 // defines `_res`, a name Eigen's headers use.
@@ -116,19 +116,19 @@ Status RunStatus(const StatusArgs& a) {
   }
   auto participant = Participant::Create(a.domain, {"", a.dds_config});
   if (!participant.ok()) return participant.status();
-  auto listener = fleet_supervisor::FleetListener::Create(*participant);
+  auto listener = fleet_link::FleetListener::Create(*participant);
   if (!listener.ok()) return listener.status();
   auto info_topic = Topic<fleetloc_MosaicInfo>::Create(*participant, topics::kMosaicInfo);
   if (!info_topic.ok()) return info_topic.status();
   auto infos = Reader<fleetloc_MosaicInfo>::Create(participant->get(), *info_topic, DurableStateQos());
   if (!infos.ok()) return infos.status();
   fleet::FleetState fleet({}, {});
-  std::map<std::string, std::pair<fleet_supervisor::ServiceReport, double>> services;
+  std::map<std::string, std::pair<fleet_link::ServiceReport, double>> services;
   std::map<std::string, nlohmann::json> mosaics;
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.wait_s);
   do {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    fleet_supervisor::Received in;
+    fleet_link::Received in;
     FLEETLOC_RETURN_IF_ERROR((*listener)->Take(&in));
     const double now = Now();
     for (const auto& [id, pose] : in.poses) fleet.OnPose(id, pose, now);
@@ -140,10 +140,10 @@ Status RunStatus(const StatusArgs& a) {
     });
   } while (std::chrono::steady_clock::now() < end);
   (void)fleet.Evaluate(Now());  // vehicles heard at the start but not since are STALE (silent_s)
-  nlohmann::json out = {{"domain", a.domain}, {"summary", fleet_supervisor::SummaryJson(fleet.Summary())},
+  nlohmann::json out = {{"domain", a.domain}, {"summary", fleet_link::SummaryJson(fleet.Summary())},
                         {"vehicles", nlohmann::json::array()}, {"services", nlohmann::json::array()},
                         {"mosaics", nlohmann::json::array()}};
-  fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_supervisor::VehicleJson(v, fleet.Silent(v.id), false)); });
+  fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_link::VehicleJson(v, fleet.Silent(v.id), false)); });
   for (const auto& [id, entry] : services) {
     out["services"].push_back({{"id", id}, {"kind", entry.first.kind},
                                {"level", fleet::HealthLevelName(entry.first.level)},

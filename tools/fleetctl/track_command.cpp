@@ -11,7 +11,7 @@
 #include "io/tracker_config.h"
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
-#include "tracker_summary.h"
+#include "support/tracker_summary.h"
 #include "tracking/camera_scale_check.h"
 #include "tracking/mosaic_tracker.h"
 

@@ -51,9 +51,9 @@ LAYERS = [
     # Algorithms over the tracker: mosaic building and re-mapping, map matching and
     # relocalization, the simulator (its corridor scenes use mapmatch's landmarks).
     ("algorithms", ["common/mapping", "common/mapmatch", "common/sim"]),
-    # Adapters: files, DDS, cameras, metrics, offline replay.
+    # Adapters: files, DDS, cameras, metrics, offline replay, the fleet on DDS.
     ("adapters", ["common/io", "common/transport", "common/camera_io", "common/metrics",
-                  "common/replay"]),
+                  "common/replay", "common/fleet_link"]),
     ("services", ["services/map_server", "services/tracker_agent",
                   "services/fleet_supervisor"]),
     ("tools", ["tools/peers", "tools/live_sim", "tools/fleetctl", "tools/bench", "tools/fuzz"]),

@@ -1,0 +1,301 @@
+// Relocalization trials (see bench_reloc.h).
+#include "harness/reloc/bench_reloc.h"
+
+#include <chrono>
+#include <opencv2/core/utility.hpp>
+#include <random>
+
+#include "io/progress_log.h"
+#include "support/reloc_index.h"
+#include "replay/replay.h"
+#include "sim/camera_renderer.h"
+#include "sim/random_pose.h"
+
+namespace fleetloc::bench {
+namespace {
+
+// The bench's camera: the settings' frame size at the mosaic's resolution, mounted 0.40 m ahead
+// of base_link.
+geometry::CameraModel BenchCamera(const mosaic::MosaicLayout& layout,
+                                  const RelocTrialSettings& settings) {
+  geometry::CameraModel camera;
+  camera.width_px = settings.width_px;
+  camera.height_px = settings.height_px;
+  camera.cx_px = 0.5 * settings.width_px;
+  camera.cy_px = 0.5 * settings.height_px;
+  camera.resolution_m = layout.geo.resolution;
+  camera.mount = {0.40, 0.0, 0.0};
+  return camera;
+}
+
+// Whether the whole frame stays on the mosaic at any heading.
+bool FrameFits(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
+               const geometry::Pose2& base) {
+  const geometry::Pose2 cam = base * camera.mount;
+  const Eigen::Vector2d px = layout.geo.MapToPixel({cam.x, cam.y});
+  const double r = 0.5 * std::hypot(camera.width_px, camera.height_px);
+  return px.x() >= r && px.y() >= r && px.x() <= layout.width_px - r &&
+         px.y() <= layout.height_px - r;
+}
+
+// The vehicle's pose at frame `k`: driven straight ahead from `start`, or backwards when ahead
+// leaves the mosaic, or standing at `start` when neither fits (a floor a few frames across).
+geometry::Pose2 PoseAtFrame(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
+                            const geometry::Pose2& start, int k, double step_m) {
+  for (const double sign : {1.0, -1.0}) {
+    const geometry::Pose2 pose = start * geometry::Pose2{sign * k * step_m, 0.0, 0.0};
+    if (FrameFits(layout, camera, pose)) return pose;
+  }
+  return start;
+}
+
+// The floor's velocity across the image while the vehicle drives straight ahead at speed_m_s
+// (for the motion blur of a camera condition with an exposure time).
+Eigen::Vector2d ImageVelocity(const geometry::CameraModel& camera, double speed_m_s) {
+  constexpr double kDt = 1e-3;
+  const geometry::Pose2 moved = camera.mount.Inverse() * geometry::Pose2{speed_m_s * kDt, 0, 0} *
+                                camera.mount;  // the camera's motion in its own frame
+  return (camera.GroundToPixel(moved.Inverse() * Eigen::Vector2d::Zero()) -
+          camera.GroundToPixel(Eigen::Vector2d::Zero())) /
+         kDt;
+}
+
+double Ms(const mapmatch::Relocalization& r) {
+  return r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms + r.dense_ms;
+}
+
+// The vehicle's odometry (base_link in odom, odom = the first frame's pose) at `truth`: the true
+// motion 2 % long, turning 0.5° more per metre, as a drifting wheel encoder's.
+geometry::Pose2 DriftedOdometry(const geometry::Pose2& first, const geometry::Pose2& truth) {
+  const geometry::Pose2 motion = first.Inverse() * truth;
+  const double distance = std::hypot(motion.x, motion.y);
+  return {1.02 * motion.x, 1.02 * motion.y, motion.theta + 0.0087 * distance};
+}
+
+bool Correct(const geometry::Pose2& pose, const geometry::Pose2& truth, const RelocTrialSettings& s,
+             RelocTrial* out) {
+  out->error_m = std::hypot(pose.x - truth.x, pose.y - truth.y);
+  out->error_rad = std::abs(geometry::WrapAngle(pose.theta - truth.theta));
+  return out->error_m < s.max_error_m && out->error_rad < s.max_error_rad;
+}
+
+// A pose the features found that the twin check or the self-similarity report refused, against
+// the truth.
+RelocTrial::Refused RefusedTwin(const mapmatch::Relocalization& r, const geometry::Pose2& truth,
+                                const RelocTrialSettings& s) {
+  RelocTrial scratch;
+  RelocTrial::Refused refused;
+  refused.correct = Correct(r.base_in_map.pose, truth, s, &scratch);
+  refused.error_m = scratch.error_m;
+  refused.error_rad = scratch.error_rad;
+  refused.own = r.twin_own;
+  refused.twin = r.twin_correlation;
+  refused.twin_inliers = r.twin_inliers;
+  refused.by_report = r.reason.find("self-similarity report") != std::string::npos;
+  return refused;
+}
+
+// One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
+// multi-frame relocalization the frames go on until the single-frame path has answered too.
+Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
+                            const mapmatch::PlaceIndex* index, sim::CameraRenderer& renderer,
+                            const geometry::Pose2& start, int trial, const RelocTrialSettings& s) {
+  const mosaic::MosaicLayout layout = store->layout();
+  mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
+                          std::make_shared<mosaic::TileCache>(s.tile_cache_bytes));
+  mapmatch::RelocalizerOptions options = s.relocalizer;
+  options.dense.threads = options.dense_fine.threads = s.threads;
+  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), options);
+  if (!relocalizer.ok()) return relocalizer.status();
+  const bool multi = s.relocalizer.trajectory_frames > 1;
+  RelocTrial out;
+  out.memory = (*relocalizer)->dense_memory();
+  const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
+  for (int k = 0; k < s.attempts && !(out.found && (out.single_found || !multi)); ++k) {
+    const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
+    const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
+    const cv::Mat frame =
+        renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
+    cv::setNumThreads(s.threads);
+    Result<mapmatch::Relocalization> r =
+        multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth))
+              : (*relocalizer)->Relocalize(frame);
+    cv::setNumThreads(1);
+    if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
+    out.runs.push_back(*r);
+    if (r->twin_checked && !r->found) out.refused.push_back(RefusedTwin(*r, truth, s));
+    const double wait_s = k > 0 ? s.frame_period_s : 0.0;
+    if (!out.single_found) out.single_time_s += Ms(*r) / 1000.0 + wait_s;
+    if (r->found && !r->from_trajectory && !out.single_found) {
+      out.single_found = true;
+      RelocTrial scratch;
+      out.single_correct = Correct(r->base_in_map.pose, truth, s, &scratch);
+    }
+    if (out.found) continue;
+    out.attempts = k + 1;
+    out.time_to_pose_s += (Ms(*r) + r->trajectory_ms) / 1000.0 + wait_s;
+    if (!r->found) continue;
+    out.found = true;
+    out.accepted_run = k;
+    out.correct = Correct(r->base_in_map.pose, truth, s, &out);
+  }
+  return out;
+}
+
+// Every trial that ended without a correct pose, with what the relocalizer saw.
+nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
+  nlohmann::json failures = nlohmann::json::array();
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    const RelocTrial& t = trials[i];
+    if (t.correct) continue;
+    nlohmann::json runs = nlohmann::json::array();
+    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(fleetctl::RelocalizationJson(r));
+    failures.push_back({{"trial", i},
+                        {"found", t.found},
+                        {"error_m", t.error_m},
+                        {"error_rad", t.error_rad},
+                        {"attempts", runs}});
+  }
+  return failures;
+}
+
+// [correct, tracker inliers, templates, candidate feature inliers, from the trajectory, dense best,
+// dense second, from the fine dense search] of every accepted pose: the margins of the acceptance
+// gates (for a pose the features found: its own dense correlation and its best distinct
+// alternative's; for one the fine dense search found, its peaks).
+nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
+  nlohmann::json accepted = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    if (!t.found) continue;
+    const mapmatch::Relocalization& r = t.runs[t.accepted_run];
+    accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers, r.from_trajectory,
+                        r.from_trajectory ? r.trajectory_best
+                        : r.dense_fine    ? r.dense_fine_best
+                        : r.dense         ? r.dense_best
+                                          : r.twin_own,
+                        r.from_trajectory ? r.trajectory_second
+                        : r.dense_fine    ? r.dense_fine_second
+                        : r.dense         ? r.dense_second
+                                          : r.twin_correlation,
+                        r.dense_fine && !r.from_trajectory});
+  }
+  return accepted;
+}
+
+// [correct, error m, error °, own dense correlation, twin's, twin's tracker inliers, refused by
+// the self-similarity report] of every refused feature pose.
+nlohmann::json RefusedTwins(const std::vector<RelocTrial>& trials) {
+  nlohmann::json refused = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    for (const RelocTrial::Refused& r : t.refused) {
+      refused.push_back({r.correct, r.error_m, r.error_rad * 180 / M_PI, r.own, r.twin,
+                         r.twin_inliers, r.by_report});
+    }
+  }
+  return refused;
+}
+
+// Every attempt's time and its stages' times, over all trials.
+struct AttemptTimes {
+  std::vector<double> attempt_ms, detect, match, verify, dense, dense_fine, trajectory;
+};
+
+AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
+  AttemptTimes a;
+  for (const RelocTrial& t : trials) {
+    for (const mapmatch::Relocalization& r : t.runs) {
+      a.attempt_ms.push_back(Ms(r) + r.trajectory_ms);
+      a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms), a.verify.push_back(r.verify_ms);
+      // The dense stages' p50 over the attempts they ran in.
+      if (r.dense) a.dense.push_back(r.dense_ms - r.dense_fine_ms);
+      if (r.dense_fine) a.dense_fine.push_back(r.dense_fine_ms);
+      if (r.trajectory_frames > 0) a.trajectory.push_back(r.trajectory_ms);
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
+nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
+  int correct = 0, within = 0, wrong = 0, not_found = 0;
+  int single_within = 0, single_wrong = 0, single_none = 0;
+  std::vector<double> to_pose_ms;
+  for (const RelocTrial& t : trials) {
+    single_within += t.single_correct && t.single_time_s <= s.target_s;
+    single_wrong += t.single_found && !t.single_correct;
+    single_none += !t.single_found;
+    correct += t.correct;
+    within += t.correct && t.time_to_pose_s <= s.target_s;
+    wrong += t.found && !t.correct;
+    not_found += !t.found;
+    if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
+  }
+  const AttemptTimes times = TimesOf(trials);
+  const std::vector<double>&attempt_ms = times.attempt_ms, &detect = times.detect, &match = times.match,
+                           &verify = times.verify, &dense = times.dense, &dense_fine = times.dense_fine,
+                           &trajectory = times.trajectory;
+  const double n = static_cast<double>(trials.size());
+  const auto pct = [](const std::vector<double>& v) {
+    return nlohmann::json{{"p50", replay::Percentile(v, 50)},
+                          {"p95", replay::Percentile(v, 95)},
+                          {"max", replay::Percentile(v, 100)}};
+  };
+  nlohmann::json stats = {{"trials", trials.size()},
+                          {"correct", correct},
+                          {"success_rate", correct / n},
+                          {"correct_within_target", within},
+                          {"success_rate_within_target", within / n},
+                          {"wrong_pose", wrong},
+                          {"not_found", not_found},
+                          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+                          {"attempt_ms", pct(attempt_ms)},
+                          {"attempts", attempt_ms.size()},
+                          {"failures", Failures(trials)},
+                          {"accepted", Accepted(trials)},
+                          {"refused_twins", RefusedTwins(trials)},
+                          {"stage_ms_p50",
+                           {{"detect", replay::Percentile(detect, 50)},
+                            {"match", replay::Percentile(match, 50)},
+                            {"verify", replay::Percentile(verify, 50)},
+                            {"dense", replay::Percentile(dense, 50)},
+                            {"dense_fine", replay::Percentile(dense_fine, 50)},
+                            {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  if (!trials.empty()) {
+    const mapmatch::Relocalizer::DenseMemory& m = trials.front().memory;
+    stats["dense_memory_bytes"] = {
+        {"dense", m.dense}, {"dense_fine", m.dense_fine}, {"trajectory", m.trajectory}};
+  }
+  if (s.relocalizer.trajectory_frames > 1) {
+    stats["trajectory_frames"] = s.relocalizer.trajectory_frames;
+    stats["single_frame"] = {{"correct_within_target", single_within},
+                             {"wrong_pose", single_wrong},
+                             {"not_found", single_none}};
+  }
+  return stats;
+}
+
+Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
+                                               const mapmatch::PlaceIndex* index,
+                                               const RelocTrialSettings& settings) {
+  const mosaic::MosaicLayout layout = store->layout();
+  // The renderer reads the same mosaic through its own view and cache, so it never warms the
+  // relocalizer's tiles.
+  mosaic::MosaicView floor(layout, mosaic::MakeTileLoader(store),
+                           std::make_shared<mosaic::TileCache>(256LL << 20));
+  sim::CameraRenderer renderer(&floor, BenchCamera(layout, settings), settings.render,
+                               settings.seed);
+  std::mt19937_64 rng(settings.seed);
+  io::PercentLog log("relocalization trials", "trials", 5);
+  std::vector<RelocTrial> trials;
+  for (int t = 0; t < settings.trials; ++t) {
+    const geometry::Pose2 start = sim::RandomFullFramePose(layout, renderer.camera(), rng);
+    Result<RelocTrial> trial = RunTrial(store, index, renderer, start, t, settings);
+    if (!trial.ok()) return trial.status();
+    trials.push_back(std::move(trial).value());
+    log(t + 1, settings.trials);
+  }
+  return trials;
+}
+
+}  // namespace fleetloc::bench
