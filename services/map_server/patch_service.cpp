@@ -28,7 +28,7 @@ std::vector<std::string> PatchService::CounterNames() {
 }
 
 PatchService::PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
-                           mosaic::VehicleStandingStore* standing, PatchIntake intake, VehicleChannels* channels,
+                           mosaic_upkeep::VehicleStandingStore* standing, PatchIntake intake, VehicleChannels* channels,
                            ServerCounters* counters)
     : patches_(patches),
       tiles_(tiles),

@@ -1,5 +1,5 @@
 // Loading, building and caching a mosaic's place index (see place_index_cache.h).
-#include "mosaic/place_index_cache.h"
+#include "mosaic_upkeep/place_index_cache.h"
 
 #include <spdlog/spdlog.h>
 
@@ -9,7 +9,13 @@
 #include "io/progress_log.h"
 #include "mosaic/place_index_store.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+
+// The mosaic file the cache lives in.
+using mosaic::RasterSource;
+using mosaic::ReadPlaceIndexBlob;
+using mosaic::WritePlaceIndexBlob;
+
 namespace {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -74,4 +80,4 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
   return loaded;
 }
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep
