@@ -80,7 +80,7 @@ class SplitServers {
   }
 
   const testing::ScratchDir& dir_;
-  std::map<std::string, io::ChildProcess> servers_;
+  std::map<std::string, runtime::ChildProcess> servers_;
 };
 
 TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
@@ -106,7 +106,7 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   ASSERT_EQ(ServerCounters(*p, 2, 20).size(), 2u) << "both map servers report health";
 
   const std::string summary_path = dir / "summary.json";
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run_dir, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
                         "--outbox", dir / "outbox.db", "--summary", summary_path},
       dir / "agent.log");
@@ -218,7 +218,7 @@ TEST(MapServerSplit, PatchesWaitForAServerThatWasDownAtTheVehiclesStart) {
                               {"mosaic_wait_s", 3}};
   std::ofstream(dir / "agv-9.json") << config.dump(2);
   const std::string outbox = dir / "outbox.db";
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", dir / "agv-9.json", "--outbox", outbox}, dir / "agent.log");
 
   ASSERT_TRUE(Eventually([&] { return testing::QueuedPatches(outbox) >= 2; }, 90))

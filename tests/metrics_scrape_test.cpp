@@ -77,7 +77,7 @@ TEST(MetricsScrape, EveryServiceServesValidMetricsThatMoveWhileAVehicleDrives) {
   const std::string run = (server.dir() / "run").string();
   ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() + " --frames 60 --seed 5 --out " + run)
                 .exit_code, 0);
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-m",
                         "--outbox", (server.dir() / "outbox.db").string(), "--metrics-port", "0",
                         "--metrics-port-file", tmp + "agent"},

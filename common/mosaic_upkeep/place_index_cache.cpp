@@ -6,8 +6,8 @@
 #include <chrono>
 #include <optional>
 
-#include "io/progress_log.h"
 #include "mosaic/place_index_store.h"
+#include "runtime/progress_log.h"
 
 namespace fleetloc::mosaic_upkeep {
 
@@ -64,7 +64,7 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
     }
   }
   const auto start = std::chrono::steady_clock::now();
-  io::PercentLog log("place index of " + mosaic_path, "strips");
+  runtime::PercentLog log("place index of " + mosaic_path, "strips");
   Result<mapmatch::PlaceIndex> built =
       mapmatch::PlaceIndex::Build(view, options, [&](int done, int total) { log(done, total); }, cancel);
   if (!built.ok()) return built.status();

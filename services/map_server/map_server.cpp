@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <thread>
 
-#include "io/service_notify.h"
 #include "map_server/server_metrics.h"
+#include "runtime/service_notify.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -306,7 +306,7 @@ Status MapServer::Run(const std::atomic<bool>& stop) {
   const auto period = std::chrono::duration<double>(config_.health_period_s);
   auto next_health = Clock::now();
   while (!stop.load()) {
-    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
+    runtime::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     if (Status served = ServeOnce(); !served.ok()) spdlog::error("{}", served.message());
     if (metrics_->Due()) RefreshMetrics();
     if (Clock::now() >= next_health) {
@@ -314,7 +314,7 @@ Status MapServer::Run(const std::atomic<bool>& stop) {
       next_health += std::chrono::duration_cast<Clock::duration>(period);
     }
   }
-  io::NotifyServiceStopping();
+  runtime::NotifyServiceStopping();
   spdlog::info("stopping: {} tiles served, {} inputs rejected", counters_.Get("tiles_served"),
                counters_.TotalRejected());
   return Status::Ok();

@@ -16,9 +16,9 @@
 #include "bench_paths.h"
 #include "bench_tiles.h"
 #include "commands.h"
-#include "io/child_process.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
+#include "runtime/child_process.h"
 #include "transport/patch_client.h"
 
 namespace fleetloc::fleetctl {
@@ -118,7 +118,7 @@ Status RunFloodBench(FloodBenchArgs a) {
   if (!prepared.ok()) return prepared.status();
   const std::string mosaic = *prepared, config = a.tiles.work_dir + "/map_server.json";
   auto server =
-      io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
+      runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
                               {"--config", config, "--domain", std::to_string(a.tiles.domain)},
                               a.tiles.work_dir + "/map_server.log");
   if (!server.ok()) return server.status();

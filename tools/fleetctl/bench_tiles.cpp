@@ -13,10 +13,10 @@
 
 #include "bench_paths.h"
 #include "ddsperf_peer.h"
-#include "io/child_process.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
 #include "replay/replay.h"
+#include "runtime/child_process.h"
 #include "transport/tile_client.h"
 #include "transport/waitset.h"
 
@@ -211,7 +211,7 @@ Status RunTileBench(const TileBenchSettings& s) {
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config, transport::DefaultLoopbackXml()));
   const std::string uri =
       "file://" + (s.peer_dds_config.empty() ? config : fs::absolute(s.peer_dds_config).string());
-  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
+  auto server = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
                                         {"--mosaic", *mosaic, "--domain", std::to_string(s.domain),
                                          "--server-id", "bench", "--dds-config",
                                          s.server_dds_config.empty() ? config : s.server_dds_config},

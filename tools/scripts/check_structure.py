@@ -51,10 +51,11 @@ LAYERS = [
     # Algorithms over the tracker: mosaic building and re-mapping, map matching and
     # relocalization, the simulator (its corridor scenes use mapmatch's landmarks).
     ("algorithms", ["common/mapping", "common/mapmatch", "common/sim"]),
-    # Adapters: files, DDS, cameras, metrics, offline replay, the stored mosaic's upkeep jobs
-    # (re-mapping, vehicle standing, the place-index cache: over mapping and mapmatch).
-    ("adapters", ["common/io", "common/transport", "common/camera_io", "common/metrics",
-                  "common/replay", "common/mosaic_upkeep"]),
+    # Adapters: process plumbing (logging, signals, sd_notify, child processes), files, DDS,
+    # cameras, metrics, offline replay, the stored mosaic's upkeep jobs (re-mapping, vehicle
+    # standing, the place-index cache: over mapping and mapmatch).
+    ("adapters", ["common/runtime", "common/io", "common/transport", "common/camera_io",
+                  "common/metrics", "common/replay", "common/mosaic_upkeep"]),
     ("services", ["services/map_server", "services/tracker_agent",
                   "services/fleet_supervisor"]),
     ("tools", ["tools/peers", "tools/live_sim", "tools/fleetctl", "tools/bench", "tools/fuzz"]),
@@ -80,7 +81,7 @@ ALLOWED_LONG_FILES = {
 ALLOWED_LONG_FUNCTIONS = {
 }
 
-TEST_ONLY_FILES = {"common/io/notify_listener.cpp", "common/io/notify_listener.h"}
+TEST_ONLY_FILES = {"common/runtime/notify_listener.cpp", "common/runtime/notify_listener.h"}
 SOURCE_DIRS = ["common", "services", "tools"]
 SOURCE_EXTS = (".cpp", ".h", ".hpp", ".cc")
 
