@@ -51,11 +51,12 @@ LAYERS = [
     # Algorithms over the tracker: mosaic building and re-mapping, map matching and
     # relocalization, the simulator (its corridor scenes use mapmatch's landmarks).
     ("algorithms", ["common/mapping", "common/mapmatch", "common/sim"]),
-    # Adapters: process plumbing (logging, signals, sd_notify, child processes), files, DDS,
-    # cameras, metrics, offline replay, the stored mosaic's upkeep jobs (re-mapping, vehicle
-    # standing, the place-index cache: over mapping and mapmatch).
-    ("adapters", ["common/runtime", "common/io", "common/transport", "common/camera_io",
-                  "common/metrics", "common/replay", "common/mosaic_upkeep"]),
+    # Adapters: process plumbing (logging, signals, sd_notify, child processes), files, the
+    # rectifier camera.json asks for (replay's and the agent's), DDS, cameras, metrics, offline
+    # replay, the stored mosaic's upkeep jobs (re-mapping, vehicle standing, the place-index
+    # cache: over mapping and mapmatch).
+    ("adapters", ["common/runtime", "common/io", "common/rectification", "common/transport",
+                  "common/camera_io", "common/metrics", "common/replay", "common/mosaic_upkeep"]),
     ("services", ["services/map_server", "services/tracker_agent",
                   "services/fleet_supervisor"]),
     ("tools", ["tools/peers", "tools/live_sim", "tools/fleetctl", "tools/bench", "tools/fuzz"]),
