@@ -53,14 +53,6 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
   return result;
 }
 
-double Percentile(std::vector<double> values, double percent) {
-  if (values.empty()) return 0.0;
-  const double rank = std::ceil(percent / 100.0 * static_cast<double>(values.size())) - 1.0;
-  const size_t k = static_cast<size_t>(std::clamp(rank, 0.0, values.size() - 1.0));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
 namespace {
 
 double Rms(const std::vector<double>& v) {
