@@ -105,9 +105,10 @@ TEST(AgentMultiFrameRelocalization, FindsThePoseFromTwoFramesWhenEachAloneIsAmbi
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   const std::string summary_path = (server.dir() / "summary.json").string();
   runtime::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run.dir.string(), "--config", config, "--relocalize", "--domain",
-                        std::to_string(kDomain), "--vehicle-id", "agv-6", "--outbox",
-                        (server.dir() / "outbox.db").string(), "--summary", summary_path},
+      "tracker_agent",
+      {"--run", run.dir.string(), "--config", config, "--relocalize", "--domain",
+       std::to_string(kDomain), "--vehicle-id", "agv-6", "--outbox",
+       (server.dir() / "outbox.db").string(), "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));

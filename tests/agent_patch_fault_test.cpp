@@ -41,7 +41,7 @@ std::string ChangedFloorRun(testing::MapServerFixture& server) {
 }
 
 runtime::ChildProcess StartAgent(testing::MapServerFixture& server, const std::string& run,
-                            const std::string& outbox, const std::string& log) {
+                                 const std::string& outbox, const std::string& log) {
   return testing::StartDaemon("tracker_agent", {"--run", run, "--domain", std::to_string(kDomain),
                                                 "--vehicle-id", "agv-5", "--outbox", outbox},
                               (server.dir() / log).string());

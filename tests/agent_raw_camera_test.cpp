@@ -78,8 +78,9 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   auto reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *topic,
                                                                 transport::Qos().Reliable().KeepAll());
   runtime::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id",
-                        "agv-6", "--outbox", (server.dir() / "outbox.db").string()},
+      "tracker_agent",
+      {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-6",
+       "--outbox", (server.dir() / "outbox.db").string()},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   auto take = [&] { testing::TakePoses(*reader, &published); };
@@ -119,8 +120,9 @@ TEST(AgentRawCamera, ACameraAtTwiceTheMosaicsResolutionIsRefusedAtStart) {
   std::ofstream(run / "camera.json") << camera.dump(2);
   const fs::path log = server.dir() / "agent.log";
   runtime::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
-                        "--outbox", (server.dir() / "outbox.db").string()},
+      "tracker_agent",
+      {"--run", run.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
+       "--outbox", (server.dir() / "outbox.db").string()},
       log.string());
   ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 30)) << testing::ReadWhole(log);
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 2);

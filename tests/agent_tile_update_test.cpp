@@ -27,8 +27,9 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
   ASSERT_TRUE(cv::imwrite(floor, scene.new_floor));
   const std::string summary = (server.dir() / "summary.json").string();
   runtime::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--sim-floor", floor, "--domain", std::to_string(kDomain), "--vehicle-id",
-                        "agv-8", "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary},
+      "tracker_agent",
+      {"--sim-floor", floor, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-8",
+       "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary},
       (server.dir() / "agent.log").string());
 
   transport::Participant& p = server.participant();

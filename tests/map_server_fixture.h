@@ -61,7 +61,8 @@ class MapServerFixture {
                                      "--server-id", "map-t"};
     if (!config_path_.empty()) args.insert(args.end(), {"--config", config_path_});
     server_ = std::make_unique<runtime::ChildProcess>(StartDaemon(
-        "map_server", args, (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
+        "map_server", args,
+        (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
   }
   // Kills the server with `signal` and returns its exit status.
   int StopServer(int signal) {

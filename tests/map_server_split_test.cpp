@@ -106,10 +106,11 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   ASSERT_EQ(ServerCounters(*p, 2, 20).size(), 2u) << "both map servers report health";
 
   const std::string summary_path = dir / "summary.json";
-  runtime::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run_dir, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
-                        "--outbox", dir / "outbox.db", "--summary", summary_path},
-      dir / "agent.log");
+  runtime::ChildProcess agent =
+      testing::StartDaemon("tracker_agent",
+                           {"--run", run_dir, "--domain", std::to_string(kDomain), "--vehicle-id",
+                            "agv-7", "--outbox", dir / "outbox.db", "--summary", summary_path},
+                           dir / "agent.log");
   std::vector<transport::PoseReport> published;
   ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);

@@ -46,7 +46,7 @@ class NetnsLab {
 
   // Starts build/bin/`program` inside `host`.
   runtime::ChildProcess Start(const std::string& host, const std::string& program,
-                         const std::vector<std::string>& args, const std::string& log) {
+                              const std::vector<std::string>& args, const std::string& log) {
     std::vector<std::string> all{"netns", "exec", Namespace(host),
                                  std::string(FLEETLOC_BINARY_DIR "/bin/") + program};
     all.insert(all.end(), args.begin(), args.end());

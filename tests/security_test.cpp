@@ -92,7 +92,8 @@ class SecuredMapServer {
                                      "--server-id", "map-1"};
     for (const std::string& a : SecuredAs("server-map-1")) args.push_back(a);
     log_ = (dir.path() / "map_server.log").string();
-    process_ = std::make_unique<runtime::ChildProcess>(testing::StartDaemon("map_server", args, log_));
+    process_ =
+        std::make_unique<runtime::ChildProcess>(testing::StartDaemon("map_server", args, log_));
   }
   ~SecuredMapServer() { EXPECT_EQ(process_->Stop(SIGTERM), 0) << log(); }
   std::string log() const { return testing::ReadWhole(log_); }

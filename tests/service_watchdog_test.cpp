@@ -52,7 +52,7 @@ void MakeFloor(const testing::ScratchDir& dir) {
 }
 
 runtime::ChildProcess StartMapServer(const testing::ScratchDir& dir,
-                                const std::vector<std::string>& env) {
+                                     const std::vector<std::string>& env) {
   return testing::StartDaemon("map_server",
                               {"--mosaic", dir / "floor.db", "--domain", std::to_string(kDomain)},
                               dir / "map_server.log", env);

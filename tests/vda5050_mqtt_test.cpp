@@ -76,8 +76,11 @@ class Broker {
     Start();
   }
   void Start() {
-    process_ = std::make_unique<runtime::ChildProcess>(std::move(runtime::ChildProcess::Start(
-        "/usr/sbin/mosquitto", {"-c", (dir_ / "mosquitto.conf").string()}, (dir_ / "mosquitto.log").string()).value()));
+    process_ = std::make_unique<runtime::ChildProcess>(
+        std::move(runtime::ChildProcess::Start("/usr/sbin/mosquitto",
+                                               {"-c", (dir_ / "mosquitto.conf").string()},
+                                               (dir_ / "mosquitto.log").string())
+                      .value()));
     EXPECT_TRUE(Eventually([&] { return Subscribe("$SYS/broker/version", 1, 2).size() == 1; }, 10))
         << "mosquitto did not start";
   }

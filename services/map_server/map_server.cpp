@@ -136,10 +136,10 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
   Result<mosaic_upkeep::RemapStores> stores =
       mosaic_upkeep::OpenRemapStores(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
   if (!stores.ok()) return stores.status();
-  const mosaic_upkeep::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
-                                     job.replace ? mosaic_upkeep::RemapMode::kReplace
-                                                 : mosaic_upkeep::RemapMode::kBlend,
-                                     config_.remap_policy};
+  const mosaic_upkeep::RemapRequest request{
+      {job.x_min, job.y_min, job.x_max, job.y_max},
+      job.replace ? mosaic_upkeep::RemapMode::kReplace : mosaic_upkeep::RemapMode::kBlend,
+      config_.remap_policy};
   // Fault injection for the tests only (tests/map_server_fault_test.cpp): with
   // FLEETLOC_FAILPOINT_COMMIT_PAUSE_S set, the job reports and then pauses after writing its first
   // tile into the uncommitted version, so a test can kill the server inside the commit.
@@ -157,9 +157,9 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
       },
       &cancel);
   if (!result.ok()) return result.status();
-  return RemapOutcome{result->new_version,    result->changed_tiles,
-                      result->patches_folded, result->patches_rejected,
-                      result->patches_held,   mosaic_upkeep::RemapSummary(*result),
+  return RemapOutcome{result->new_version,      result->changed_tiles,
+                      result->patches_folded,   result->patches_rejected,
+                      result->patches_held,     mosaic_upkeep::RemapSummary(*result),
                       result->newly_quarantined};
 }
 

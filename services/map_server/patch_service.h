@@ -42,8 +42,9 @@ class PatchService {
 
   // `store` is read on the DDS thread only (the served layout); the other stores are used by the
   // service's thread.
-  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles, mosaic_upkeep::VehicleStandingStore* standing,
-               PatchIntake intake, VehicleChannels* channels, ServerCounters* counters);
+  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
+               mosaic_upkeep::VehicleStandingStore* standing, PatchIntake intake,
+               VehicleChannels* channels, ServerCounters* counters);
   ~PatchService();  // finishes the patch being stored, drops the queued ones (not acknowledged)
 
   void Receive(const fleetloc_PatchObservation& sample);

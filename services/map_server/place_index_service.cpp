@@ -79,8 +79,9 @@ std::optional<PlaceIndexService::Ready> PlaceIndexService::LoadOrBuild() {
   std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(kBuildCacheBytes));
-  Result<mosaic_upkeep::LoadedPlaceIndex> index = mosaic_upkeep::LoadOrBuildPlaceIndex(
-      mosaic_path_, view, mapmatch::PlaceIndexOptions{}, mosaic_upkeep::IndexCache::kUse, &stopping_);
+  Result<mosaic_upkeep::LoadedPlaceIndex> index =
+      mosaic_upkeep::LoadOrBuildPlaceIndex(mosaic_path_, view, mapmatch::PlaceIndexOptions{},
+                                           mosaic_upkeep::IndexCache::kUse, &stopping_);
   if (!index.ok()) {
     counters_->Add("place_index_failed");
     if (!stopping_) spdlog::error("place index not available: {}", index.status().message());

@@ -47,9 +47,9 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   Result<replay::ReplayResult> offline = TrackOffline(*mosaic, *run, {}, 256);
   if (!offline.ok()) return offline.status();
   spdlog::info("bench agent: map_server and tracker_agent (fast replay) on domain {}", s.domain);
-  auto server = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
-                                        {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)},
-                                        work + "/map_server.log");
+  auto server = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/map_server",
+      {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)}, work + "/map_server.log");
   if (!server.ok()) return server.status();
   const std::string summary_path = work + "/agent_summary.json";
   fs::remove(summary_path);

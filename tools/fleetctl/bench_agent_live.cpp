@@ -132,7 +132,8 @@ struct HeardPoses {
 // it stands, then odometry and the fake camera; the poses heard meanwhile. The agent and the map
 // server are stopped at the end.
 Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::PlannedDrive& d,
-                                  double start, runtime::ChildProcess& agent, runtime::ChildProcess& server) {
+                                  double start, runtime::ChildProcess& agent,
+                                  runtime::ChildProcess& server) {
   auto participant = transport::Participant::Create(s.domain);
   if (!participant.ok()) return participant.status();
   const transport::Participant& p = *participant;
@@ -352,9 +353,9 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   live_sim::PlannedDrive& d = *prepared->drive;
   const std::string& mosaic = prepared->mosaic;
   const io::Run& run = prepared->run;
-  auto server = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
-                                        {"--mosaic", mosaic, "--domain", std::to_string(s.domain)},
-                                        work + "/map_server.log");
+  auto server = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/map_server",
+      {"--mosaic", mosaic, "--domain", std::to_string(s.domain)}, work + "/map_server.log");
   if (!server.ok()) return server.status();
   const nlohmann::json config = AgentConfig(s, work);
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(work + "/live_agent.json", config.dump(2)));

@@ -46,8 +46,8 @@ Result<ChildRun> Import(const fs::path& pgm, double resolution_m, const fs::path
   return RunInChild([&]() -> Result<std::string> {
     mosaic::ImportOptions options;
     options.resolution_m = resolution_m;
-    runtime::PercentLog progress("import " + (pgm.parent_path().filename() / pgm.filename()).string(),
-                        "rows", 5);
+    runtime::PercentLog progress(
+        "import " + (pgm.parent_path().filename() / pgm.filename()).string(), "rows", 5);
     Result<mosaic::MosaicLayout> layout =
         mosaic::ImportImage(pgm.string(), options, db.string(), std::ref(progress));
     if (!layout.ok()) return layout.status();

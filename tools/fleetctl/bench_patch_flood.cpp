@@ -119,8 +119,8 @@ Status RunFloodBench(FloodBenchArgs a) {
   const std::string mosaic = *prepared, config = a.tiles.work_dir + "/map_server.json";
   auto server =
       runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
-                              {"--config", config, "--domain", std::to_string(a.tiles.domain)},
-                              a.tiles.work_dir + "/map_server.log");
+                                   {"--config", config, "--domain", std::to_string(a.tiles.domain)},
+                                   a.tiles.work_dir + "/map_server.log");
   if (!server.ok()) return server.status();
   auto participant = transport::Participant::Create(a.tiles.domain);
   if (!participant.ok()) return participant.status();

@@ -98,8 +98,8 @@ Status RunRemapBench(const RemapBenchArgs& a) {
     auto patches = mosaic::PatchStore::Open(*path);
     auto standing = mosaic_upkeep::VehicleStandingStore::Open(*path);
     if (!tiles.ok() || !patches.ok() || !standing.ok()) return Internal("cannot open " + *path);
-    Result<mosaic_upkeep::RemapResult> r =
-        mosaic_upkeep::RunRemap(**tiles, **patches, **standing, {everywhere, mosaic_upkeep::RemapMode::kBlend});
+    Result<mosaic_upkeep::RemapResult> r = mosaic_upkeep::RunRemap(
+        **tiles, **patches, **standing, {everywhere, mosaic_upkeep::RemapMode::kBlend});
     if (!r.ok()) return r.status();
     return nlohmann::json{{"folded", r->patches_folded},
                           {"refused", r->patches_rejected},

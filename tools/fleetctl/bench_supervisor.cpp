@@ -132,8 +132,8 @@ Result<runtime::ChildProcess> StartSupervisor(const SupervisorBenchArgs& a, int*
   std::vector<std::string> args = {"--domain", std::to_string(a.domain), "--history", history, "--http-port", "0",
                                    "--port-file", port_file, "--metrics-port", "0"};
   if (!a.supervisor_config.empty()) args.insert(args.end(), {"--config", a.supervisor_config});
-  auto supervisor = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/fleet_supervisor", args,
-                                            a.work_dir + "/fleet_supervisor.log");
+  auto supervisor = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/fleet_supervisor",
+                                                 args, a.work_dir + "/fleet_supervisor.log");
   if (!supervisor.ok()) return supervisor.status();
   *port = 0;
   for (int i = 0; i < 200 && *port <= 0; ++i) {

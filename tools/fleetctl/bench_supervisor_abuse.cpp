@@ -101,10 +101,11 @@ Phase Measure(int port, pid_t supervisor, double seconds, double hz) {
 }
 
 // Starts a daemon from build/bin that writes its port to `port_file` (0 when it did not start).
-Result<runtime::ChildProcess> StartDaemon(const std::string& name, const std::vector<std::string>& args,
-                                     const std::string& work_dir) {
+Result<runtime::ChildProcess> StartDaemon(const std::string& name,
+                                          const std::vector<std::string>& args,
+                                          const std::string& work_dir) {
   return runtime::ChildProcess::Start(runtime::ExecutableDir() + "/" + name, args,
-                                 work_dir + "/" + name + ".log");
+                                      work_dir + "/" + name + ".log");
 }
 
 int WaitForPort(const std::string& port_file) {

@@ -44,14 +44,16 @@ Status RunRemapPreview(const RemapArgs& a) {
     if (!config.ok()) return config.status();
     policy = config->remap_policy;
   }
-  Result<mosaic_upkeep::RemapStores> stores = mosaic_upkeep::OpenRemapStores(a.mosaic, mosaic::OpenMode::kReadOnly);
+  Result<mosaic_upkeep::RemapStores> stores =
+      mosaic_upkeep::OpenRemapStores(a.mosaic, mosaic::OpenMode::kReadOnly);
   if (!stores.ok()) return stores.status();
-  mosaic_upkeep::RemapRequest request{{a.region[0], a.region[1], a.region[2], a.region[3]},
-                               a.mode == "replace" ? mosaic_upkeep::RemapMode::kReplace
-                                                   : mosaic_upkeep::RemapMode::kBlend,
-                               policy};
+  mosaic_upkeep::RemapRequest request{
+      {a.region[0], a.region[1], a.region[2], a.region[3]},
+      a.mode == "replace" ? mosaic_upkeep::RemapMode::kReplace : mosaic_upkeep::RemapMode::kBlend,
+      policy};
   request.dry_run = true;
-  Result<mosaic_upkeep::RemapResult> r = mosaic_upkeep::RunRemap(*stores->tiles, *stores->patches, *stores->standing, request);
+  Result<mosaic_upkeep::RemapResult> r =
+      mosaic_upkeep::RunRemap(*stores->tiles, *stores->patches, *stores->standing, request);
   if (!r.ok()) return r.status();
   nlohmann::json tiles = nlohmann::json::array();
   for (const mosaic::TileKey& key : r->changed_tiles) tiles.push_back(mosaic::ToString(key));
