@@ -70,7 +70,7 @@ LiveRun DriveLive(testing::MapServerFixture& server, const cv::Mat& floor, const
   if (faults.no_start_pose) config["start_pose"] = "relocalize";
   std::ofstream(dir / "agent.json") << config.dump(2);
   const fs::path summary = dir / "summary.json", log = dir / "agent.log";
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", (dir / "agent.json").string(), "--summary", summary.string()},
       log.string());
 

@@ -52,7 +52,7 @@ std::string WriteForwardRun(const std::filesystem::path& dir) {
 // Runs tracker_agent on `run_dir` (no map server needed: it refuses before looking for one) and
 // returns its exit status; its log is in `log`.
 int RunAgentExpectingRefusal(const std::string& run_dir, const std::string& log) {
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--run", run_dir, "--fast", "--domain", std::to_string(kDomain)}, log);
   EXPECT_TRUE(Eventually([&] { return !agent.Running(); }, 30));
   return agent.Wait(std::chrono::seconds(1));
@@ -91,7 +91,7 @@ TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts
     });
   };
   const std::string summary_path = (server.dir() / "summary.json").string();
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent",
       {"--run", run_dir, "--fast", "--domain", std::to_string(kDomain), "--vehicle-id", "agv-6",
        "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary_path},

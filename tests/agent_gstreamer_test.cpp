@@ -69,7 +69,7 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
       {"gstreamer",
        {{"pipeline", pipeline}, {"timestamps", "frame_rate"}, {"epoch_s", drive.frame_t(0)}}}};
   std::ofstream(dir / "agent.json") << config.dump(2);
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
   transport::Participant& p = server.participant();
   using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;

@@ -40,8 +40,8 @@ std::string ChangedFloorRun(testing::MapServerFixture& server) {
   return sim.exit_code == 0 ? run : "";
 }
 
-io::ChildProcess StartAgent(testing::MapServerFixture& server, const std::string& run,
-                            const std::string& outbox, const std::string& log) {
+runtime::ChildProcess StartAgent(testing::MapServerFixture& server, const std::string& run,
+                                 const std::string& outbox, const std::string& log) {
   return testing::StartDaemon("tracker_agent", {"--run", run, "--domain", std::to_string(kDomain),
                                                 "--vehicle-id", "agv-5", "--outbox", outbox},
                               (server.dir() / log).string());
@@ -52,7 +52,7 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   const std::string run = ChangedFloorRun(server);
   ASSERT_FALSE(run.empty());
   const std::string outbox = (server.dir() / "outbox.db").string();
-  io::ChildProcess agent = StartAgent(server, run, outbox, "agent.log");
+  runtime::ChildProcess agent = StartAgent(server, run, outbox, "agent.log");
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(server.participant(),
                                                                    transport::topics::kVehiclePose);
   auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(server.participant(), *pose_topic,
@@ -116,7 +116,7 @@ TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
   const std::string run = ChangedFloorRun(server);
   ASSERT_FALSE(run.empty());
   const std::string outbox = (server.dir() / "outbox.db").string();
-  io::ChildProcess agent = StartAgent(server, run, outbox, "agent_1.log");
+  runtime::ChildProcess agent = StartAgent(server, run, outbox, "agent_1.log");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
   ASSERT_TRUE(Eventually([&] { return testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
@@ -125,7 +125,7 @@ TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
   const long long pending = testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox");
   EXPECT_GE(pending, 1) << "the queued patches are on disk after the kill";
   server.StartServer();
-  io::ChildProcess restarted = StartAgent(server, run, outbox, "agent_2.log");
+  runtime::ChildProcess restarted = StartAgent(server, run, outbox, "agent_2.log");
   ASSERT_TRUE(Eventually([&] { return !restarted.Running(); }, 90));
   EXPECT_EQ(restarted.Wait(std::chrono::seconds(1)), 0);
   const long long queued = testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");

@@ -77,9 +77,10 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   auto topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *topic,
                                                                 transport::Qos().Reliable().KeepAll());
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id",
-                        "agv-6", "--outbox", (server.dir() / "outbox.db").string()},
+  runtime::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent",
+      {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-6",
+       "--outbox", (server.dir() / "outbox.db").string()},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   auto take = [&] { testing::TakePoses(*reader, &published); };
@@ -118,9 +119,10 @@ TEST(AgentRawCamera, ACameraAtTwiceTheMosaicsResolutionIsRefusedAtStart) {
   camera["resolution"] = 0.001;
   std::ofstream(run / "camera.json") << camera.dump(2);
   const fs::path log = server.dir() / "agent.log";
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
-                        "--outbox", (server.dir() / "outbox.db").string()},
+  runtime::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent",
+      {"--run", run.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
+       "--outbox", (server.dir() / "outbox.db").string()},
       log.string());
   ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 30)) << testing::ReadWhole(log);
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 2);

@@ -57,10 +57,10 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
   auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   const std::string summary_path = (server.dir() / "summary.json").string();
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run_dir, "--relocalize", "--domain", std::to_string(kDomain),
-                        "--vehicle-id", "agv-5", "--outbox", (server.dir() / "outbox.db").string(),
-                        "--summary", summary_path},
+  runtime::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent",
+      {"--run", run_dir, "--relocalize", "--domain", std::to_string(kDomain), "--vehicle-id",
+       "agv-5", "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));

@@ -39,10 +39,11 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
       p, *health_topic, transport::Qos().Reliable().KeepAll());
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
-                        "--outbox", (server.dir() / "outbox.db").string()},
-      (server.dir() / "agent.log").string());
+  runtime::ChildProcess agent =
+      testing::StartDaemon("tracker_agent",
+                           {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id",
+                            "agv-7", "--outbox", (server.dir() / "outbox.db").string()},
+                           (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   int health_reports = 0;
   bool reachable = false;

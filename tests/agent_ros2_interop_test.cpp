@@ -55,7 +55,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   }
   const nlohmann::json config = testing::AravisAgentConfig("agv-21", kDomain, dir);
   std::ofstream(dir / "agent.json") << config.dump(2);
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
   const double initial_t = start + 0.1;  // while the vehicle stands, before the camera starts
   const geometry::Pose2 truth0 = drive.TruthAt(initial_t);
@@ -64,7 +64,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   initial << initial_t << "," << truth0.x + 0.002 << "," << truth0.y - 0.001 << ","
           << truth0.theta + 0.003 << ",4e-6,4e-6,3e-5";
   const double until = drive.last_frame_t() + 0.6;
-  io::ChildProcess node = testing::StartDaemon(
+  runtime::ChildProcess node = testing::StartDaemon(
       "ros2_nav_stack_node",
       {"--profile", FLEETLOC_SOURCE_DIR "/tests/ros2_fastdds_profile.xml", "--domain",
        std::to_string(kDomain), "--odometry", (dir / "odometry.csv").string(), "--initial",

@@ -26,9 +26,10 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
   const std::string floor = (server.dir() / "new_floor.png").string();
   ASSERT_TRUE(cv::imwrite(floor, scene.new_floor));
   const std::string summary = (server.dir() / "summary.json").string();
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--sim-floor", floor, "--domain", std::to_string(kDomain), "--vehicle-id",
-                        "agv-8", "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary},
+  runtime::ChildProcess agent = testing::StartDaemon(
+      "tracker_agent",
+      {"--sim-floor", floor, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-8",
+       "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary},
       (server.dir() / "agent.log").string());
 
   transport::Participant& p = server.participant();

@@ -25,7 +25,7 @@ TEST(DashboardBrowser, VehiclesMoveAKilledAgentRaisesAnAlertAndARemapFromThePage
   ASSERT_FALSE(floor.empty());
   testing::MapServerFixture server("dashboard_browser", floor, kDomain);
   const std::string floor_image = (server.dir() / "floor.png").string();
-  std::vector<io::ChildProcess> agents;
+  std::vector<runtime::ChildProcess> agents;
   for (const std::string id : {"agv-b1", "agv-b2"}) {
     agents.push_back(testing::StartDaemon(
         "tracker_agent", {"--sim-floor", floor_image, "--domain", std::to_string(kDomain), "--vehicle-id", id,
@@ -40,7 +40,7 @@ TEST(DashboardBrowser, VehiclesMoveAKilledAgentRaisesAnAlertAndARemapFromThePage
 
   const std::string artifacts = FLEETLOC_BINARY_DIR "/test-artifacts/dashboard";
   const std::string log = (server.dir() / "browser.log").string();
-  auto browser = io::ChildProcess::Start(
+  auto browser = runtime::ChildProcess::Start(
       "/usr/bin/env",
       {"node", FLEETLOC_SOURCE_DIR "/tests/browser/dashboard_test.mjs", "--url", supervisor.url(),
        "--token", supervisor.token(), "--kill-pid", std::to_string(agents[1].pid()),

@@ -68,8 +68,9 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
       server.participant().get(), *status_topic, transport::DurableStateQos());
   const std::string whole = "0,0,0.512,0.512";
   const std::string fleetctl = std::string(FLEETLOC_BINARY_DIR) + "/bin/fleetctl";
-  auto remap = io::ChildProcess::Start(
-      fleetctl, {"remap", "--domain", std::to_string(kDomain), "--region", whole, "--timeout", "60"},
+  auto remap = runtime::ChildProcess::Start(
+      fleetctl,
+      {"remap", "--domain", std::to_string(kDomain), "--region", whole, "--timeout", "60"},
       (server.dir() / "remap_1.log").string());
   ASSERT_TRUE(remap.ok());
   bool running = false;
@@ -114,10 +115,11 @@ TEST(MapServerFault, KilledInsideTheTileCommitKeepsServingThePreviousVersion) {
   auto statuses = transport::Reader<fleetloc_RemapStatus>::Create(
       server.participant().get(), *status_topic, transport::DurableStateQos());
   const std::string region = testing::RegionAroundChange(scene);
-  auto remap = io::ChildProcess::Start(
-      std::string(FLEETLOC_BINARY_DIR) + "/bin/fleetctl",
-      {"remap", "--domain", std::to_string(kDomain), "--region", region, "--mode", "replace", "--timeout", "60"},
-      (server.dir() / "remap_commit.log").string());
+  auto remap =
+      runtime::ChildProcess::Start(std::string(FLEETLOC_BINARY_DIR) + "/bin/fleetctl",
+                                   {"remap", "--domain", std::to_string(kDomain), "--region",
+                                    region, "--mode", "replace", "--timeout", "60"},
+                                   (server.dir() / "remap_commit.log").string());
   ASSERT_TRUE(remap.ok());
   // Killed once it says it is writing the new version's tiles (and has not committed them).
   bool committing = false;

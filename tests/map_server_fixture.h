@@ -60,8 +60,9 @@ class MapServerFixture {
     std::vector<std::string> args = {"--mosaic", mosaic_path_, "--domain", std::to_string(domain_),
                                      "--server-id", "map-t"};
     if (!config_path_.empty()) args.insert(args.end(), {"--config", config_path_});
-    server_ = std::make_unique<io::ChildProcess>(StartDaemon(
-        "map_server", args, (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
+    server_ = std::make_unique<runtime::ChildProcess>(StartDaemon(
+        "map_server", args,
+        (scratch_.path() / ("map_server_" + std::to_string(++starts_) + ".log")).string()));
   }
   // Kills the server with `signal` and returns its exit status.
   int StopServer(int signal) {
@@ -127,7 +128,7 @@ class MapServerFixture {
   std::string mosaic_path_;
   std::string config_path_;
   mosaic::MosaicLayout layout_;
-  std::unique_ptr<io::ChildProcess> server_;
+  std::unique_ptr<runtime::ChildProcess> server_;
   std::unique_ptr<transport::Participant> participant_;
 };
 

@@ -80,7 +80,7 @@ class SplitServers {
   }
 
   const testing::ScratchDir& dir_;
-  std::map<std::string, io::ChildProcess> servers_;
+  std::map<std::string, runtime::ChildProcess> servers_;
 };
 
 TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
@@ -106,10 +106,11 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   ASSERT_EQ(ServerCounters(*p, 2, 20).size(), 2u) << "both map servers report health";
 
   const std::string summary_path = dir / "summary.json";
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run_dir, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-7",
-                        "--outbox", dir / "outbox.db", "--summary", summary_path},
-      dir / "agent.log");
+  runtime::ChildProcess agent =
+      testing::StartDaemon("tracker_agent",
+                           {"--run", run_dir, "--domain", std::to_string(kDomain), "--vehicle-id",
+                            "agv-7", "--outbox", dir / "outbox.db", "--summary", summary_path},
+                           dir / "agent.log");
   std::vector<transport::PoseReport> published;
   ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
@@ -218,7 +219,7 @@ TEST(MapServerSplit, PatchesWaitForAServerThatWasDownAtTheVehiclesStart) {
                               {"mosaic_wait_s", 3}};
   std::ofstream(dir / "agv-9.json") << config.dump(2);
   const std::string outbox = dir / "outbox.db";
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", dir / "agv-9.json", "--outbox", outbox}, dir / "agent.log");
 
   ASSERT_TRUE(Eventually([&] { return testing::QueuedPatches(outbox) >= 2; }, 90))

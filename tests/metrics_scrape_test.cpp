@@ -77,11 +77,12 @@ TEST(MetricsScrape, EveryServiceServesValidMetricsThatMoveWhileAVehicleDrives) {
   const std::string run = (server.dir() / "run").string();
   ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() + " --frames 60 --seed 5 --out " + run)
                 .exit_code, 0);
-  io::ChildProcess agent = testing::StartDaemon(
-      "tracker_agent", {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id", "agv-m",
-                        "--outbox", (server.dir() / "outbox.db").string(), "--metrics-port", "0",
-                        "--metrics-port-file", tmp + "agent"},
-      (server.dir() / "agent.log").string());
+  runtime::ChildProcess agent =
+      testing::StartDaemon("tracker_agent",
+                           {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id",
+                            "agv-m", "--outbox", (server.dir() / "outbox.db").string(),
+                            "--metrics-port", "0", "--metrics-port-file", tmp + "agent"},
+                           (server.dir() / "agent.log").string());
   const int ms_port = ReadPort(tmp + "ms"), sup_port = ReadPort(tmp + "sup"), agent_port = ReadPort(tmp + "agent");
   ASSERT_GT(ms_port, 0);
   ASSERT_GT(sup_port, 0) << supervisor.log();

@@ -267,7 +267,7 @@ class MultiHostFleet {
   bool secured_;
   const std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
   std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
-  std::map<std::string, io::ChildProcess> processes_;  // they stop before the network goes
+  std::map<std::string, runtime::ChildProcess> processes_;  // they stop before the network goes
   std::map<std::string, int> starts_;
 };
 

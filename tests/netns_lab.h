@@ -45,12 +45,12 @@ class NetnsLab {
   }
 
   // Starts build/bin/`program` inside `host`.
-  io::ChildProcess Start(const std::string& host, const std::string& program,
-                         const std::vector<std::string>& args, const std::string& log) {
+  runtime::ChildProcess Start(const std::string& host, const std::string& program,
+                              const std::vector<std::string>& args, const std::string& log) {
     std::vector<std::string> all{"netns", "exec", Namespace(host),
                                  std::string(FLEETLOC_BINARY_DIR "/bin/") + program};
     all.insert(all.end(), args.begin(), args.end());
-    auto child = io::ChildProcess::Start(kIp, all, log);
+    auto child = runtime::ChildProcess::Start(kIp, all, log);
     if (!child.ok()) {
       ADD_FAILURE() << child.status().message();
       std::abort();
@@ -106,7 +106,7 @@ class NetnsLab {
       if (!Run("ip netns exec " + net + " ip link set " + peer + " nomaster")) return false;
       args.push_back(peer);
     }
-    auto child = io::ChildProcess::Start(kIp, args, log);
+    auto child = runtime::ChildProcess::Start(kIp, args, log);
     if (!child.ok()) return false;
     switch_.emplace(std::move(child).value());
     return true;
@@ -146,7 +146,7 @@ class NetnsLab {
   std::vector<std::string> namespaces_;
   std::vector<std::string> hosts_;
   std::vector<std::string> peers_;  // each host link's end in the "net" namespace
-  std::optional<io::ChildProcess> switch_;
+  std::optional<runtime::ChildProcess> switch_;
 };
 
 }  // namespace fleetloc::testing

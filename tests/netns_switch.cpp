@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "io/stop_signal.h"
+#include "runtime/stop_signal.h"
 
 namespace {
 
@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
     }
     links.push_back(fd);
   }
-  const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
+  const std::atomic<bool>& stop = fleetloc::runtime::InstallStopSignals();
   std::printf("netns_switch: %zu links, %.1f +- %.1f ms delay, %.1f %% loss\n", links.size(),
               impairment.delay_ms, impairment.jitter_ms, 100 * impairment.loss);
   std::fflush(stdout);

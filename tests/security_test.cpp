@@ -92,7 +92,8 @@ class SecuredMapServer {
                                      "--server-id", "map-1"};
     for (const std::string& a : SecuredAs("server-map-1")) args.push_back(a);
     log_ = (dir.path() / "map_server.log").string();
-    process_ = std::make_unique<io::ChildProcess>(testing::StartDaemon("map_server", args, log_));
+    process_ =
+        std::make_unique<runtime::ChildProcess>(testing::StartDaemon("map_server", args, log_));
   }
   ~SecuredMapServer() { EXPECT_EQ(process_->Stop(SIGTERM), 0) << log(); }
   std::string log() const { return testing::ReadWhole(log_); }
@@ -101,7 +102,7 @@ class SecuredMapServer {
  private:
   std::string floor_;
   std::string log_;
-  std::unique_ptr<io::ChildProcess> process_;
+  std::unique_ptr<runtime::ChildProcess> process_;
 };
 
 // This process's participant: the maintainer alice, reading the vehicles' poses (checked against
@@ -162,7 +163,7 @@ class Maintainer {
 testing::CommandResult Probe(const testing::ScratchDir& dir, const std::string& name,
                              const std::vector<std::string>& args) {
   const std::string log = (dir.path() / (name + ".log")).string();
-  auto child = io::ChildProcess::Start(FLEETLOC_BINARY_DIR "/bin/security_probe", args, log);
+  auto child = runtime::ChildProcess::Start(FLEETLOC_BINARY_DIR "/bin/security_probe", args, log);
   EXPECT_TRUE(child.ok()) << child.status().message();
   testing::CommandResult r;
   if (child.ok()) r.exit_code = child->Wait(std::chrono::seconds(60));
@@ -296,7 +297,7 @@ TEST(Security, ASecuredFleetTracks) {
       "--sim-floor",  server.floor(), "--domain", std::to_string(kFleetDomain),
       "--vehicle-id", "agv-1",        "--outbox", (dir.path() / "outbox.db").string()};
   for (const std::string& a : SecuredAs("vehicle-agv-1")) args.push_back(a);
-  io::ChildProcess agent =
+  runtime::ChildProcess agent =
       testing::StartDaemon("tracker_agent", args, (dir.path() / "agent.log").string());
   Maintainer alice(kFleetDomain);
   httplib::Client http("127.0.0.1", supervisor.port());

@@ -13,15 +13,15 @@
 
 #include "cli_runner.h"
 #include "daemon_process.h"
-#include "io/notify_listener.h"
 #include "mosaic/importer.h"
+#include "runtime/notify_listener.h"
 
 namespace fleetloc {
 namespace {
 
 using namespace std::chrono_literals;
-using io::testing::HasLine;
-using io::testing::NotifyListener;
+using runtime::testing::HasLine;
+using runtime::testing::NotifyListener;
 
 constexpr uint32_t kDomain = 131;
 
@@ -51,8 +51,8 @@ void MakeFloor(const testing::ScratchDir& dir) {
   ASSERT_TRUE(imported.ok()) << imported.status().message();
 }
 
-io::ChildProcess StartMapServer(const testing::ScratchDir& dir,
-                                const std::vector<std::string>& env) {
+runtime::ChildProcess StartMapServer(const testing::ScratchDir& dir,
+                                     const std::vector<std::string>& env) {
   return testing::StartDaemon("map_server",
                               {"--mosaic", dir / "floor.db", "--domain", std::to_string(kDomain)},
                               dir / "map_server.log", env);
@@ -61,7 +61,7 @@ io::ChildProcess StartMapServer(const testing::ScratchDir& dir,
 // The watchdog's life: READY=1 once set up, WATCHDOG=1 about twice a second (WatchdogSec=1)
 // while the loop runs, and none after the loop hangs at `hang_after` (the process still running,
 // for systemd to kill).
-void ExpectReadyPingsThenSilence(NotifyListener& listener, io::ChildProcess& process,
+void ExpectReadyPingsThenSilence(NotifyListener& listener, runtime::ChildProcess& process,
                                  const std::string& log) {
   std::string first;
   for (auto end = std::chrono::steady_clock::now() + 40s;
@@ -83,14 +83,14 @@ TEST(ServiceWatchdog, MapServerFeedsTheWatchdogUntilItsLoopHangs) {
   testing::ScratchDir dir("watchdog_map_server");
   MakeFloor(dir);
   NotifyListener listener;
-  io::ChildProcess server = StartMapServer(dir, SystemdEnvironment(listener, 5));
+  runtime::ChildProcess server = StartMapServer(dir, SystemdEnvironment(listener, 5));
   ExpectReadyPingsThenSilence(listener, server, dir / "map_server.log");
 }
 
 TEST(ServiceWatchdog, SupervisorFeedsTheWatchdogUntilItsLoopHangs) {
   testing::ScratchDir dir("watchdog_supervisor");
   NotifyListener listener;
-  io::ChildProcess supervisor = testing::StartDaemon(
+  runtime::ChildProcess supervisor = testing::StartDaemon(
       "fleet_supervisor",
       {"--domain", std::to_string(kDomain), "--history", dir / "history.db", "--http-port", "0"},
       dir / "fleet_supervisor.log", SystemdEnvironment(listener, 5));
@@ -100,7 +100,7 @@ TEST(ServiceWatchdog, SupervisorFeedsTheWatchdogUntilItsLoopHangs) {
 TEST(ServiceWatchdog, TrackerAgentFeedsTheWatchdogUntilItsLoopHangs) {
   testing::ScratchDir dir("watchdog_agent");
   MakeFloor(dir);
-  io::ChildProcess server = StartMapServer(dir, {});
+  runtime::ChildProcess server = StartMapServer(dir, {});
   const nlohmann::json config{{"vehicle_id", "agv-w"},
                               {"domain", kDomain},
                               {"source", "sim"},
@@ -108,7 +108,7 @@ TEST(ServiceWatchdog, TrackerAgentFeedsTheWatchdogUntilItsLoopHangs) {
                               {"mosaic_wait_s", 20}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   NotifyListener listener;
-  io::ChildProcess agent = testing::StartDaemon(
+  runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", dir / "agent.json", "--outbox", dir / "outbox.db"},
       dir / "agent.log", SystemdEnvironment(listener, 5));
   ExpectReadyPingsThenSilence(listener, agent, dir / "agent.log");
@@ -119,7 +119,7 @@ TEST(ServiceWatchdog, CleanStopReportsStoppingAndExitsZero) {
   testing::ScratchDir dir("watchdog_stop");
   MakeFloor(dir);
   NotifyListener listener;
-  io::ChildProcess server = StartMapServer(dir, SystemdEnvironment(listener, 0));
+  runtime::ChildProcess server = StartMapServer(dir, SystemdEnvironment(listener, 0));
   std::string first;
   for (auto end = std::chrono::steady_clock::now() + 30s;
        first.empty() && std::chrono::steady_clock::now() < end;) {

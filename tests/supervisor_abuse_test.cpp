@@ -83,7 +83,7 @@ TEST(SupervisorAbuse, TheApiKeepsAnsweringWhileHostileClientsHoldIdleStreamSlowA
   httplib::Client http("127.0.0.1", supervisor.port());
   http.set_connection_timeout(10), http.set_read_timeout(10);
   ASSERT_TRUE(http.Get("/api/fleet")) << supervisor.log();
-  const double rss_before = io::UsageOf(supervisor.pid()).peak_rss_mb;
+  const double rss_before = runtime::UsageOf(supervisor.pid()).peak_rss_mb;
 
   bench::AbuseOptions options;
   options.port = supervisor.port();
@@ -119,7 +119,7 @@ TEST(SupervisorAbuse, TheApiKeepsAnsweringWhileHostileClientsHoldIdleStreamSlowA
   // Each flooding connection is cut after 16 KiB (what it sent beyond sat in kernel buffers).
   EXPECT_GE(stats.value("http_heads_too_large", 0), 1) << stats;
   // 20 MB of headers and hundreds of sockets cost the supervisor little memory.
-  const double rss_after = io::UsageOf(supervisor.pid()).peak_rss_mb;
+  const double rss_after = runtime::UsageOf(supervisor.pid()).peak_rss_mb;
   EXPECT_LT(rss_after - rss_before, 64.0)
       << "peak RSS " << rss_before << " -> " << rss_after << " MB";
 }

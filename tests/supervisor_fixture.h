@@ -32,7 +32,7 @@ class SupervisorProcess {
                                      (dir / "history.db").string(), "--http-port", "0",
                                      "--port-file", port_file, "--token-file", token_file};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
-    process_ = std::make_unique<io::ChildProcess>(
+    process_ = std::make_unique<runtime::ChildProcess>(
         StartDaemon("fleet_supervisor", args, (dir / "fleet_supervisor.log").string()));
     EXPECT_TRUE(Eventually([&] {
       std::ifstream in(port_file);
@@ -61,7 +61,7 @@ class SupervisorProcess {
   std::filesystem::path dir_;
   std::string token_;
   int port_ = 0;
-  std::unique_ptr<io::ChildProcess> process_;
+  std::unique_ptr<runtime::ChildProcess> process_;
 };
 
 }  // namespace fleetloc::testing

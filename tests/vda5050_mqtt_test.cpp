@@ -76,8 +76,11 @@ class Broker {
     Start();
   }
   void Start() {
-    process_ = std::make_unique<io::ChildProcess>(std::move(io::ChildProcess::Start(
-        "/usr/sbin/mosquitto", {"-c", (dir_ / "mosquitto.conf").string()}, (dir_ / "mosquitto.log").string()).value()));
+    process_ = std::make_unique<runtime::ChildProcess>(
+        std::move(runtime::ChildProcess::Start("/usr/sbin/mosquitto",
+                                               {"-c", (dir_ / "mosquitto.conf").string()},
+                                               (dir_ / "mosquitto.log").string())
+                      .value()));
     EXPECT_TRUE(Eventually([&] { return Subscribe("$SYS/broker/version", 1, 2).size() == 1; }, 10))
         << "mosquitto did not start";
   }
@@ -90,7 +93,7 @@ class Broker {
                                      "-C", std::to_string(count), "-W", std::to_string(timeout_s)};
     args.insert(args.end(), extra.begin(), extra.end());
     args.insert(args.end(), client_args_.begin(), client_args_.end());
-    auto sub = io::ChildProcess::Start("/usr/bin/mosquitto_sub", args, out);
+    auto sub = runtime::ChildProcess::Start("/usr/bin/mosquitto_sub", args, out);
     if (!sub.ok()) return {};
     sub->Wait(std::chrono::seconds(timeout_s + 5));
     std::ifstream in(out);
@@ -106,7 +109,7 @@ class Broker {
   std::filesystem::path dir_;
   int port_;
   std::vector<std::string> client_args_;
-  std::unique_ptr<io::ChildProcess> process_;
+  std::unique_ptr<runtime::ChildProcess> process_;
 };
 
 // A test CA and a certificate for 127.0.0.1 signed by it in `dir` (ca.crt, server.crt,
@@ -313,7 +316,7 @@ TEST_F(Vda5050Mqtt, PublishesOverTlsToABrokerVerifiedByTheSitesCa) {
   }
   // Without TLS the listener answers nothing: the messages above went over TLS.
   const std::string out = (d / "plain.out").string();
-  auto plain = io::ChildProcess::Start(
+  auto plain = runtime::ChildProcess::Start(
       "/usr/bin/mosquitto_sub",
       {"-h", "127.0.0.1", "-p", std::to_string(port), "-t", "uagv/#", "-C", "1", "-W", "2"}, out);
   ASSERT_TRUE(plain.ok());

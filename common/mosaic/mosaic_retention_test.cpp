@@ -12,9 +12,13 @@
 
 #include "mapping/changed_floor_scene.h"
 #include "mosaic/importer.h"
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 
 namespace fleetloc::mosaic {
+// The re-mapping job makes the versions retention prunes.
+using mosaic_upkeep::RemapMode;
+using mosaic_upkeep::RunRemap;
+using mosaic_upkeep::VehicleStandingStore;
 namespace {
 
 namespace fs = std::filesystem;

@@ -5,17 +5,12 @@
 #include <chrono>
 #include <cmath>
 
+#include "rectification/camera_rectifier.h"
 #include "tracking/odometry_history.h"
 
 namespace fleetloc::replay {
 
 using geometry::Pose2;
-
-std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera) {
-  if (!camera.raw) return std::nullopt;
-  return calibration::Rectifier(cv::Matx33d(camera.raw->K.data()), camera.raw->dist,
-                                cv::Matx33d(camera.raw->H_ground.data()), camera.model);
-}
 
 namespace {
 
@@ -34,7 +29,7 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
   tracking::OdometryHistory odometry(1e12, 0.0);
   for (const auto& sample : run.odometry) FLEETLOC_RETURN_IF_ERROR(odometry.Add(sample));
   ReplayResult result;
-  const std::optional<calibration::Rectifier> rectifier = RectifierFor(run.camera);
+  const std::optional<calibration::Rectifier> rectifier = rectification::RectifierFor(run.camera);
   const Eigen::Vector3d sigma = run.initial_sigma;
   for (size_t i = 0; i < run.frames.size(); ++i) {
     const io::FrameRef& ref = run.frames[i];
@@ -56,14 +51,6 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
     if (progress) progress(i + 1, run.frames.size());
   }
   return result;
-}
-
-double Percentile(std::vector<double> values, double percent) {
-  if (values.empty()) return 0.0;
-  const double rank = std::ceil(percent / 100.0 * static_cast<double>(values.size())) - 1.0;
-  const size_t k = static_cast<size_t>(std::clamp(rank, 0.0, values.size() - 1.0));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
 }
 
 namespace {

@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "calibration/rectifier.h"
+#include "base/percentile.h"
 #include "io/run.h"
 #include "tracking/frame_localizer.h"
 
@@ -21,13 +21,9 @@ struct ReplayResult {
 
 using Progress = std::function<void(size_t done, size_t total)>;
 
-// The rectifier of a raw camera (camera.json's `raw` block), none for a top-view camera. Shared
-// by the offline replay and the agent, so both rectify frames the same way.
-std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera);
-
-// Replays every frame (rectified first when the camera is raw). A frame image that cannot be read
-// or has the wrong size is bad input: the run is rejected with that file's error (exit status 2),
-// nothing is half-reported.
+// Replays every frame (rectified first when the camera is raw: rectification::RectifierFor). A
+// frame image that cannot be read or has the wrong size is bad input: the run is rejected with that
+// file's error (exit status 2), nothing is half-reported.
 Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
                                const Progress& progress = {});
 
@@ -54,7 +50,7 @@ Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
                   const std::vector<geometry::StampedPose>& truth,
                   const geometry::CameraModel& camera);
 
-// Median, percentile (0..100) of a sample; 0 for an empty one.
-double Percentile(std::vector<double> values, double percent);
+// Percentile (0..100) of a sample, base/percentile.h; replay::Percentile for the tools' reports.
+using ::fleetloc::Percentile;
 
 }  // namespace fleetloc::replay

@@ -8,9 +8,9 @@
 #include <fstream>
 
 #include "fleet_supervisor/supervisor_metrics.h"
-#include "io/child_process.h"
 #include "io/json_fields.h"
-#include "io/service_notify.h"
+#include "runtime/child_process.h"
+#include "runtime/service_notify.h"
 #include "transport/service_health_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -60,7 +60,7 @@ Result<std::unique_ptr<FleetSupervisor>> FleetSupervisor::Create(const Superviso
 std::string FleetSupervisor::ResolveWebDir() const {
   if (!config_.web_dir.empty()) return config_.web_dir;
   namespace fs = std::filesystem;
-  const fs::path exe = io::ExecutableDir();
+  const fs::path exe = runtime::ExecutableDir();
   for (const fs::path& candidate : {exe / "../share/fleetloc/fleet_supervisor/web", exe / "fleet_supervisor_web",
                                     fs::path(FLEETLOC_SUPERVISOR_WEB_DIR)}) {
     std::error_code ec;
@@ -246,12 +246,12 @@ std::vector<std::pair<std::string, uint64_t>> FleetSupervisor::AllCounters() con
 
 Status FleetSupervisor::Run(const std::atomic<bool>& stop) {
   while (!stop.load()) {
-    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
+    runtime::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     Result<std::vector<dds_attach_t>> woke = waitset_->Wait(0.01);
     if (!woke.ok()) return woke.status();
     Step(Now());
   }
-  io::NotifyServiceStopping();
+  runtime::NotifyServiceStopping();
   http_->Stop();
   vda_.reset();  // OFFLINE, retained
   fleet_->NewestUnstored(&pending_poses_);

@@ -5,8 +5,8 @@
 
 #include "cli/command_line.h"
 #include "fleet_supervisor/fleet_supervisor.h"
-#include "io/logging.h"
-#include "io/stop_signal.h"
+#include "runtime/logging.h"
+#include "runtime/stop_signal.h"
 
 int main(int argc, char** argv) {
   using namespace fleetloc::fleet_supervisor;
@@ -43,8 +43,8 @@ int main(int argc, char** argv) {
   if (!web_dir.empty()) config.web_dir = web_dir;
   if (metrics_port >= 0) config.metrics.port = metrics_port;
   if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
-  fleetloc::io::SetupLogging(config.supervisor_id);
-  const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
+  fleetloc::runtime::SetupLogging(config.supervisor_id);
+  const std::atomic<bool>& stop = fleetloc::runtime::InstallStopSignals();
   auto supervisor = FleetSupervisor::Create(config);
   if (!supervisor.ok()) {
     spdlog::error("{}", supervisor.status().message());

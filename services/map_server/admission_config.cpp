@@ -20,7 +20,7 @@ struct IntKey {
 
 }  // namespace
 
-std::string PolicyProblem(const mosaic::RemapPolicy& p) {
+std::string PolicyProblem(const mosaic_upkeep::RemapPolicy& p) {
   if (std::string problem = mapping::OptionsProblem(p.admission); !problem.empty()) {
     return problem;
   }
@@ -37,7 +37,7 @@ std::string PolicyProblem(const mosaic::RemapPolicy& p) {
 }
 
 Status ReadRemapPolicy(const io::JsonFields& fields, const nlohmann::json& object,
-                       mosaic::RemapPolicy* p) {
+                       mosaic_upkeep::RemapPolicy* p) {
   mapping::AdmissionOptions& a = p->admission;
   const std::map<std::string, NumberKey> numbers = {
       {"min_search_sigma_px", {&a.min_search_sigma_px}},

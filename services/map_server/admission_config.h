@@ -7,16 +7,16 @@
 
 #include "base/status.h"
 #include "io/json_fields.h"
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 
 namespace fleetloc::map_server {
 
 // "" or "<option> <what>" for the first option out of range.
-std::string PolicyProblem(const mosaic::RemapPolicy& policy);
+std::string PolicyProblem(const mosaic_upkeep::RemapPolicy& policy);
 
 // Reads `object` (the "patch_admission" member, viewed through `fields`) over `policy`'s values:
 // types checked here, ranges by PolicyProblem.
 Status ReadRemapPolicy(const io::JsonFields& fields, const nlohmann::json& object,
-                       mosaic::RemapPolicy* policy);
+                       mosaic_upkeep::RemapPolicy* policy);
 
 }  // namespace fleetloc::map_server

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <thread>
 
-#include "io/service_notify.h"
 #include "map_server/server_metrics.h"
+#include "runtime/service_notify.h"
 #include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
@@ -60,7 +60,7 @@ Status MapServer::Open() {
   auto patches = mosaic::PatchStore::Open(config_.mosaic_path);
   if (!patches.ok()) return patches.status();
   patches_ = std::move(patches).value();
-  auto standing = mosaic::VehicleStandingStore::Open(config_.mosaic_path);
+  auto standing = mosaic_upkeep::VehicleStandingStore::Open(config_.mosaic_path);
   if (!standing.ok()) return standing.status();
   standing_ = std::move(standing).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
@@ -133,20 +133,20 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
                                             const std::atomic<bool>& cancel) {
   // The job writes through its own connections, so the DDS loop keeps serving the committed
   // version from store_ meanwhile.
-  Result<mosaic::RemapStores> stores =
-      mosaic::OpenRemapStores(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
+  Result<mosaic_upkeep::RemapStores> stores =
+      mosaic_upkeep::OpenRemapStores(config_.mosaic_path, mosaic::OpenMode::kReadWrite);
   if (!stores.ok()) return stores.status();
-  const mosaic::RemapRequest request{{job.x_min, job.y_min, job.x_max, job.y_max},
-                                     job.replace ? mosaic::RemapMode::kReplace
-                                                 : mosaic::RemapMode::kBlend,
-                                     config_.remap_policy};
+  const mosaic_upkeep::RemapRequest request{
+      {job.x_min, job.y_min, job.x_max, job.y_max},
+      job.replace ? mosaic_upkeep::RemapMode::kReplace : mosaic_upkeep::RemapMode::kBlend,
+      config_.remap_policy};
   // Fault injection for the tests only (tests/map_server_fault_test.cpp): with
   // FLEETLOC_FAILPOINT_COMMIT_PAUSE_S set, the job reports and then pauses after writing its first
   // tile into the uncommitted version, so a test can kill the server inside the commit.
   const char* pause = std::getenv("FLEETLOC_FAILPOINT_COMMIT_PAUSE_S");
-  Result<mosaic::RemapResult> result = mosaic::RunRemap(
+  Result<mosaic_upkeep::RemapResult> result = mosaic_upkeep::RunRemap(
       *stores->tiles, *stores->patches, *stores->standing, request,
-      [&](const mosaic::RemapProgress& p) {
+      [&](const mosaic_upkeep::RemapProgress& p) {
         const double fraction = p.total > 0 ? static_cast<double>(p.done) / p.total : 0.0;
         if (pause != nullptr && p.phase == "commit" && p.done == 1 && p.total > 1) {
           std::this_thread::sleep_for(std::chrono::milliseconds(250));  // past the report throttle
@@ -157,9 +157,9 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
       },
       &cancel);
   if (!result.ok()) return result.status();
-  return RemapOutcome{result->new_version,    result->changed_tiles,
-                      result->patches_folded, result->patches_rejected,
-                      result->patches_held,   mosaic::RemapSummary(*result),
+  return RemapOutcome{result->new_version,      result->changed_tiles,
+                      result->patches_folded,   result->patches_rejected,
+                      result->patches_held,     mosaic_upkeep::RemapSummary(*result),
                       result->newly_quarantined};
 }
 
@@ -306,7 +306,7 @@ Status MapServer::Run(const std::atomic<bool>& stop) {
   const auto period = std::chrono::duration<double>(config_.health_period_s);
   auto next_health = Clock::now();
   while (!stop.load()) {
-    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
+    runtime::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     if (Status served = ServeOnce(); !served.ok()) spdlog::error("{}", served.message());
     if (metrics_->Due()) RefreshMetrics();
     if (Clock::now() >= next_health) {
@@ -314,7 +314,7 @@ Status MapServer::Run(const std::atomic<bool>& stop) {
       next_health += std::chrono::duration_cast<Clock::duration>(period);
     }
   }
-  io::NotifyServiceStopping();
+  runtime::NotifyServiceStopping();
   spdlog::info("stopping: {} tiles served, {} inputs rejected", counters_.Get("tiles_served"),
                counters_.TotalRejected());
   return Status::Ok();

@@ -19,11 +19,11 @@
 #include "map_server/tile_service.h"
 #include "map_server/vehicle_channels.h"
 #include "metrics/metrics_exporter.h"
-#include "mosaic/patch_store.h"
 #include "mosaic/mosaic_retention.h"
-#include "mosaic/remap_job.h"
+#include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/remap_job.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 #include "transport/service_health_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
@@ -70,7 +70,7 @@ class MapServer {
   ServerCounters counters_;
   std::unique_ptr<mosaic::TileStore> store_;
   std::unique_ptr<mosaic::PatchStore> patches_;
-  std::unique_ptr<mosaic::VehicleStandingStore> standing_;
+  std::unique_ptr<mosaic_upkeep::VehicleStandingStore> standing_;
   mosaic::TileOwnership owned_;
   std::unique_ptr<transport::Participant> participant_;
   std::unique_ptr<transport::Topic<fleetloc_MosaicInfo>> info_topic_;

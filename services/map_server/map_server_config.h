@@ -8,8 +8,8 @@
 #include "base/status.h"
 #include "map_server/resource_config.h"
 #include "metrics/metrics_options.h"
-#include "mosaic/remap_job.h"
 #include "mosaic/tile_ownership.h"
+#include "mosaic_upkeep/remap_job.h"
 
 namespace fleetloc::map_server {
 
@@ -37,7 +37,7 @@ struct MapServerConfig {
   // checked); places with a twin are logged and reported in the health (self_similar_floor).
   int self_similarity_grid = 3;
   // How re-mapping jobs judge patches and when a vehicle is quarantined ("patch_admission").
-  mosaic::RemapPolicy remap_policy;
+  mosaic_upkeep::RemapPolicy remap_policy;
   // Prometheus /metrics on a port of its own ("metrics"; on by default at 127.0.0.1:9471).
   metrics::MetricsOptions metrics = DefaultMetrics();
 

@@ -34,8 +34,8 @@ TEST(MapServerConfig, ShippedSampleConfigLoads) {
                                     "/deploy/config/map_server.json");
   ASSERT_TRUE(config.ok()) << config.status().message();
   // Its patch_admission block lists the defaults.
-  const mosaic::RemapPolicy defaults;
-  const mosaic::RemapPolicy& p = config->remap_policy;
+  const mosaic_upkeep::RemapPolicy defaults;
+  const mosaic_upkeep::RemapPolicy& p = config->remap_policy;
   EXPECT_NEAR(p.admission.max_search_sigma_rad, defaults.admission.max_search_sigma_rad, 1e-9);
   EXPECT_NEAR(p.admission.min_disagreement_rad, defaults.admission.min_disagreement_rad, 1e-9);
   EXPECT_EQ(p.admission.min_inliers, defaults.admission.min_inliers);
@@ -112,7 +112,7 @@ TEST(MapServerConfig, PatchAdmissionIsReadInTheFilesUnits) {
                        "max_search_sigma_deg": 2.0, "max_changed_fraction": 0.4,
                        "quarantine_window": 8, "quarantine_min_judged": 4}})"));
   ASSERT_TRUE(config.ok()) << config.status().message();
-  const mosaic::RemapPolicy& p = config->remap_policy;
+  const mosaic_upkeep::RemapPolicy& p = config->remap_policy;
   EXPECT_EQ(p.corroboration.min_vehicles, 2);
   EXPECT_NEAR(p.admission.max_search_sigma_rad, 2.0 * M_PI / 180, 1e-12);
   EXPECT_EQ(p.admission.max_changed_fraction, 0.4);

@@ -3,9 +3,9 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/command_line.h"
-#include "io/logging.h"
-#include "io/stop_signal.h"
 #include "map_server/map_server.h"
+#include "runtime/logging.h"
+#include "runtime/stop_signal.h"
 
 int main(int argc, char** argv) {
   using fleetloc::map_server::MapServerConfig;
@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
   if (!dds_config.empty()) config.dds_config_path = dds_config;
   if (metrics_port >= 0) config.metrics.port = metrics_port;
   if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
-  fleetloc::io::SetupLogging(config.server_id);
-  const std::atomic<bool>& stop = fleetloc::io::InstallStopSignals();
+  fleetloc::runtime::SetupLogging(config.server_id);
+  const std::atomic<bool>& stop = fleetloc::runtime::InstallStopSignals();
   auto server = fleetloc::map_server::MapServer::Create(config);
   if (!server.ok()) {
     spdlog::error("{}", server.status().message());

@@ -28,8 +28,8 @@ std::vector<std::string> PatchService::CounterNames() {
 }
 
 PatchService::PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
-                           mosaic::VehicleStandingStore* standing, PatchIntake intake, VehicleChannels* channels,
-                           ServerCounters* counters)
+                           mosaic_upkeep::VehicleStandingStore* standing, PatchIntake intake,
+                           VehicleChannels* channels, ServerCounters* counters)
     : patches_(patches),
       tiles_(tiles),
       standing_(standing),

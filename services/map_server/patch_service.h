@@ -25,7 +25,7 @@
 #include "map_server/vehicle_channels.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 
 namespace fleetloc::map_server {
 
@@ -42,8 +42,9 @@ class PatchService {
 
   // `store` is read on the DDS thread only (the served layout); the other stores are used by the
   // service's thread.
-  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles, mosaic::VehicleStandingStore* standing,
-               PatchIntake intake, VehicleChannels* channels, ServerCounters* counters);
+  PatchService(mosaic::PatchStore* patches, mosaic::TileStore* tiles,
+               mosaic_upkeep::VehicleStandingStore* standing, PatchIntake intake,
+               VehicleChannels* channels, ServerCounters* counters);
   ~PatchService();  // finishes the patch being stored, drops the queued ones (not acknowledged)
 
   void Receive(const fleetloc_PatchObservation& sample);
@@ -68,7 +69,7 @@ class PatchService {
 
   mosaic::PatchStore* patches_;
   mosaic::TileStore* tiles_;
-  mosaic::VehicleStandingStore* standing_;
+  mosaic_upkeep::VehicleStandingStore* standing_;
   const PatchIntake intake_;
   PatchBudget budget_;
   VehicleChannels* channels_;

@@ -9,8 +9,8 @@
 
 #include "mapmatch/self_similarity.h"
 #include "mosaic/mosaic_view.h"
-#include "mosaic/place_index_cache.h"
 #include "mosaic/tile_store.h"
+#include "mosaic_upkeep/place_index_cache.h"
 
 namespace fleetloc::map_server {
 
@@ -79,8 +79,9 @@ std::optional<PlaceIndexService::Ready> PlaceIndexService::LoadOrBuild() {
   std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(kBuildCacheBytes));
-  Result<mosaic::LoadedPlaceIndex> index = mosaic::LoadOrBuildPlaceIndex(
-      mosaic_path_, view, mapmatch::PlaceIndexOptions{}, mosaic::IndexCache::kUse, &stopping_);
+  Result<mosaic_upkeep::LoadedPlaceIndex> index =
+      mosaic_upkeep::LoadOrBuildPlaceIndex(mosaic_path_, view, mapmatch::PlaceIndexOptions{},
+                                           mosaic_upkeep::IndexCache::kUse, &stopping_);
   if (!index.ok()) {
     counters_->Add("place_index_failed");
     if (!stopping_) spdlog::error("place index not available: {}", index.status().message());

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "replay/replay.h"
+#include "base/percentile.h"
 
 namespace fleetloc::tracker_agent {
 namespace {
@@ -17,8 +17,8 @@ void Push(std::deque<double>& history, double ms, size_t kept) {
 
 nlohmann::json Percentiles(const std::vector<double>& v) {
   return nlohmann::json{{"frames", v.size()},
-                        {"p50", v.empty() ? 0.0 : replay::Percentile(v, 50)},
-                        {"p99", v.empty() ? 0.0 : replay::Percentile(v, 99)}};
+                        {"p50", v.empty() ? 0.0 : Percentile(v, 50)},
+                        {"p99", v.empty() ? 0.0 : Percentile(v, 99)}};
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Health bookkeeping: what frames, drops and errors the agent counted.
 #include "tracker_agent/health_counters.h"
 
-#include "replay/replay.h"
+#include "base/percentile.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -26,7 +26,7 @@ void HealthCounters::RecordRelocalization(bool found) {
 
 double HealthCounters::CyclePercentile(double percent, size_t window) const {
   const size_t n = std::min(window, cycle_ms_.size());
-  return replay::Percentile({cycle_ms_.end() - static_cast<long>(n), cycle_ms_.end()}, percent);
+  return Percentile({cycle_ms_.end() - static_cast<long>(n), cycle_ms_.end()}, percent);
 }
 
 }  // namespace fleetloc::tracker_agent

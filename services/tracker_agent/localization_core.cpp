@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "camera_io/camera_source.h"
-#include "replay/replay.h"
+#include "rectification/camera_rectifier.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -28,7 +28,7 @@ LocalizationCore::LocalizationCore(const LocalizationOptions& options,
       health_(*ports.health),
       tracker_(tracker, camera.model, mosaic),
       propagator_(tracker.odometry),
-      rectifier_(replay::RectifierFor(camera)),
+      rectifier_(rectification::RectifierFor(camera)),
       position_update_(std::move(position_update)),
       extrapolation_s_(options.live ? options.odometry_extrapolation_s : 0.0),
       odometry_(10.0, extrapolation_s_) {}

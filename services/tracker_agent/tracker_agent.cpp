@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/file_util.h"
-#include "io/service_notify.h"
+#include "runtime/service_notify.h"
 #include "tracker_agent/agent_metrics.h"
 
 namespace fleetloc::tracker_agent {
@@ -164,7 +164,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
   core_->WarmUpAtStart();
   next_health_ = std::chrono::steady_clock::now();
   while (!stop.load()) {
-    io::NotifyServiceAlive();  // READY=1, then the systemd watchdog
+    runtime::NotifyServiceAlive();  // READY=1, then the systemd watchdog
     Result<std::optional<InputEvent>> event = input.Next();
     if (!event.ok()) {
       health_.RecordDroppedFrame(event.status().message());
@@ -178,7 +178,7 @@ Status TrackerAgent::Run(VehicleInput& input, const std::atomic<bool>& stop) {
     HandleEvent(**event);
     PumpBetweenEvents();
   }
-  io::NotifyServiceStopping();
+  runtime::NotifyServiceStopping();
   patches_->Drain(stop, link_->map_server_reachable());
   PublishHealth();
   const Status summary = config_.summary_path.empty() ? Status::Ok() : WriteSummary();

@@ -4,9 +4,9 @@
 #include <spdlog/spdlog.h>
 
 #include "cli/command_line.h"
-#include "io/logging.h"
-#include "io/stop_signal.h"
 #include "io/tracker_config.h"
+#include "runtime/logging.h"
+#include "runtime/stop_signal.h"
 #include "tracker_agent/live_input.h"
 #include "tracker_agent/position_update_setup.h"
 #include "tracker_agent/replay_input.h"
@@ -131,8 +131,8 @@ int main(int argc, char** argv) {
   if (!landmarks.empty()) config.landmarks_path = landmarks;
   if (metrics_port >= 0) config.metrics.enabled = true, config.metrics.port = metrics_port;
   if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
-  io::SetupLogging(config.vehicle_id);
-  const Status ran = RunAgent(config, io::InstallStopSignals());
+  runtime::SetupLogging(config.vehicle_id);
+  const Status ran = RunAgent(config, runtime::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());
   return ran.ExitCode();
 }

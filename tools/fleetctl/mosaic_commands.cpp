@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <charconv>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <memory>
@@ -15,18 +15,18 @@
 #include <vector>
 
 #include "commands.h"
+#include "io/file_util.h"
 #include "mosaic/export_georef.h"
 #include "mosaic/exporter.h"
-#include "mosaic/mbtiles_writer.h"
 #include "mosaic/importer.h"
+#include "mosaic/mbtiles_writer.h"
 #include "mosaic/mosaic_info.h"
-#include "served_mosaics.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_build.h"
+#include "runtime/progress_log.h"
+#include "served_mosaics.h"
 #include "support/parse_numbers.h"
-#include "io/file_util.h"
-#include "io/progress_log.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -55,7 +55,7 @@ Status RunImport(const ImportArgs& args) {
     options.origin_x_m = (*origin)[0];
     options.origin_y_m = (*origin)[1];
   }
-  io::PercentLog progress("import " + args.image, "rows", 10);
+  runtime::PercentLog progress("import " + args.image, "rows", 10);
   Result<mosaic::MosaicLayout> layout =
       mosaic::ImportImage(args.image, options, args.out, std::ref(progress));
   if (!layout.ok()) return layout.status();
@@ -152,7 +152,7 @@ Status RunExportMbtiles(const MbtilesArgs& args) {
   const std::size_t cache_bytes = 16 * static_cast<std::size_t>(layout.tile_size_px) * layout.tile_size_px;
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(cache_bytes));
-  io::PercentLog progress("export-mbtiles " + args.out, "tiles", 10);
+  runtime::PercentLog progress("export-mbtiles " + args.out, "tiles", 10);
   Result<mosaic::MbtilesPlan> plan = mosaic::ExportMbtiles(view, args.options, args.out, std::ref(progress));
   if (!plan.ok()) return Status(plan.status().code(), args.mosaic + ": " + plan.status().message());
   if (view.missing_tiles() + view.unreadable_tiles() > 0) {

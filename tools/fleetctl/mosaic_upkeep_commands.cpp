@@ -13,7 +13,7 @@
 #include "commands.h"
 #include "mosaic/mosaic_retention.h"
 #include "mosaic/mosaic_rollback.h"
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::fleetctl {
@@ -33,7 +33,7 @@ nlohmann::json ToJson(const mapping::VehicleStanding& s) {
 }
 
 Status RunVehicles(const VehiclesArgs& a) {
-  auto store = mosaic::VehicleStandingStore::Open(a.mosaic);
+  auto store = mosaic_upkeep::VehicleStandingStore::Open(a.mosaic);
   if (!store.ok()) return store.status();
   if (!a.release.empty()) {
     if (!transport::IsValidEntityId(a.release)) {

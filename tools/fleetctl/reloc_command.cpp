@@ -14,7 +14,7 @@
 #include "io/run.h"
 #include "mapmatch/self_similarity.h"
 #include "mosaic/tile_store.h"
-#include "mosaic/place_index_cache.h"
+#include "mosaic_upkeep/place_index_cache.h"
 #include "support/reloc_index.h"
 
 namespace fleetloc::fleetctl {
@@ -85,9 +85,9 @@ Status RunReloc(const RelocArgs& args) {
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
-  Result<mosaic::LoadedPlaceIndex> index =
-      mosaic::LoadOrBuildPlaceIndex(args.mosaic, view, mapmatch::PlaceIndexOptions{},
-                            args.no_cache ? mosaic::IndexCache::kIgnore : mosaic::IndexCache::kUse);
+  Result<mosaic_upkeep::LoadedPlaceIndex> index = mosaic_upkeep::LoadOrBuildPlaceIndex(
+      args.mosaic, view, mapmatch::PlaceIndexOptions{},
+      args.no_cache ? mosaic_upkeep::IndexCache::kIgnore : mosaic_upkeep::IndexCache::kUse);
   // A mosaic the place index refuses (no distinctive features): the dense place search alone.
   if (!index.ok() && index.status().code() != StatusCode::kInvalidInput) return index.status();
   if (!index.ok())

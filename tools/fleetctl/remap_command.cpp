@@ -17,7 +17,7 @@
 
 #include "commands.h"
 #include "map_server/map_server_config.h"
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 #include "transport/remap_client.h"
 
 namespace fleetloc::fleetctl {
@@ -35,23 +35,25 @@ struct RemapArgs {
   std::string server_config;  // with dry_run: the map server's configuration (its policy)
 };
 
-// The job previewed on the file (mosaic::RemapRequest::dry_run).
+// The job previewed on the file (mosaic_upkeep::RemapRequest::dry_run).
 Status RunRemapPreview(const RemapArgs& a) {
   if (a.mosaic.empty()) return InvalidInput("--dry-run needs --mosaic FILE (the map server's)");
-  mosaic::RemapPolicy policy;
+  mosaic_upkeep::RemapPolicy policy;
   if (!a.server_config.empty()) {
     Result<map_server::MapServerConfig> config = map_server::LoadMapServerConfig(a.server_config);
     if (!config.ok()) return config.status();
     policy = config->remap_policy;
   }
-  Result<mosaic::RemapStores> stores = mosaic::OpenRemapStores(a.mosaic, mosaic::OpenMode::kReadOnly);
+  Result<mosaic_upkeep::RemapStores> stores =
+      mosaic_upkeep::OpenRemapStores(a.mosaic, mosaic::OpenMode::kReadOnly);
   if (!stores.ok()) return stores.status();
-  mosaic::RemapRequest request{{a.region[0], a.region[1], a.region[2], a.region[3]},
-                               a.mode == "replace" ? mosaic::RemapMode::kReplace
-                                                   : mosaic::RemapMode::kBlend,
-                               policy};
+  mosaic_upkeep::RemapRequest request{
+      {a.region[0], a.region[1], a.region[2], a.region[3]},
+      a.mode == "replace" ? mosaic_upkeep::RemapMode::kReplace : mosaic_upkeep::RemapMode::kBlend,
+      policy};
   request.dry_run = true;
-  Result<mosaic::RemapResult> r = mosaic::RunRemap(*stores->tiles, *stores->patches, *stores->standing, request);
+  Result<mosaic_upkeep::RemapResult> r =
+      mosaic_upkeep::RunRemap(*stores->tiles, *stores->patches, *stores->standing, request);
   if (!r.ok()) return r.status();
   nlohmann::json tiles = nlohmann::json::array();
   for (const mosaic::TileKey& key : r->changed_tiles) tiles.push_back(mosaic::ToString(key));
@@ -63,7 +65,7 @@ Status RunRemapPreview(const RemapArgs& a) {
                               {"patches_rejected", r->patches_rejected},
                               {"patches_held", r->patches_held},
                               {"would_quarantine", r->newly_quarantined},
-                              {"message", mosaic::RemapSummary(*r)}};
+                              {"message", mosaic_upkeep::RemapSummary(*r)}};
   std::cout << out.dump(2) << "\n";
   return Status::Ok();
 }

@@ -12,7 +12,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libmosquitto-dev mosquitto mosquitto-clients  # VDA 5050 over MQTT (supervisor, its test)
           python3-jsonschema  # validates the VDA 5050 messages in tests/vda5050_mqtt_test.cpp
           gdal-bin  # gdalinfo reads back fleetctl mosaic export's world file (tests/cli_mosaic_export_test)
-          libsystemd-dev  # sd_notify: Type=notify readiness and the watchdog (common/io/service_notify.h)
+          libsystemd-dev  # sd_notify: Type=notify readiness and the watchdog (common/runtime/service_notify.h)
           libjs-leaflet libjs-chart.js  # the dashboard's map and plots, served by the supervisor at /vendor/
           debootstrap  # the opt-in package install test (tests/deploy/deb_packages_test.sh install)
           libaravis-dev libusb-1.0-0-dev  # GenICam cameras (common/camera_io/aravis_camera.*); aravis-0.8.pc needs libusb's .pc

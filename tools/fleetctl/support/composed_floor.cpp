@@ -9,7 +9,7 @@
 
 #include "support/floor_images.h"
 #include "mosaic/row_image_io.h"
-#include "io/progress_log.h"
+#include "runtime/progress_log.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -17,7 +17,7 @@ namespace {
 // Writes every block row of `composer` to `writer`, row by row.
 Status WriteAllRows(const sim::FloorComposer& composer, mosaic::GrayRowWriter& writer,
                     const std::string& name) {
-  io::PercentLog progress("compose " + name, "block rows", 5);
+  runtime::PercentLog progress("compose " + name, "block rows", 5);
   for (int block_row = 0; block_row < composer.block_rows(); ++block_row) {
     const cv::Mat strip = composer.RenderBlockRow(block_row);
     for (int y = 0; y < strip.rows; ++y) {

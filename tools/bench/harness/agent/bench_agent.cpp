@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/bench_paths.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
 #include "support/tracker_summary.h"
@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 // Runs a sibling program to completion; InvalidInput naming it and its log if it fails.
 Status RunSibling(const std::string& program, const std::vector<std::string>& args,
                   const std::string& log, std::chrono::seconds limit) {
-  auto child = io::ChildProcess::Start(io::ExecutableDir() + "/" + program, args, log);
+  auto child = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/" + program, args, log);
   if (!child.ok()) return child.status();
   const int status = child->Wait(limit);
   if (status != 0) return Internal(program + " failed (exit " + std::to_string(status) + "), see " + log);
@@ -47,9 +47,9 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   Result<replay::ReplayResult> offline = fleetctl::TrackOffline(*mosaic, *run, {}, 256);
   if (!offline.ok()) return offline.status();
   spdlog::info("bench agent: map_server and tracker_agent (fast replay) on domain {}", s.domain);
-  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
-                                        {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)},
-                                        work + "/map_server.log");
+  auto server = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/map_server",
+      {"--mosaic", *mosaic, "--domain", std::to_string(s.domain)}, work + "/map_server.log");
   if (!server.ok()) return server.status();
   const std::string summary_path = work + "/agent_summary.json";
   fs::remove(summary_path);

@@ -16,7 +16,7 @@
 #include "harness/common/bench_paths.h"
 #include "camera_io/camera_source.h"
 #include "support/floor_images.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "live_sim/live_vehicle_sim.h"
 #include "tracker_agent/ros_bridge.h"
@@ -132,7 +132,8 @@ struct HeardPoses {
 // it stands, then odometry and the fake camera; the poses heard meanwhile. The agent and the map
 // server are stopped at the end.
 Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::PlannedDrive& d,
-                                  double start, io::ChildProcess& agent, io::ChildProcess& server) {
+                                  double start, runtime::ChildProcess& agent,
+                                  runtime::ChildProcess& server) {
   auto participant = transport::Participant::Create(s.domain);
   if (!participant.ok()) return participant.status();
   const transport::Participant& p = *participant;
@@ -352,16 +353,16 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   live_sim::PlannedDrive& d = *prepared->drive;
   const std::string& mosaic = prepared->mosaic;
   const io::Run& run = prepared->run;
-  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
-                                        {"--mosaic", mosaic, "--domain", std::to_string(s.domain)},
-                                        work + "/map_server.log");
+  auto server = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/map_server",
+      {"--mosaic", mosaic, "--domain", std::to_string(s.domain)}, work + "/map_server.log");
   if (!server.ok()) return server.status();
   const nlohmann::json config = AgentConfig(s, work);
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(work + "/live_agent.json", config.dump(2)));
   const std::string summary_path = work + "/live_agent_summary.json";
   fs::remove(summary_path);
-  auto agent = io::ChildProcess::Start(
-      io::ExecutableDir() + "/tracker_agent",
+  auto agent = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/tracker_agent",
       {"--config", work + "/live_agent.json", "--summary", summary_path}, work + "/live_agent.log");
   if (!agent.ok()) return agent.status();
   Result<HeardPoses> heard = DriveAndListen(s, d, prepared->start, *agent, *server);

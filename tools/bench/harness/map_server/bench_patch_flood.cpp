@@ -16,7 +16,7 @@
 #include "harness/common/bench_paths.h"
 #include "harness/tiles/bench_tiles.h"
 #include "harness/map_server/bench_patch_flood.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "transport/patch_client.h"
@@ -113,9 +113,9 @@ Status RunPatchFloodBench(PatchFloodBenchArgs a) {
   if (!prepared.ok()) return prepared.status();
   const std::string mosaic = *prepared, config = a.tiles.work_dir + "/map_server.json";
   auto server =
-      io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
-                              {"--config", config, "--domain", std::to_string(a.tiles.domain)},
-                              a.tiles.work_dir + "/map_server.log");
+      runtime::ChildProcess::Start(runtime::ExecutableDir() + "/map_server",
+                                   {"--config", config, "--domain", std::to_string(a.tiles.domain)},
+                                   a.tiles.work_dir + "/map_server.log");
   if (!server.ok()) return server.status();
   auto participant = transport::Participant::Create(a.tiles.domain);
   if (!participant.ok()) return participant.status();

@@ -18,7 +18,7 @@
 #include "support/floor_images.h"
 #include "harness/common/forked_step.h"
 #include "io/run.h"
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -92,10 +92,10 @@ Status RunRemapBench(const RemapBenchArgs& a) {
   Result<ChildRun> job = RunInChild([&]() -> Result<std::string> {
     auto tiles = mosaic::TileStore::Open(*path, mosaic::OpenMode::kReadWrite);
     auto patches = mosaic::PatchStore::Open(*path);
-    auto standing = mosaic::VehicleStandingStore::Open(*path);
+    auto standing = mosaic_upkeep::VehicleStandingStore::Open(*path);
     if (!tiles.ok() || !patches.ok() || !standing.ok()) return Internal("cannot open " + *path);
-    Result<mosaic::RemapResult> r =
-        mosaic::RunRemap(**tiles, **patches, **standing, {everywhere, mosaic::RemapMode::kBlend});
+    Result<mosaic_upkeep::RemapResult> r = mosaic_upkeep::RunRemap(
+        **tiles, **patches, **standing, {everywhere, mosaic_upkeep::RemapMode::kBlend});
     if (!r.ok()) return r.status();
     return nlohmann::json{{"folded", r->patches_folded},
                           {"refused", r->patches_rejected},

@@ -10,7 +10,7 @@
 
 #include "support/composed_floor.h"
 #include "mosaic/importer.h"
-#include "io/progress_log.h"
+#include "runtime/progress_log.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -46,8 +46,8 @@ Result<ChildRun> Import(const fs::path& pgm, double resolution_m, const fs::path
   return RunInChild([&]() -> Result<std::string> {
     mosaic::ImportOptions options;
     options.resolution_m = resolution_m;
-    io::PercentLog progress("import " + (pgm.parent_path().filename() / pgm.filename()).string(),
-                        "rows", 5);
+    runtime::PercentLog progress(
+        "import " + (pgm.parent_path().filename() / pgm.filename()).string(), "rows", 5);
     Result<mosaic::MosaicLayout> layout =
         mosaic::ImportImage(pgm.string(), options, db.string(), std::ref(progress));
     if (!layout.ok()) return layout.status();

@@ -5,7 +5,7 @@
 #include <opencv2/core/utility.hpp>
 #include <random>
 
-#include "io/progress_log.h"
+#include "runtime/progress_log.h"
 #include "support/reloc_index.h"
 #include "replay/replay.h"
 #include "sim/camera_renderer.h"
@@ -286,7 +286,7 @@ Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore
   sim::CameraRenderer renderer(&floor, BenchCamera(layout, settings), settings.render,
                                settings.seed);
   std::mt19937_64 rng(settings.seed);
-  io::PercentLog log("relocalization trials", "trials", 5);
+  runtime::PercentLog log("relocalization trials", "trials", 5);
   std::vector<RelocTrial> trials;
   for (int t = 0; t < settings.trials; ++t) {
     const geometry::Pose2 start = sim::RandomFullFramePose(layout, renderer.camera(), rng);

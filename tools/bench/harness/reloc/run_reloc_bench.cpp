@@ -19,7 +19,7 @@
 #include "harness/common/forked_step.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
-#include "mosaic/place_index_cache.h"
+#include "mosaic_upkeep/place_index_cache.h"
 #include "support/reloc_index.h"
 
 namespace fleetloc::bench {
@@ -72,8 +72,8 @@ Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceI
     if (!store.ok()) return store.status();
     mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                             std::make_shared<mosaic::TileCache>(64LL << 20));
-    Result<mosaic::LoadedPlaceIndex> built =
-        mosaic::LoadOrBuildPlaceIndex(db, view, o, mosaic::IndexCache::kRebuild);
+    Result<mosaic_upkeep::LoadedPlaceIndex> built =
+        mosaic_upkeep::LoadOrBuildPlaceIndex(db, view, o, mosaic_upkeep::IndexCache::kRebuild);
     if (!built.ok()) return built.status();
     return nlohmann::json{{"features", built->index.size()},
                           {"blob_bytes", built->blob.size()},
@@ -123,8 +123,8 @@ Status RunRelocBench(const RelocBenchArgs& args) {
   if (!store.ok()) return store.status();
   mosaic::MosaicView view((*store)->layout(), mosaic::MakeTileLoader(*store),
                           std::make_shared<mosaic::TileCache>(64LL << 20));
-  Result<mosaic::LoadedPlaceIndex> index =
-      mosaic::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic::IndexCache::kUse);
+  Result<mosaic_upkeep::LoadedPlaceIndex> index =
+      mosaic_upkeep::LoadOrBuildPlaceIndex(*db, view, args.index, mosaic_upkeep::IndexCache::kUse);
   if (!index.ok()) return index.status();
   Result<std::vector<RelocTrial>> trials = RunRelocTrials(*store, &index->index, args.trials);
   if (!trials.ok()) return trials.status();
@@ -136,7 +136,7 @@ Status RunRelocBench(const RelocBenchArgs& args) {
         {"height_px", layout.height_px},
         {"megapixels", layout.width_px * static_cast<double>(layout.height_px) / 1e6}}},
       {"index",
-       {{"key", mosaic::PlaceIndexKey(args.index)},
+       {{"key", mosaic_upkeep::PlaceIndexKey(args.index)},
         {"features", built["features"]},
         {"blob_bytes", built["blob_bytes"]},
         {"build_s", built["seconds"]},

@@ -21,7 +21,7 @@
 #include <thread>
 
 #include "harness/supervisor/bench_supervisor.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "replay/replay.h"
 #include "transport/topic_names.h"
 #include "transport/typed_io.h"
@@ -40,7 +40,7 @@ double Now() {
 
 // CPU seconds (user + system) and resident MB of a process, from /proc.
 std::pair<double, double> CpuAndRss(pid_t pid) {
-  const io::ProcessUsage usage = io::UsageOf(pid);
+  const runtime::ProcessUsage usage = runtime::UsageOf(pid);
   return {usage.cpu_s, usage.rss_mb};
 }
 
@@ -115,15 +115,15 @@ void ReadStream(int port, const std::atomic<bool>& stop, std::vector<double>* la
 }
 
 // A fleet_supervisor process on a fresh history and a free HTTP port (`port`).
-Result<io::ChildProcess> StartSupervisor(const SupervisorBenchArgs& a, int* port) {
+Result<runtime::ChildProcess> StartSupervisor(const SupervisorBenchArgs& a, int* port) {
   fs::create_directories(a.work_dir);
   const std::string port_file = a.work_dir + "/port", history = a.work_dir + "/history.db";
   fs::remove(port_file), fs::remove(history);
   std::vector<std::string> args = {"--domain", std::to_string(a.domain), "--history", history, "--http-port", "0",
                                    "--port-file", port_file, "--metrics-port", "0"};
   if (!a.supervisor_config.empty()) args.insert(args.end(), {"--config", a.supervisor_config});
-  auto supervisor = io::ChildProcess::Start(io::ExecutableDir() + "/fleet_supervisor", args,
-                                            a.work_dir + "/fleet_supervisor.log");
+  auto supervisor = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/fleet_supervisor",
+                                                 args, a.work_dir + "/fleet_supervisor.log");
   if (!supervisor.ok()) return supervisor.status();
   *port = 0;
   for (int i = 0; i < 200 && *port <= 0; ++i) {

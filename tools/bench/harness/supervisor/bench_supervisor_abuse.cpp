@@ -20,7 +20,7 @@
 
 #include "harness/supervisor/bench_supervisor_abuse.h"
 #include "harness/supervisor/http_abuse.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
 
@@ -84,17 +84,18 @@ Phase Measure(int port, pid_t supervisor, double seconds, double hz) {
                            "application/json");
         },
         [](const httplib::Response& r) { return r.status == 202; });
-    phase.max_rss_mb = std::max(phase.max_rss_mb, io::UsageOf(supervisor).rss_mb);
+    phase.max_rss_mb = std::max(phase.max_rss_mb, runtime::UsageOf(supervisor).rss_mb);
     std::this_thread::sleep_until(next + period);
   }
   return phase;
 }
 
 // Starts a daemon from build/bin that writes its port to `port_file` (0 when it did not start).
-Result<io::ChildProcess> StartDaemon(const std::string& name, const std::vector<std::string>& args,
-                                     const std::string& work_dir) {
-  return io::ChildProcess::Start(io::ExecutableDir() + "/" + name, args,
-                                 work_dir + "/" + name + ".log");
+Result<runtime::ChildProcess> StartDaemon(const std::string& name,
+                                          const std::vector<std::string>& args,
+                                          const std::string& work_dir) {
+  return runtime::ChildProcess::Start(runtime::ExecutableDir() + "/" + name, args,
+                                      work_dir + "/" + name + ".log");
 }
 
 int WaitForPort(const std::string& port_file) {
@@ -204,7 +205,7 @@ Status RunSupervisorAbuseBench(SupervisorAbuseBenchArgs a) {
   auto stats = http.Get("/api/stats");
   abuse.Stop();
   const AbuseStats attack = abuse.stats();
-  const double peak_rss = io::UsageOf(supervisor->pid()).peak_rss_mb;
+  const double peak_rss = runtime::UsageOf(supervisor->pid()).peak_rss_mb;
   const nlohmann::json out = AbuseJson(
       a, attack, idle, attacked, peak_rss,
       stats ? nlohmann::json::parse(stats->body, nullptr, false) : nlohmann::json());

@@ -13,7 +13,7 @@
 
 #include "harness/common/bench_paths.h"
 #include "harness/tiles/ddsperf_peer.h"
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
 #include "replay/replay.h"
@@ -211,11 +211,11 @@ Status RunTileBench(const TileBenchSettings& s) {
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config, transport::DefaultLoopbackXml()));
   const std::string uri =
       "file://" + (s.peer_dds_config.empty() ? config : fs::absolute(s.peer_dds_config).string());
-  auto server = io::ChildProcess::Start(io::ExecutableDir() + "/map_server",
-                                        {"--mosaic", *mosaic, "--domain", std::to_string(s.domain),
-                                         "--server-id", "bench", "--dds-config",
-                                         s.server_dds_config.empty() ? config : s.server_dds_config},
-                                        work + "/map_server.log");
+  auto server = runtime::ChildProcess::Start(
+      runtime::ExecutableDir() + "/map_server",
+      {"--mosaic", *mosaic, "--domain", std::to_string(s.domain), "--server-id", "bench",
+       "--dds-config", s.server_dds_config.empty() ? config : s.server_dds_config},
+      work + "/map_server.log");
   if (!server.ok()) return server.status();
   auto participant = transport::Participant::Create(
       s.domain, {"", s.client_dds_config.empty() ? config : s.client_dds_config});

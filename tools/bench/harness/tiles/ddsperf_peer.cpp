@@ -7,8 +7,8 @@
 #include <regex>
 #include <thread>
 
-#include "io/child_process.h"
 #include "replay/replay.h"
+#include "runtime/child_process.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -24,10 +24,10 @@ Result<std::string> RunPair(const std::vector<std::string>& server_args,
   const std::vector<std::string> env{"CYCLONEDDS_URI=" + config_uri};
   const std::string server_log = work_dir + "/ddsperf_" + name + "_server.log";
   const std::string client_log = work_dir + "/ddsperf_" + name + "_client.log";
-  auto server = io::ChildProcess::Start(kDdsperf, server_args, server_log, env);
+  auto server = runtime::ChildProcess::Start(kDdsperf, server_args, server_log, env);
   if (!server.ok()) return server.status();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  auto client = io::ChildProcess::Start(kDdsperf, client_args, client_log, env);
+  auto client = runtime::ChildProcess::Start(kDdsperf, client_args, client_log, env);
   if (!client.ok()) return client.status();
   const auto limit = std::chrono::milliseconds(static_cast<int>(seconds * 1000) + 15000);
   client->Wait(limit);

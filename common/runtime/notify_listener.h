@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace fleetloc::io::testing {
+namespace fleetloc::runtime::testing {
 
 class NotifyListener {
  public:
@@ -31,4 +31,4 @@ class NotifyListener {
 // True when one of the message's lines is exactly `line` (e.g. "READY=1").
 bool HasLine(const std::string& message, const std::string& line);
 
-}  // namespace fleetloc::io::testing
+}  // namespace fleetloc::runtime::testing

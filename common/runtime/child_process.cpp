@@ -1,5 +1,5 @@
 // fork/exec child processes with a log file, stopped by signal.
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 
 #include <fcntl.h>
 #include <sys/prctl.h>
@@ -14,7 +14,7 @@
 #include <thread>
 #include <utility>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 Result<ChildProcess> ChildProcess::Start(const std::string& program,
                                          const std::vector<std::string>& args,
@@ -120,4 +120,4 @@ ProcessUsage UsageOf(pid_t pid) {
   return usage;
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -14,7 +14,7 @@
 #include "mapping/vehicle_reputation.h"
 #include "sqlite/sqlite_util.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
 
 class VehicleStandingStore {
  public:
@@ -42,4 +42,4 @@ class VehicleStandingStore {
   sqlite::Db db_;
 };
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 class PercentLog {
  public:
@@ -21,4 +21,4 @@ class PercentLog {
   int last_step_ = -1;
 };
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

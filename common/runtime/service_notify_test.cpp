@@ -1,13 +1,13 @@
 // ServiceNotifier against a test-owned NOTIFY_SOCKET, with a fake clock.
-#include "io/service_notify.h"
+#include "runtime/service_notify.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
-#include "io/notify_listener.h"
+#include "runtime/notify_listener.h"
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 namespace {
 
 using namespace std::chrono_literals;
@@ -69,4 +69,4 @@ TEST(ServiceNotifier, NotStartedBySystemdSendsNothingAndDoesNotFail) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -18,9 +18,9 @@
 #include "mapping/vehicle_reputation.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
 
 enum class RemapMode { kBlend, kReplace };
 
@@ -33,7 +33,7 @@ struct RemapPolicy {
 };
 
 struct RemapRequest {
-  MapRect region;
+  mosaic::MapRect region;
   RemapMode mode = RemapMode::kBlend;
   RemapPolicy policy;
   // A preview: every patch judged and every tile computed as a real job would, but nothing
@@ -61,7 +61,7 @@ struct VehicleRemapReport {
 
 struct RemapResult {
   long long new_version = 0;          // the previous version when nothing changed
-  std::vector<TileKey> changed_tiles;  // every level
+  std::vector<mosaic::TileKey> changed_tiles;  // every level
   int patches_folded = 0;
   int patches_rejected = 0;           // refused (failed admission, unreadable, quarantined sender)
   int patches_held = 0;
@@ -76,17 +76,18 @@ std::string RemapSummary(const RemapResult& result, size_t max_chars = 255);
 
 // The three stores of one mosaic file a job works with, each on its own connection.
 struct RemapStores {
-  std::unique_ptr<TileStore> tiles;
-  std::unique_ptr<PatchStore> patches;
+  std::unique_ptr<mosaic::TileStore> tiles;
+  std::unique_ptr<mosaic::PatchStore> patches;
   std::unique_ptr<VehicleStandingStore> standing;
 };
-Result<RemapStores> OpenRemapStores(const std::string& path, OpenMode tile_mode);
+Result<RemapStores> OpenRemapStores(const std::string& path, mosaic::OpenMode tile_mode);
 
 // InvalidInput for an empty, inverted or non-finite region or one outside the mosaic, bad policy
 // options, and when cancelled; Internal on storage errors. `store` must be writable.
-Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStandingStore& standing,
+Result<RemapResult> RunRemap(mosaic::TileStore& store, mosaic::PatchStore& patches,
+                             VehicleStandingStore& standing,
                              const RemapRequest& request,
                              const std::function<void(const RemapProgress&)>& progress = {},
                              const std::atomic<bool>* cancel = nullptr);
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

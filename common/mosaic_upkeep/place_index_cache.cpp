@@ -1,15 +1,21 @@
 // Loading, building and caching a mosaic's place index (see place_index_cache.h).
-#include "mosaic/place_index_cache.h"
+#include "mosaic_upkeep/place_index_cache.h"
 
 #include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <optional>
 
-#include "io/progress_log.h"
 #include "mosaic/place_index_store.h"
+#include "runtime/progress_log.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+
+// The mosaic file the cache lives in.
+using mosaic::RasterSource;
+using mosaic::ReadPlaceIndexBlob;
+using mosaic::WritePlaceIndexBlob;
+
 namespace {
 
 double SecondsSince(std::chrono::steady_clock::time_point start) {
@@ -58,7 +64,7 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
     }
   }
   const auto start = std::chrono::steady_clock::now();
-  io::PercentLog log("place index of " + mosaic_path, "strips");
+  runtime::PercentLog log("place index of " + mosaic_path, "strips");
   Result<mapmatch::PlaceIndex> built =
       mapmatch::PlaceIndex::Build(view, options, [&](int done, int total) { log(done, total); }, cancel);
   if (!built.ok()) return built.status();
@@ -74,4 +80,4 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
   return loaded;
 }
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

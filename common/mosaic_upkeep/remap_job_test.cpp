@@ -3,7 +3,7 @@
 // A forged vehicle's patches (garbage, flat, shifted, checkerboard, flattened; a perfect claimed
 // pose) change no tile in blend or replace mode, are refused with their reasons and quarantine
 // the vehicle, while a real change seen by several vehicles is folded.
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,17 @@
 #include "mapping/forged_patches.h"
 #include "mosaic/importer.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+using mosaic::ImportImage;
+using mosaic::ImportOptions;
+using mosaic::MapRect;
+using mosaic::MosaicLayout;
+using mosaic::OpenMode;
+using mosaic::PatchStore;
+using mosaic::PutOutcome;
+using mosaic::TileKey;
+using mosaic::TileStore;
+using mosaic::TilesCovering;
 namespace {
 
 namespace fs = std::filesystem;
@@ -257,4 +267,4 @@ TEST_F(RemapJobTest, BadRegionsAndPoliciesAreRejected) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

@@ -1,6 +1,6 @@
 // Vehicle standing in the mosaic file: written standings read back exactly after a reopen, an
 // unknown vehicle has a fresh standing, and a release lifts the quarantine.
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,9 @@
 
 #include "mosaic/importer.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+using mosaic::ImportImage;
+using mosaic::ImportOptions;
 namespace {
 
 namespace fs = std::filesystem;
@@ -64,4 +66,4 @@ TEST_F(VehicleStandingStoreTest, AMissingFileIsNotFound) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

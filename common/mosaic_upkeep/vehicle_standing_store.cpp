@@ -1,11 +1,11 @@
 // The vehicle_standing table in the mosaic file.
-#include "mosaic/vehicle_standing_store.h"
+#include "mosaic_upkeep/vehicle_standing_store.h"
 
 #include <sqlite3.h>
 
 #include <filesystem>
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
 namespace {
 
 constexpr int kBusyTimeoutMs = 10000;
@@ -123,4 +123,4 @@ Status VehicleStandingStore::Release(const std::string& vehicle_id) {
   return PutAllLocked(*found);
 }
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

@@ -1,5 +1,5 @@
 // The test-owned NOTIFY_SOCKET: bind, poll with a time limit, read datagrams.
-#include "io/notify_listener.h"
+#include "runtime/notify_listener.h"
 
 #include <poll.h>
 #include <sys/socket.h>
@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <sstream>
 
-namespace fleetloc::io::testing {
+namespace fleetloc::runtime::testing {
 
 NotifyListener::NotifyListener() {
   char dir_template[] = "/tmp/fleetloc-notify-XXXXXX";
@@ -61,4 +61,4 @@ bool HasLine(const std::string& message, const std::string& line) {
   return false;
 }
 
-}  // namespace fleetloc::io::testing
+}  // namespace fleetloc::runtime::testing

@@ -4,10 +4,10 @@
 
 #include <atomic>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 // Installs handlers for SIGINT and SIGTERM that set the returned flag (idempotent). A second
 // signal while stopping restores the default action, so a third one kills a stuck process.
 const std::atomic<bool>& InstallStopSignals();
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,5 +1,5 @@
 // spdlog default-logger setup.
-#include "io/logging.h"
+#include "runtime/logging.h"
 
 #include <spdlog/cfg/env.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -7,7 +7,7 @@
 
 #include <memory>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 void SetupLogging(const std::string& name) {
   const std::string logger_name = name.empty() ? "fleetloc" : name;
@@ -22,4 +22,4 @@ void SetupLogging(const std::string& name) {
   spdlog::cfg::load_env_levels();      // SPDLOG_LEVEL overrides the level of registered loggers
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,5 +1,5 @@
 // Child processes: exit status, stop by signal, environment and log file, missing program.
-#include "io/child_process.h"
+#include "runtime/child_process.h"
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 namespace {
 
 std::string LogPath(const std::string& name) {
@@ -49,4 +49,4 @@ TEST(ChildProcess, MissingProgramIsNotFound) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,6 +1,6 @@
 // sd_notify through libsystemd (rather than a hand-written datagram: it knows abstract socket
 // names, WATCHDOG_PID and the message rules systemd expects), plus the test-only hang hook.
-#include "io/service_notify.h"
+#include "runtime/service_notify.h"
 
 #include <spdlog/spdlog.h>
 #include <systemd/sd-daemon.h>
@@ -10,7 +10,7 @@
 #include <optional>
 #include <thread>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 ServiceNotifier::ServiceNotifier(std::function<Clock::time_point()> now) : now_(std::move(now)) {
   uint64_t usec = 0;
@@ -71,4 +71,4 @@ void NotifyServiceAlive() {
 
 void NotifyServiceStopping() { ProcessNotifier().Stopping(); }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

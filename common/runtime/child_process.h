@@ -11,7 +11,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 class ChildProcess {
  public:
@@ -50,4 +50,4 @@ struct ProcessUsage {
 };
 ProcessUsage UsageOf(pid_t pid);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -7,7 +7,7 @@
 #include <chrono>
 #include <functional>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 // One service's notifications. Not thread-safe: a daemon calls it from its main loop only.
 class ServiceNotifier {
@@ -38,4 +38,4 @@ class ServiceNotifier {
 void NotifyServiceAlive();
 void NotifyServiceStopping();
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,7 +1,7 @@
 // The place index cache of a mosaic file: built once and then loaded (equal features), rebuilt
 // for a corrupt cached blob or on request, never stored when told to ignore the cache, and the
 // build's error for a floor without features.
-#include "mosaic/place_index_cache.h"
+#include "mosaic_upkeep/place_index_cache.h"
 
 #include <gtest/gtest.h>
 
@@ -11,11 +11,21 @@
 #include "mosaic/test_util.h"
 #include "mosaic/tile_store.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+using mosaic::ImportImage;
+using mosaic::ImportOptions;
+using mosaic::MakeTileLoader;
+using mosaic::MosaicLayout;
+using mosaic::MosaicView;
+using mosaic::OpenMode;
+using mosaic::ReadPlaceIndexBlob;
+using mosaic::TileCache;
+using mosaic::TileStore;
+using mosaic::WritePlaceIndexBlob;
 namespace {
 
-using testing::ScratchDir;
-using testing::SourcePath;
+using mosaic::testing::ScratchDir;
+using mosaic::testing::SourcePath;
 
 // A mosaic imported from the 0.5 m gravel photo, and a view over it.
 struct GravelMosaic {
@@ -78,4 +88,4 @@ TEST(PlaceIndexCache, KeysDifferWithTheOptions) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

@@ -1,10 +1,10 @@
 // Tests for SetupLogging: the default logger is named after the vehicle or service.
-#include "io/logging.h"
+#include "runtime/logging.h"
 
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 namespace {
 
 TEST(SetupLogging, DefaultLoggerIsNamedAfterTheVehicle) {
@@ -25,4 +25,4 @@ TEST(SetupLogging, CallingAgainReplacesTheDefaultLogger) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,5 +1,5 @@
 // Step-wise progress lines.
-#include "io/progress_log.h"
+#include "runtime/progress_log.h"
 
 #include <spdlog/spdlog.h>
 
@@ -7,7 +7,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 PercentLog::PercentLog(std::string what, std::string unit, int step_percent)
     : what_(std::move(what)), unit_(std::move(unit)), step_percent_(step_percent) {
@@ -23,4 +23,4 @@ void PercentLog::operator()(long long done, long long total) {
   spdlog::info("{}: {} of {} {} ({}%)", what_, done, total, unit_, percent);
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 
 // Makes a thread-safe spdlog logger that writes to stderr, named `name` (the vehicle id or the
 // service name; "fleetloc" when empty), and installs it as spdlog's default logger, so that
@@ -12,4 +12,4 @@ namespace fleetloc::io {
 // default logger; it never throws.
 void SetupLogging(const std::string& name);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -13,7 +13,7 @@
 #include "mapmatch/place_index.h"
 #include "mosaic/raster_source.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
 
 struct LoadedPlaceIndex {
   mapmatch::PlaceIndex index;
@@ -36,9 +36,9 @@ enum class IndexCache {
 // failure to store is logged, not fatal. The build's error otherwise (e.g. a textureless floor,
 // or "cancelled" once *cancel is set).
 Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
-                                               RasterSource& view,
+                                               mosaic::RasterSource& view,
                                                const mapmatch::PlaceIndexOptions& options,
                                                IndexCache cache,
                                                const std::atomic<bool>* cancel = nullptr);
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep

@@ -1,9 +1,9 @@
 // Signal handlers setting the process-wide stop flag.
-#include "io/stop_signal.h"
+#include "runtime/stop_signal.h"
 
 #include <csignal>
 
-namespace fleetloc::io {
+namespace fleetloc::runtime {
 namespace {
 
 std::atomic<bool> stop_requested{false};
@@ -24,4 +24,4 @@ const std::atomic<bool>& InstallStopSignals() {
   return stop_requested;
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::runtime

@@ -1,5 +1,5 @@
 // Re-mapping job: stored patches → verdicts and new tiles → next mosaic version.
-#include "mosaic/remap_job.h"
+#include "mosaic_upkeep/remap_job.h"
 
 #include <cmath>
 #include <set>
@@ -7,7 +7,20 @@
 
 #include "mosaic/mosaic_view.h"
 
-namespace fleetloc::mosaic {
+namespace fleetloc::mosaic_upkeep {
+
+// The stored mosaic this job works on.
+using mosaic::MapRect;
+using mosaic::MosaicLayout;
+using mosaic::MosaicView;
+using mosaic::OpenMode;
+using mosaic::PatchRecord;
+using mosaic::PatchStore;
+using mosaic::Refusal;
+using mosaic::TileCache;
+using mosaic::TileKey;
+using mosaic::TileStore;
+
 namespace {
 
 constexpr const char* kQuarantined = "quarantined";
@@ -278,4 +291,4 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
                      cancel);
 }
 
-}  // namespace fleetloc::mosaic
+}  // namespace fleetloc::mosaic_upkeep
