@@ -4,5 +4,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 tools/scripts/setup.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)" --timeout 600
+# clang-tidy (.clang-tidy) over the C++ sources the last change touched; any finding fails.
+tools/scripts/check_tidy.sh
 # Every decoder of outside input under libFuzzer (ASan + UBSan) for a short while; any crash fails.
 FLEETLOC_FUZZ_SECONDS="${FLEETLOC_FUZZ_SECONDS:-20}" tools/scripts/run_fuzz.sh

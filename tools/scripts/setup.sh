@@ -8,6 +8,7 @@ PACKAGES=(build-essential cmake ninja-build pkg-config ccache libopencv-dev libe
           libsqlite3-dev sqlite3 libspdlog-dev nlohmann-json3-dev libcpp-httplib-dev libcli11-dev
           cyclonedds-dev cyclonedds-tools libgtest-dev libbenchmark-dev libpng-dev systemd curl
           clang libclang-rt-14-dev
+          clang-tidy clang-format  # tools/scripts/check_tidy.sh and check_format.sh (.clang-tidy, .clang-format)
           prometheus-cpp-dev  # /metrics of every service (common/metrics/)
           libmosquitto-dev mosquitto mosquitto-clients  # VDA 5050 over MQTT (supervisor, its test)
           python3-jsonschema  # validates the VDA 5050 messages in tests/vda5050_mqtt_test.cpp
