@@ -280,11 +280,12 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
   Faults faults;
-  // Unplugged for 3 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
-  // while the camera is still gone (with 1.5 s, and at times with 2 s, under load the first
-  // reopening came after the camera was back).
+  // Unplugged for 4 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
+  // while the camera is still gone (with 1.5 s, at times with 2 s, and with 3 s when the suite ran
+  // it beside the CPU-bound corridor drive on two cores, the first reopening came after the
+  // camera was back).
   faults.camera_gone_at = 3.0;
-  faults.camera_back_at = 6.0;
+  faults.camera_back_at = 7.0;
   // Odometry 1.0-1.1 s after the first frame carries NaN; 2.0-2.05 s it is stamped 1 s back.
   std::vector<double> odometry_t;
   faults.odometry = [&](size_t, nav_msgs_msg_dds__Odometry_* m) {
@@ -299,7 +300,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   int after_return = 0;
   const LiveRun run =
       DriveLive(server, floor, "faults", 100, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        after_return = PosesOnTruthFrom(drive, r, 7.0);
+        after_return = PosesOnTruthFrom(drive, r, 8.0);
       });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :
