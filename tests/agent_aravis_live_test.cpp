@@ -33,6 +33,7 @@ struct FramePose {
   double error_rad;
 };
 
+// NOLINTNEXTLINE(bugprone-exception-escape): only the JSON member's allocation can throw, as anywhere
 struct LiveRun {
   std::map<double, geometry::PoseWithCovariance> ros_poses;  // by time of validity
   std::vector<FramePose> frame_poses;                        // those at a frame's time
@@ -58,7 +59,7 @@ struct Faults {
 // Drives `frames` frames at 10 Hz with the fake camera.
 LiveRun DriveLive(testing::MapServerFixture& server, const cv::Mat& floor, const std::string& name,
                   int frames, const Faults& faults,
-                  std::function<void(live_sim::PlannedDrive&, const LiveRun&)> check = nullptr) {
+                  const std::function<void(live_sim::PlannedDrive&, const LiveRun&)>& check = nullptr) {
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
   auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 2.0, 1000.0, 20);
   live_sim::PlannedDrive& drive = *drive_ptr;
