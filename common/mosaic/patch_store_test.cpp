@@ -10,25 +10,20 @@
 #include <fstream>
 
 #include "mosaic/importer.h"
+#include "mosaic/test_util.h"
 
 namespace fleetloc::mosaic {
 namespace {
 
-namespace fs = std::filesystem;
 
 class PatchStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("patch_store_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = (dir_ / "floor.db").string();
+    path_ = dir_.File("floor.db");
     ImportOptions options;
     options.resolution_m = 0.0005;
     ASSERT_TRUE(ImportImage(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", options, path_).ok());
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   static PatchRecord Patch(int64_t sequence) {
     PatchRecord p;
@@ -48,7 +43,7 @@ class PatchStoreTest : public ::testing::Test {
     return std::move(store).value();
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_;  // removed with the fixture
   std::string path_;
   const MapRect everywhere_{-10, -10, 10, 10};
 };
@@ -163,12 +158,12 @@ TEST_F(PatchStoreTest, AFileWrittenBeforeRefusalsExistedGainsTheColumn) {
 }
 
 TEST_F(PatchStoreTest, AFileThatIsNotAMosaicIsRejected) {
-  const std::string text = (dir_ / "notes.txt").string();
+  const std::string text = dir_.File("notes.txt");
   std::ofstream(text) << "not a database";
   auto store = PatchStore::Open(text);
   ASSERT_FALSE(store.ok());
   EXPECT_NE(store.status().message().find("notes.txt"), std::string::npos);
-  EXPECT_EQ(PatchStore::Open((dir_ / "missing.db").string()).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(PatchStore::Open(dir_.File("missing.db")).status().code(), StatusCode::kNotFound);
 }
 
 }  // namespace

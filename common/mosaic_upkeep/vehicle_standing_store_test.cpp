@@ -7,35 +7,29 @@
 #include <filesystem>
 
 #include "mosaic/importer.h"
+#include "mosaic/test_util.h"
 
 namespace fleetloc::mosaic_upkeep {
 using mosaic::ImportImage;
 using mosaic::ImportOptions;
 namespace {
 
-namespace fs = std::filesystem;
 
 class VehicleStandingStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("vehicle_standing_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    path_ = (dir_ / "floor.db").string();
+    path_ = dir_.File("floor.db");
     ImportOptions options;
     options.resolution_m = 0.0005;
     ASSERT_TRUE(ImportImage(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", options, path_).ok());
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::unique_ptr<VehicleStandingStore> Open() {
     auto store = VehicleStandingStore::Open(path_);
     EXPECT_TRUE(store.ok()) << store.status().message();
     return std::move(store).value();
   }
 
-  fs::path dir_;
+  mosaic::testing::ScratchDir dir_;  // removed with the fixture
   std::string path_;
 };
 
@@ -61,7 +55,7 @@ TEST_F(VehicleStandingStoreTest, StandingsSurviveAReopenAndAReleaseLiftsTheQuara
 }
 
 TEST_F(VehicleStandingStoreTest, AMissingFileIsNotFound) {
-  EXPECT_EQ(VehicleStandingStore::Open((dir_ / "missing.db").string()).status().code(),
+  EXPECT_EQ(VehicleStandingStore::Open(dir_.File("missing.db")).status().code(),
             StatusCode::kNotFound);
 }
 
