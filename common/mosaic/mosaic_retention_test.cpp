@@ -12,6 +12,7 @@
 
 #include "mapping/changed_floor_scene.h"
 #include "mosaic/importer.h"
+#include "mosaic/test_util.h"
 #include "mosaic_upkeep/remap_job.h"
 
 namespace fleetloc::mosaic {
@@ -21,7 +22,6 @@ using mosaic_upkeep::RunRemap;
 using mosaic_upkeep::VehicleStandingStore;
 namespace {
 
-namespace fs = std::filesystem;
 using Scene = mapping::testing::ChangedFloorScene;
 constexpr double kRes = Scene::kRes;
 constexpr double kDay = 86400;
@@ -33,19 +33,15 @@ double Now() {
 class MosaicRetentionTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("mosaic_retention_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    ASSERT_TRUE(cv::imwrite((dir_ / "floor.png").string(), scene_.old_floor));
-    path_ = (dir_ / "floor.db").string();
+    ASSERT_TRUE(cv::imwrite(dir_.File("floor.png"), scene_.old_floor));
+    path_ = dir_.File("floor.db");
     ImportOptions options;
     options.resolution_m = kRes;
-    ASSERT_TRUE(ImportImage((dir_ / "floor.png").string(), options, path_).ok());
+    ASSERT_TRUE(ImportImage(dir_.File("floor.png"), options, path_).ok());
     store_ = std::move(TileStore::Open(path_, OpenMode::kReadWrite)).value();
     patches_ = std::move(PatchStore::Open(path_)).value();
     standing_ = std::move(VehicleStandingStore::Open(path_)).value();
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   void Put(int64_t sequence, cv::Point centre) {
     const mapping::Patch p = scene_.PatchAt(centre, {});
@@ -65,7 +61,7 @@ class MosaicRetentionTest : public ::testing::Test {
   MapRect Everywhere() const { return {0, 0, 1024 * kRes, 1024 * kRes}; }
 
   Scene scene_;
-  fs::path dir_;
+  testing::ScratchDir dir_;  // removed with the fixture
   std::string path_;
   std::unique_ptr<TileStore> store_;
   std::unique_ptr<PatchStore> patches_;
@@ -115,7 +111,7 @@ TEST_F(MosaicRetentionTest, KeepsTheTilesOfTheKeptVersionsAndDropsOldPatches) {
   EXPECT_EQ(patches_->Counts(3)->stored, 1);
   EXPECT_EQ(PruneMosaic(path_, {1, 7 * kDay, 90 * kDay}, Now() + 91 * kDay)->patches_deleted, 1);
   EXPECT_EQ(PruneMosaic(path_, {0, 1, 1}, Now()).status().code(), StatusCode::kInvalidInput);
-  EXPECT_EQ(PruneMosaic((dir_ / "missing.db").string(), {}, Now()).status().code(),
+  EXPECT_EQ(PruneMosaic(dir_.File("missing.db"), {}, Now()).status().code(),
             StatusCode::kNotFound);
 }
 

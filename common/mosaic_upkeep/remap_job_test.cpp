@@ -12,6 +12,7 @@
 
 #include "mapping/forged_patches.h"
 #include "mosaic/importer.h"
+#include "mosaic/test_util.h"
 
 namespace fleetloc::mosaic_upkeep {
 using mosaic::ImportImage;
@@ -26,20 +27,15 @@ using mosaic::TileStore;
 using mosaic::TilesCovering;
 namespace {
 
-namespace fs = std::filesystem;
 using Scene = mapping::testing::ChangedFloorScene;
 constexpr double kRes = Scene::kRes;
 
 class RemapJobTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("remap_job_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    const std::string image = (dir_ / "old_floor.png").string();
+    const std::string image = dir_.File("old_floor.png");
     ASSERT_TRUE(cv::imwrite(image, scene_.old_floor));
-    path_ = (dir_ / "floor.db").string();
+    path_ = dir_.File("floor.db");
     ImportOptions options;
     options.resolution_m = kRes;
     ASSERT_TRUE(ImportImage(image, options, path_).ok());
@@ -47,7 +43,6 @@ class RemapJobTest : public ::testing::Test {
     patches_ = std::move(PatchStore::Open(path_)).value();
     standing_ = std::move(VehicleStandingStore::Open(path_)).value();
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   void Put(const std::string& vehicle, const mapping::Patch& p) {
     ASSERT_EQ(*patches_->Put({vehicle, ++sequence_[vehicle], 1.0, p.pose, p.covariance, p.quality, p.image}),
@@ -99,7 +94,7 @@ class RemapJobTest : public ::testing::Test {
   }
 
   Scene scene_;
-  fs::path dir_;
+  mosaic::testing::ScratchDir dir_;  // removed with the fixture
   std::string path_;
   std::unique_ptr<TileStore> store_;
   std::unique_ptr<PatchStore> patches_;
