@@ -33,14 +33,15 @@ struct FramePose {
   double error_rad;
 };
 
-// NOLINTNEXTLINE(bugprone-exception-escape): only the JSON member's allocation can throw, as anywhere
+// NOLINTNEXTLINE(bugprone-exception-escape): only the JSON member's allocation can throw, as
+// anywhere
 struct LiveRun {
   std::map<double, geometry::PoseWithCovariance> ros_poses;  // by time of validity
   std::vector<FramePose> frame_poses;                        // those at a frame's time
   std::vector<std::string> health_issues;                    // every issue name seen
   std::vector<std::string> issues_at_end;                    // the last report's while driving
   std::set<std::string> issues_while_driving;  // seen from 0.5 s after the first frame on
-  long long frame_drops = 0;                                 // the last health report's
+  long long frame_drops = 0;                   // the last health report's
   nlohmann::json summary;
   std::string log;
 };
@@ -57,9 +58,10 @@ struct Faults {
 };
 
 // Drives `frames` frames at 10 Hz with the fake camera.
-LiveRun DriveLive(testing::MapServerFixture& server, const cv::Mat& floor, const std::string& name,
-                  int frames, const Faults& faults,
-                  const std::function<void(live_sim::PlannedDrive&, const LiveRun&)>& check = nullptr) {
+LiveRun DriveLive(
+    testing::MapServerFixture& server, const cv::Mat& floor, const std::string& name, int frames,
+    const Faults& faults,
+    const std::function<void(live_sim::PlannedDrive&, const LiveRun&)>& check = nullptr) {
   const double start = std::ceil(camera_io::HostNow() + 4.0);  // on the 100 ms grid of the camera
   auto drive_ptr = testing::PlanDrive(floor, kResolution, frames, 10.0, start, 2.0, 1000.0, 20);
   live_sim::PlannedDrive& drive = *drive_ptr;
@@ -299,10 +301,10 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
     return true;
   };
   int after_return = 0;
-  const LiveRun run =
-      DriveLive(server, floor, "faults", 100, faults, [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
-        after_return = PosesOnTruthFrom(drive, r, 8.0);
-      });
+  const LiveRun run = DriveLive(server, floor, "faults", 100, faults,
+                                [&](live_sim::PlannedDrive& drive, const LiveRun& r) {
+                                  after_return = PosesOnTruthFrom(drive, r, 8.0);
+                                });
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   for (const char* issue :
        {"odometry_not_finite", "odometry_back_in_time", "camera_stalled", "camera_unavailable"}) {
@@ -347,8 +349,9 @@ TEST(AgentAravisLive, OdometryThatStopsAndReturnsIsNamedAndTrackingResumes) {
   ASSERT_FALSE(run.summary.is_null()) << run.log;  // it ran to the end and stopped cleanly
   EXPECT_EQ(run.issues_while_driving.count("odometry_stale"), 1u)
       << ::testing::PrintToString(run.issues_while_driving);
-  for (const char* line : {"odometry stale: nothing on rt/odom", "odometry flowing again on rt/odom",
-                           "captured while odometry had stopped"})
+  for (const char* line :
+       {"odometry stale: nothing on rt/odom", "odometry flowing again on rt/odom",
+        "captured while odometry had stopped"})
     EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
   EXPECT_GE(after_return, 20) << run.log;  // of the 35 frames 4.5-8 s after the first
   EXPECT_TRUE(std::find(run.issues_at_end.begin(), run.issues_at_end.end(), "odometry_stale") ==

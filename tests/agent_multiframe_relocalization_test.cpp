@@ -93,14 +93,20 @@ TEST(AgentMultiFrameRelocalization, FindsThePoseFromTwoFramesWhenEachAloneIsAmbi
   auto index = transport::PlaceIndexReceiver::Create(p);
   ASSERT_TRUE(index.ok());
   std::vector<transport::PlaceIndexBlob> blobs;
-  ASSERT_TRUE(Eventually([&] { blobs = (*index)->Poll(); return !blobs.empty(); }, 30))
+  ASSERT_TRUE(Eventually(
+      [&] {
+        blobs = (*index)->Poll();
+        return !blobs.empty();
+      },
+      30))
       << "no place index published";
 
   // Every frame is relocalized (no interval); two frames make a trajectory.
   const std::string config = (server.dir() / "agent.json").string();
   std::ofstream(config) << R"({"run": ")" << run.dir.string()
                         << R"(", "relocalize_interval_s": 0, "relocalize_trajectory_frames": 2})";
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   const std::string summary_path = (server.dir() / "summary.json").string();
@@ -111,7 +117,12 @@ TEST(AgentMultiFrameRelocalization, FindsThePoseFromTwoFramesWhenEachAloneIsAmbi
        (server.dir() / "outbox.db").string(), "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
-  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        testing::TakePoses(*pose_reader, &published);
+        return !agent.Running();
+      },
+      90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
 

@@ -23,14 +23,16 @@ constexpr uint32_t kDomain = 86;
 
 cv::Mat RockFloor() {
   return cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
-                    cv::IMREAD_GRAYSCALE)(cv::Rect(0, 0, 1536, 1536)).clone();
+                    cv::IMREAD_GRAYSCALE)(cv::Rect(0, 0, 1536, 1536))
+      .clone();
 }
 
 // A simulated run over the server's floor with a new 384² marking (another real texture) at the
 // route's crossing, so the agent queues patches of it; "" on failure.
 std::string ChangedFloorRun(testing::MapServerFixture& server) {
   cv::Mat changed = RockFloor();
-  const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat brick =
+      cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
   brick(cv::Rect(0, 0, 384, 384)).copyTo(changed(cv::Rect(576, 576, 384, 384)));
   const std::string floor = (server.dir() / "changed_floor.png").string();
   const std::string run = (server.dir() / "run").string();
@@ -42,8 +44,9 @@ std::string ChangedFloorRun(testing::MapServerFixture& server) {
 
 runtime::ChildProcess StartAgent(testing::MapServerFixture& server, const std::string& run,
                                  const std::string& outbox, const std::string& log) {
-  return testing::StartDaemon("tracker_agent", {"--run", run, "--domain", std::to_string(kDomain),
-                                                "--vehicle-id", "agv-5", "--outbox", outbox},
+  return testing::StartDaemon("tracker_agent",
+                              {"--run", run, "--domain", std::to_string(kDomain), "--vehicle-id",
+                               "agv-5", "--outbox", outbox},
                               (server.dir() / log).string());
 }
 
@@ -55,8 +58,8 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   runtime::ChildProcess agent = StartAgent(server, run, outbox, "agent.log");
   auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(server.participant(),
                                                                    transport::topics::kVehiclePose);
-  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(server.participant(), *pose_topic,
-                                                               transport::Qos().Reliable().KeepAll());
+  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      server.participant(), *pose_topic, transport::Qos().Reliable().KeepAll());
   auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(
       server.participant(), transport::topics::kVehicleHealth);
   auto health = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
@@ -71,7 +74,8 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
     (void)health->TakeAll([&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
       reachable = h.map_server_reachable;
       for (uint32_t i = 0; i < h.issues._length; ++i) {
-        named_unreachable |= transport::GetBounded(h.issues._buffer[i].name) == "map_server_unreachable";
+        named_unreachable |=
+            transport::GetBounded(h.issues._buffer[i].name) == "map_server_unreachable";
       }
     });
   };
@@ -93,16 +97,23 @@ TEST(AgentPatchFault, PatchesOfChangedFloorSurviveAMapServerOutage) {
   }
   EXPECT_TRUE(named_unreachable);
   server.StartServer();
-  EXPECT_TRUE(Eventually([&] { take_poses(false); return reachable == true; }, 8))
+  EXPECT_TRUE(Eventually(
+      [&] {
+        take_poses(false);
+        return reachable == true;
+      },
+      8))
       << "health once the server is back";
   ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   // The agent went on tracking from its cache while the server was down. (Its poses reach this
   // participant directly, without the server.)
   EXPECT_GT(tracked_while_down, 50);
-  const long long queued = testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  const long long queued =
+      testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
   EXPECT_GE(queued, 2) << "the changed floor should have produced patches";
-  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0)
+      << "unacknowledged patches left";
   auto store = mosaic::PatchStore::Open(server.mosaic_path());
   ASSERT_TRUE(store.ok());
   EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";
@@ -119,7 +130,8 @@ TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
   runtime::ChildProcess agent = StartAgent(server, run, outbox, "agent_1.log");
   std::this_thread::sleep_for(std::chrono::seconds(2));
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
-  ASSERT_TRUE(Eventually([&] { return testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
+  ASSERT_TRUE(Eventually(
+      [&] { return testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox") >= 1; }, 30))
       << "no patch queued while the server was down";
   EXPECT_EQ(agent.Stop(SIGKILL), 128 + SIGKILL);
   const long long pending = testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox");
@@ -128,9 +140,11 @@ TEST(AgentPatchFault, AKilledAgentsQueuedPatchesSurviveItsRestart) {
   runtime::ChildProcess restarted = StartAgent(server, run, outbox, "agent_2.log");
   ASSERT_TRUE(Eventually([&] { return !restarted.Running(); }, 90));
   EXPECT_EQ(restarted.Wait(std::chrono::seconds(1)), 0);
-  const long long queued = testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
+  const long long queued =
+      testing::SqliteValue(outbox, "SELECT value - 1 FROM meta WHERE name = 'next_sequence'");
   EXPECT_GE(queued, pending);
-  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0) << "unacknowledged patches left";
+  EXPECT_EQ(testing::SqliteValue(outbox, "SELECT COUNT(*) FROM outbox"), 0)
+      << "unacknowledged patches left";
   auto store = mosaic::PatchStore::Open(server.mosaic_path());
   ASSERT_TRUE(store.ok());
   EXPECT_EQ((*store)->Counts(1)->stored, queued) << "every queued patch stored exactly once";

@@ -57,12 +57,16 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   testing::MapServerFixture server("agent_raw_camera", floor, kDomain);
   const fs::path top_view = server.dir() / "top_view", raw = server.dir() / "raw";
   ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() +
-                                 " --frames 20 --seed 4 --out " + top_view.string()).exit_code, 0);
+                                 " --frames 20 --seed 4 --out " + top_view.string())
+                .exit_code,
+            0);
   fs::copy(top_view, raw, fs::copy_options::recursive);
   MakeRaw(raw);
   const std::string poses = (server.dir() / "poses.csv").string();
   ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
-                                 top_view.string() + " --out " + poses).exit_code, 0);
+                                 top_view.string() + " --out " + poses)
+                .exit_code,
+            0);
   auto expected = io::ReadPosesCsv(poses);
   ASSERT_TRUE(expected.ok());
   const std::string raw_poses = (server.dir() / "raw_poses.csv").string();
@@ -75,8 +79,8 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
 
   transport::Participant& p = server.participant();
   auto topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *topic,
-                                                                transport::Qos().Reliable().KeepAll());
+  auto reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *topic, transport::Qos().Reliable().KeepAll());
   runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent",
       {"--run", raw.string(), "--domain", std::to_string(kDomain), "--vehicle-id", "agv-6",
@@ -84,7 +88,12 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
   auto take = [&] { testing::TakePoses(*reader, &published); };
-  ASSERT_TRUE(Eventually([&] { take(); return !agent.Running(); }, 60));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        take();
+        return !agent.Running();
+      },
+      60));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   take();
   // Two resamplings (warp, rectification) blur the frames a little: the same poses to 0.1 px.
@@ -112,8 +121,10 @@ TEST(AgentRawCamera, ACameraAtTwiceTheMosaicsResolutionIsRefusedAtStart) {
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_wrong_scale", floor, kDomain);
   const fs::path run = server.dir() / "run";
-  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() + " --frames 5 --seed 4 --out " +
-                                 run.string()).exit_code, 0);
+  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() +
+                                 " --frames 5 --seed 4 --out " + run.string())
+                .exit_code,
+            0);
   nlohmann::json camera = nlohmann::json::parse(std::ifstream(run / "camera.json"));
   ASSERT_EQ(camera["resolution"].get<double>(), 0.0005);
   camera["resolution"] = 0.001;
@@ -127,7 +138,9 @@ TEST(AgentRawCamera, ACameraAtTwiceTheMosaicsResolutionIsRefusedAtStart) {
   ASSERT_TRUE(Eventually([&] { return !agent.Running(); }, 30)) << testing::ReadWhole(log);
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 2);
   const std::string text = testing::ReadWhole(log);
-  EXPECT_NE(text.find("camera resolution 0.001 m/px differs from the mosaic's 0.0005 m/px"), std::string::npos) << text;
+  EXPECT_NE(text.find("camera resolution 0.001 m/px differs from the mosaic's 0.0005 m/px"),
+            std::string::npos)
+      << text;
 }
 
 }  // namespace

@@ -38,9 +38,11 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_relocalization", floor, kDomain);
   const std::string run_dir = (server.dir() / "run").string();
-  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() +
-                                 " --frames 60 --seed 3 --kidnap-at 4 --kidnap-jump 0.4 --out " + run_dir)
-                .exit_code, 0);
+  ASSERT_EQ(
+      testing::RunFleetctl("sim --mosaic " + server.mosaic_path() +
+                           " --frames 60 --seed 3 --kidnap-at 4 --kidnap-jump 0.4 --out " + run_dir)
+          .exit_code,
+      0);
   Result<io::Run> run = io::ReadRun(run_dir);
   ASSERT_TRUE(run.ok()) << run.status().message();
 
@@ -49,11 +51,17 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
   auto index = transport::PlaceIndexReceiver::Create(p);
   ASSERT_TRUE(index.ok());
   std::vector<transport::PlaceIndexBlob> blobs;
-  ASSERT_TRUE(Eventually([&] { blobs = (*index)->Poll(); return !blobs.empty(); }, 30))
+  ASSERT_TRUE(Eventually(
+      [&] {
+        blobs = (*index)->Poll();
+        return !blobs.empty();
+      },
+      30))
       << "no place index published";
   EXPECT_EQ(blobs[0].mosaic_id, server.layout().mosaic_id);
 
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   const std::string summary_path = (server.dir() / "summary.json").string();
@@ -63,7 +71,12 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
        "agv-5", "--outbox", (server.dir() / "outbox.db").string(), "--summary", summary_path},
       (server.dir() / "agent.log").string());
   std::vector<transport::PoseReport> published;
-  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        testing::TakePoses(*pose_reader, &published);
+        return !agent.Running();
+      },
+      90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
 
@@ -83,9 +96,9 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
   }
   // The start: the first frame pose published is localized (the pose of the very first frame may
   // go out before this test's reader is matched, so the summary counts the relocalizations).
-  const auto first_frame = std::find_if(run->truth.begin(), run->truth.end(), [&](const auto& truth) {
-    return testing::PoseAt(published, truth.t) != nullptr;
-  });
+  const auto first_frame = std::find_if(
+      run->truth.begin(), run->truth.end(),
+      [&](const auto& truth) { return testing::PoseAt(published, truth.t) != nullptr; });
   ASSERT_NE(first_frame, run->truth.end()) << "no frame pose published";
   EXPECT_LT(first_frame->t, run->truth[0].t + 0.5) << "the first frames find the pose";
   // The kidnap: relocalized within a second.

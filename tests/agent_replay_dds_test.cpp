@@ -24,17 +24,21 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   testing::MapServerFixture server("agent_replay_dds", floor, kDomain);
   const std::string run = (server.dir() / "run").string();
   const std::string poses = (server.dir() / "poses.csv").string();
-  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() + " --frames 25 --seed 3 --out " + run)
-                .exit_code, 0);
-  const testing::CommandResult offline =
-      testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " + run + " --out " + poses);
+  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + server.mosaic_path() +
+                                 " --frames 25 --seed 3 --out " + run)
+                .exit_code,
+            0);
+  const testing::CommandResult offline = testing::RunFleetctl(
+      "track --mosaic " + server.mosaic_path() + " --run " + run + " --out " + poses);
   ASSERT_EQ(offline.exit_code, 0) << offline.err;
   auto expected = io::ReadPosesCsv(poses);
   ASSERT_TRUE(expected.ok());
 
   transport::Participant& p = server.participant();
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto health_topic = transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto health_topic =
+      transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth);
   auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *pose_topic, transport::Qos().Reliable().KeepAll());
   auto health_reader = transport::VehicleStreamReader<fleetloc_VehicleHealth>::Create(
@@ -47,14 +51,17 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   std::vector<transport::PoseReport> published;
   int health_reports = 0;
   bool reachable = false;
-  ASSERT_TRUE(Eventually([&] {
-    testing::TakePoses(*pose_reader, &published);
-    (void)health_reader->TakeAll([&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
-      ++health_reports;
-      reachable = reachable || h.map_server_reachable;
-    });
-    return !agent.Running();
-  }, 60));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        testing::TakePoses(*pose_reader, &published);
+        (void)health_reader->TakeAll(
+            [&](const fleetloc_VehicleHealth& h, const dds_sample_info_t&) {
+              ++health_reports;
+              reachable = reachable || h.map_server_reachable;
+            });
+        return !agent.Running();
+      },
+      60));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
   // Every frame's pose, at the frame's time, equal to the offline tracker's.

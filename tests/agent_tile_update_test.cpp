@@ -33,16 +33,23 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
       (server.dir() / "agent.log").string());
 
   transport::Participant& p = server.participant();
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
-  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(p, *pose_topic,
-                                                               transport::Qos().Reliable().KeepAll());
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto poses = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
+      p, *pose_topic, transport::Qos().Reliable().KeepAll());
   int tracked = 0;
   auto count_tracked = [&] {
     (void)poses->TakeAll([&](const fleetloc_VehiclePose& pose, const dds_sample_info_t&) {
       if (pose.lock_state == fleetloc_LOCK_TRACKING) ++tracked;
     });
   };
-  ASSERT_TRUE(Eventually([&] { count_tracked(); return tracked > 20; }, 30)) << "agent never tracked";
+  ASSERT_TRUE(Eventually(
+      [&] {
+        count_tracked();
+        return tracked > 20;
+      },
+      30))
+      << "agent never tracked";
 
   // Another vehicle reports the changed floor; the maintainer re-maps the region.
   auto reporter = transport::PatchClient::Create(p, "agv-1");
@@ -56,9 +63,9 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
     acked += acks.ok() ? acks->size() : 0;
     return acked >= 2;
   }));
-  const testing::CommandResult remap = testing::RunFleetctl(
-      "remap --domain " + std::to_string(kDomain) + " --region " + testing::RegionAroundChange(scene) +
-      " --mode replace --timeout 120");
+  const testing::CommandResult remap =
+      testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " +
+                           testing::RegionAroundChange(scene) + " --mode replace --timeout 120");
   ASSERT_EQ(remap.exit_code, 0) << remap.err;
   ASSERT_EQ(nlohmann::json::parse(remap.out).value("new_version", 0), 2) << remap.out;
 
@@ -74,7 +81,8 @@ TEST(AgentTileUpdate, RemappedTilesAreDroppedAndFetchedAgainAtTheNewVersion) {
   ASSERT_TRUE(in.good()) << "no summary";
   const nlohmann::json tiles = nlohmann::json::parse(in)["tiles"];
   EXPECT_GT(tiles.value("invalidated", 0), 0) << tiles.dump();
-  EXPECT_GT(tiles.value("refreshed", 0), 0) << "dropped tiles fetched again at version 2: " << tiles.dump();
+  EXPECT_GT(tiles.value("refreshed", 0), 0)
+      << "dropped tiles fetched again at version 2: " << tiles.dump();
 }
 
 }  // namespace

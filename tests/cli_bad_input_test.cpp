@@ -179,7 +179,8 @@ TEST_F(CliBadInput, TrackConfigWithAnUnknownOption) {
 }
 
 // The base run's camera.json with `pattern` replaced by `replacement` (regex); the text replaced.
-std::string EditCameraJson(const fs::path& run, const std::string& pattern, const std::string& replacement) {
+std::string EditCameraJson(const fs::path& run, const std::string& pattern,
+                           const std::string& replacement) {
   const fs::path camera = run / "camera.json";
   const std::string text = testing::ReadWhole(camera);
   std::smatch found;

@@ -41,7 +41,8 @@ TEST(CliCalibrate, WritesARawBlockTheReadersAccept) {
 
 TEST(CliCalibrate, BadInputExitsTwoNamingTheProblem) {
   testing::ScratchDir dir("cli_calibrate_bad");
-  const std::string floor = testing::Quote(FLEETLOC_SOURCE_DIR "/tests/data/calibration/left01.jpg");
+  const std::string floor =
+      testing::Quote(FLEETLOC_SOURCE_DIR "/tests/data/calibration/left01.jpg");
   const testing::CommandResult missing = testing::RunFleetctl(
       "calibrate --images /nonexistent/a.jpg --floor-view " + floor + " --out " + (dir / "c.json"));
   EXPECT_EQ(missing.exit_code, 2);
@@ -52,8 +53,9 @@ TEST(CliCalibrate, BadInputExitsTwoNamingTheProblem) {
       "calibrate --images " + photos + " --floor-view " + floor + " --out " + (dir / "c.json"));
   EXPECT_EQ(no_board.exit_code, 2);
   EXPECT_NE(no_board.err.find("found in 0 images"), std::string::npos) << no_board.err;
-  const testing::CommandResult bad_board = testing::RunFleetctl(
-      "calibrate --images " + Views() + " --board 9by6 --floor-view " + floor + " --out " + (dir / "c.json"));
+  const testing::CommandResult bad_board =
+      testing::RunFleetctl("calibrate --images " + Views() + " --board 9by6 --floor-view " + floor +
+                           " --out " + (dir / "c.json"));
   EXPECT_EQ(bad_board.exit_code, 2);
   EXPECT_NE(bad_board.err.find("--board"), std::string::npos) << bad_board.err;
 }

@@ -17,7 +17,9 @@ using testing::RunFleetctl;
 
 const char* const kServices[] = {"map_server", "fleet_supervisor", "tracker_agent"};
 
-std::string Binary(const std::string& name) { return std::string(FLEETLOC_BINARY_DIR "/bin/") + name; }
+std::string Binary(const std::string& name) {
+  return std::string(FLEETLOC_BINARY_DIR "/bin/") + name;
+}
 
 TEST(CliConventions, VersionOnFleetctlAndEveryService) {
   const testing::CommandResult fleetctl = RunFleetctl("--version");
@@ -32,8 +34,11 @@ TEST(CliConventions, VersionOnFleetctlAndEveryService) {
 
 TEST(CliConventions, EveryUsageErrorExitsTwoWithOneLine) {
   for (const char* service : kServices) {
-    EXPECT_TRUE(IsBadInput(RunCommand(Binary(service) + " --no-such-flag"), {service, "--no-such-flag"})) << service;
-    EXPECT_TRUE(IsBadInput(RunCommand(Binary(service) + " --domain"), {service, "--domain"})) << service;
+    EXPECT_TRUE(
+        IsBadInput(RunCommand(Binary(service) + " --no-such-flag"), {service, "--no-such-flag"}))
+        << service;
+    EXPECT_TRUE(IsBadInput(RunCommand(Binary(service) + " --domain"), {service, "--domain"}))
+        << service;
   }
   EXPECT_TRUE(IsBadInput(RunFleetctl("--no-such-flag"), {"fleetctl"}));
   EXPECT_TRUE(IsBadInput(RunFleetctl("status --no-such-flag"), {"fleetctl", "--no-such-flag"}));
@@ -43,8 +48,10 @@ TEST(CliConventions, EveryUsageErrorExitsTwoWithOneLine) {
 }
 
 TEST(CliConventions, AMistypedSubcommandGetsADidYouMean) {
-  EXPECT_TRUE(IsBadInput(RunFleetctl("stauts"), {"unknown command 'stauts'", "did you mean 'status'"}));
-  EXPECT_TRUE(IsBadInput(RunFleetctl("mosaic imprt x.png"), {"unknown command 'imprt'", "did you mean 'import'"}));
+  EXPECT_TRUE(
+      IsBadInput(RunFleetctl("stauts"), {"unknown command 'stauts'", "did you mean 'status'"}));
+  EXPECT_TRUE(IsBadInput(RunFleetctl("mosaic imprt x.png"),
+                         {"unknown command 'imprt'", "did you mean 'import'"}));
   // Nothing close: the plain usage error.
   const testing::CommandResult far = RunFleetctl("frobnicate");
   EXPECT_TRUE(IsBadInput(far, {"fleetctl"}));

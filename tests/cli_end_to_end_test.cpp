@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -69,7 +69,6 @@ TEST(CliEndToEnd, BenchTrackerReportsFleetlocAgainstAPeer) {
   EXPECT_TRUE(json["floors"][0]["verdict"]["applicable"].get<bool>());
   EXPECT_GT(json["peak_rss_bytes"].get<long long>(), 0);
 }
-
 
 TEST(CliEndToEnd, BenchAgentComparesTheLiveAgentWithTheOfflineTracker) {
   ScratchDir dir("cli_bench_agent");

@@ -24,8 +24,8 @@ const double kMy0 = kR * std::log(std::tan(kPi / 4.0 + 45.0 * kPi / 360.0));
 const double kScale = 1.0 / std::cos(45.0 * kPi / 180.0);
 
 std::string Sql(const std::string& db, const std::string& query) {
-  const testing::CommandResult r = testing::RunCommand("sqlite3 -separator '|' " + testing::Quote(db) + " " +
-                                                       testing::Quote(query));
+  const testing::CommandResult r = testing::RunCommand(
+      "sqlite3 -separator '|' " + testing::Quote(db) + " " + testing::Quote(query));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return r.out;
 }
@@ -47,9 +47,12 @@ struct TilePixel {
 // The tile (TMS row) and pixel of map point (x, y) at `zoom`, by the MBTiles spec's arithmetic.
 TilePixel Locate(double x, double y, int zoom) {
   const double span = 2.0 * kPi * kR / std::ldexp(1.0, zoom);
-  const double fx = (kMx0 + x * kScale + kPi * kR) / span, fy = (kPi * kR - (kMy0 + y * kScale)) / span;
-  const long long col = static_cast<long long>(std::floor(fx)), xyz = static_cast<long long>(std::floor(fy));
-  return {col, (1LL << zoom) - 1 - xyz, static_cast<int>((fx - col) * 256), static_cast<int>((fy - xyz) * 256)};
+  const double fx = (kMx0 + x * kScale + kPi * kR) / span,
+               fy = (kPi * kR - (kMy0 + y * kScale)) / span;
+  const long long col = static_cast<long long>(std::floor(fx)),
+                  xyz = static_cast<long long>(std::floor(fy));
+  return {col, (1LL << zoom) - 1 - xyz, static_cast<int>((fx - col) * 256),
+          static_cast<int>((fy - xyz) * 256)};
 }
 
 class CliMbtilesExport : public ::testing::Test {
@@ -63,7 +66,9 @@ class CliMbtilesExport : public ::testing::Test {
     db_ = (dir_.path() / "floor.db").string();
     ASSERT_TRUE(cv::imwrite(image_, floor));
     ASSERT_EQ(testing::RunFleetctl("mosaic import " + image_ + " --resolution " + resolution +
-                                   " --origin 2,7 --out " + db_).exit_code, 0);
+                                   " --origin 2,7 --out " + db_)
+                  .exit_code,
+              0);
   }
   testing::ScratchDir dir_{"cli_mbtiles_export"};
   std::string image_, db_;
@@ -72,14 +77,16 @@ class CliMbtilesExport : public ::testing::Test {
 TEST_F(CliMbtilesExport, SqliteAndGdalReadTheTilesWhereWebMercatorSays) {
   Import("0.03");  // 3 cm/px: the floor is x 2..26, y -11..7
   const std::string out = (dir_.path() / "floor.mbtiles").string();
-  const testing::CommandResult r = testing::RunFleetctl("mosaic export-mbtiles " + db_ + " --out " + out +
-                                                        " --anchor-lat 45 --anchor-lon 10");
+  const testing::CommandResult r = testing::RunFleetctl("mosaic export-mbtiles " + db_ + " --out " +
+                                                        out + " --anchor-lat 45 --anchor-lon 10");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
 
   // Metadata: the spec's keys; zooms: at 45 degrees zoom 22 is 26.4 mm/px (21 would be 52.8).
-  const std::map<std::string, std::string> meta = Rows(Sql(out, "SELECT name, value FROM metadata"));
-  for (const char* key : {"name", "format", "bounds", "center", "minzoom", "maxzoom", "type", "version", "description"}) {
+  const std::map<std::string, std::string> meta =
+      Rows(Sql(out, "SELECT name, value FROM metadata"));
+  for (const char* key : {"name", "format", "bounds", "center", "minzoom", "maxzoom", "type",
+                          "version", "description"}) {
     EXPECT_EQ(meta.count(key), 1u) << key;
   }
   EXPECT_EQ(meta.at("format"), "png");
@@ -88,7 +95,8 @@ TEST_F(CliMbtilesExport, SqliteAndGdalReadTheTilesWhereWebMercatorSays) {
   EXPECT_EQ(meta.at("minzoom"), "20");  // 24 m within one tile (27 m at zoom 20, 45 degrees)
   EXPECT_NE(meta.at("description").find("version"), std::string::npos);
   double west = 0, south = 0, east = 0, north = 0;
-  ASSERT_EQ(std::sscanf(meta.at("bounds").c_str(), "%lf,%lf,%lf,%lf", &west, &south, &east, &north), 4);
+  ASSERT_EQ(std::sscanf(meta.at("bounds").c_str(), "%lf,%lf,%lf,%lf", &west, &south, &east, &north),
+            4);
   EXPECT_NEAR(west, 10.0 + 2.0 * kScale / kR * 180.0 / kPi, 1e-9);
   EXPECT_NEAR(north - south, 18.0 / kR * 180.0 / kPi, 1e-9);  // true metres: 18 m of latitude
 
@@ -98,21 +106,25 @@ TEST_F(CliMbtilesExport, SqliteAndGdalReadTheTilesWhereWebMercatorSays) {
   ASSERT_EQ(counts.size(), 3u);
   for (int z = 20; z <= 22; ++z) {
     const TilePixel nw = Locate(2.0, 7.0, z), se = Locate(26.0 - 1e-9, -11.0 + 1e-9, z);
-    EXPECT_EQ(counts.at(std::to_string(z)), std::to_string((se.col - nw.col + 1) * (nw.tms_row - se.tms_row + 1))) << z;
+    EXPECT_EQ(counts.at(std::to_string(z)),
+              std::to_string((se.col - nw.col + 1) * (nw.tms_row - se.tms_row + 1)))
+        << z;
   }
 
   // TMS rows: the mark's centre (map 2.36, 6.64) is bright in the tile computed here; a point
   // of the random floor is not.
   const TilePixel mark = Locate(2.36, 6.64, 22);
   const std::string png = (dir_.path() / "mark.png").string();
-  Sql(out, "SELECT writefile('" + png + "', tile_data) FROM tiles WHERE zoom_level = 22 AND tile_column = " +
+  Sql(out, "SELECT writefile('" + png +
+               "', tile_data) FROM tiles WHERE zoom_level = 22 AND tile_column = " +
                std::to_string(mark.col) + " AND tile_row = " + std::to_string(mark.tms_row));
   const cv::Mat tile = cv::imread(png, cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(tile.empty()) << "no tile at column " << mark.col << ", TMS row " << mark.tms_row;
   ASSERT_EQ(tile.size(), cv::Size(256, 256));
   EXPECT_GT(tile.at<uchar>(mark.y, mark.x), 200);
   const TilePixel plain = Locate(14.0, -2.0, 22);
-  Sql(out, "SELECT writefile('" + png + "', tile_data) FROM tiles WHERE zoom_level = 22 AND tile_column = " +
+  Sql(out, "SELECT writefile('" + png +
+               "', tile_data) FROM tiles WHERE zoom_level = 22 AND tile_column = " +
                std::to_string(plain.col) + " AND tile_row = " + std::to_string(plain.tms_row));
   const cv::Mat floor_tile = cv::imread(png, cv::IMREAD_UNCHANGED);
   ASSERT_FALSE(floor_tile.empty());
@@ -137,11 +149,13 @@ TEST_F(CliMbtilesExport, SqliteAndGdalReadTheTilesWhereWebMercatorSays) {
 TEST_F(CliMbtilesExport, AFinerMosaicIsCappedAtGdalsZoomAndSaysSo) {
   Import("0.001");  // 1 mm/px needs zoom 27 at 45 degrees; GDAL opens up to 22
   const std::string out = (dir_.path() / "capped.mbtiles").string();
-  const testing::CommandResult r = testing::RunFleetctl("mosaic export-mbtiles " + db_ + " --out " + out +
-                                                        " --anchor-lat 45 --anchor-lon 10");
+  const testing::CommandResult r = testing::RunFleetctl("mosaic export-mbtiles " + db_ + " --out " +
+                                                        out + " --anchor-lat 45 --anchor-lon 10");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("full detail needs zoom 27; written up to zoom 22"), std::string::npos) << r.err;
-  const std::map<std::string, std::string> meta = Rows(Sql(out, "SELECT name, value FROM metadata"));
+  EXPECT_NE(r.err.find("full detail needs zoom 27; written up to zoom 22"), std::string::npos)
+      << r.err;
+  const std::map<std::string, std::string> meta =
+      Rows(Sql(out, "SELECT name, value FROM metadata"));
   EXPECT_EQ(meta.at("maxzoom"), "22");
   EXPECT_EQ(meta.at("minzoom"), "22");
   EXPECT_EQ(Sql(out, "SELECT DISTINCT zoom_level FROM tiles"), "22\n");

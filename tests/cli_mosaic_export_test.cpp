@@ -16,14 +16,20 @@ TEST(CliMosaicExport, GdalPlacesTheExportedImageWhereTheMosaicSays) {
   testing::ScratchDir dir("cli_mosaic_export");
   cv::Mat floor(600, 800, CV_8U);
   cv::randu(floor, 0, 255);
-  const std::string image = (dir.path() / "floor.png").string(), db = (dir.path() / "floor.db").string();
+  const std::string image = (dir.path() / "floor.png").string(),
+                    db = (dir.path() / "floor.db").string();
   ASSERT_TRUE(cv::imwrite(image, floor));
   // Top-left corner of the image at map (2, 7), 1 mm per pixel.
-  ASSERT_EQ(testing::RunFleetctl("mosaic import " + image + " --resolution 0.001 --origin 2,7 --out " + db).exit_code, 0);
-  const std::string out = (dir.path() / "export.png").string(), yaml = (dir.path() / "map.yaml").string();
+  ASSERT_EQ(testing::RunFleetctl("mosaic import " + image +
+                                 " --resolution 0.001 --origin 2,7 --out " + db)
+                .exit_code,
+            0);
+  const std::string out = (dir.path() / "export.png").string(),
+                    yaml = (dir.path() / "map.yaml").string();
   // Level 1 (2 mm per pixel) over x 2.1..2.5, y 6.7..6.9.
-  const testing::CommandResult r = testing::RunFleetctl("mosaic export " + db + " --out " + out +
-                                                        " --level 1 --region 2.1,6.7,2.5,6.9 --nav2-yaml " + yaml);
+  const testing::CommandResult r =
+      testing::RunFleetctl("mosaic export " + db + " --out " + out +
+                           " --level 1 --region 2.1,6.7,2.5,6.9 --nav2-yaml " + yaml);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(std::filesystem::exists(dir.path() / "export.pgw"));
   const testing::CommandResult info = testing::RunCommand("gdalinfo -json " + testing::Quote(out));
@@ -43,7 +49,9 @@ TEST(CliMosaicExport, GdalPlacesTheExportedImageWhereTheMosaicSays) {
   EXPECT_NE(text.find("image: export.png\n"), std::string::npos) << text;
   EXPECT_NE(text.find("resolution: 0.002\n"), std::string::npos) << text;
   double x = 0, y = 0;
-  ASSERT_EQ(std::sscanf(text.substr(text.find("origin: [")).c_str(), "origin: [%lf, %lf, 0]", &x, &y), 2) << text;
+  ASSERT_EQ(
+      std::sscanf(text.substr(text.find("origin: [")).c_str(), "origin: [%lf, %lf, 0]", &x, &y), 2)
+      << text;
   EXPECT_NEAR(x, 2.1, 1e-9);  // the bottom-left corner
   EXPECT_NEAR(y, 6.7, 1e-9);
 }

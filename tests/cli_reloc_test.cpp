@@ -4,10 +4,9 @@
 // a floor that repeats itself (--self-similarity names its twins), and bad input.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "cli_runner.h"
@@ -60,10 +59,10 @@ std::string WriteFeaturelessFloor(const ScratchDir& dir) {
 CommandResult RelocOnFloor(const ScratchDir& dir, const std::string& image,
                            const std::string& flags = "") {
   const std::string mosaic = dir / "floor.db", run = dir / "run";
-  EXPECT_EQ(RunFleetctl("mosaic import " + Quote(image) + " --resolution 0.0005 --out " +
-                        Quote(mosaic))
-                .exit_code,
-            0);
+  EXPECT_EQ(
+      RunFleetctl("mosaic import " + Quote(image) + " --resolution 0.0005 --out " + Quote(mosaic))
+          .exit_code,
+      0);
   EXPECT_EQ(
       RunFleetctl("sim --mosaic " + Quote(mosaic) + " --out " + Quote(run) + " --frames 4 --seed 4")
           .exit_code,

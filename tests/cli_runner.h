@@ -43,7 +43,8 @@ inline CommandResult RunCommand(const std::string& command_line) {
       std::filesystem::temp_directory_path() /
       ("fleetctl_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
   std::filesystem::create_directories(dir);
-  const std::string command = command_line + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
+  const std::string command =
+      command_line + " >" + (dir / "out").string() + " 2>" + (dir / "err").string();
   const int status = std::system(command.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

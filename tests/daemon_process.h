@@ -22,7 +22,8 @@ inline runtime::ChildProcess StartDaemon(const std::string& program,
                                          const std::vector<std::string>& env = {}) {
   std::vector<std::string> all = args;
   const bool metrics_on_by_default = program == "map_server" || program == "fleet_supervisor";
-  if (metrics_on_by_default && std::find(args.begin(), args.end(), "--metrics-port") == args.end()) {
+  if (metrics_on_by_default &&
+      std::find(args.begin(), args.end(), "--metrics-port") == args.end()) {
     all.insert(all.end(), {"--metrics-port", "0"});
   }
   auto child = runtime::ChildProcess::Start(std::string(FLEETLOC_BINARY_DIR "/bin/") + program, all,

@@ -16,20 +16,24 @@ namespace {
 constexpr uint32_t kDomain = 100;
 
 TEST(DashboardBrowser, VehiclesMoveAKilledAgentRaisesAnAlertAndARemapFromThePageCompletes) {
-  ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium")) << "install Debian's chromium (tools/scripts/setup.sh)";
+  ASSERT_TRUE(std::filesystem::exists("/usr/bin/chromium"))
+      << "install Debian's chromium (tools/scripts/setup.sh)";
   const std::string node_dir = FLEETLOC_BINARY_DIR "/browser";
-  const int installed = std::system((FLEETLOC_SOURCE_DIR "/tests/browser/install_deps.sh " + node_dir).c_str());
+  const int installed =
+      std::system((FLEETLOC_SOURCE_DIR "/tests/browser/install_deps.sh " + node_dir).c_str());
   ASSERT_EQ(installed, 0) << "npm ci of tests/browser failed";
 
-  const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/gravel_1024.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat floor =
+      cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/gravel_1024.png", cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(floor.empty());
   testing::MapServerFixture server("dashboard_browser", floor, kDomain);
   const std::string floor_image = (server.dir() / "floor.png").string();
   std::vector<runtime::ChildProcess> agents;
   for (const std::string id : {"agv-b1", "agv-b2"}) {
     agents.push_back(testing::StartDaemon(
-        "tracker_agent", {"--sim-floor", floor_image, "--domain", std::to_string(kDomain), "--vehicle-id", id,
-                          "--outbox", (server.dir() / (id + "_outbox.db")).string()},
+        "tracker_agent",
+        {"--sim-floor", floor_image, "--domain", std::to_string(kDomain), "--vehicle-id", id,
+         "--outbox", (server.dir() / (id + "_outbox.db")).string()},
         (server.dir() / (id + ".log")).string()));
   }
   const std::string config = (server.dir() / "supervisor.json").string();

@@ -19,16 +19,23 @@ class FakeVehicle {
  public:
   FakeVehicle(transport::Participant& p, std::string id) : id_(std::move(id)) {
     pose_topic_ = std::make_unique<transport::Topic<fleetloc_VehiclePose>>(
-        std::move(transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose).value()));
-    health_topic_ = std::make_unique<transport::Topic<fleetloc_VehicleHealth>>(
-        std::move(transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth).value()));
-    poses_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehiclePose>>(std::move(
-        transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(p, id_, *pose_topic_, transport::PoseStreamQos()).value()));
-    health_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehicleHealth>>(std::move(
-        transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(p, id_, *health_topic_, transport::PeriodicStateQos(3, 5)).value()));
+        std::move(transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose)
+                      .value()));
+    health_topic_ = std::make_unique<transport::Topic<fleetloc_VehicleHealth>>(std::move(
+        transport::Topic<fleetloc_VehicleHealth>::Create(p, transport::topics::kVehicleHealth)
+            .value()));
+    poses_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehiclePose>>(
+        std::move(transport::VehicleStreamWriter<fleetloc_VehiclePose>::Create(
+                      p, id_, *pose_topic_, transport::PoseStreamQos())
+                      .value()));
+    health_ = std::make_unique<transport::VehicleStreamWriter<fleetloc_VehicleHealth>>(
+        std::move(transport::VehicleStreamWriter<fleetloc_VehicleHealth>::Create(
+                      p, id_, *health_topic_, transport::PeriodicStateQos(3, 5))
+                      .value()));
   }
   void Publish(double x, unsigned short wire_version = fleetloc_CURRENT_WIRE_VERSION) {
-    transport::PoseReport report{id_, ToSeconds(transport::NowStamp()), {}, tracking::LockState::kTracking, 1};
+    transport::PoseReport report{
+        id_, ToSeconds(transport::NowStamp()), {}, tracking::LockState::kTracking, 1};
     report.base_in_map.pose = {x, 0.25, 0.1};
     report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
     fleetloc_VehiclePose pose = transport::ToIdl(report);

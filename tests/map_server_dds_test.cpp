@@ -6,17 +6,16 @@
 #include <chrono>
 #include <functional>
 #include <map>
-#include <thread>
-
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "map_server_fixture.h"
 #include "mosaic/tile_store.h"
 #include "transport/dds_tile_loader.h"
 #include "transport/tile_client.h"
 #include "transport/topic_names.h"
-#include "transport/wire_util.h"
 #include "transport/vehicle_streams.h"
+#include "transport/wire_util.h"
 
 namespace fleetloc {
 namespace {
@@ -30,7 +29,8 @@ constexpr uint32_t kDomain = 81;
 class MapServerDds : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
+    const cv::Mat floor =
+        cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
     fixture_ = new testing::MapServerFixture("map_server_dds", floor, kDomain, 0.0005, 128);
     layout_ = fixture_->layout();
     mosaic_path_ = fixture_->mosaic_path();
@@ -119,7 +119,8 @@ TEST_F(MapServerDds, ServesEveryTileByteIdenticalToTheStore) {
   ASSERT_TRUE(store.ok());
   std::vector<mosaic::TileKey> keys;
   for (int level = 0; level < layout_.levels; ++level) {
-    mosaic::TilesCovering(layout_, level, {0, 0, layout_.LevelWidth(level), layout_.LevelHeight(level)})
+    mosaic::TilesCovering(layout_, level,
+                          {0, 0, layout_.LevelWidth(level), layout_.LevelHeight(level)})
         .ForEach([&](const mosaic::TileKey& k) { keys.push_back(k); });
   }
   auto client = Client("veh-all");
@@ -141,10 +142,12 @@ TEST_F(MapServerDds, AVehicleViewOverDdsTilesReadsWhatTheStoreHolds) {
   mosaic::MosaicView over_dds = ViewOver(loader);
   mosaic::MosaicView local = LocalView();
   ASSERT_TRUE(loader.Prefetch({{0, 0, 0}, {0, 1, 0}}).ok());
-  for (const cv::Rect& block : {cv::Rect(10, 20, 300, 200), cv::Rect(-50, 400, 200, 200),
-                                cv::Rect(200, 100, 250, 250)}) {
+  for (const cv::Rect& block :
+       {cv::Rect(10, 20, 300, 200), cv::Rect(-50, 400, 200, 200), cv::Rect(200, 100, 250, 250)}) {
     for (int level : {0, 1}) {
-      EXPECT_EQ(cv::norm(over_dds.ReadBlock(level, block), local.ReadBlock(level, block), cv::NORM_INF), 0)
+      EXPECT_EQ(
+          cv::norm(over_dds.ReadBlock(level, block), local.ReadBlock(level, block), cv::NORM_INF),
+          0)
           << block << " level " << level;
     }
   }
@@ -249,7 +252,8 @@ TEST_F(MapServerDds, ForgedRequestsAreRejectedAndCounted) {
   ASSERT_TRUE(writer->Write(bad_id).ok());
   ASSERT_TRUE(writer->Write(bad_version).ok());
   EXPECT_TRUE(Eventually([&] { return HealthCounter("rejected_tile_request") >= before + 1; }));
-  EXPECT_TRUE(Eventually([&] { return HealthCounter("rejected_vehicle_partition") >= before_partition + 1; }));
+  EXPECT_TRUE(Eventually(
+      [&] { return HealthCounter("rejected_vehicle_partition") >= before_partition + 1; }));
 }
 
 }  // namespace

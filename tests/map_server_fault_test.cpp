@@ -30,7 +30,8 @@ std::map<mosaic::TileKey, std::vector<std::uint8_t>> AllTiles(const std::string&
   std::map<mosaic::TileKey, std::vector<std::uint8_t>> tiles;
   const mosaic::MosaicLayout layout = (*store)->layout();
   for (int level = 0; level < layout.levels; ++level) {
-    mosaic::TilesCovering(layout, level, {0, 0, layout.LevelWidth(level), layout.LevelHeight(level)})
+    mosaic::TilesCovering(layout, level,
+                          {0, 0, layout.LevelWidth(level), layout.LevelHeight(level)})
         .ForEach([&](const mosaic::TileKey& k) { tiles[k] = *(*store)->ReadTileBytes(k); });
   }
   return tiles;
@@ -40,8 +41,9 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   Scene scene;
   // The test sends its 64 patches once, at once: no rate limit and room for all in the decoding
   // queue (a vehicle would send the ones not acknowledged again later).
-  testing::MapServerFixture server("map_server_fault", scene.old_floor, kDomain, 0.0005, 256,
-                                   R"("patch_intake": {"patches_per_s": 1000, "burst": 1000, "queue": 128})");
+  testing::MapServerFixture server(
+      "map_server_fault", scene.old_floor, kDomain, 0.0005, 256,
+      R"("patch_intake": {"patches_per_s": 1000, "burst": 1000, "queue": 128})");
   auto patches = transport::PatchClient::Create(server.participant(), "agv-9");
   ASSERT_TRUE(patches.ok());
   ASSERT_TRUE(Eventually([&] { return (*patches)->ServerMatched(); }));
@@ -50,20 +52,23 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
   for (int y = 200; y <= 820; y += 90) {
     for (int x = 200; x <= 820; x += 90) {
       const uint64_t sequence = static_cast<uint64_t>(++sent);
-      ASSERT_TRUE(testing::SendPatch(**patches, testing::ScenePatch(scene, sequence, {x, y},
-                                                       {Scene::kRes, -Scene::kRes, 0.002})));
+      ASSERT_TRUE(testing::SendPatch(
+          **patches,
+          testing::ScenePatch(scene, sequence, {x, y}, {Scene::kRes, -Scene::kRes, 0.002})));
     }
   }
   size_t acked = 0;
-  ASSERT_TRUE(Eventually([&] {
-    auto acks = (*patches)->TakeAcks();
-    acked += acks.ok() ? acks->size() : 0;
-    return acked == static_cast<size_t>(sent);
-  }, 60));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        auto acks = (*patches)->TakeAcks();
+        acked += acks.ok() ? acks->size() : 0;
+        return acked == static_cast<size_t>(sent);
+      },
+      60));
   const auto before = AllTiles(server.mosaic_path());
   // Start the job and kill the server once it reports progress.
-  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(server.participant(),
-                                                                     transport::topics::kRemapStatus);
+  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(
+      server.participant(), transport::topics::kRemapStatus);
   auto statuses = transport::Reader<fleetloc_RemapStatus>::Create(
       server.participant().get(), *status_topic, transport::DurableStateQos());
   const std::string whole = "0,0,0.512,0.512";
@@ -74,12 +79,14 @@ TEST(MapServerFault, KilledDuringARemapJobKeepsThePreviousVersionAndTheJobReruns
       (server.dir() / "remap_1.log").string());
   ASSERT_TRUE(remap.ok());
   bool running = false;
-  ASSERT_TRUE(Eventually([&] {
-    (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
-      running = running || (s.state == fleetloc_REMAP_RUNNING && s.progress > 0.1f);
-    });
-    return running;
-  }, 60));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+          running = running || (s.state == fleetloc_REMAP_RUNNING && s.progress > 0.1f);
+        });
+        return running;
+      },
+      60));
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
   remap->Stop(SIGTERM);
   // The previous version is whole and no patch counts as folded.
@@ -110,8 +117,8 @@ TEST(MapServerFault, KilledInsideTheTileCommitKeepsServingThePreviousVersion) {
   ASSERT_TRUE(testing::SendPatch(**patches, testing::ScenePatch(scene, 2, {470, 440}, {})));
   ASSERT_TRUE(Eventually([&] { return server.HealthCounter("patches_stored") == 2; }));
   const auto before = AllTiles(server.mosaic_path());
-  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(server.participant(),
-                                                                     transport::topics::kRemapStatus);
+  auto status_topic = transport::Topic<fleetloc_RemapStatus>::Create(
+      server.participant(), transport::topics::kRemapStatus);
   auto statuses = transport::Reader<fleetloc_RemapStatus>::Create(
       server.participant().get(), *status_topic, transport::DurableStateQos());
   const std::string region = testing::RegionAroundChange(scene);
@@ -123,18 +130,22 @@ TEST(MapServerFault, KilledInsideTheTileCommitKeepsServingThePreviousVersion) {
   ASSERT_TRUE(remap.ok());
   // Killed once it says it is writing the new version's tiles (and has not committed them).
   bool committing = false;
-  ASSERT_TRUE(Eventually([&] {
-    (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
-      committing = committing || (s.state == fleetloc_REMAP_RUNNING &&
-                                  transport::GetBounded(s.phase) == "commit" && s.progress > 0 && s.progress < 1);
-    });
-    return committing;
-  }, 60));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        (void)statuses->TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+          committing = committing || (s.state == fleetloc_REMAP_RUNNING &&
+                                      transport::GetBounded(s.phase) == "commit" &&
+                                      s.progress > 0 && s.progress < 1);
+        });
+        return committing;
+      },
+      60));
   EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
   remap->Stop(SIGTERM);
   // The file holds the previous version whole; the patches' folded marks do not count.
   EXPECT_EQ(AllTiles(server.mosaic_path()), before);
-  EXPECT_EQ((*mosaic::TileStore::Open(server.mosaic_path(), mosaic::OpenMode::kReadOnly))->version(), 1);
+  EXPECT_EQ(
+      (*mosaic::TileStore::Open(server.mosaic_path(), mosaic::OpenMode::kReadOnly))->version(), 1);
   EXPECT_EQ((*mosaic::PatchStore::Open(server.mosaic_path()))->Counts(1)->folded, 0);
   // Restarted (no pause now), it serves the previous version's tiles, then re-maps them.
   server.StartServer();
@@ -149,13 +160,15 @@ TEST(MapServerFault, KilledInsideTheTileCommitKeepsServingThePreviousVersion) {
     EXPECT_TRUE((*client)->Request(++request, "", {{0, 1, 1}}).ok());
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     auto taken = (*client)->TakeTiles();
-    for (auto& t : taken.ok() ? *taken : std::vector<transport::ReceivedTile>{}) tiles.push_back(std::move(t));
+    for (auto& t : taken.ok() ? *taken : std::vector<transport::ReceivedTile>{})
+      tiles.push_back(std::move(t));
     return !tiles.empty();
   }));
   EXPECT_EQ(tiles[0].version, 1);
   EXPECT_EQ(tiles[0].data, before.at({0, 1, 1}));
-  const testing::CommandResult rerun = testing::RunFleetctl("remap --domain " + std::to_string(kDomain) +
-                                                            " --region " + region + " --mode replace --timeout 120");
+  const testing::CommandResult rerun =
+      testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " + region +
+                           " --mode replace --timeout 120");
   ASSERT_EQ(rerun.exit_code, 0) << rerun.err;
   EXPECT_EQ(nlohmann::json::parse(rerun.out)["new_version"], 2);
 }

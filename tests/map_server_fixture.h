@@ -42,7 +42,8 @@ class MapServerFixture {
     if (imported.ok()) layout_ = *imported;
     if (!config_members.empty()) {
       config_path_ = (scratch_.path() / "map_server.json").string();
-      std::ofstream(config_path_) << "{\"mosaic\": \"" << mosaic_path_ << "\", " << config_members << "}";
+      std::ofstream(config_path_) << "{\"mosaic\": \"" << mosaic_path_ << "\", " << config_members
+                                  << "}";
     }
     StartServer();
     auto participant = transport::Participant::Create(domain);
@@ -57,8 +58,8 @@ class MapServerFixture {
   }
 
   void StartServer() {
-    std::vector<std::string> args = {"--mosaic", mosaic_path_, "--domain", std::to_string(domain_),
-                                     "--server-id", "map-t"};
+    std::vector<std::string> args = {
+        "--mosaic", mosaic_path_, "--domain", std::to_string(domain_), "--server-id", "map-t"};
     if (!config_path_.empty()) args.insert(args.end(), {"--config", config_path_});
     server_ = std::make_unique<runtime::ChildProcess>(StartDaemon(
         "map_server", args,
@@ -73,22 +74,24 @@ class MapServerFixture {
 
   // The newest value of ServiceHealth counter `name` (waits up to 5 s for a report).
   uint64_t HealthCounter(const std::string& name) {
-    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(*participant_,
-                                                                  transport::topics::kServiceHealth);
+    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(
+        *participant_, transport::topics::kServiceHealth);
     auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
         participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
     uint64_t value = 0;
     bool seen = false;
-    Eventually([&] {
-      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
-        for (uint32_t i = 0; i < h.counters._length; ++i) {
-          if (transport::GetBounded(h.counters._buffer[i].name) == name) {
-            value = h.counters._buffer[i].value, seen = true;
-          }
-        }
-      });
-      return seen;
-    }, 5.0);
+    Eventually(
+        [&] {
+          (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+            for (uint32_t i = 0; i < h.counters._length; ++i) {
+              if (transport::GetBounded(h.counters._buffer[i].name) == name) {
+                value = h.counters._buffer[i].value, seen = true;
+              }
+            }
+          });
+          return seen;
+        },
+        5.0);
     EXPECT_TRUE(seen) << name;
     return value;
   }
@@ -96,21 +99,23 @@ class MapServerFixture {
   // "name: message" of the newest health report's issue ("" when it has none; waits up to 5 s
   // for a report).
   std::string HealthIssue() {
-    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(*participant_,
-                                                                  transport::topics::kServiceHealth);
+    auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(
+        *participant_, transport::topics::kServiceHealth);
     auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
         participant_->get(), *topic, transport::PeriodicStateQos(3, 5));
     std::string issue;
     bool seen = false;
-    Eventually([&] {
-      (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
-        seen = true;
-        issue = h.issues._length == 0 ? ""
-                                      : transport::GetBounded(h.issues._buffer[0].name) + ": " +
-                                            transport::GetBounded(h.issues._buffer[0].message);
-      });
-      return seen;
-    }, 5.0);
+    Eventually(
+        [&] {
+          (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+            seen = true;
+            issue = h.issues._length == 0 ? ""
+                                          : transport::GetBounded(h.issues._buffer[0].name) + ": " +
+                                                transport::GetBounded(h.issues._buffer[0].message);
+          });
+          return seen;
+        },
+        5.0);
     EXPECT_TRUE(seen);
     return issue;
   }

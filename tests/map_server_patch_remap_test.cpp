@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "changed_floor_patches.h"
-#include "mapping/forged_patches.h"
 #include "map_server_fixture.h"
+#include "mapping/forged_patches.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
 #include "mosaic/tile_store.h"
@@ -34,7 +34,8 @@ class MapServerPatchRemap : public ::testing::Test {
     EXPECT_TRUE(Eventually([&] { return patches_->ServerMatched(); }));
   }
 
-  transport::PatchToSend PatchAt(uint64_t sequence, cv::Point centre, const geometry::Pose2& error) {
+  transport::PatchToSend PatchAt(uint64_t sequence, cv::Point centre,
+                                 const geometry::Pose2& error) {
     return testing::ScenePatch(scene_, sequence, centre, error, server_.layout().mosaic_id);
   }
 
@@ -51,8 +52,10 @@ class MapServerPatchRemap : public ::testing::Test {
   }
 
   void SendTheTwoPatches() {
-    ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(1, {490, 425}, {2 * Scene::kRes, -1.5 * Scene::kRes, 0.005})));
-    ASSERT_TRUE(testing::SendPatch(*patches_, PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})));
+    ASSERT_TRUE(testing::SendPatch(
+        *patches_, PatchAt(1, {490, 425}, {2 * Scene::kRes, -1.5 * Scene::kRes, 0.005})));
+    ASSERT_TRUE(testing::SendPatch(
+        *patches_, PatchAt(2, {470, 440}, {-Scene::kRes, 2.5 * Scene::kRes, -0.003})));
     const auto acks = Acks(2);
     ASSERT_EQ(acks.size(), 2u);
     for (const auto& [seq, ack] : acks) {
@@ -63,8 +66,8 @@ class MapServerPatchRemap : public ::testing::Test {
 
   // `fleetctl remap` on this domain over the region around the change.
   testing::CommandResult Remap(const std::string& region, const std::string& extra = "") {
-    return testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " + region +
-                                " --mode replace --timeout 120 " + extra);
+    return testing::RunFleetctl("remap --domain " + std::to_string(kDomain) + " --region " +
+                                region + " --mode replace --timeout 120 " + extra);
   }
   std::string RegionAroundChange() const { return testing::RegionAroundChange(scene_); }
 
@@ -89,7 +92,6 @@ class MapServerPatchRemap : public ::testing::Test {
     cv::absdiff(tile(part - cv::Point(256, 256)), floor(part), diff);
     return cv::mean(diff)[0];
   }
-
 
   Scene scene_;
   testing::MapServerFixture server_;
@@ -155,9 +157,9 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
   auto updates = transport::Reader<fleetloc_TileUpdate>::Create(
       server_.participant().get(), *update_topic, transport::DurableStateQos(32));
   // A preview on the server's file first: the same tiles and verdicts, nothing written.
-  const testing::CommandResult preview = testing::RunFleetctl(
-      "remap --dry-run --mosaic " + server_.mosaic_path() + " --region " + RegionAroundChange() +
-      " --mode replace");
+  const testing::CommandResult preview =
+      testing::RunFleetctl("remap --dry-run --mosaic " + server_.mosaic_path() + " --region " +
+                           RegionAroundChange() + " --mode replace");
   ASSERT_EQ(preview.exit_code, 0) << preview.err;
   const auto previewed = nlohmann::json::parse(preview.out);
   EXPECT_EQ(previewed["state"], "preview");
@@ -166,8 +168,8 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
   EXPECT_NE(std::find(previewed["tiles"].begin(), previewed["tiles"].end(), "L0/C1/R1"),
             previewed["tiles"].end())
       << preview.out;
-  const testing::CommandResult no_file = testing::RunFleetctl(
-      "remap --dry-run --region " + RegionAroundChange());
+  const testing::CommandResult no_file =
+      testing::RunFleetctl("remap --dry-run --region " + RegionAroundChange());
   EXPECT_NE(no_file.exit_code, 0);
   EXPECT_NE(no_file.err.find("--dry-run needs --mosaic"), std::string::npos) << no_file.err;
   const testing::CommandResult remap = Remap(RegionAroundChange());
@@ -181,7 +183,8 @@ TEST_F(MapServerPatchRemap, RemapFoldsThePatchesAndAnnouncesTheNewVersion) {
   ASSERT_TRUE(Eventually([&] {
     (void)updates->TakeAll([&](const fleetloc_TileUpdate& u, const dds_sample_info_t&) {
       EXPECT_EQ(u.version, 2);
-      for (uint32_t i = 0; i < u.tiles._length; ++i) changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
+      for (uint32_t i = 0; i < u.tiles._length; ++i)
+        changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
     });
     return !changed.empty();
   }));
@@ -223,7 +226,8 @@ TEST_F(MapServerPatchRemap, ARollbackBesideTheRunningServerIsAnnouncedAndServed)
   ASSERT_TRUE(Eventually([&] {
     (void)updates->TakeAll([&](const fleetloc_TileUpdate& u, const dds_sample_info_t&) {
       if (u.version != 3) return;
-      for (uint32_t i = 0; i < u.tiles._length; ++i) changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
+      for (uint32_t i = 0; i < u.tiles._length; ++i)
+        changed.push_back(transport::FromIdl(u.tiles._buffer[i]));
     });
     return !changed.empty();
   }));
@@ -285,7 +289,8 @@ TEST_F(MapServerPatchRemap, AForgedVehicleChangesNothingAndIsQuarantined) {
       testing::RunFleetctl("mosaic vehicles " + server_.mosaic_path() + " --release forger");
   ASSERT_EQ(release.exit_code, 0) << release.err;
   EXPECT_EQ(nlohmann::json::parse(release.out)["forger"]["quarantined"], false);
-  EXPECT_TRUE(Eventually([&] { return server_.HealthIssue().find("quarantined") == std::string::npos; }));
+  EXPECT_TRUE(
+      Eventually([&] { return server_.HealthIssue().find("quarantined") == std::string::npos; }));
 }
 
 TEST_F(MapServerPatchRemap, BadRemapCommandsAreRejected) {

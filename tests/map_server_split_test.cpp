@@ -27,20 +27,24 @@ constexpr uint32_t kDomain = 102;
 
 // The newest counters of every map server heard from within `wait_s`, by service id.
 std::map<std::string, std::map<std::string, uint64_t>> ServerCounters(transport::Participant& p,
-                                                                       size_t servers, double wait_s) {
-  auto topic = transport::Topic<fleetloc_ServiceHealth>::Create(p, transport::topics::kServiceHealth);
-  auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(p.get(), *topic,
-                                                                  transport::PeriodicStateQos(3, 5));
+                                                                      size_t servers,
+                                                                      double wait_s) {
+  auto topic =
+      transport::Topic<fleetloc_ServiceHealth>::Create(p, transport::topics::kServiceHealth);
+  auto reader = transport::Reader<fleetloc_ServiceHealth>::Create(
+      p.get(), *topic, transport::PeriodicStateQos(3, 5));
   std::map<std::string, std::map<std::string, uint64_t>> counters;
-  Eventually([&] {
-    (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
-      auto& mine = counters[transport::GetBounded(h.service_id)];
-      for (uint32_t i = 0; i < h.counters._length; ++i) {
-        mine[transport::GetBounded(h.counters._buffer[i].name)] = h.counters._buffer[i].value;
-      }
-    });
-    return counters.size() >= servers;
-  }, wait_s);
+  Eventually(
+      [&] {
+        (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
+          auto& mine = counters[transport::GetBounded(h.service_id)];
+          for (uint32_t i = 0; i < h.counters._length; ++i) {
+            mine[transport::GetBounded(h.counters._buffer[i].name)] = h.counters._buffer[i].value;
+          }
+        });
+        return counters.size() >= servers;
+      },
+      wait_s);
   return counters;
 }
 
@@ -49,8 +53,9 @@ class SplitServers {
   // `start_east` false: only ms-west runs until StartEast().
   explicit SplitServers(const testing::ScratchDir& dir, bool start_east = true) : dir_(dir) {
     const std::string image = dir / "floor.png";
-    EXPECT_TRUE(cv::imwrite(image, cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
-                                              cv::IMREAD_GRAYSCALE)));
+    EXPECT_TRUE(
+        cv::imwrite(image, cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
+                                      cv::IMREAD_GRAYSCALE)));
     mosaic::ImportOptions options;
     options.resolution_m = 0.0005;  // 1.28 m x 0.8 m, 10 x 7 tiles of 256 px
     auto imported = mosaic::ImportImage(image, options, dir / "west.db");
@@ -62,7 +67,8 @@ class SplitServers {
     if (start_east) StartEast();
   }
   ~SplitServers() {
-    for (auto& [id, server] : servers_) EXPECT_EQ(server.Stop(SIGTERM), 0) << id << " did not stop cleanly";
+    for (auto& [id, server] : servers_)
+      EXPECT_EQ(server.Stop(SIGTERM), 0) << id << " did not stop cleanly";
   }
 
   void StartEast() { Start("ms-east", 5, 10); }
@@ -72,11 +78,15 @@ class SplitServers {
  private:
   void Start(const std::string& id, int col_begin, int col_end) {
     const nlohmann::json config{
-        {"server_id", id}, {"mosaic", dir_ / (id.substr(3) + ".db")}, {"domain", kDomain},
-        {"owned_tiles", {{"col_begin", col_begin}, {"col_end", col_end}, {"row_begin", 0}, {"row_end", 7}}}};
+        {"server_id", id},
+        {"mosaic", dir_ / (id.substr(3) + ".db")},
+        {"domain", kDomain},
+        {"owned_tiles",
+         {{"col_begin", col_begin}, {"col_end", col_end}, {"row_begin", 0}, {"row_end", 7}}}};
     const std::string path = dir_ / (id + ".json");
     std::ofstream(path) << config.dump(2);
-    servers_.emplace(id, testing::StartDaemon("map_server", {"--config", path}, dir_ / (id + ".log")));
+    servers_.emplace(id,
+                     testing::StartDaemon("map_server", {"--config", path}, dir_ / (id + ".log")));
   }
 
   const testing::ScratchDir& dir_;
@@ -87,8 +97,10 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   testing::ScratchDir dir("map_server_split");
   SplitServers servers(dir);
   const std::string run_dir = dir / "run";
-  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + (dir / "west.db") + " --frames 60 --seed 3 --out " + run_dir)
-                .exit_code, 0);
+  ASSERT_EQ(testing::RunFleetctl("sim --mosaic " + (dir / "west.db") +
+                                 " --frames 60 --seed 3 --out " + run_dir)
+                .exit_code,
+            0);
   Result<io::Run> run = io::ReadRun(run_dir);
   ASSERT_TRUE(run.ok()) << run.status().message();
   // The drive crosses the boundary (x = 0.64 m, tile column 5) more than once.
@@ -100,7 +112,8 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
 
   auto p = transport::Participant::Create(kDomain);
   ASSERT_TRUE(p.ok()) << p.status().message();
-  auto pose_topic = transport::Topic<fleetloc_VehiclePose>::Create(*p, transport::topics::kVehiclePose);
+  auto pose_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(*p, transport::topics::kVehiclePose);
   auto pose_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       *p, *pose_topic, transport::Qos().Reliable().KeepAll());
   ASSERT_EQ(ServerCounters(*p, 2, 20).size(), 2u) << "both map servers report health";
@@ -112,7 +125,12 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
                             "agv-7", "--outbox", dir / "outbox.db", "--summary", summary_path},
                            dir / "agent.log");
   std::vector<transport::PoseReport> published;
-  ASSERT_TRUE(Eventually([&] { testing::TakePoses(*pose_reader, &published); return !agent.Running(); }, 90));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        testing::TakePoses(*pose_reader, &published);
+        return !agent.Running();
+      },
+      90));
   EXPECT_EQ(agent.Wait(std::chrono::seconds(1)), 0);
   testing::TakePoses(*pose_reader, &published);
 
@@ -123,7 +141,9 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
     ++frames;
     if (pose->state != tracking::LockState::kTracking) continue;
     ++tracking;
-    EXPECT_LT(std::hypot(pose->base_in_map.pose.x - truth.pose.x, pose->base_in_map.pose.y - truth.pose.y), 0.002)
+    EXPECT_LT(std::hypot(pose->base_in_map.pose.x - truth.pose.x,
+                         pose->base_in_map.pose.y - truth.pose.y),
+              0.002)
         << "at t=" << truth.t;
   }
   EXPECT_GT(frames, 50);
@@ -134,7 +154,8 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
   const nlohmann::json tiles = nlohmann::json::parse(in)["tiles"];
   EXPECT_EQ(tiles.value("timeouts", -1), 0) << tiles.dump();
   EXPECT_EQ(tiles.value("errors", -1), 0) << tiles.dump();
-  EXPECT_EQ(tiles.value("requested", 0), tiles.value("received", -1)) << "every tile asked for came, once";
+  EXPECT_EQ(tiles.value("requested", 0), tiles.value("received", -1))
+      << "every tile asked for came, once";
 
   // Each server served its own half and passed over the other's.
   auto counters = ServerCounters(*p, 2, 5);

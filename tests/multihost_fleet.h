@@ -53,8 +53,11 @@ class MultiHostFleet {
   // vehicle-agv-2; fleetctl as maintainer-ops-1).
   explicit MultiHostFleet(const std::string& name, Mode mode = Mode::kPlain)
       : name_(name), dir_(name), secured_(mode == Mode::kSecured) {
-    auto lab = NetnsLab::Create({{"ms1", "10.10.0.1"}, {"sup", "10.10.0.2"}, {"ms2", "10.10.0.3"},
-                                 {"agv1", "10.10.0.11"}, {"agv2", "10.10.0.12"}});
+    auto lab = NetnsLab::Create({{"ms1", "10.10.0.1"},
+                                 {"sup", "10.10.0.2"},
+                                 {"ms2", "10.10.0.3"},
+                                 {"agv1", "10.10.0.11"},
+                                 {"agv2", "10.10.0.12"}});
     if (!lab.ok()) {
       skip = lab.status().message();
       EXPECT_EQ(lab.status().code(), StatusCode::kNotFound) << skip;
@@ -74,7 +77,8 @@ class MultiHostFleet {
   ~MultiHostFleet() {
     processes_.clear();
     if (!lab_ || !(::testing::Test::HasFailure() || std::getenv("FLEETLOC_KEEP_TEST_LOGS"))) return;
-    const std::filesystem::path keep = std::filesystem::path(FLEETLOC_BINARY_DIR "/test-artifacts") / name_;
+    const std::filesystem::path keep =
+        std::filesystem::path(FLEETLOC_BINARY_DIR "/test-artifacts") / name_;
     std::filesystem::create_directories(keep);
     for (const auto& entry : std::filesystem::directory_iterator(dir_.path())) {
       if (entry.path().extension() == ".log" || entry.path().extension() == ".json") {
@@ -118,7 +122,8 @@ class MultiHostFleet {
   }
   // Every process still running stops cleanly on SIGTERM (agents drain their outboxes first).
   void StopAll() {
-    for (auto& [name, process] : processes_) EXPECT_EQ(process.Stop(SIGTERM, std::chrono::seconds(30)), 0) << name;
+    for (auto& [name, process] : processes_)
+      EXPECT_EQ(process.Stop(SIGTERM, std::chrono::seconds(30)), 0) << name;
     processes_.clear();
   }
 
@@ -136,7 +141,9 @@ class MultiHostFleet {
     const std::string text = ReadWhole(Summary(vehicle, start));
     return JsonOrNull(text);
   }
-  std::string Outbox(const std::string& vehicle) const { return dir_ / ("outbox-" + vehicle + ".db"); }
+  std::string Outbox(const std::string& vehicle) const {
+    return dir_ / ("outbox-" + vehicle + ".db");
+  }
   std::string Mosaic(const std::string& server) const { return dir_ / (server + ".db"); }
   const ScratchDir& dir() const { return dir_; }
   // What netns_switch did (kLossy without netem): frames forwarded, lost, their mean delay...;
@@ -148,7 +155,8 @@ class MultiHostFleet {
 
   // GET `path` from the supervisor's API (inside its host); null when it does not answer.
   nlohmann::json Api(const std::string& path) const {
-    const std::string body = lab_->Capture("sup", "curl -sf --max-time 5 'http://127.0.0.1:8080" + path + "'");
+    const std::string body =
+        lab_->Capture("sup", "curl -sf --max-time 5 'http://127.0.0.1:8080" + path + "'");
     return JsonOrNull(body);
   }
   // `fleetctl status --json` run on the supervisor's host (secured: as maintainer ops-1): vehicles,
@@ -165,15 +173,19 @@ class MultiHostFleet {
     const nlohmann::json fleet = Api("/api/fleet");
     if (!fleet.is_object() || fleet["summary"].value("tracking", 0) < 2) return false;
     for (const nlohmann::json& v : fleet["vehicles"]) {
-      if (!v["health"].is_object() || !v["health"].value("map_server_reachable", false)) return false;
+      if (!v["health"].is_object() || !v["health"].value("map_server_reachable", false))
+        return false;
     }
     return true;
   }
   // The lock states and x positions the supervisor recorded for `vehicle` since `from` (its clock).
-  std::pair<std::vector<std::string>, std::vector<double>> Trace(const std::string& vehicle, double from) const {
-    const nlohmann::json h = Api("/api/vehicles/" + vehicle + "/history?max_points=5000&from=" + std::to_string(from));
+  std::pair<std::vector<std::string>, std::vector<double>> Trace(const std::string& vehicle,
+                                                                 double from) const {
+    const nlohmann::json h =
+        Api("/api/vehicles/" + vehicle + "/history?max_points=5000&from=" + std::to_string(from));
     if (!h.is_object()) return {};
-    return {h["poses"]["lock"].get<std::vector<std::string>>(), h["poses"]["x"].get<std::vector<double>>()};
+    return {h["poses"]["lock"].get<std::vector<std::string>>(),
+            h["poses"]["x"].get<std::vector<double>>()};
   }
   long long StoredPatches(const std::string& server) const {
     return SqliteValue(Mosaic(server), "SELECT COUNT(*) FROM patches");
@@ -186,7 +198,8 @@ class MultiHostFleet {
 
  private:
   bool MakeFloors() {
-    const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg", cv::IMREAD_GRAYSCALE);
+    const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/moss_2560x1600.jpg",
+                                     cv::IMREAD_GRAYSCALE);
     EXPECT_TRUE(cv::imwrite(dir_ / "floor.png", floor));
     mosaic::ImportOptions options;
     options.resolution_m = 0.0005;
@@ -197,7 +210,8 @@ class MultiHostFleet {
     }
     std::filesystem::copy_file(Mosaic("ms-west"), Mosaic("ms-east"));
     cv::Mat changed = floor.clone();
-    const cv::Mat brick = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
+    const cv::Mat brick =
+        cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/brick.png", cv::IMREAD_GRAYSCALE);
     brick(cv::Rect(0, 0, 256, 256)).copyTo(changed(cv::Rect(1152, 672, 256, 256)));
     EXPECT_TRUE(cv::imwrite(dir_ / "changed_floor.png", changed));
     return true;
@@ -240,21 +254,28 @@ class MultiHostFleet {
   std::string SwitchStats() const { return dir_ / "netns_switch.json"; }
   std::string ServerConfig(const std::string& id) const {
     const bool west = id == "ms-west";
-    const nlohmann::json config{{"server_id", id}, {"mosaic", Mosaic(id)},
-                                {"owned_tiles", {{"col_begin", west ? 0 : 5}, {"col_end", west ? 5 : 10},
-                                                 {"row_begin", 0}, {"row_end", 7}}}};
+    const nlohmann::json config{{"server_id", id},
+                                {"mosaic", Mosaic(id)},
+                                {"owned_tiles",
+                                 {{"col_begin", west ? 0 : 5},
+                                  {"col_end", west ? 5 : 10},
+                                  {"row_begin", 0},
+                                  {"row_end", 7}}}};
     return Write(id + ".json", config);
   }
   std::string AgentConfig(const std::string& id) const {
-    const nlohmann::json config{{"vehicle_id", id}, {"source", "sim"}, {"sim_floor", dir_ / "changed_floor.png"},
-                                {"sim_start_fraction", id == "agv-1" ? 0.0 : 0.5}, {"sim_seed", id == "agv-1" ? 1 : 2},
+    const nlohmann::json config{{"vehicle_id", id},
+                                {"source", "sim"},
+                                {"sim_floor", dir_ / "changed_floor.png"},
+                                {"sim_start_fraction", id == "agv-1" ? 0.0 : 0.5},
+                                {"sim_seed", id == "agv-1" ? 1 : 2},
                                 {"tile_cache_mb", 2}};
     return Write(id + ".json", config);
   }
   std::string TokenFile() const {
     std::ofstream(dir_ / "token") << "multihost-test-token\n";
-    std::filesystem::permissions(dir_ / "token", std::filesystem::perms::owner_read |
-                                                     std::filesystem::perms::owner_write);
+    std::filesystem::permissions(
+        dir_ / "token", std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
     return dir_ / "token";
   }
   std::string Write(const std::string& name, const nlohmann::json& config) const {
@@ -266,7 +287,7 @@ class MultiHostFleet {
   ScratchDir dir_;
   bool secured_;
   const std::string dds_config_ = FLEETLOC_SOURCE_DIR "/deploy/cyclonedds/multihost.xml";
-  std::unique_ptr<NetnsLab> lab_;                     // declared before the processes:
+  std::unique_ptr<NetnsLab> lab_;                           // declared before the processes:
   std::map<std::string, runtime::ChildProcess> processes_;  // they stop before the network goes
   std::map<std::string, int> starts_;
 };

@@ -4,14 +4,14 @@
 // packet loss and delay between the hosts; when a map server, the supervisor or an agent is
 // killed (SIGKILL) and restarted. Nothing a server
 // acknowledged is lost, both mosaic replicas store every patch, every vehicle returns to tracking.
+#include "multihost_fleet.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <thread>
-
-#include "multihost_fleet.h"
 
 namespace fleetloc {
 namespace {
@@ -36,7 +36,7 @@ int ExpectTrackingSince(const MultiHostFleet& fleet, double from) {
         << vehicle << " did not track throughout";
     if (xs.empty()) continue;
     const auto [lo, hi] = std::minmax_element(xs.begin(), xs.end());
-    crossed += *lo < MultiHostFleet::kBoundaryX && *hi > MultiHostFleet::kBoundaryX;
+    crossed += *lo<MultiHostFleet::kBoundaryX&& * hi> MultiHostFleet::kBoundaryX;
     std::printf("%s: %zu poses, x in [%.3f, %.3f] m\n", vehicle, locks.size(), *lo, *hi);
   }
   return crossed;
@@ -55,16 +55,19 @@ std::map<std::string, nlohmann::json> ServicesById(const nlohmann::json& status)
 // stored twice.
 void ExpectNoAcknowledgedPatchLost(const MultiHostFleet& fleet) {
   for (const char* vehicle : MultiHostFleet::kVehicles) {
-    std::printf("%s: %lld patches queued, %lld left in the outbox\n", vehicle, fleet.Queued(vehicle),
+    std::printf("%s: %lld patches queued, %lld left in the outbox\n", vehicle,
+                fleet.Queued(vehicle),
                 testing::SqliteValue(fleet.Outbox(vehicle), "SELECT COUNT(*) FROM outbox"));
     EXPECT_GT(fleet.Queued(vehicle), 0) << vehicle << " sent no patch";
     EXPECT_EQ(fleet.AcknowledgedButMissing(vehicle, "ms-west"), 0) << vehicle;
     EXPECT_EQ(fleet.AcknowledgedButMissing(vehicle, "ms-east"), 0) << vehicle;
   }
   for (const char* server : {"ms-west", "ms-east"}) {
-    EXPECT_EQ(testing::SqliteValue(fleet.Mosaic(server),
-                                   "SELECT COUNT(*) - COUNT(DISTINCT vehicle_id || '/' || sequence) FROM patches"),
-              0) << server << " stored a patch twice";
+    EXPECT_EQ(testing::SqliteValue(
+                  fleet.Mosaic(server),
+                  "SELECT COUNT(*) - COUNT(DISTINCT vehicle_id || '/' || sequence) FROM patches"),
+              0)
+        << server << " stored a patch twice";
   }
 }
 
@@ -74,7 +77,8 @@ TEST(MultiHost, TheFleetTracksAcrossHostsWithTheMosaicSplitBetweenTwoServers) {
   ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 90)) << "the fleet did not come up";
   const double from = WallNow();
   Drive(30);
-  EXPECT_GE(ExpectTrackingSince(fleet, from), 1) << "no vehicle crossed between the servers' regions";
+  EXPECT_GE(ExpectTrackingSince(fleet, from), 1)
+      << "no vehicle crossed between the servers' regions";
 
   const nlohmann::json status = fleet.Status();
   auto services = ServicesById(status);
@@ -82,7 +86,8 @@ TEST(MultiHost, TheFleetTracksAcrossHostsWithTheMosaicSplitBetweenTwoServers) {
     ASSERT_TRUE(services.count(id)) << status.dump(1);
     std::printf("%s: %s\n", id, services[id]["counters"].dump().c_str());
     EXPECT_GT(services[id]["counters"].value("tiles_served", 0), 0) << id;
-    EXPECT_GT(services[id]["counters"].value("tiles_not_owned", 0), 0) << id << " saw no request for the other's tiles";
+    EXPECT_GT(services[id]["counters"].value("tiles_not_owned", 0), 0)
+        << id << " saw no request for the other's tiles";
   }
   EXPECT_EQ(status["mosaics"].size(), 2u);
   EXPECT_EQ(fleet.IpFragmentsCreated(), 0) << "DDS messages larger than the link MTU";
@@ -176,17 +181,21 @@ TEST(MultiHost, MapServerKilledAndRestartedWhileStreaming) {
   Drive(5);
   EXPECT_EQ(fleet.Stop("ms-east", SIGKILL), 128 + SIGKILL);
   // The vehicles name the dead server; the supervisor raises it.
-  EXPECT_TRUE(Eventually([&] {
-    const nlohmann::json fleet_now = fleet.Api("/api/fleet");
-    int naming = 0;
-    for (const nlohmann::json& v : fleet_now.value("vehicles", nlohmann::json::array())) {
-      naming += v["health"].is_object() && !v["health"].value("map_server_reachable", true);
-    }
-    return naming == 2;
-  }, 20)) << "the vehicles did not notice the dead map server";
+  EXPECT_TRUE(Eventually(
+      [&] {
+        const nlohmann::json fleet_now = fleet.Api("/api/fleet");
+        int naming = 0;
+        for (const nlohmann::json& v : fleet_now.value("vehicles", nlohmann::json::array())) {
+          naming += v["health"].is_object() && !v["health"].value("map_server_reachable", true);
+        }
+        return naming == 2;
+      },
+      20))
+      << "the vehicles did not notice the dead map server";
   Drive(10);  // driving on: ms-west's tiles still stream, ms-east's come from the cache or wait
   fleet.Start("ms-east");
-  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60)) << "the fleet did not return to tracking";
+  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60))
+      << "the fleet did not return to tracking";
   const double from = WallNow();
   Drive(15);
   ExpectTrackingSince(fleet, from);
@@ -204,13 +213,15 @@ TEST(MultiHost, SupervisorAndAgentKilledAndRestarted) {
   Drive(5);
   EXPECT_EQ(fleet.Stop("sup", SIGKILL), 128 + SIGKILL);
   fleet.Start("sup");
-  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60)) << "the supervisor did not see the fleet again";
+  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60))
+      << "the supervisor did not see the fleet again";
   const auto [locks, xs] = fleet.Trace("agv-1", before - 5);
   EXPECT_GT(locks.size(), 3u) << "history from before the supervisor's restart is gone";
 
   EXPECT_EQ(fleet.Stop("agv-1", SIGKILL), 128 + SIGKILL);
   fleet.Start("agv-1");  // same configuration and outbox
-  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60)) << "agv-1 did not return to tracking";
+  ASSERT_TRUE(Eventually([&] { return fleet.AllTracking(); }, 60))
+      << "agv-1 did not return to tracking";
   const double from = WallNow();
   Drive(10);
   ExpectTrackingSince(fleet, from);

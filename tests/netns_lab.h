@@ -60,11 +60,13 @@ class NetnsLab {
   // Runs a shell `command` inside `host`; its standard output (empty on failure).
   std::string Capture(const std::string& host, const std::string& command) const {
     std::string out;
-    FILE* pipe = ::popen(("ip netns exec " + Namespace(host) + " " + command + " 2>/dev/null").c_str(), "r");
+    FILE* pipe =
+        ::popen(("ip netns exec " + Namespace(host) + " " + command + " 2>/dev/null").c_str(), "r");
     if (pipe == nullptr) return out;
     std::array<char, 4096> buffer{};
     size_t n = 0;
-    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) out.append(buffer.data(), n);
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+      out.append(buffer.data(), n);
     return ::pclose(pipe) == 0 ? out : std::string();
   }
   // The IP counter `name` of `host` (a column of the "Ip:" lines of its /proc/net/snmp, e.g.
@@ -84,7 +86,9 @@ class NetnsLab {
   }
   // Packet loss and delay on everything `host` sends (`spec`: tc netem parameters, e.g.
   // "delay 30ms 10ms loss 3%"); false where the kernel has no netem (see Shape).
-  bool Netem(const std::string& host, const std::string& spec) { return Shape(host, "netem " + spec); }
+  bool Netem(const std::string& host, const std::string& spec) {
+    return Shape(host, "netem " + spec);
+  }
   // Any root qdisc on `host`'s link (e.g. "tbf rate 20mbit burst 32kb latency 20ms").
   bool Shape(const std::string& host, const std::string& qdisc) {
     return Run("ip netns exec " + Namespace(host) + " tc qdisc replace dev eth0 root " + qdisc);
@@ -130,8 +134,10 @@ class NetnsLab {
     return status == 0;
   }
   bool AddHost(const std::string& name, const std::string& address) {
-    const std::string ns = Namespace(name), net = Namespace("net"), in = "ip netns exec " + ns + " ";
-    const std::string peer = "v" + std::to_string(namespaces_.size()) + "-" + prefix_;  // <= 15 chars
+    const std::string ns = Namespace(name), net = Namespace("net"),
+                      in = "ip netns exec " + ns + " ";
+    const std::string peer =
+        "v" + std::to_string(namespaces_.size()) + "-" + prefix_;  // <= 15 chars
     if (!Run("ip netns add " + ns)) return false;
     namespaces_.push_back(ns);
     hosts_.push_back(name);

@@ -21,8 +21,9 @@ void TakePoses(PoseReader& reader, std::vector<transport::PoseReport>* published
 // The published pose stamped at frame time `t` (to 2 ns), or nullptr.
 inline const transport::PoseReport* PoseAt(const std::vector<transport::PoseReport>& published,
                                            double t) {
-  const auto it = std::find_if(published.begin(), published.end(),
-                               [&](const transport::PoseReport& r) { return std::abs(r.t - t) < 2e-9; });
+  const auto it =
+      std::find_if(published.begin(), published.end(),
+                   [&](const transport::PoseReport& r) { return std::abs(r.t - t) < 2e-9; });
   return it == published.end() ? nullptr : &*it;
 }
 

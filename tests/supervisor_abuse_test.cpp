@@ -200,7 +200,8 @@ TEST(SupervisorAbuse, OneAddressCannotTakeEveryConnection) {
   std::vector<int> idle;
   for (int i = 0; i < 6; ++i) idle.push_back(ConnectFrom(port, "127.0.0.2"));
   for (int fd : idle) ASSERT_GE(fd, 0);
-  ASSERT_TRUE(testing::Eventually([&] { return Stats(http).value("http_connections_open", 0) >= 6; }));
+  ASSERT_TRUE(
+      testing::Eventually([&] { return Stats(http).value("http_connections_open", 0) >= 6; }));
   EXPECT_EQ(FirstLine(port, request, "127.0.0.2"), "HTTP/1.1 503 Service Unavailable");
   EXPECT_EQ(FirstLine(port, request, "127.0.0.3"), "HTTP/1.1 200 OK");
   EXPECT_EQ(FirstLine(port, request), "HTTP/1.1 200 OK");

@@ -25,19 +25,23 @@ class SupervisorProcess {
     const std::string token_file = (dir / "token").string();
     std::ofstream(token_file) << token << "\n";
     // The supervisor refuses a token file group or others may read.
-    std::filesystem::permissions(token_file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+    std::filesystem::permissions(
+        token_file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
     const std::string port_file = (dir / "port").string();
     std::filesystem::remove(port_file);
-    std::vector<std::string> args = {"--domain", std::to_string(domain), "--history",
-                                     (dir / "history.db").string(), "--http-port", "0",
-                                     "--port-file", port_file, "--token-file", token_file};
+    std::vector<std::string> args = {"--domain",     std::to_string(domain),
+                                     "--history",    (dir / "history.db").string(),
+                                     "--http-port",  "0",
+                                     "--port-file",  port_file,
+                                     "--token-file", token_file};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
     process_ = std::make_unique<runtime::ChildProcess>(
         StartDaemon("fleet_supervisor", args, (dir / "fleet_supervisor.log").string()));
     EXPECT_TRUE(Eventually([&] {
       std::ifstream in(port_file);
       return static_cast<bool>(in >> port_) && port_ > 0;
-    })) << "the supervisor never wrote its port; log: " << ReadWhole(dir / "fleet_supervisor.log");
+    })) << "the supervisor never wrote its port; log: "
+        << ReadWhole(dir / "fleet_supervisor.log");
   }
   ~SupervisorProcess() {
     if (process_) {
@@ -45,7 +49,8 @@ class SupervisorProcess {
     }
   }
 
-  // Kills the supervisor without letting it clean up (SIGKILL); the destructor then has nothing to stop.
+  // Kills the supervisor without letting it clean up (SIGKILL); the destructor then has nothing to
+  // stop.
   void Crash() {
     process_->Stop(SIGKILL);
     process_.reset();

@@ -3,11 +3,6 @@
 // 4xx JSON error, counted, never a crash) and across a restart (history and vehicles survive).
 // Eigen (through pose_messages.h) before httplib: <resolv.h> defines a macro `_res` that
 // breaks Eigen's headers when included first.
-#include "fake_vehicle.h"
-#include "supervisor_fixture.h"
-#include "transport/pose_messages.h"
-#include "transport/vehicle_streams.h"
-
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -16,6 +11,11 @@
 
 #include <future>
 #include <nlohmann/json.hpp>
+
+#include "fake_vehicle.h"
+#include "supervisor_fixture.h"
+#include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {
@@ -89,24 +89,34 @@ TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
   const std::string good = R"({"region": [0, 0, 0.1, 0.1], "mode": "blend"})";
   const httplib::Headers right = {{"Authorization", "Bearer tok-5551-5551-5551"}};
   EXPECT_EQ(Status(http.Post("/api/remap", good, "application/json")).first, 401);
-  EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "Bearer nope"}}, good, "application/json")).first, 403);
-  EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "tok-5551-5551-5551"}}, good, "application/json")).first, 401);
+  EXPECT_EQ(
+      Status(http.Post("/api/remap", {{"Authorization", "Bearer nope"}}, good, "application/json"))
+          .first,
+      403);
+  EXPECT_EQ(Status(http.Post("/api/remap", {{"Authorization", "tok-5551-5551-5551"}}, good,
+                             "application/json"))
+                .first,
+            401);
   EXPECT_EQ(Status(http.Get("/api/auth", {{"Authorization", "Bearer nope"}})).first, 403);
   EXPECT_EQ(Status(http.Get("/api/auth", right)).first, 200);
-  for (const std::string bad : {"{not json", "[1,2]", R"({"region": [0, 0, 1]})", R"({"region": [0, 0, "a", 1]})",
-                                R"({"region": [0, 0, 1, 1], "mode": "melt"})", R"({"region": [1, 1, 0, 0]})"}) {
+  for (const std::string bad :
+       {"{not json", "[1,2]", R"({"region": [0, 0, 1]})", R"({"region": [0, 0, "a", 1]})",
+        R"({"region": [0, 0, 1, 1], "mode": "melt"})", R"({"region": [1, 1, 0, 0]})"}) {
     const auto [status, error] = Status(http.Post("/api/remap", right, bad, "application/json"));
     EXPECT_TRUE(status == 400 || status == 503) << bad << " -> " << status;
     EXPECT_FALSE(error.empty()) << bad;
   }
-  EXPECT_EQ(Status(http.Post("/api/remap", right, good, "application/json")).first, 503);  // no map server
+  EXPECT_EQ(Status(http.Post("/api/remap", right, good, "application/json")).first,
+            503);  // no map server
   // A mistyped key is refused by name, not ignored (issue 22; it had started a blend re-map).
   const auto [typo_status, typo_error] =
       Status(http.Post("/api/remap", right, R"({"region": [0, 0, 0.1, 0.1], "mdoe": "replace"})",
                        "application/json"));
   EXPECT_EQ(typo_status, 400);
   EXPECT_NE(typo_error.find("'mdoe'"), std::string::npos) << typo_error;
-  EXPECT_EQ(Status(http.Post("/api/remap", right, std::string(100000, ' '), "application/json")).first, 413);
+  EXPECT_EQ(
+      Status(http.Post("/api/remap", right, std::string(100000, ' '), "application/json")).first,
+      413);
   EXPECT_EQ(RawRequest(supervisor.port(), "GARBAGE\r\n\r\n").substr(0, 12), "HTTP/1.1 400");
 
   // A peer of another wire version is rejected and counted, not shown.
@@ -126,7 +136,8 @@ TEST(SupervisorHttp, BadInputGetsAClearFourHundredAndIsCounted) {
   auto status = std::async(std::launch::async, [] {
     return testing::RunFleetctl("status --json --wait 1.5 --domain " + std::to_string(kDomain));
   });
-  while (status.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) vehicle.Publish(0.6);
+  while (status.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready)
+    vehicle.Publish(0.6);
   const testing::CommandResult r = status.get();
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json fleet = json::parse(r.out);
@@ -161,10 +172,13 @@ TEST(SupervisorHttp, HistoryAndVehiclesSurviveARestart) {
   EXPECT_GE(h["poses"]["t"].size(), 3u) << history->body;
   EXPECT_GE(h["health"]["t"].size(), 3u);
   // Not heard from since the restart: silent, with a stored alert.
-  ASSERT_TRUE(testing::Eventually([&] {
-    auto alerts = http.Get("/api/alerts?active=1&vehicle=agv-r1");
-    return alerts && json::parse(alerts->body)["history"].size() == 1;
-  }, 10)) << http.Get("/api/alerts")->body;
+  ASSERT_TRUE(testing::Eventually(
+      [&] {
+        auto alerts = http.Get("/api/alerts?active=1&vehicle=agv-r1");
+        return alerts && json::parse(alerts->body)["history"].size() == 1;
+      },
+      10))
+      << http.Get("/api/alerts")->body;
 }
 
 }  // namespace

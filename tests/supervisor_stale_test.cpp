@@ -2,15 +2,15 @@
 // supervisor's fleet summary (not counted as tracking), its health, its alerts and in
 // `fleetctl status --supervisor`; /healthz and /readyz answer while the supervisor runs.
 // Eigen (through pose_messages.h) before httplib: see supervisor_http_test.cpp.
-#include "cli_runner.h"
-#include "fake_vehicle.h"
-#include "supervisor_fixture.h"
-#include "transport/pose_messages.h"
-
 #include <gtest/gtest.h>
 #include <httplib.h>
 
 #include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "fake_vehicle.h"
+#include "supervisor_fixture.h"
+#include "transport/pose_messages.h"
 
 namespace fleetloc {
 namespace {
@@ -52,7 +52,8 @@ TEST(SupervisorStale, AVehicleThatStopsPublishingIsStaleEverywhere) {
   EXPECT_EQ(json::parse(live.out)["vehicles"][0]["silent"], false) << live.out;
 
   // The vehicle stops: after the silence time (3 s by default) it is STALE.
-  ASSERT_TRUE(testing::Eventually([&] { return Get(http, "/api/fleet")["summary"].value("silent", 0) == 1; }, 10))
+  ASSERT_TRUE(testing::Eventually(
+      [&] { return Get(http, "/api/fleet")["summary"].value("silent", 0) == 1; }, 10))
       << Get(http, "/api/fleet").dump();
   fleet = Get(http, "/api/fleet");
   EXPECT_EQ(fleet["summary"]["tracking"], 0) << fleet.dump();
@@ -76,7 +77,8 @@ TEST(SupervisorStale, AVehicleThatStopsPublishingIsStaleEverywhere) {
   testing::CommandResult none = testing::RunFleetctl("status --supervisor http://127.0.0.1:1");
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("http://127.0.0.1:1"), std::string::npos) << none.err;
-  EXPECT_TRUE(testing::IsBadInput(testing::RunFleetctl("status --supervisor ftp://x"), {"ftp://x"}));
+  EXPECT_TRUE(
+      testing::IsBadInput(testing::RunFleetctl("status --supervisor ftp://x"), {"ftp://x"}));
 }
 
 }  // namespace

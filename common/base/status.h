@@ -31,10 +31,13 @@ class [[nodiscard]] Status {
   // Exit status per docs/formats.md: 0 success, 2 bad input, 1 otherwise.
   int ExitCode() const {
     switch (code_) {
-      case StatusCode::kOk: return 0;
+      case StatusCode::kOk:
+        return 0;
       case StatusCode::kInvalidInput:
-      case StatusCode::kNotFound: return 2;
-      default: return 1;
+      case StatusCode::kNotFound:
+        return 2;
+      default:
+        return 1;
     }
   }
 
@@ -53,7 +56,7 @@ inline Status Internal(std::string message) { return {StatusCode::kInternal, std
 template <typename T>
 class [[nodiscard]] Result {
  public:
-  Result(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
+  Result(T value) : value_(std::move(value)) {}         // NOLINT: implicit by design
   Result(Status status) : status_(std::move(status)) {  // NOLINT: implicit by design
     if (status_.ok()) {
       std::cerr << "Result constructed from an ok Status without a value\n";
@@ -93,18 +96,18 @@ Status AssignTo(Result<T> result, Ptr* out) {
 }
 
 // Aborts with a message when a programmer's invariant is broken.
-#define FLEETLOC_CHECK(cond)                                                          \
-  do {                                                                                \
-    if (!(cond)) {                                                                    \
-      std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n";     \
-      std::abort();                                                                   \
-    }                                                                                 \
+#define FLEETLOC_CHECK(cond)                                                     \
+  do {                                                                           \
+    if (!(cond)) {                                                               \
+      std::cerr << __FILE__ << ":" << __LINE__ << ": check failed: " #cond "\n"; \
+      std::abort();                                                              \
+    }                                                                            \
   } while (0)
 
-#define FLEETLOC_RETURN_IF_ERROR(expr)        \
-  do {                                        \
-    ::fleetloc::Status _st = (expr);          \
-    if (!_st.ok()) return _st;                \
+#define FLEETLOC_RETURN_IF_ERROR(expr) \
+  do {                                 \
+    ::fleetloc::Status _st = (expr);   \
+    if (!_st.ok()) return _st;         \
   } while (0)
 
 }  // namespace fleetloc

@@ -65,15 +65,18 @@ TEST(Calibration, RectifiedFloorViewIsAnExactSquareGrid) {
   int cells = 0;
   for (int r = 0; r + 1 < board.inner_corners.height; ++r) {
     for (int c = 0; c + 1 < board.inner_corners.width; ++c) {
-      const cv::Point2f p = (*grid)[r * 9 + c], right = (*grid)[r * 9 + c + 1], down = (*grid)[(r + 1) * 9 + c];
+      const cv::Point2f p = (*grid)[r * 9 + c], right = (*grid)[r * 9 + c + 1],
+                        down = (*grid)[(r + 1) * 9 + c];
       const cv::Point2f dx = right - p, dy = down - p;
-      worst_spacing = std::max({worst_spacing, std::abs(cv::norm(dx) - 50.0), std::abs(cv::norm(dy) - 50.0)});
-      const double angle_error = std::abs(std::acos(dx.dot(dy) / (cv::norm(dx) * cv::norm(dy))) - M_PI / 2);
+      worst_spacing =
+          std::max({worst_spacing, std::abs(cv::norm(dx) - 50.0), std::abs(cv::norm(dy) - 50.0)});
+      const double angle_error =
+          std::abs(std::acos(dx.dot(dy) / (cv::norm(dx) * cv::norm(dy))) - M_PI / 2);
       worst_angle = std::max(worst_angle, angle_error);
       sum_angle += angle_error, ++cells;
     }
   }
-  EXPECT_LT(worst_spacing, 1.0);                   // < 2 % of a square
+  EXPECT_LT(worst_spacing, 1.0);  // < 2 % of a square
   // Square corners: on average within 0.5° (0.4 px over a 50 px side, the corner detector's noise
   // on this oblique, upsampled view); the worst cell within 1.5°.
   EXPECT_LT(sum_angle / cells * 180 / M_PI, 0.5) << "worst " << worst_angle * 180 / M_PI;

@@ -34,7 +34,8 @@ std::optional<std::vector<cv::Point2f>> FindChessboard(const cv::Mat& gray, cv::
   return corners;
 }
 
-Result<Intrinsics> CalibrateIntrinsics(const std::vector<cv::Mat>& views, const ChessboardSpec& board) {
+Result<Intrinsics> CalibrateIntrinsics(const std::vector<cv::Mat>& views,
+                                       const ChessboardSpec& board) {
   std::vector<std::vector<cv::Point3f>> object_points;
   std::vector<std::vector<cv::Point2f>> image_points;
   cv::Size size;

@@ -20,7 +20,7 @@ struct Intrinsics {
   cv::Matx33d K;
   std::vector<double> dist;  // k1, k2, p1, p2, k3
   cv::Size image_size;
-  double rms_px = 0;         // reprojection RMS over every corner of every used view
+  double rms_px = 0;  // reprojection RMS over every corner of every used view
   int views = 0;
 };
 

@@ -27,7 +27,7 @@ struct CameraStats {
   // samples after an open or a clock restart), so no frame carries a capture time late by its
   // whole transfer delay (measured: 53 ms under load); not a drop.
   long long clock_settling = 0;
-  std::string last_drop;         // why the last frame was dropped
+  std::string last_drop;  // why the last frame was dropped
 };
 
 class CameraSource {

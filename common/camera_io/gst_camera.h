@@ -3,8 +3,8 @@
 // files (`multifilesrc ...`); the pipeline must contain an appsink. Frames are stamped with the
 // buffer's timestamp (PTS, for a live source its capture time) on the pipeline's clock mapped to
 // the host clock, with the arrival time when the buffer carries none, as a device clock (a
-// camera's own timestamps) mapped to the host clock, or on the frame-rate grid of a recorded run. Grab waits at most its timeout, so a stalled pipeline is seen (and reopened by
-// the live input).
+// camera's own timestamps) mapped to the host clock, or on the frame-rate grid of a recorded run.
+// Grab waits at most its timeout, so a stalled pipeline is seen (and reopened by the live input).
 #pragma once
 
 #include <memory>
@@ -30,9 +30,10 @@ struct GstOptions {
   // do-timestamp stamps each buffer with the camera's timestamp since its first frame), mapped to
   // the host clock by the smallest arrival delay (timing::ClockMapper; the frames
   // before the mapping has seen kClockSettleFrames after a start or a clock restart only feed
-  // it and are withheld; a buffer without PTS is dropped); "arrival": when it reached us; "frame_rate": the n-th frame
-  // (from 0) at epoch_s + n / the caps' framerate, as multifilesrc stamps its buffers (files of a
-  // recorded run whose first frame's time is known: its frames keep their recorded times).
+  // it and are withheld; a buffer without PTS is dropped); "arrival": when it reached us;
+  // "frame_rate": the n-th frame (from 0) at epoch_s + n / the caps' framerate, as multifilesrc
+  // stamps its buffers (files of a recorded run whose first frame's time is known: its frames keep
+  // their recorded times).
   std::string timestamps = "buffer";
   double epoch_s = 0.0;
 };
@@ -74,8 +75,8 @@ class GstCamera : public CameraSource {
   GstElement* pipeline_ = nullptr;
   GstAppSink* sink_ = nullptr;
   CameraStats stats_;
-  double fps_ = 0.0;    // the caps' framerate (frame_rate timestamps)
-  long long read_ = 0;  // samples pulled since the pipeline started
+  double fps_ = 0.0;           // the caps' framerate (frame_rate timestamps)
+  long long read_ = 0;         // samples pulled since the pipeline started
   timing::ClockMapper clock_;  // device timestamps
 };
 

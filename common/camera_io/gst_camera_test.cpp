@@ -55,10 +55,11 @@ TEST(GstCamera, ALiveSourcesBufferTimestampsArePtsOnTheHostClock) {
 
 TEST(GstCamera, DeviceTimestampsAreMappedToTheHostClockBySmallestDelay) {
   // PTS an hour ahead of the pipeline's running time: a clock of the camera's own.
-  auto camera = OpenOrDie({"videotestsrc is-live=true num-buffers=8 timestamp-offset=3600000000000 ! "
-                           "video/x-raw,format=GRAY8,width=64,height=48,framerate=20/1 ! "
-                           "appsink sync=false",
-                           "device"});
+  auto camera =
+      OpenOrDie({"videotestsrc is-live=true num-buffers=8 timestamp-offset=3600000000000 ! "
+                 "video/x-raw,format=GRAY8,width=64,height=48,framerate=20/1 ! "
+                 "appsink sync=false",
+                 "device"});
   ASSERT_TRUE(camera);
   std::vector<double> t;
   for (int grabs = 0; grabs < 8; ++grabs) {

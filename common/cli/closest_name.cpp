@@ -13,13 +13,15 @@ int EditDistance(const std::string& a, const std::string& b) {
     for (size_t j = 1; j <= b.size(); ++j) {
       const int cost = a[i - 1] == b[j - 1] ? 0 : 1;
       d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
     }
   }
   return d[a.size()][b.size()];
 }
 
-std::optional<std::string> ClosestName(const std::string& typed, const std::vector<std::string>& candidates) {
+std::optional<std::string> ClosestName(const std::string& typed,
+                                       const std::vector<std::string>& candidates) {
   if (typed.empty()) return std::nullopt;
   std::optional<std::string> best;
   int best_distance = 0;

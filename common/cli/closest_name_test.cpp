@@ -6,13 +6,14 @@
 namespace fleetloc::cli {
 namespace {
 
-const std::vector<std::string> kCommands = {"mosaic", "sim", "track", "mapmatch", "reloc", "status", "remap", "calibrate"};
+const std::vector<std::string> kCommands = {"mosaic", "sim",    "track", "mapmatch",
+                                            "reloc",  "status", "remap", "calibrate"};
 
 TEST(ClosestName, TyposFindTheirCommand) {
-  EXPECT_EQ(ClosestName("stauts", kCommands), "status");   // transposition
-  EXPECT_EQ(ClosestName("trak", kCommands), "track");      // deletion
-  EXPECT_EQ(ClosestName("mosaik", kCommands), "mosaic");   // substitution
-  EXPECT_EQ(ClosestName("calib", kCommands), "calibrate"); // prefix
+  EXPECT_EQ(ClosestName("stauts", kCommands), "status");    // transposition
+  EXPECT_EQ(ClosestName("trak", kCommands), "track");       // deletion
+  EXPECT_EQ(ClosestName("mosaik", kCommands), "mosaic");    // substitution
+  EXPECT_EQ(ClosestName("calib", kCommands), "calibrate");  // prefix
   EXPECT_EQ(ClosestName("mapmach", kCommands), "mapmatch");
 }
 

@@ -11,7 +11,8 @@ namespace {
 
 // The first command-line word that names no subcommand where one is expected, with the nearest
 // subcommand name; nullopt when every word before the first option is a known subcommand.
-std::optional<std::pair<std::string, std::string>> MistypedSubcommand(const CLI::App& app, int argc, char** argv) {
+std::optional<std::pair<std::string, std::string>> MistypedSubcommand(const CLI::App& app, int argc,
+                                                                      char** argv) {
   const CLI::App* level = &app;
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
@@ -41,7 +42,8 @@ void AddVersionFlag(CLI::App& app, const std::string& program) {
   app.set_version_flag("--version", program + " " + Version(), "Print the version and exit");
 }
 
-std::optional<int> ParseCommandLine(CLI::App& app, const std::string& program, int argc, char** argv) {
+std::optional<int> ParseCommandLine(CLI::App& app, const std::string& program, int argc,
+                                    char** argv) {
   AddVersionFlag(app, program);
   try {
     app.parse(argc, argv);
@@ -49,8 +51,8 @@ std::optional<int> ParseCommandLine(CLI::App& app, const std::string& program, i
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
     if (auto typo = MistypedSubcommand(app, argc, argv)) {
-      std::cerr << program << ": unknown command '" << typo->first << "' (did you mean '" << typo->second
-                << "'?); see " << program << " --help\n";
+      std::cerr << program << ": unknown command '" << typo->first << "' (did you mean '"
+                << typo->second << "'?); see " << program << " --help\n";
       return 2;
     }
     std::cerr << program << ": " << e.what() << "; see " << program << " --help\n";

@@ -18,6 +18,7 @@ void AddVersionFlag(CLI::App& app, const std::string& program);
 
 // Parses argv into `app`. nullopt: parsed, go on; else the process should exit with that status
 // (0 after --help or --version, 2 after a usage error, which has been printed).
-std::optional<int> ParseCommandLine(CLI::App& app, const std::string& program, int argc, char** argv);
+std::optional<int> ParseCommandLine(CLI::App& app, const std::string& program, int argc,
+                                    char** argv);
 
 }  // namespace fleetloc::cli

@@ -10,8 +10,8 @@
 namespace fleetloc::fleet {
 
 struct HysteresisOptions {
-  double raise_above = 1.0;   // raised after the value is > raise_above for raise_after_s
-  double clear_below = 0.5;   // cleared after the value is < clear_below for clear_after_s
+  double raise_above = 1.0;  // raised after the value is > raise_above for raise_after_s
+  double clear_below = 0.5;  // cleared after the value is < clear_below for clear_after_s
   double raise_after_s = 0.0;
   double clear_after_s = 0.0;
 };

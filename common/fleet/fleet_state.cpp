@@ -8,7 +8,8 @@ namespace fleetloc::fleet {
 FleetState::Entry& FleetState::Touch(const std::string& vehicle_id) {
   auto it = entries_.find(vehicle_id);
   if (it == entries_.end()) {
-    it = entries_.emplace(vehicle_id, Entry{VehicleState{}, VehicleAlerts(alert_options_), {}}).first;
+    it = entries_.emplace(vehicle_id, Entry{VehicleState{}, VehicleAlerts(alert_options_), {}})
+             .first;
     it->second.state.id = vehicle_id;
   }
   return it->second;
@@ -43,21 +44,21 @@ std::vector<AlertChange> FleetState::Evaluate(double now) {
   std::vector<AlertChange> changes;
   for (auto& [id, entry] : entries_) {
     const VehicleState& v = entry.state;
-    entry.alerts.Evaluate(now, v.last_seen, v.pose, v.health,
-                          [&, &id = id, &entry = entry](AlertKind kind, bool raised,
-                                                          const std::string& message) {
-                            if (raised) {
-                              Alert alert{0, id, kind, SeverityOf(kind), now, std::nullopt, message};
-                              entry.open[kind] = alert;
-                              changes.push_back(alert);
-                              return;
-                            }
-                            auto open = entry.open.find(kind);
-                            if (open == entry.open.end()) return;
-                            open->second.cleared_t = now;
-                            changes.push_back(open->second);
-                            entry.open.erase(open);
-                          });
+    entry.alerts.Evaluate(
+        now, v.last_seen, v.pose, v.health,
+        [&, &id = id, &entry = entry](AlertKind kind, bool raised, const std::string& message) {
+          if (raised) {
+            Alert alert{0, id, kind, SeverityOf(kind), now, std::nullopt, message};
+            entry.open[kind] = alert;
+            changes.push_back(alert);
+            return;
+          }
+          auto open = entry.open.find(kind);
+          if (open == entry.open.end()) return;
+          open->second.cleared_t = now;
+          changes.push_back(open->second);
+          entry.open.erase(open);
+        });
   }
   return changes;
 }
@@ -114,10 +115,18 @@ FleetSummary FleetState::Summary() const {
       ++s.unknown;
     } else {
       switch (pose->lock) {
-        case localization::LockState::kTracking: ++s.tracking; break;
-        case localization::LockState::kCoasting: ++s.coasting; break;
-        case localization::LockState::kLost: ++s.lost; break;
-        case localization::LockState::kRelocalized: ++s.relocalized; break;
+        case localization::LockState::kTracking:
+          ++s.tracking;
+          break;
+        case localization::LockState::kCoasting:
+          ++s.coasting;
+          break;
+        case localization::LockState::kLost:
+          ++s.lost;
+          break;
+        case localization::LockState::kRelocalized:
+          ++s.relocalized;
+          break;
       }
     }
     for (const auto& [kind, alert] : entry.open) {

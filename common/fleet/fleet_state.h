@@ -34,8 +34,8 @@ struct VehicleState {
   std::string id;
   std::optional<PoseSample> pose;
   std::optional<HealthSample> health;
-  double last_seen = 0.0;   // supervisor clock (Unix seconds) of the newest sample
-  long long poses = 0;      // samples received
+  double last_seen = 0.0;  // supervisor clock (Unix seconds) of the newest sample
+  long long poses = 0;     // samples received
   long long healths = 0;
   std::deque<TrailPoint> trail;
 };

@@ -25,7 +25,8 @@ HealthSample Health(double t, double cycle_p95_ms, std::uint64_t drops = 0, bool
 // Feeds one vehicle a pose at 10 Hz and a health report at 1 Hz from `from` to `to` (seconds
 // after kT0), evaluating at 10 Hz; returns every alert change.
 template <typename PoseFn, typename HealthFn>
-std::vector<AlertChange> Drive(FleetState* fleet, double from, double to, PoseFn pose, HealthFn health) {
+std::vector<AlertChange> Drive(FleetState* fleet, double from, double to, PoseFn pose,
+                               HealthFn health) {
   std::vector<AlertChange> changes;
   for (int i = static_cast<int>(from * 10); i < static_cast<int>(to * 10); ++i) {
     const double t = kT0 + i / 10.0;
@@ -38,7 +39,8 @@ std::vector<AlertChange> Drive(FleetState* fleet, double from, double to, PoseFn
 
 TEST(FleetState, KeepsTheNewestPoseAndATrailAtTheTrailPeriod) {
   FleetState fleet({}, {/*period_s=*/0.5, /*length_s=*/10.0});
-  for (int i = 0; i <= 200; ++i) fleet.OnPose("agv-1", Pose(kT0 + i * 0.1, i * 0.01), kT0 + i * 0.1);
+  for (int i = 0; i <= 200; ++i)
+    fleet.OnPose("agv-1", Pose(kT0 + i * 0.1, i * 0.01), kT0 + i * 0.1);
   fleet.OnPose("agv-1", Pose(kT0 + 5.0, -1.0), kT0 + 20.1);  // late, older sample: ignored
   const VehicleState* v = fleet.Find("agv-1");
   ASSERT_NE(v, nullptr);
@@ -76,7 +78,8 @@ TEST(FleetState, ASilentVehicleIsRaisedAfterTheTimeoutAndClearedWhenItTalksAgain
 
 TEST(FleetState, AStaleVehicleIsCountedAsSilentNotByItsLastLockState) {
   FleetState fleet({}, {});
-  Drive(&fleet, 0, 5, [](double t) { return Pose(t, 1.0); }, [](double t) { return Health(t, 2.0); });
+  Drive(
+      &fleet, 0, 5, [](double t) { return Pose(t, 1.0); }, [](double t) { return Health(t, 2.0); });
   fleet.OnPose("agv-2", Pose(kT0 + 4.9, 3.0, LockState::kCoasting), kT0 + 4.9);
   EXPECT_EQ(fleet.Summary().tracking, 1);
   EXPECT_EQ(fleet.Summary().coasting, 1);
@@ -84,16 +87,21 @@ TEST(FleetState, AStaleVehicleIsCountedAsSilentNotByItsLastLockState) {
   const FleetSummary summary = fleet.Summary();
   EXPECT_EQ(summary.vehicles, 2);
   EXPECT_EQ(summary.silent, 2);
-  EXPECT_EQ(summary.tracking + summary.coasting + summary.lost + summary.relocalized + summary.unknown, 0);
+  EXPECT_EQ(
+      summary.tracking + summary.coasting + summary.lost + summary.relocalized + summary.unknown,
+      0);
 }
 
 TEST(FleetState, LostLockRaisesACriticalAlertAfterOneSecond) {
   FleetState fleet({}, {});
-  auto pose = [](double t) { return Pose(t, 1.0, t - kT0 >= 2.0 && t - kT0 < 6.0 ? LockState::kLost : LockState::kTracking); };
-  const std::vector<AlertChange> changes = Drive(&fleet, 0, 10, pose, [](double t) { return Health(t, 2.0); });
+  auto pose = [](double t) {
+    return Pose(t, 1.0, t - kT0 >= 2.0 && t - kT0 < 6.0 ? LockState::kLost : LockState::kTracking);
+  };
+  const std::vector<AlertChange> changes =
+      Drive(&fleet, 0, 10, pose, [](double t) { return Health(t, 2.0); });
   ASSERT_EQ(changes.size(), 2u);
   EXPECT_EQ(changes[0].kind, AlertKind::kLockLost);
-  EXPECT_NEAR(changes[0].raised_t - kT0, 3.0, 0.11);   // lost at 2 s, held 1 s
+  EXPECT_NEAR(changes[0].raised_t - kT0, 3.0, 0.11);    // lost at 2 s, held 1 s
   EXPECT_NEAR(*changes[1].cleared_t - kT0, 8.0, 0.11);  // tracking again at 6 s, held 2 s
 }
 
@@ -105,7 +113,8 @@ TEST(FleetState, GrowingUncertaintyRaisesAWarningAndClearsWithHysteresis) {
     return Pose(t, 1.0, s < 8 ? LockState::kCoasting : LockState::kTracking,
                 s < 8 ? 0.001 + 0.005 * s : 0.001);
   };
-  const std::vector<AlertChange> changes = Drive(&fleet, 0, 15, pose, [](double t) { return Health(t, 2.0); });
+  const std::vector<AlertChange> changes =
+      Drive(&fleet, 0, 15, pose, [](double t) { return Health(t, 2.0); });
   ASSERT_EQ(changes.size(), 2u);
   EXPECT_EQ(changes[0].kind, AlertKind::kUncertainty);
   EXPECT_EQ(changes[0].severity, Severity::kWarning);
@@ -121,15 +130,17 @@ TEST(FleetState, CycleOverrunCameraDropsAndUnreachableMapServer) {
     const std::uint64_t drops = s < 4 ? 0 : static_cast<std::uint64_t>(3 * (std::min(s, 6.0) - 4));
     return Health(t, s >= 2 && s < 9 ? 80.0 : 2.0, drops, s < 3);
   };
-  const std::vector<AlertChange> changes = Drive(&fleet, 0, 25, [](double t) { return Pose(t, 1.0); }, health);
+  const std::vector<AlertChange> changes = Drive(
+      &fleet, 0, 25, [](double t) { return Pose(t, 1.0); }, health);
   std::map<AlertKind, std::vector<AlertChange>> by_kind;
   for (const AlertChange& c : changes) by_kind[c.kind].push_back(c);
   ASSERT_EQ(by_kind[AlertKind::kCycleOverrun].size(), 2u);
-  EXPECT_NEAR(by_kind[AlertKind::kCycleOverrun][0].raised_t - kT0, 5.0, 0.11);  // 2 s + 3 s hold
+  EXPECT_NEAR(by_kind[AlertKind::kCycleOverrun][0].raised_t - kT0, 5.0, 0.11);     // 2 s + 3 s hold
   EXPECT_NEAR(*by_kind[AlertKind::kCycleOverrun][1].cleared_t - kT0, 14.0, 0.11);  // 9 s + 5 s
   ASSERT_EQ(by_kind[AlertKind::kCameraDrops].size(), 2u);
   EXPECT_NEAR(by_kind[AlertKind::kCameraDrops][0].raised_t - kT0, 5.0, 0.11);  // first rate at 5 s
-  EXPECT_NEAR(*by_kind[AlertKind::kCameraDrops][1].cleared_t - kT0, 17.0, 0.11);  // rate 0 at 7 s + 10 s
+  EXPECT_NEAR(*by_kind[AlertKind::kCameraDrops][1].cleared_t - kT0, 17.0,
+              0.11);  // rate 0 at 7 s + 10 s
   ASSERT_EQ(by_kind[AlertKind::kMapServerUnreachable].size(), 1u);
   EXPECT_NEAR(by_kind[AlertKind::kMapServerUnreachable][0].raised_t - kT0, 6.0, 0.11);
   const FleetSummary summary = fleet.Summary();
@@ -144,7 +155,8 @@ TEST(FleetState, RestoredOpenAlertsStayActiveAndAreNotRaisedTwice) {
   v.pose = Pose(kT0, 3.0);
   v.last_seen = kT0;
   fleet.Restore(v);
-  fleet.RestoreAlert({17, "agv-9", AlertKind::kSilent, Severity::kCritical, kT0 + 3, std::nullopt, "silent"});
+  fleet.RestoreAlert(
+      {17, "agv-9", AlertKind::kSilent, Severity::kCritical, kT0 + 3, std::nullopt, "silent"});
   EXPECT_TRUE(fleet.Evaluate(kT0 + 100).empty());
   ASSERT_EQ(fleet.ActiveAlerts().size(), 1u);
   EXPECT_EQ(fleet.ActiveAlerts()[0].id, 17);

@@ -7,8 +7,9 @@ namespace fleetloc::fleet {
 
 namespace {
 
-constexpr const char* kKindNames[kAlertKinds] = {"silent",        "lock_lost",    "uncertainty",
-                                                 "cycle_overrun", "camera_drops", "map_server_unreachable"};
+constexpr const char* kKindNames[kAlertKinds] = {"silent",       "lock_lost",
+                                                 "uncertainty",  "cycle_overrun",
+                                                 "camera_drops", "map_server_unreachable"};
 
 std::string Format(const char* format, double value) {
   char text[96];
@@ -33,15 +34,19 @@ const char* SeverityName(Severity severity) {
 
 Severity SeverityOf(AlertKind kind) {
   return kind == AlertKind::kSilent || kind == AlertKind::kLockLost ? Severity::kCritical
-                                                                     : Severity::kWarning;
+                                                                    : Severity::kWarning;
 }
 
 const char* HealthLevelName(HealthLevel level) {
   switch (level) {
-    case HealthLevel::kOk: return "ok";
-    case HealthLevel::kWarn: return "warn";
-    case HealthLevel::kError: return "error";
-    case HealthLevel::kStale: return "stale";
+    case HealthLevel::kOk:
+      return "ok";
+    case HealthLevel::kWarn:
+      return "warn";
+    case HealthLevel::kError:
+      return "error";
+    case HealthLevel::kStale:
+      return "stale";
   }
   return "stale";
 }
@@ -56,8 +61,8 @@ Status Validate(const AlertOptions& o) {
 }
 
 VehicleAlerts::VehicleAlerts(const AlertOptions& o)
-    : alarms_{HysteresisAlarm(o.silent_s),      HysteresisAlarm(o.lock_lost),
-              HysteresisAlarm(o.uncertainty_m), HysteresisAlarm(o.cycle_p95_ms),
+    : alarms_{HysteresisAlarm(o.silent_s),           HysteresisAlarm(o.lock_lost),
+              HysteresisAlarm(o.uncertainty_m),      HysteresisAlarm(o.cycle_p95_ms),
               HysteresisAlarm(o.camera_drops_per_s), HysteresisAlarm(o.map_server_unreachable)} {}
 
 VehicleAlerts::Measure VehicleAlerts::Measured(AlertKind kind, double now, double last_seen,
@@ -85,9 +90,9 @@ VehicleAlerts::Measure VehicleAlerts::Measured(AlertKind kind, double now, doubl
       if (!health) return {};
       if (previous_health_ && health->t > previous_health_->t &&
           health->camera_frame_drops >= previous_health_->camera_frame_drops) {
-        drops_per_s_ = static_cast<double>(health->camera_frame_drops -
-                                           previous_health_->camera_frame_drops) /
-                       (health->t - previous_health_->t);
+        drops_per_s_ =
+            static_cast<double>(health->camera_frame_drops - previous_health_->camera_frame_drops) /
+            (health->t - previous_health_->t);
       }
       if (!previous_health_ || health->t > previous_health_->t) previous_health_ = health;
       return {drops_per_s_, Format("%.1f camera frames dropped per second", drops_per_s_)};

@@ -12,7 +12,14 @@
 
 namespace fleetloc::fleet {
 
-enum class AlertKind { kSilent, kLockLost, kUncertainty, kCycleOverrun, kCameraDrops, kMapServerUnreachable };
+enum class AlertKind {
+  kSilent,
+  kLockLost,
+  kUncertainty,
+  kCycleOverrun,
+  kCameraDrops,
+  kMapServerUnreachable
+};
 inline constexpr int kAlertKinds = 6;
 enum class Severity { kWarning, kCritical };
 
@@ -46,7 +53,7 @@ struct Alert {
   std::string vehicle_id;
   AlertKind kind = AlertKind::kSilent;
   Severity severity = Severity::kWarning;
-  double raised_t = 0.0;               // Unix seconds
+  double raised_t = 0.0;  // Unix seconds
   std::optional<double> cleared_t;
   std::string message;
 };
@@ -73,7 +80,8 @@ class VehicleAlerts {
     std::string message;
   };
   Measure Measured(AlertKind kind, double now, double last_seen,
-                   const std::optional<PoseSample>& pose, const std::optional<HealthSample>& health);
+                   const std::optional<PoseSample>& pose,
+                   const std::optional<HealthSample>& health);
 
   std::array<HysteresisAlarm, kAlertKinds> alarms_;
   std::optional<HealthSample> previous_health_;  // for the drop rate

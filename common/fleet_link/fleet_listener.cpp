@@ -34,9 +34,10 @@ Result<std::unique_ptr<FleetListener>> FleetListener::Create(const transport::Pa
   if (!poses.ok()) return poses.status();
   if (!health.ok()) return health.status();
   if (!services.ok()) return services.status();
-  return std::unique_ptr<FleetListener>(new FleetListener(
-      std::move(pose_topic).value(), std::move(health_topic).value(), std::move(service_topic).value(),
-      std::move(poses).value(), std::move(health).value(), std::move(services).value()));
+  return std::unique_ptr<FleetListener>(
+      new FleetListener(std::move(pose_topic).value(), std::move(health_topic).value(),
+                        std::move(service_topic).value(), std::move(poses).value(),
+                        std::move(health).value(), std::move(services).value()));
 }
 
 Status FleetListener::Take(Received* out) {
@@ -53,11 +54,12 @@ Status FleetListener::Take(Received* out) {
   };
   FLEETLOC_RETURN_IF_ERROR(take(poses_, PoseFromIdl, &out->poses));
   FLEETLOC_RETURN_IF_ERROR(take(health_, HealthFromIdl, &out->health));
-  Result<int> taken = services_.TakeAll([&](const fleetloc_ServiceHealth& sample, const dds_sample_info_t&) {
-    Result<ServiceReport> report = ServiceFromIdl(sample);
-    if (!report.ok()) return out->rejections.push_back(report.status().message());
-    out->services.push_back(std::move(report).value());
-  });
+  Result<int> taken =
+      services_.TakeAll([&](const fleetloc_ServiceHealth& sample, const dds_sample_info_t&) {
+        Result<ServiceReport> report = ServiceFromIdl(sample);
+        if (!report.ok()) return out->rejections.push_back(report.status().message());
+        out->services.push_back(std::move(report).value());
+      });
   return taken.ok() ? Status::Ok() : taken.status();
 }
 

@@ -43,9 +43,12 @@ class FleetListener {
                 transport::VehicleStreamReader<fleetloc_VehiclePose> poses,
                 transport::VehicleStreamReader<fleetloc_VehicleHealth> health,
                 transport::Reader<fleetloc_ServiceHealth> services)
-      : pose_topic_(std::move(pose_topic)), health_topic_(std::move(health_topic)),
-        service_topic_(std::move(service_topic)), poses_(std::move(poses)),
-        health_(std::move(health)), services_(std::move(services)) {}
+      : pose_topic_(std::move(pose_topic)),
+        health_topic_(std::move(health_topic)),
+        service_topic_(std::move(service_topic)),
+        poses_(std::move(poses)),
+        health_(std::move(health)),
+        services_(std::move(services)) {}
 
   transport::Topic<fleetloc_VehiclePose> pose_topic_;
   transport::Topic<fleetloc_VehicleHealth> health_topic_;

@@ -29,10 +29,14 @@ Status CheckHeader(unsigned short wire_version, const char (&id)[N], const char*
 
 fleet::HealthLevel LevelFromIdl(fleetloc_HealthLevel level) {
   switch (level) {
-    case fleetloc_HEALTH_OK: return fleet::HealthLevel::kOk;
-    case fleetloc_HEALTH_WARN: return fleet::HealthLevel::kWarn;
-    case fleetloc_HEALTH_ERROR: return fleet::HealthLevel::kError;
-    default: return fleet::HealthLevel::kStale;
+    case fleetloc_HEALTH_OK:
+      return fleet::HealthLevel::kOk;
+    case fleetloc_HEALTH_WARN:
+      return fleet::HealthLevel::kWarn;
+    case fleetloc_HEALTH_ERROR:
+      return fleet::HealthLevel::kError;
+    default:
+      return fleet::HealthLevel::kStale;
   }
 }
 
@@ -53,7 +57,8 @@ Result<fleet::PoseSample> PoseFromIdl(const fleetloc_VehiclePose& p) {
   for (double v : {s.t, s.x, s.y, s.theta, s.cov_xx, s.cov_xy, s.cov_yy, s.cov_tt,
                    s.localization_score, s.deviation_range_m}) {
     if (!std::isfinite(v)) {
-      return InvalidInput("VehiclePose from '" + report.vehicle_id + "': non-finite pose or covariance");
+      return InvalidInput("VehiclePose from '" + report.vehicle_id +
+                          "': non-finite pose or covariance");
     }
   }
   return s;
@@ -64,7 +69,8 @@ Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& h) {
   fleet::HealthSample s;
   s.t = transport::ToSeconds(h.stamp);
   s.level = LevelFromIdl(h.level);
-  for (uint32_t i = 0; i < h.issues._length && i < 32; ++i) s.issues.push_back(GetBounded(h.issues._buffer[i].name));
+  for (uint32_t i = 0; i < h.issues._length && i < 32; ++i)
+    s.issues.push_back(GetBounded(h.issues._buffer[i].name));
   s.lock = transport::FromIdl(h.lock_state);
   s.cycle_ms_p50 = h.cycle_ms_p50, s.cycle_ms_p95 = h.cycle_ms_p95, s.cycle_ms_p99 = h.cycle_ms_p99;
   s.inliers = static_cast<int>(h.inliers);
@@ -76,7 +82,8 @@ Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& h) {
   s.last_error = GetBounded(h.last_error);
   for (double v : {s.t, s.cycle_ms_p50, s.cycle_ms_p95, s.cycle_ms_p99, s.cache_hit_rate}) {
     if (!std::isfinite(v)) {
-      return InvalidInput("VehicleHealth from '" + GetBounded(h.vehicle_id) + "': non-finite field");
+      return InvalidInput("VehicleHealth from '" + GetBounded(h.vehicle_id) +
+                          "': non-finite field");
     }
   }
   return s;
@@ -84,8 +91,11 @@ Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& h) {
 
 Result<ServiceReport> ServiceFromIdl(const fleetloc_ServiceHealth& h) {
   FLEETLOC_RETURN_IF_ERROR(CheckHeader(h.wire_version, h.service_id, "ServiceHealth"));
-  ServiceReport report{GetBounded(h.service_id), GetBounded(h.kind), LevelFromIdl(h.level),
-                       transport::ToSeconds(h.stamp), {}};
+  ServiceReport report{GetBounded(h.service_id),
+                       GetBounded(h.kind),
+                       LevelFromIdl(h.level),
+                       transport::ToSeconds(h.stamp),
+                       {}};
   for (uint32_t i = 0; i < h.counters._length; ++i) {
     report.counters[GetBounded(h.counters._buffer[i].name)] = h.counters._buffer[i].value;
   }

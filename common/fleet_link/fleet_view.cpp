@@ -68,9 +68,14 @@ json AlertJson(const fleet::Alert& a) {
 }
 
 json SummaryJson(const fleet::FleetSummary& s) {
-  return {{"vehicles", s.vehicles}, {"tracking", s.tracking}, {"coasting", s.coasting},
-          {"lost", s.lost},         {"relocalized", s.relocalized}, {"unknown", s.unknown},
-          {"silent", s.silent},     {"critical_alerts", s.critical_alerts},
+  return {{"vehicles", s.vehicles},
+          {"tracking", s.tracking},
+          {"coasting", s.coasting},
+          {"lost", s.lost},
+          {"relocalized", s.relocalized},
+          {"unknown", s.unknown},
+          {"silent", s.silent},
+          {"critical_alerts", s.critical_alerts},
           {"warning_alerts", s.warning_alerts}};
 }
 

@@ -14,7 +14,7 @@ struct CameraModel {
   double resolution_m = 0.0005;  // metres per pixel of the rectified top view
   double cx_px = 320.0;          // principal point
   double cy_px = 240.0;
-  Pose2 mount;                   // camera_ground in base_link
+  Pose2 mount;  // camera_ground in base_link
 
   // Pixel (u, v) → camera_ground (a, b): a = -(v - cy)·res, b = -(u - cx)·res.
   Eigen::Vector2d PixelToGround(const Eigen::Vector2d& uv) const {

@@ -76,8 +76,8 @@ TEST(Pose2, PointJacobianMatchesFiniteDifferences) {
   for (int k = 0; k < 3; ++k) {
     Eigen::Vector3d d = Eigen::Vector3d::Zero();
     d[k] = 1e-6;
-    numeric.col(k) = (Pose2::FromVector(a.ToVector() + d) * p -
-                      Pose2::FromVector(a.ToVector() - d) * p) / 2e-6;
+    numeric.col(k) =
+        (Pose2::FromVector(a.ToVector() + d) * p - Pose2::FromVector(a.ToVector() - d) * p) / 2e-6;
   }
   EXPECT_TRUE(PointJacobian(a, p).isApprox(numeric, 1e-6));
 }

@@ -1,17 +1,19 @@
 // NCC template matching with sub-pixel peak and peak quality.
 #include "imaging/correlation.h"
 
-#include "imaging/fast_patch.h"
-
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
+
+#include "imaging/fast_patch.h"
 
 namespace fleetloc::imaging {
 
 SubpixelPeak RefinePeak(const cv::Mat& surface, cv::Point p) {
   CV_Assert(surface.type() == CV_32F);
   CV_Assert(p.x > 0 && p.y > 0 && p.x < surface.cols - 1 && p.y < surface.rows - 1);
-  auto f = [&](int dx, int dy) { return static_cast<double>(surface.at<float>(p.y + dy, p.x + dx)); };
+  auto f = [&](int dx, int dy) {
+    return static_cast<double>(surface.at<float>(p.y + dy, p.x + dx));
+  };
   // Second-order Taylor expansion from central differences: exact for a quadratic surface.
   const Eigen::Vector2d gradient((f(1, 0) - f(-1, 0)) / 2.0, (f(0, 1) - f(0, -1)) / 2.0);
   Eigen::Matrix2d hessian;
@@ -19,8 +21,8 @@ SubpixelPeak RefinePeak(const cv::Mat& surface, cv::Point p) {
   hessian(1, 1) = f(0, 1) - 2.0 * f(0, 0) + f(0, -1);
   hessian(0, 1) = hessian(1, 0) = (f(1, 1) - f(1, -1) - f(-1, 1) + f(-1, -1)) / 4.0;
   SubpixelPeak result;
-  const Eigen::Vector2d eigen = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
-                                    hessian, Eigen::EigenvaluesOnly).eigenvalues();
+  const Eigen::Vector2d eigen =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(hessian, Eigen::EigenvaluesOnly).eigenvalues();
   result.curvature = -eigen.maxCoeff();
   if (result.curvature <= 0.0) return result;  // not a proper maximum: keep the integer peak
   result.offset = (-hessian.inverse() * gradient).cwiseMax(-1.0).cwiseMin(1.0);

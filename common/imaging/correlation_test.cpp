@@ -68,7 +68,8 @@ TEST(MatchTemplate, PeakOnWindowBorderIsNotFound) {
   cv::Mat f;
   gravel.convertTo(f, CV_32F);
   // The template's true position is the window's corner: no interior maximum exists.
-  const Match m = MatchTemplate(f(cv::Rect(100, 100, 48, 48)), f(cv::Rect(100, 100, 32, 32)).clone());
+  const Match m =
+      MatchTemplate(f(cv::Rect(100, 100, 48, 48)), f(cv::Rect(100, 100, 32, 32)).clone());
   EXPECT_FALSE(m.found);
 }
 

@@ -183,7 +183,8 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), col_sum.data(), col_sq.data(), cols, 1);
   cv::Mat out(f.size(), CV_32F);
   if (local_variance) local_variance->create(f.size(), CV_32F);
-  const int interior_begin = std::min(half, cols), interior_end = std::max(interior_begin, cols - half);
+  const int interior_begin = std::min(half, cols),
+            interior_end = std::max(interior_begin, cols - half);
   for (int y = 0; y < rows; ++y) {
     if (y > 0 && y_hi[y] > y_hi[y - 1]) {
       AddRow(f.ptr<float>(y_hi[y] - 1), col_sum.data(), col_sq.data(), cols, 1);
@@ -231,8 +232,8 @@ void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int*
 // Bilinear samples of a float image along one output row, 8 at a time with AVX2 gathers; returns
 // the first j it did not do. Only called when the CPU has AVX2 (checked at run time).
 __attribute__((target("avx2"))) int ResampleRowAvx2(const float* base, int stride, float sx0,
-                                                    float sy0, float a, float c, int begin,
-                                                    int end, float* out) {
+                                                    float sy0, float a, float c, int begin, int end,
+                                                    float* out) {
   const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i stride_v = _mm256_set1_epi32(stride);
   int j = begin;

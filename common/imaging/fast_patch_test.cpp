@@ -59,8 +59,9 @@ TEST(ResampleAffine, FloatSourceEqualsByteSourceOnTheSameImage) {
   src.convertTo(src_f, CV_32F);
   const double c = std::cos(-1.1), s = std::sin(-1.1);
   const cv::Matx23d m(c, -s, 60.2, s, c, 70.9);
-  EXPECT_LT(cv::norm(ResampleAffine(src, m, {53, 41}), ResampleAffine(src_f, m, {53, 41}),
-                     cv::NORM_INF), 1e-3);
+  EXPECT_LT(
+      cv::norm(ResampleAffine(src, m, {53, 41}), ResampleAffine(src_f, m, {53, 41}), cv::NORM_INF),
+      1e-3);
 }
 
 TEST(NccSurface, MatchesMatchTemplateCoeffNormed) {

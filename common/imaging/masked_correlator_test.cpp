@@ -145,8 +145,7 @@ TEST(MaskedCorrelator, ShorterTransformsOverAZeroBorderGiveTheSameScores) {
       const cv::Mat turned_covered =
           CoveredPixels(image, expected.turned_mask) >= 0.1 * cv::countNonZero(cut.mask);
       EXPECT_LT(WorstDifference(scores, expected.scores, covered), 1e-4) << "template " << k;
-      EXPECT_LT(WorstDifference(turned, expected.turned, turned_covered), 1e-4)
-          << "template " << k;
+      EXPECT_LT(WorstDifference(turned, expected.turned, turned_covered), 1e-4) << "template " << k;
     }
   }
 }

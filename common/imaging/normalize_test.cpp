@@ -9,8 +9,8 @@ namespace fleetloc::imaging {
 namespace {
 
 TEST(LocalNormalize, RemovesGainAndBias) {
-  const cv::Mat gravel = cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png",
-                                    cv::IMREAD_GRAYSCALE);
+  const cv::Mat gravel =
+      cv::imread(FLEETLOC_SOURCE_DIR "/tests/data/gravel.png", cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(gravel.empty());
   cv::Mat darker;
   gravel.convertTo(darker, CV_32F, 0.6, 20.0);  // gain 0.6, bias +20 grey levels

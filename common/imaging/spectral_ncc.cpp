@@ -46,8 +46,8 @@ cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
     for (int x = 0; x < out.width; ++x) {
       const double window_sum = s1[x + w] - s1[x] - s0[x + w] + s0[x];
       const double window_sq = q1[x + w] - q1[x] - q0[x + w] + q0[x];
-      const double t = std::sqrt(std::max(window_sq - window_sum * window_sum / n, 0.0)) *
-                       templ_norm_;
+      const double t =
+          std::sqrt(std::max(window_sq - window_sum * window_sum / n, 0.0)) * templ_norm_;
       double num = c[x];
       if (std::abs(num) < t) {
         num /= t;

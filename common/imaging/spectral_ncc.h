@@ -21,8 +21,8 @@ class SpectralNcc {
 
  private:
   cv::Size templ_size_, view_size_, dft_size_;
-  cv::Mat spectrum_;           // of the zero-mean template, padded to dft_size_ (CCS packed)
-  double templ_norm_ = 0.0;    // √Σ(t − t̄)²
+  cv::Mat spectrum_;         // of the zero-mean template, padded to dft_size_ (CCS packed)
+  double templ_norm_ = 0.0;  // √Σ(t − t̄)²
 };
 
 }  // namespace fleetloc::imaging

@@ -26,9 +26,9 @@ TEST(SpectralNcc, EqualsOpenCvsMatchTemplateOnEveryView) {
   // occluder (set to 0, as the dense search masks them).
   cv::Mat occluded = photo(cv::Rect(90, 75, view_size.width, view_size.height)).clone();
   occluded(cv::Rect(30, 20, 60, 50)).setTo(0.0f);
-  for (const cv::Mat& view : {photo(cv::Rect(83, 63, view_size.width, view_size.height)),
-                              photo(cv::Rect(90, 75, view_size.width, view_size.height)),
-                              occluded}) {
+  for (const cv::Mat& view :
+       {photo(cv::Rect(83, 63, view_size.width, view_size.height)),
+        photo(cv::Rect(90, 75, view_size.width, view_size.height)), occluded}) {
     cv::Mat expected;
     cv::matchTemplate(view, templ, expected, cv::TM_CCOEFF_NORMED);
     const cv::Mat surface = ncc.Surface(view.clone());

@@ -26,9 +26,11 @@ double DirectScore(const cv::Mat& gray, int x, int y, int window) {
   for (int yy = y - h; yy <= y + h; ++yy) {
     for (int xx = x - h; xx <= x + h; ++xx) {
       const double gx = (at(xx + 1, yy - 1) + 2 * at(xx + 1, yy) + at(xx + 1, yy + 1) -
-                         at(xx - 1, yy - 1) - 2 * at(xx - 1, yy) - at(xx - 1, yy + 1)) / 8.0;
+                         at(xx - 1, yy - 1) - 2 * at(xx - 1, yy) - at(xx - 1, yy + 1)) /
+                        8.0;
       const double gy = (at(xx - 1, yy + 1) + 2 * at(xx, yy + 1) + at(xx + 1, yy + 1) -
-                         at(xx - 1, yy - 1) - 2 * at(xx, yy - 1) - at(xx + 1, yy - 1)) / 8.0;
+                         at(xx - 1, yy - 1) - 2 * at(xx, yy - 1) - at(xx + 1, yy - 1)) /
+                        8.0;
       m += Eigen::Vector2d(gx, gy) * Eigen::Vector2d(gx, gy).transpose();
     }
   }

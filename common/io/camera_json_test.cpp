@@ -80,7 +80,8 @@ TEST_F(CameraJsonTest, RoundTripWithRawBlockIsExact) {
 
 TEST_F(CameraJsonTest, UnknownKeysAreRejectedNamingTheKey) {
   // A typo must not silently leave a field at its default (issue 22).
-  EXPECT_TRUE(HasError(ReadWithMember("resolutoin", "0.001"), StatusCode::kInvalidInput, path_, 0, "resolutoin"));
+  EXPECT_TRUE(HasError(ReadWithMember("resolutoin", "0.001"), StatusCode::kInvalidInput, path_, 0,
+                       "resolutoin"));
   EXPECT_TRUE(HasError(ReadWithMember("mount", R"({"x": 0.4, "y": 0, "yaw": 0, "z": 0.3})"),
                        StatusCode::kInvalidInput, path_, 0, "mount.z"));
   EXPECT_TRUE(HasError(ReadWithMember("raw", R"({"K": [1,0,0, 0,1,0, 0,0,1], "dist": [0,0,0,0],

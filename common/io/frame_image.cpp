@@ -10,10 +10,11 @@ namespace fleetloc::io {
 
 namespace {
 
-Status WrongSize(const FrameRef& frame, long long width, long long height, const geometry::CameraModel& camera) {
-  return InvalidInput(frame.file.string() + ": image is " + std::to_string(width) + "x" + std::to_string(height) +
-                      " px, the camera expects " + std::to_string(camera.width_px) + "x" +
-                      std::to_string(camera.height_px));
+Status WrongSize(const FrameRef& frame, long long width, long long height,
+                 const geometry::CameraModel& camera) {
+  return InvalidInput(frame.file.string() + ": image is " + std::to_string(width) + "x" +
+                      std::to_string(height) + " px, the camera expects " +
+                      std::to_string(camera.width_px) + "x" + std::to_string(camera.height_px));
 }
 
 constexpr size_t kHeaderBytes = 256 * 1024;  // a JPEG's frame header may follow its EXIF block
@@ -26,7 +27,9 @@ Result<mosaic::ImageHeader> HeaderOf(const std::filesystem::path& path) {
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<size_t>(in.gcount()));
   const std::optional<mosaic::ImageHeader> header = mosaic::ReadImageHeader(head);
-  if (!header) return InvalidInput(path.string() + ": not a PNG, JPEG, BMP or binary PNM image (or its header is cut)");
+  if (!header)
+    return InvalidInput(path.string() +
+                        ": not a PNG, JPEG, BMP or binary PNM image (or its header is cut)");
   return *header;
 }
 
@@ -57,7 +60,8 @@ Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path, long long max_p
 
 Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(frame.file, ec)) return NotFound(frame.file.string() + ": not found");
+  if (!std::filesystem::is_regular_file(frame.file, ec))
+    return NotFound(frame.file.string() + ": not found");
   // The frame's size is checked in its header, before anything is decoded.
   Result<mosaic::ImageHeader> header = HeaderOf(frame.file);
   if (!header.ok()) return header.status();

@@ -91,7 +91,8 @@ TEST(ReadFrame, AHugeImageDeclaredInATinyFileIsRefusedBeforeDecoding) {
   EXPECT_NE(frame.message().find("30000x30000"), std::string::npos) << frame.message();
   const Status image = ReadGrayImage(file).status();
   EXPECT_EQ(image.code(), StatusCode::kInvalidInput);
-  EXPECT_NE(image.message().find("more than 100000000 pixels"), std::string::npos) << image.message();
+  EXPECT_NE(image.message().find("more than 100000000 pixels"), std::string::npos)
+      << image.message();
 }
 
 TEST(ReadFrame, WrongSizeNamesFileAndBothSizes) {

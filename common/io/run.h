@@ -89,12 +89,13 @@ Status WriteRun(const Run& run);
 // decoded).
 Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& camera);
 
-// Reads an image file (PNG, JPEG, BMP or binary PNM; 8-bit or 16-bit, gray or colour) as 8-bit gray,
-// without a size check beyond `max_pixels` (for raw frames, whose size is the physical camera's,
-// and floor images), read from its header before decoding. NotFound "<file>: not found",
+// Reads an image file (PNG, JPEG, BMP or binary PNM; 8-bit or 16-bit, gray or colour) as 8-bit
+// gray, without a size check beyond `max_pixels` (for raw frames, whose size is the physical
+// camera's, and floor images), read from its header before decoding. NotFound "<file>: not found",
 // InvalidInput "<file>: ..." for a larger, corrupt or unsupported file.
 constexpr long long kMaxImagePixels = 100'000'000;
-Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path, long long max_pixels = kMaxImagePixels);
+Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path,
+                              long long max_pixels = kMaxImagePixels);
 
 // poses.csv: every number finite, t strictly ascending, variances non-negative, status one of
 // the four names, inliers a non-negative integer. Written numbers round-trip exactly.

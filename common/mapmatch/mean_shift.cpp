@@ -23,7 +23,8 @@ Status CheckInputs(std::span<const Eigen::Vector2d> points, std::span<const doub
     if (!points[i].allFinite())
       return InvalidInput("mean shift: point " + std::to_string(i) + " is not finite");
     if (!weights.empty() && !(std::isfinite(weights[i]) && weights[i] >= 0.0))
-      return InvalidInput("mean shift: weight " + std::to_string(i) + " is not a finite number >= 0");
+      return InvalidInput("mean shift: weight " + std::to_string(i) +
+                          " is not a finite number >= 0");
   }
   return Status::Ok();
 }

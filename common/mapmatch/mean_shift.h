@@ -12,16 +12,16 @@
 namespace fleetloc::mapmatch {
 
 struct MeanShiftOptions {
-  double radius = 0.0;        // h, in the points' unit; > 0
-  int max_iterations = 100;   // > 0
-  double tolerance = 1e-9;    // stop when a step is shorter than tolerance × radius; >= 0
+  double radius = 0.0;       // h, in the points' unit; > 0
+  int max_iterations = 100;  // > 0
+  double tolerance = 1e-9;   // stop when a step is shorter than tolerance × radius; >= 0
 };
 
 struct MeanShiftResult {
   Eigen::Vector2d mode = Eigen::Vector2d::Zero();
   int iterations = 0;
-  int support = 0;           // points within h of the final mode
-  double support_weight = 0; // their summed weight
+  int support = 0;            // points within h of the final mode
+  double support_weight = 0;  // their summed weight
   // False when no point lies within h of the estimate (nothing to shift towards) or the iteration
   // limit was reached while still moving; `mode` is then the last estimate, not a mode.
   bool converged = false;

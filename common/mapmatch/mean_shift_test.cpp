@@ -12,14 +12,16 @@
 namespace fleetloc::mapmatch {
 namespace {
 
-// `inliers` normal around `truth` (sigma) plus `outliers` uniform over a square of half-side `half`.
+// `inliers` normal around `truth` (sigma) plus `outliers` uniform over a square of half-side
+// `half`.
 std::vector<Eigen::Vector2d> Figure2Points(const Eigen::Vector2d& truth, int inliers, int outliers,
                                            double sigma, double half, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, sigma);
   std::uniform_real_distribution<double> uniform(-half, half);
   std::vector<Eigen::Vector2d> points;
-  for (int i = 0; i < inliers; ++i) points.emplace_back(truth.x() + noise(rng), truth.y() + noise(rng));
+  for (int i = 0; i < inliers; ++i)
+    points.emplace_back(truth.x() + noise(rng), truth.y() + noise(rng));
   for (int i = 0; i < outliers; ++i) points.emplace_back(uniform(rng), uniform(rng));
   return points;
 }

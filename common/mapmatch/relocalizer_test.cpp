@@ -237,7 +237,8 @@ TEST(Relocalizer, APoseInAPlaceTheSelfSimilarityReportNamesIsRefused) {
   ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
   sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 26);
   const geometry::Pose2 camera_pose{0.25, 0.26, 0.4};
-  const cv::Mat frame = renderer.Render(camera_pose * scene.camera.mount.Inverse(), {0, 0}, 0).image;
+  const cv::Mat frame =
+      renderer.Render(camera_pose * scene.camera.mount.Inverse(), {0, 0}, 0).image;
   const Result<Relocalization> alone = (*relocalizer)->Relocalize(frame);
   ASSERT_TRUE(alone.ok());
   ASSERT_TRUE(alone->found) << alone->reason;
@@ -304,13 +305,14 @@ TEST(Relocalizer, MultiFrameFindsTheNewestPoseWhenEverySingleFrameIsRefused) {
   ASSERT_TRUE(relocalizer.ok()) << relocalizer.status().message();
   sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 23);
   const Drive drive = ShortDrive(scene.camera, {0.12, 0.2, 0.7});
-  Result<Relocalization> r = (*relocalizer)->Relocalize(
-      renderer.Render(drive.truth[0], {0, 0}, 0).image, drive.odometry[0]);
+  Result<Relocalization> r =
+      (*relocalizer)
+          ->Relocalize(renderer.Render(drive.truth[0], {0, 0}, 0).image, drive.odometry[0]);
   ASSERT_TRUE(r.ok());
   EXPECT_FALSE(r->found);
   EXPECT_EQ(r->trajectory_frames, 1);
-  r = (*relocalizer)->Relocalize(renderer.Render(drive.truth[1], {0, 0}, 1).image,
-                                 drive.odometry[1]);
+  r = (*relocalizer)
+          ->Relocalize(renderer.Render(drive.truth[1], {0, 0}, 1).image, drive.odometry[1]);
   ASSERT_TRUE(r.ok());
   ASSERT_TRUE(r->found) << r->reason;
   EXPECT_TRUE(r->from_trajectory);
@@ -334,8 +336,9 @@ TEST(Relocalizer, MultiFrameOnAFloorThatRepeatsItselfIsAmbiguousAndTravelStartsA
   sim::CameraRenderer renderer(&floor, scene.camera, sim::RenderOptions{}, 24);
   const Drive drive = ShortDrive(scene.camera, {0.12, 0.2, 0.7});
   for (int k = 0; k < 3; ++k) {
-    const Result<Relocalization> r = (*relocalizer)->Relocalize(
-        renderer.Render(drive.truth[k], {0, 0}, k).image, drive.odometry[k]);
+    const Result<Relocalization> r =
+        (*relocalizer)
+            ->Relocalize(renderer.Render(drive.truth[k], {0, 0}, k).image, drive.odometry[k]);
     ASSERT_TRUE(r.ok());
     EXPECT_FALSE(r->found) << "frame " << k;
     EXPECT_EQ(r->trajectory_frames, k + 1);
@@ -344,8 +347,10 @@ TEST(Relocalizer, MultiFrameOnAFloorThatRepeatsItselfIsAmbiguousAndTravelStartsA
     }
   }
   // The odometry says the camera moved 2 m: a new trajectory, this frame alone.
-  const Result<Relocalization> r = (*relocalizer)->Relocalize(
-      renderer.Render(drive.truth[0], {0, 0}, 3).image, geometry::Pose2{2.0, 0.0, 0.0});
+  const Result<Relocalization> r =
+      (*relocalizer)
+          ->Relocalize(renderer.Render(drive.truth[0], {0, 0}, 3).image,
+                       geometry::Pose2{2.0, 0.0, 0.0});
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->trajectory_frames, 1);
 }

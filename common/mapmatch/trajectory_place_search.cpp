@@ -73,9 +73,9 @@ std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {
   std::vector<DensePeak> coarse;  // the first frame's camera poses
   for (int k = 0; k < static_cast<int>(sum_.size()); ++k) {
     cv::Mat scores = sum_[k] / static_cast<double>(frames_.size());
-    const int suppress_px = std::max(2, static_cast<int>(std::lround(
-                                            0.25 * dense_->separation_m() /
-                                            dense_->sweep_resolution_m(level_))));
+    const int suppress_px =
+        std::max(2, static_cast<int>(std::lround(0.25 * dense_->separation_m() /
+                                                 dense_->sweep_resolution_m(level_))));
     dense_->AppendCoarsePeaks(scores, dense_->sweep_heading_rad(k, level_), suppress_px, &coarse,
                               level_);
   }

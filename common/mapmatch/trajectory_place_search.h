@@ -60,7 +60,7 @@ class TrajectoryPlaceSearch {
   std::vector<cv::Mat> frames_;
   std::vector<geometry::Pose2> motion_;  // each frame's camera in the first frame's camera
   geometry::Pose2 first_in_odom_;
-  int turn_ = 0;                 // the newest frame's heading steps from the first frame's
+  int turn_ = 0;                  // the newest frame's heading steps from the first frame's
   Eigen::Vector2d offset_{0, 0};  // its centre from the first's, in the first camera's axes
 };
 

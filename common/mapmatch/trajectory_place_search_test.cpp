@@ -18,7 +18,7 @@ constexpr double kResolutionM = 0.0005;
 struct Fixture {
   cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
                              cv::IMREAD_GRAYSCALE);
-  mosaic::ImageRasterSource floor{photo, {0.0, photo.rows * kResolutionM, kResolutionM}};
+  mosaic::ImageRasterSource floor{photo, {0.0, photo.rows* kResolutionM, kResolutionM}};
   geometry::CameraModel camera;
   Fixture() {
     camera.width_px = 320;

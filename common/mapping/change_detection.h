@@ -12,19 +12,19 @@ namespace fleetloc::mapping {
 
 struct ChangeOptions {
   int block_px = 64;
-  double min_block_ncc = 0.3;     // below this a textured block counts as changed (dust: ~0.5)
+  double min_block_ncc = 0.3;      // below this a textured block counts as changed (dust: ~0.5)
   double min_block_stddev = 10.0;  // flatter blocks carry no evidence (camera noise dominates)
   int dark_dn = 8;                 // pixels at or below this are darkness, not floor
 };
 
 // One block of a frame against the same block of the mosaic view.
 struct BlockComparison {
-  cv::Rect rect;              // in frame pixels
-  bool mapped = false;        // the mosaic covers at least half the block
-  bool floor_seen = false;    // 90 % of the frame's pixels are brighter than the dark level
+  cv::Rect rect;            // in frame pixels
+  bool mapped = false;      // the mosaic covers at least half the block
+  bool floor_seen = false;  // 90 % of the frame's pixels are brighter than the dark level
   double frame_stddev = 0;
-  double view_stddev = 0;     // when mapped
-  double ncc = 0;             // when mapped and either side is textured; 0 when one side is flat
+  double view_stddev = 0;  // when mapped
+  double ncc = 0;          // when mapped and either side is textured; 0 when one side is flat
   // Textured on at least one side (so the block says something about the floor).
   bool textured(double min_stddev) const {
     return frame_stddev >= min_stddev || view_stddev >= min_stddev;
@@ -37,9 +37,9 @@ std::vector<BlockComparison> CompareBlocks(const cv::Mat& frame, const cv::Mat& 
                                            const ChangeOptions& options = {});
 
 struct ChangeReport {
-  int blocks = 0;        // blocks with evidence (textured, or outside the mosaic)
-  int changed = 0;       // low correlation
-  int unmapped = 0;      // the mosaic has no pixels there
+  int blocks = 0;    // blocks with evidence (textured, or outside the mosaic)
+  int changed = 0;   // low correlation
+  int unmapped = 0;  // the mosaic has no pixels there
   double changed_fraction() const { return blocks > 0 ? double(changed + unmapped) / blocks : 0.0; }
 };
 

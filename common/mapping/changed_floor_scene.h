@@ -35,8 +35,9 @@ struct ChangedFloorScene {
     Patch p;
     p.image = new_floor(crop).clone();
     p.pose = {map.x() + error.x, map.y() + error.y, M_PI / 2 + error.theta};
-    p.covariance = Eigen::Vector3d(std::pow(3 * kRes, 2), std::pow(3 * kRes, 2),
-                                   std::pow(0.5 * M_PI / 180, 2)).asDiagonal();
+    p.covariance =
+        Eigen::Vector3d(std::pow(3 * kRes, 2), std::pow(3 * kRes, 2), std::pow(0.5 * M_PI / 180, 2))
+            .asDiagonal();
     return p;
   }
 };

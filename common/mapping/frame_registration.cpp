@@ -14,8 +14,8 @@
 namespace fleetloc::mapping {
 namespace {
 
-using geometry::Pose2;
 using geometry::Difference;
+using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
 // The reference frame seen as a mosaic lives in a local frame L with the image's axes (x right,

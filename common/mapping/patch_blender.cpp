@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace fleetloc::mapping {
 
@@ -28,7 +28,8 @@ cv::Matx23d TileToPatch(const PlacedPatch& patch, cv::Point tile_origin_px,
   const double cx = patch.image.cols / 2.0, cy = patch.image.rows / 2.0;
   const geometry::Pose2 to_patch = patch.pose.Inverse();
   auto patch_index = [&](double j, double i) {
-    const Eigen::Vector2d map = geo.PixelToMap({tile_origin_px.x + j + 0.5, tile_origin_px.y + i + 0.5});
+    const Eigen::Vector2d map =
+        geo.PixelToMap({tile_origin_px.x + j + 0.5, tile_origin_px.y + i + 0.5});
     const Eigen::Vector2d ab = to_patch * map;  // camera_ground (a forward/up, b left)
     return cv::Point2f(static_cast<float>(cx - ab.y() / res - 0.5),
                        static_cast<float>(cy - ab.x() / res - 0.5));

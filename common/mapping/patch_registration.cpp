@@ -44,8 +44,7 @@ Registration PatchRegistrar::Register(const Patch& patch, const Eigen::Matrix3d&
   registration.inliers = result.inliers;
   registration.rms_residual_px = result.rms_residual_px;
   registration.pose = registration.registered ? result.base_in_map.pose : patch.pose;
-  registration.covariance =
-      registration.registered ? result.base_in_map.covariance : prior;
+  registration.covariance = registration.registered ? result.base_in_map.covariance : prior;
   return registration;
 }
 

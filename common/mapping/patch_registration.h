@@ -7,8 +7,8 @@
 #include <Eigen/Core>
 #include <map>
 #include <memory>
-#include <string>
 #include <opencv2/core.hpp>
+#include <string>
 #include <utility>
 
 #include "geometry/pose2.h"
@@ -23,8 +23,8 @@ struct Patch {
   cv::Mat image;
   geometry::Pose2 pose;
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  double quality = 0;        // the sender's own 0..1 (ranks admitted patches, never admits)
-  std::string vehicle_id;    // who sent it (reputation, corroboration, reports)
+  double quality = 0;      // the sender's own 0..1 (ranks admitted patches, never admits)
+  std::string vehicle_id;  // who sent it (reputation, corroboration, reports)
 };
 
 struct Registration {

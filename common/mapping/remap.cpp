@@ -15,17 +15,20 @@ using mosaic::TileKey;
 bool Cancelled(const std::atomic<bool>* cancel) { return cancel != nullptr && cancel->load(); }
 
 // Level-0 pixel rectangle covered by a patch of `size` at `pose`.
-cv::Rect FootprintPx(cv::Size size, const geometry::Pose2& pose, const geometry::Geotransform& geo) {
+cv::Rect FootprintPx(cv::Size size, const geometry::Pose2& pose,
+                     const geometry::Geotransform& geo) {
   double min_u = 1e300, min_v = 1e300, max_u = -1e300, max_v = -1e300;
   const double ha = size.height * geo.resolution / 2, hb = size.width * geo.resolution / 2;
   for (const auto& [a, b] : {std::pair{ha, hb}, {ha, -hb}, {-ha, hb}, {-ha, -hb}}) {
     const Eigen::Vector2d m = pose * Eigen::Vector2d(a, b);
-    const double u = (m.x() - geo.origin_x) / geo.resolution, v = (geo.origin_y - m.y()) / geo.resolution;
+    const double u = (m.x() - geo.origin_x) / geo.resolution,
+                 v = (geo.origin_y - m.y()) / geo.resolution;
     min_u = std::min(min_u, u), max_u = std::max(max_u, u);
     min_v = std::min(min_v, v), max_v = std::max(max_v, v);
   }
-  return cv::Rect(cv::Point(static_cast<int>(std::floor(min_u)) - 1, static_cast<int>(std::floor(min_v)) - 1),
-                  cv::Point(static_cast<int>(std::ceil(max_u)) + 1, static_cast<int>(std::ceil(max_v)) + 1));
+  return cv::Rect(
+      cv::Point(static_cast<int>(std::floor(min_u)) - 1, static_cast<int>(std::floor(min_v)) - 1),
+      cv::Point(static_cast<int>(std::ceil(max_u)) + 1, static_cast<int>(std::ceil(max_v)) + 1));
 }
 
 // The last few decoded patches: a patch touching several tiles is read once, not once per tile,
@@ -63,7 +66,8 @@ struct Accepted {
 class RemapComputation {
  public:
   RemapComputation(mosaic::RasterSource* mosaic, const TileFetch& fetch, PatchSource& patches,
-                   const RemapOptions& options, const std::function<void(const RemapStep&)>& progress,
+                   const RemapOptions& options,
+                   const std::function<void(const RemapStep&)>& progress,
                    const std::atomic<bool>* cancel)
       : mosaic_(mosaic),
         layout_(mosaic->layout()),
@@ -103,8 +107,9 @@ class RemapComputation {
         outcome.reason = outcome.admission.reason;
         if (outcome.admission.admitted()) {
           outcome.fate = PatchFate::kFolded;
-          accepted_.push_back({i, FootprintPx(patch->image.size(), outcome.admission.pose, layout_.geo),
-                               outcome.admission.rank});
+          accepted_.push_back(
+              {i, FootprintPx(patch->image.size(), outcome.admission.pose, layout_.geo),
+               outcome.admission.rank});
         }
       }
       Report("judge", i + 1, n);
@@ -129,10 +134,12 @@ class RemapComputation {
       if (!p.ok()) continue;
       images.push_back(std::move(p).value());
       which.push_back(k);
-      changes.push_back({nullptr, o.admission.pose, images.back().vehicle_id, o.admission.changed_blocks});
+      changes.push_back(
+          {nullptr, o.admission.pose, images.back().vehicle_id, o.admission.changed_blocks});
     }
     for (size_t c = 0; c < changes.size(); ++c) changes[c].image = &images[c].image;
-    const std::vector<bool> ok = CorroborateChanges(changes, layout_.geo.resolution, options_.corroboration);
+    const std::vector<bool> ok =
+        CorroborateChanges(changes, layout_.geo.resolution, options_.corroboration);
     std::vector<bool> keep(accepted_.size(), true);
     for (size_t c = 0; c < changes.size(); ++c) {
       if (ok[c]) continue;
@@ -155,7 +162,9 @@ class RemapComputation {
     std::stable_sort(accepted_.begin(), accepted_.end(),
                      [](const Accepted& a, const Accepted& b) { return a.rank > b.rank; });
     for (const Accepted& a : accepted_) {
-      mosaic::TilesCovering(layout_, 0, a.footprint).ForEach([&](const TileKey& k) { level0_.insert(k); });
+      mosaic::TilesCovering(layout_, 0, a.footprint).ForEach([&](const TileKey& k) {
+        level0_.insert(k);
+      });
     }
     int done = 0;
     for (const TileKey& key : level0_) {
@@ -180,7 +189,8 @@ class RemapComputation {
     cv::Mat blended = BlendTile(fetch_(key), tile_rect.tl(), layout_.geo, touching, options_.mode,
                                 options_.feather_px);
     // Padding past the mosaic's edge stays 0, as the importer leaves it.
-    const cv::Rect inside = (tile_rect & cv::Rect(0, 0, layout_.width_px, layout_.height_px)) - tile_rect.tl();
+    const cv::Rect inside =
+        (tile_rect & cv::Rect(0, 0, layout_.width_px, layout_.height_px)) - tile_rect.tl();
     cv::Mat clean = cv::Mat::zeros(blended.size(), CV_8UC1);
     blended(inside).copyTo(clean(inside));
     return clean;
@@ -221,9 +231,12 @@ class RemapComputation {
 
 const char* FateName(PatchFate fate) {
   switch (fate) {
-    case PatchFate::kFolded: return "folded";
-    case PatchFate::kRefused: return "refused";
-    case PatchFate::kHeld: return "held";
+    case PatchFate::kFolded:
+      return "folded";
+    case PatchFate::kRefused:
+      return "refused";
+    case PatchFate::kHeld:
+      return "held";
   }
   return "unknown";
 }
@@ -240,7 +253,8 @@ Result<RemapTiles> ComputeRemap(mosaic::RasterSource* mosaic, const TileFetch& f
   if (const std::string problem = OptionsProblem(options.admission); !problem.empty()) {
     return InvalidInput("remap admission options: " + problem);
   }
-  if (options.max_patches_per_tile < 1) return InvalidInput("remap options: max_patches_per_tile must be >= 1");
+  if (options.max_patches_per_tile < 1)
+    return InvalidInput("remap options: max_patches_per_tile must be >= 1");
   return RemapComputation(mosaic, fetch, patches, options, progress, cancel).Run();
 }
 

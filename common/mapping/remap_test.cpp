@@ -21,9 +21,9 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   const auto fetch = [&](const mosaic::TileKey& k) {
     return source.ReadBlock(k.level, mosaic::TilePixelRect(source.layout(), k));
   };
-  VectorPatchSource patches({
-      scene.PatchAt({490, 425}, {2.0 * kRes, -1.5 * kRes, 0.3 * M_PI / 180}),
-      scene.PatchAt({470, 440}, {-1.0 * kRes, 2.5 * kRes, -0.2 * M_PI / 180})});
+  VectorPatchSource patches(
+      {scene.PatchAt({490, 425}, {2.0 * kRes, -1.5 * kRes, 0.3 * M_PI / 180}),
+       scene.PatchAt({470, 440}, {-1.0 * kRes, 2.5 * kRes, -0.2 * M_PI / 180})});
   RemapOptions options;
   options.mode = BlendMode::kReplace;
   auto result = ComputeRemap(&source, fetch, patches, options, {}, nullptr);
@@ -32,13 +32,13 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   for (size_t i = 0; i < 2; ++i) {
     const Admission& r = result->outcomes[i].admission;
     ASSERT_TRUE(r.admitted()) << "patch " << i << ": " << r.reason;
-    const Eigen::Vector2d truth = scene.geo.PixelToMap(i == 0 ? Eigen::Vector2d(490, 425)
-                                                              : Eigen::Vector2d(470, 440));
+    const Eigen::Vector2d truth =
+        scene.geo.PixelToMap(i == 0 ? Eigen::Vector2d(490, 425) : Eigen::Vector2d(470, 440));
     EXPECT_LT((Eigen::Vector2d(r.pose.x, r.pose.y) - truth).norm() / kRes, 0.1) << "patch " << i;
     // 0.02° (the tracker's heading target): these patches are exact crops of the floor image,
     // sharper than any camera frame, and the matcher smooths both sides before correlating,
-    // which costs an exact crop a little heading (0.017° here at σ 1.5) and a camera frame none (see
-    // TrackerOptions::match_smoothing_sigma_px).
+    // which costs an exact crop a little heading (0.017° here at σ 1.5) and a camera frame none
+    // (see TrackerOptions::match_smoothing_sigma_px).
     EXPECT_LT(std::abs(r.pose.theta - M_PI / 2), 0.02 * M_PI / 180) << "patch " << i;
   }
   // The new level-0 pixels show the changed floor where the patches cover it.
@@ -46,7 +46,8 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   for (const auto& [key, tile] : result->tiles) {
     if (key.level != 0) continue;
     const cv::Rect r = mosaic::TilePixelRect(source.layout(), key) & cv::Rect(0, 0, 1024, 1024);
-    tile(r - r.tl() + (r.tl() - mosaic::TilePixelRect(source.layout(), key).tl())).copyTo(assembled(r));
+    tile(r - r.tl() + (r.tl() - mosaic::TilePixelRect(source.layout(), key).tl()))
+        .copyTo(assembled(r));
   }
   cv::Mat diff;
   cv::absdiff(assembled(scene.change), scene.new_floor(scene.change), diff);
@@ -59,9 +60,10 @@ TEST(Remap, ReplaceFoldsTheChangedFloorIntoTheTilesItTouches) {
   // Each changed upper tile is the 2×2 mean of the (new) level below.
   for (const auto& [key, tile] : result->tiles) {
     if (key.level == 0) continue;
-    const cv::Mat expected = mosaic::DownsampleTile(source.layout(), key, [&](const mosaic::TileKey& c) {
-      return result->tiles.count(c) ? result->tiles.at(c) : fetch(c);
-    });
+    const cv::Mat expected =
+        mosaic::DownsampleTile(source.layout(), key, [&](const mosaic::TileKey& c) {
+          return result->tiles.count(c) ? result->tiles.at(c) : fetch(c);
+        });
     EXPECT_EQ(cv::norm(tile, expected, cv::NORM_INF), 0) << mosaic::ToString(key);
   }
 }

@@ -11,7 +11,9 @@ namespace fleetloc::metrics {
 
 namespace {
 
-bool NameStart(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':'; }
+bool NameStart(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == ':';
+}
 bool NameChar(char c) { return NameStart(c) || (c >= '0' && c <= '9'); }
 
 // A metric name (`colons` true) or label name at the start of `s`; its length (0: none).
@@ -26,7 +28,8 @@ size_t NameLength(std::string_view s, bool colons) {
 bool ParseValue(std::string_view text, double* out) {
   std::string lower(text);
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower == "+inf" || lower == "inf") return *out = std::numeric_limits<double>::infinity(), true;
+  if (lower == "+inf" || lower == "inf")
+    return *out = std::numeric_limits<double>::infinity(), true;
   if (lower == "-inf") return *out = -std::numeric_limits<double>::infinity(), true;
   if (lower == "nan") return *out = std::numeric_limits<double>::quiet_NaN(), true;
   if (text.empty()) return false;
@@ -42,14 +45,17 @@ std::string FamilyOf(const std::string& name, const std::map<std::string, std::s
     if (name.size() > sv.size() && name.ends_with(sv)) {
       const std::string base = name.substr(0, name.size() - sv.size());
       auto it = types.find(base);
-      if (it != types.end() && (it->second == "histogram" || (it->second == "summary" && sv != "_bucket"))) return base;
+      if (it != types.end() &&
+          (it->second == "histogram" || (it->second == "summary" && sv != "_bucket")))
+        return base;
     }
   }
   return "";
 }
 
 // Parses `{a="b",c="d"}` at the start of `s`; advances `s` past it.
-bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels, std::string* error) {
+bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels,
+                 std::string* error) {
   std::string_view r = *s;
   r.remove_prefix(1);  // '{'
   while (!r.empty() && r[0] != '}') {
@@ -57,7 +63,8 @@ bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels
     if (n == 0) return *error = "bad label name", false;
     const std::string key(r.substr(0, n));
     r.remove_prefix(n);
-    if (r.size() < 2 || r[0] != '=' || r[1] != '"') return *error = "label " + key + ": expected =\"", false;
+    if (r.size() < 2 || r[0] != '=' || r[1] != '"')
+      return *error = "label " + key + ": expected =\"", false;
     r.remove_prefix(2);
     std::string value;
     bool closed = false;
@@ -72,17 +79,22 @@ bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels
         if (r.empty()) break;
         const char e = r[0];
         r.remove_prefix(1);
-        if (e == 'n') value += '\n';
-        else if (e == '\\' || e == '"') value += e;
-        else return *error = "label " + key + ": bad escape", false;
+        if (e == 'n')
+          value += '\n';
+        else if (e == '\\' || e == '"')
+          value += e;
+        else
+          return *error = "label " + key + ": bad escape", false;
       } else {
         value += c;
       }
     }
     if (!closed) return *error = "label " + key + ": unterminated value", false;
     if (!labels->emplace(key, value).second) return *error = "label " + key + " twice", false;
-    if (!r.empty() && r[0] == ',') r.remove_prefix(1);
-    else if (r.empty() || r[0] != '}') return *error = "expected , or } after label " + key, false;
+    if (!r.empty() && r[0] == ',')
+      r.remove_prefix(1);
+    else if (r.empty() || r[0] != '}')
+      return *error = "expected , or } after label " + key, false;
   }
   if (r.empty()) return *error = "unterminated label set", false;
   r.remove_prefix(1);
@@ -102,7 +114,8 @@ Status CheckHistograms(const Exposition& e) {
       if (s.name == family + "_bucket") {
         auto le = key.find("le");
         double bound = 0;
-        if (le == key.end() || !ParseValue(le->second, &bound)) return InvalidInput(family + ": bucket without a numeric le");
+        if (le == key.end() || !ParseValue(le->second, &bound))
+          return InvalidInput(family + ": bucket without a numeric le");
         key.erase("le");
         buckets[key].push_back({bound, s.value});
       } else if (s.name == family + "_count") {
@@ -111,10 +124,13 @@ Status CheckHistograms(const Exposition& e) {
     }
     for (const auto& [series, list] : buckets) {
       for (size_t i = 1; i < list.size(); ++i) {
-        if (!(list[i].first > list[i - 1].first)) return InvalidInput(family + ": le not ascending");
-        if (list[i].second < list[i - 1].second) return InvalidInput(family + ": bucket counts not cumulative");
+        if (!(list[i].first > list[i - 1].first))
+          return InvalidInput(family + ": le not ascending");
+        if (list[i].second < list[i - 1].second)
+          return InvalidInput(family + ": bucket counts not cumulative");
       }
-      if (list.empty() || !std::isinf(list.back().first)) return InvalidInput(family + ": no +Inf bucket");
+      if (list.empty() || !std::isinf(list.back().first))
+        return InvalidInput(family + ": no +Inf bucket");
       auto count = counts.find(series);
       if (count == counts.end() || count->second != list.back().second) {
         return InvalidInput(family + ": +Inf bucket differs from _count");
@@ -126,7 +142,8 @@ Status CheckHistograms(const Exposition& e) {
 
 }  // namespace
 
-Result<double> Exposition::Value(const std::string& name, const std::map<std::string, std::string>& labels) const {
+Result<double> Exposition::Value(const std::string& name,
+                                 const std::map<std::string, std::string>& labels) const {
   for (const Sample& s : samples) {
     if (s.name != name) continue;
     bool all = true;
@@ -142,7 +159,8 @@ Result<double> Exposition::Value(const std::string& name, const std::map<std::st
 namespace {
 
 // A "# HELP" or "# TYPE" line (other comments are skipped) into `e`; what is wrong with it, or "".
-std::string ParseMetadataLine(std::string_view line, Exposition* e, std::set<std::string>* help_seen) {
+std::string ParseMetadataLine(std::string_view line, Exposition* e,
+                              std::set<std::string>* help_seen) {
   const bool help = line.starts_with("# HELP "), type = line.starts_with("# TYPE ");
   if (!help && !type) return "";  // a comment
   std::string_view rest = line.substr(7);
@@ -154,11 +172,13 @@ std::string ParseMetadataLine(std::string_view line, Exposition* e, std::set<std
     if (!help_seen->insert(name).second) return "second HELP for " + name;
     return "";
   }
-  static const std::set<std::string_view> kTypes = {"counter", "gauge", "histogram", "summary", "untyped"};
+  static const std::set<std::string_view> kTypes = {"counter", "gauge", "histogram", "summary",
+                                                    "untyped"};
   if (!kTypes.contains(arg)) return "unknown type '" + std::string(arg) + "'";
   for (const Sample& s : e->samples) {
     if (s.name == name || s.name.starts_with(name + "_")) {
-      if (FamilyOf(s.name, {{name, std::string(arg)}}) == name) return "TYPE of " + name + " after its samples";
+      if (FamilyOf(s.name, {{name, std::string(arg)}}) == name)
+        return "TYPE of " + name + " after its samples";
     }
   }
   if (!e->types.emplace(name, std::string(arg)).second) return "second TYPE for " + name;
@@ -179,7 +199,8 @@ std::string ParseSampleLine(std::string_view line, Exposition* e) {
   if (line.empty() || line[0] != ' ') return "expected a space before the value";
   line.remove_prefix(1);
   const size_t space = line.find(' ');
-  if (!ParseValue(line.substr(0, space), &s.value)) return "bad value '" + std::string(line.substr(0, space)) + "'";
+  if (!ParseValue(line.substr(0, space), &s.value))
+    return "bad value '" + std::string(line.substr(0, space)) + "'";
   if (space != std::string_view::npos) {
     long long timestamp = 0;
     const std::string_view ts = line.substr(space + 1);
@@ -207,7 +228,8 @@ Result<Exposition> ParseExposition(std::string_view text) {
     text.remove_prefix(end + 1);
     ++line_no;
     if (line.empty()) continue;
-    const std::string error = line[0] == '#' ? ParseMetadataLine(line, &e, &help_seen) : ParseSampleLine(line, &e);
+    const std::string error =
+        line[0] == '#' ? ParseMetadataLine(line, &e, &help_seen) : ParseSampleLine(line, &e);
     if (!error.empty()) return InvalidInput("line " + std::to_string(line_no) + ": " + error);
   }
   if (Status shape = CheckHistograms(e); !shape.ok()) return shape;

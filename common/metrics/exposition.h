@@ -14,18 +14,20 @@
 namespace fleetloc::metrics {
 
 struct Sample {
-  std::string name;                          // as written (with _bucket/_sum/_count/_total)
+  std::string name;  // as written (with _bucket/_sum/_count/_total)
   std::map<std::string, std::string> labels;
   double value = 0.0;
 };
 
 struct Exposition {
   std::vector<Sample> samples;
-  std::map<std::string, std::string> types;  // family name -> counter|gauge|histogram|summary|untyped
+  std::map<std::string, std::string>
+      types;  // family name -> counter|gauge|histogram|summary|untyped
 
   // The value of the first sample named `name` whose labels include every one of `labels`;
   // NotFound naming it otherwise.
-  Result<double> Value(const std::string& name, const std::map<std::string, std::string>& labels = {}) const;
+  Result<double> Value(const std::string& name,
+                       const std::map<std::string, std::string>& labels = {}) const;
 };
 
 // InvalidInput "line N: <what>" at the first line that breaks the format.

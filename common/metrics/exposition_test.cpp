@@ -37,13 +37,16 @@ TEST(ParseExposition, RefusesBrokenLinesNamingTheLine) {
   for (const auto& [text, want] : cases) {
     Result<Exposition> e = ParseExposition(text);
     ASSERT_FALSE(e.ok()) << text;
-    EXPECT_NE(e.status().message().find(want), std::string::npos) << e.status().message() << " for " << text;
+    EXPECT_NE(e.status().message().find(want), std::string::npos)
+        << e.status().message() << " for " << text;
   }
 }
 
 TEST(ParseExposition, ChecksHistogramShape) {
   const std::string head = "# TYPE h histogram\n";
-  EXPECT_TRUE(ParseExposition(head + "h_bucket{le=\"1\"} 1\nh_bucket{le=\"+Inf\"} 2\nh_sum 3\nh_count 2\n").ok());
+  EXPECT_TRUE(
+      ParseExposition(head + "h_bucket{le=\"1\"} 1\nh_bucket{le=\"+Inf\"} 2\nh_sum 3\nh_count 2\n")
+          .ok());
   const std::pair<std::string, const char*> cases[] = {
       {"h_bucket{le=\"1\"} 1\nh_sum 3\nh_count 1\n", "no +Inf"},
       {"h_bucket{le=\"1\"} 3\nh_bucket{le=\"+Inf\"} 2\nh_count 2\n", "not cumulative"},

@@ -10,8 +10,8 @@
 namespace fleetloc::metrics {
 
 struct HistogramSnapshot {
-  std::vector<double> upper_bounds;          // ascending; +Inf is implied after the last
-  std::vector<std::uint64_t> cumulative;     // one per bound, then one for +Inf (== count)
+  std::vector<double> upper_bounds;       // ascending; +Inf is implied after the last
+  std::vector<std::uint64_t> cumulative;  // one per bound, then one for +Inf (== count)
   double sum = 0.0;
   std::uint64_t count = 0;
 };

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <limits>
-
 #include <thread>
 #include <vector>
 
@@ -42,7 +41,7 @@ TEST(Histogram, ConcurrentObserversLoseNothing) {
   const HistogramSnapshot s = h.Snapshot();
   EXPECT_EQ(s.count, 40000u);
   EXPECT_NEAR(s.sum, 120.0, 1e-6);
-  EXPECT_EQ(s.cumulative[2], 0u);   // <= 2 ms
+  EXPECT_EQ(s.cumulative[2], 0u);      // <= 2 ms
   EXPECT_EQ(s.cumulative[3], 40000u);  // <= 4 ms
 }
 

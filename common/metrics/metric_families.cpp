@@ -12,7 +12,8 @@ namespace fleetloc::metrics {
 std::string SanitizeName(const std::string& name) {
   std::string out;
   for (const char ch : name) {
-    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_';
+    const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                    (ch >= '0' && ch <= '9') || ch == '_';
     out += ok ? ch : '_';
   }
   if (out.empty() || (out[0] >= '0' && out[0] <= '9')) out.insert(out.begin(), '_');
@@ -41,27 +42,32 @@ prometheus::ClientMetric& FamilyBuilder::Add(const std::string& name, const std:
   return metric;
 }
 
-void FamilyBuilder::Counter(const std::string& name, const std::string& help, double value, const Labels& labels) {
+void FamilyBuilder::Counter(const std::string& name, const std::string& help, double value,
+                            const Labels& labels) {
   Add(name + "_total", help, prometheus::MetricType::Counter, labels).counter.value = value;
 }
 
-void FamilyBuilder::Gauge(const std::string& name, const std::string& help, double value, const Labels& labels) {
+void FamilyBuilder::Gauge(const std::string& name, const std::string& help, double value,
+                          const Labels& labels) {
   Add(name, help, prometheus::MetricType::Gauge, labels).gauge.value = value;
 }
 
-void FamilyBuilder::Histogram(const std::string& name, const std::string& help, const HistogramSnapshot& s,
-                              const Labels& labels) {
-  prometheus::ClientMetric::Histogram& h = Add(name, help, prometheus::MetricType::Histogram, labels).histogram;
+void FamilyBuilder::Histogram(const std::string& name, const std::string& help,
+                              const HistogramSnapshot& s, const Labels& labels) {
+  prometheus::ClientMetric::Histogram& h =
+      Add(name, help, prometheus::MetricType::Histogram, labels).histogram;
   h.sample_count = s.count;
   h.sample_sum = s.sum;
   for (size_t i = 0; i < s.cumulative.size(); ++i) {  // the last one is +Inf
-    const double bound = i < s.upper_bounds.size() ? s.upper_bounds[i] : std::numeric_limits<double>::infinity();
+    const double bound =
+        i < s.upper_bounds.size() ? s.upper_bounds[i] : std::numeric_limits<double>::infinity();
     h.bucket.push_back({s.cumulative[i], bound});
   }
 }
 
-void FamilyBuilder::HealthCounters(const std::vector<std::pair<std::string, std::uint64_t>>& counters,
-                                   const std::set<std::string>& gauges) {
+void FamilyBuilder::HealthCounters(
+    const std::vector<std::pair<std::string, std::uint64_t>>& counters,
+    const std::set<std::string>& gauges) {
   for (const auto& [name, value] : counters) {
     const std::string help = "ServiceHealth counter " + name;
     if (gauges.contains(name)) {

@@ -29,10 +29,12 @@ class FamilyBuilder {
 
   // Adds one series to the family `name` (created with `help` on first use; a second use with
   // another type aborts: a programming error). Counters are named "<name>_total".
-  void Counter(const std::string& name, const std::string& help, double value, const Labels& labels = {});
-  void Gauge(const std::string& name, const std::string& help, double value, const Labels& labels = {});
-  void Histogram(const std::string& name, const std::string& help, const HistogramSnapshot& snapshot,
-                 const Labels& labels = {});
+  void Counter(const std::string& name, const std::string& help, double value,
+               const Labels& labels = {});
+  void Gauge(const std::string& name, const std::string& help, double value,
+             const Labels& labels = {});
+  void Histogram(const std::string& name, const std::string& help,
+                 const HistogramSnapshot& snapshot, const Labels& labels = {});
   // A service's health counters (ServiceHealth): each a counter "<counter>_total", except the
   // names in `gauges` (levels such as a queue depth), which are gauges.
   void HealthCounters(const std::vector<std::pair<std::string, std::uint64_t>>& counters,

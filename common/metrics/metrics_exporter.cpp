@@ -3,7 +3,6 @@
 
 #include <prometheus/collectable.h>
 #include <prometheus/exposer.h>
-
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -42,7 +41,8 @@ struct MetricsExporter::Server {
 Result<std::unique_ptr<MetricsExporter>> MetricsExporter::Start(const MetricsOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(Validate(options, "metrics"));
   const bool v6 = options.bind.find(':') != std::string::npos;
-  const std::string address = (v6 ? "[" + options.bind + "]" : options.bind) + ":" + std::to_string(options.port);
+  const std::string address =
+      (v6 ? "[" + options.bind + "]" : options.bind) + ":" + std::to_string(options.port);
   std::unique_ptr<MetricsExporter> exporter(new MetricsExporter());
   exporter->snapshot_ = std::make_shared<Snapshot>();
   exporter->server_ = std::make_unique<Server>();
@@ -68,9 +68,12 @@ Result<std::unique_ptr<MetricsExporter>> MetricsExporter::Start(const MetricsOpt
 
 MetricsExporter::~MetricsExporter() = default;
 
-void MetricsExporter::Publish(std::vector<prometheus::MetricFamily> families) { snapshot_->Set(std::move(families)); }
+void MetricsExporter::Publish(std::vector<prometheus::MetricFamily> families) {
+  snapshot_->Set(std::move(families));
+}
 
-ServiceMetrics::ServiceMetrics(const MetricsOptions& options, const std::string& service) : options_(options) {
+ServiceMetrics::ServiceMetrics(const MetricsOptions& options, const std::string& service)
+    : options_(options) {
   if (!options.enabled) return;
   Result<std::unique_ptr<MetricsExporter>> started = MetricsExporter::Start(options);
   if (!started.ok()) {
@@ -84,7 +87,8 @@ ServiceMetrics::ServiceMetrics(const MetricsOptions& options, const std::string&
 
 bool ServiceMetrics::Due() {
   if (!exporter_) return false;
-  const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  const double now =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   if (now < next_refresh_) return false;
   next_refresh_ = now + options_.refresh_period_s;
   return true;

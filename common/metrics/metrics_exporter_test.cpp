@@ -26,7 +26,8 @@ int Connect(int port) { return io::ConnectLoopback(port); }
 std::string Get(int port, const std::string& path, double timeout_s = 10) {
   const int fd = Connect(port);
   if (fd < 0) return "";
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  const std::string request =
+      "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
   (void)::write(fd, request.data(), request.size());
   std::string answer;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
@@ -96,10 +97,12 @@ TEST(MetricsExporter, SilentClientsDelayAScrapeAtMostTheRequestTimeout) {
   // The service keeps publishing meanwhile without waiting.
   const auto publish_start = std::chrono::steady_clock::now();
   for (int i = 0; i < 100; ++i) (*exporter)->Publish(SomeFamilies(i));
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - publish_start).count(), 0.5);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - publish_start).count(),
+            0.5);
   const auto start = std::chrono::steady_clock::now();
   const std::string answer = Get((*exporter)->port(), "/metrics", 15);
-  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (int fd : silent) ::close(fd);
   ASSERT_NE(answer.find("200 OK"), std::string::npos);
   EXPECT_TRUE(ParseExposition(Body(answer)).ok());
@@ -114,7 +117,8 @@ TEST(MetricsExporter, APortInUseIsAnErrorNamingTheAddress) {
   o.port = (*first)->port();
   Result<std::unique_ptr<MetricsExporter>> second = MetricsExporter::Start(o);
   ASSERT_FALSE(second.ok());
-  EXPECT_NE(second.status().message().find("127.0.0.1:" + std::to_string(o.port)), std::string::npos)
+  EXPECT_NE(second.status().message().find("127.0.0.1:" + std::to_string(o.port)),
+            std::string::npos)
       << second.status().message();
 }
 

@@ -25,6 +25,7 @@ Status Validate(const MetricsOptions& options, const std::string& service);
 
 // Reads the object member "metrics" of `fields` (whose JSON is `parent`) over `*options`.
 // InvalidInput "<file>: field 'metrics.<key>': <what>" for an unknown key or a bad value.
-Status ReadMetricsOptions(const io::JsonFields& fields, const nlohmann::json& parent, MetricsOptions* options);
+Status ReadMetricsOptions(const io::JsonFields& fields, const nlohmann::json& parent,
+                          MetricsOptions* options);
 
 }  // namespace fleetloc::metrics

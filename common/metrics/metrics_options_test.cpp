@@ -23,9 +23,14 @@ TEST(MetricsOptions, DefaultsAreOffOnLoopback) {
 
 TEST(MetricsOptions, ReadsEveryKey) {
   MetricsOptions o;
-  const nlohmann::json parent = {{"metrics", {{"enabled", true}, {"bind", "0.0.0.0"}, {"port", 9464},
-                                              {"port_file", "p"}, {"threads", 2}, {"request_timeout_s", 0.5},
-                                              {"refresh_period_s", 2}}}};
+  const nlohmann::json parent = {{"metrics",
+                                  {{"enabled", true},
+                                   {"bind", "0.0.0.0"},
+                                   {"port", 9464},
+                                   {"port_file", "p"},
+                                   {"threads", 2},
+                                   {"request_timeout_s", 0.5},
+                                   {"refresh_period_s", 2}}}};
   ASSERT_TRUE(Read(parent, &o).ok());
   EXPECT_TRUE(o.enabled);
   EXPECT_EQ(o.bind, "0.0.0.0");

@@ -22,6 +22,7 @@ std::string WorldFileText(const MosaicLayout& layout, int level, const cv::Rect&
 // A Nav2 map_server map.yaml for the same image: `image` (as given), `resolution` of the level,
 // `origin` = map x, y of the image's bottom-left corner and yaw 0, `mode: raw` (the image is a
 // floor texture, not an occupancy grid: raw keeps its gray values), the usual thresholds.
-std::string Nav2MapYaml(const MosaicLayout& layout, int level, const cv::Rect& rect, const std::string& image);
+std::string Nav2MapYaml(const MosaicLayout& layout, int level, const cv::Rect& rect,
+                        const std::string& image);
 
 }  // namespace fleetloc::mosaic

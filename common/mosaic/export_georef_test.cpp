@@ -41,7 +41,9 @@ TEST(ExportGeoref, Nav2OriginIsTheBottomLeftCorner) {
   EXPECT_NE(yaml.find("resolution: 0.001\n"), std::string::npos) << yaml;
   // x = 10 + 100 mm; y = 5 - (40 + 20) mm.
   double x = 0, y = 0;
-  ASSERT_EQ(std::sscanf(yaml.substr(yaml.find("origin: [")).c_str(), "origin: [%lf, %lf, 0]", &x, &y), 2) << yaml;
+  ASSERT_EQ(
+      std::sscanf(yaml.substr(yaml.find("origin: [")).c_str(), "origin: [%lf, %lf, 0]", &x, &y), 2)
+      << yaml;
   EXPECT_NEAR(x, 10.1, 1e-12);
   EXPECT_NEAR(y, 4.94, 1e-12);
   EXPECT_NE(yaml.find("mode: raw\n"), std::string::npos);

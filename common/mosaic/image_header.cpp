@@ -109,7 +109,8 @@ std::optional<ImageHeader> Bmp(Bytes b) {
   if (b.size() < 30 || b[0] != 'B' || b[1] != 'M') return std::nullopt;
   const auto le32 = [&](size_t at) {
     return static_cast<std::int32_t>(std::uint32_t{b[at]} | (std::uint32_t{b[at + 1]} << 8) |
-                                     (std::uint32_t{b[at + 2]} << 16) | (std::uint32_t{b[at + 3]} << 24));
+                                     (std::uint32_t{b[at + 2]} << 16) |
+                                     (std::uint32_t{b[at + 3]} << 24));
   };
   ImageHeader h;
   h.format = ImageFormat::kBmp;

@@ -23,9 +23,9 @@ struct ImageHeader {
   std::string Describe() const;
 };
 
-// The header of a PNG, JPEG, BMP or binary PNM (P5, P6) image from its first bytes (a JPEG's SOF may
-// come after its EXIF block: pass up to 256 KiB). nullopt when the bytes are not one of these or
-// too short to tell.
+// The header of a PNG, JPEG, BMP or binary PNM (P5, P6) image from its first bytes (a JPEG's SOF
+// may come after its EXIF block: pass up to 256 KiB). nullopt when the bytes are not one of these
+// or too short to tell.
 std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes);
 
 }  // namespace fleetloc::mosaic

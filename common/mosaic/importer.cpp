@@ -7,9 +7,9 @@
 
 #include "mosaic/pyramid_builder.h"
 #include "mosaic/row_image_io.h"
-#include "sqlite/sqlite_util.h"
 #include "mosaic/tile_key.h"
 #include "mosaic/tile_store.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 namespace {

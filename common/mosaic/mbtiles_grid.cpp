@@ -30,7 +30,9 @@ Result<MercatorPlacement> PlaceAt(const MercatorAnchor& anchor) {
 }
 
 double MercXToLon(double mx) { return mx / kEarthRadius / kDeg; }
-double MercYToLat(double my) { return (2.0 * std::atan(std::exp(my / kEarthRadius)) - kPi / 2.0) / kDeg; }
+double MercYToLat(double my) {
+  return (2.0 * std::atan(std::exp(my / kEarthRadius)) - kPi / 2.0) / kDeg;
+}
 
 double TileSpanMerc(int zoom) { return 2.0 * kHalfWorld / std::ldexp(1.0, zoom); }
 
@@ -49,7 +51,9 @@ MercTileRange TilesCovering(const MercBounds& b, int zoom) {
   const int last = (1 << zoom) - 1;
   // Lower edges floor, upper edges ceil - 1, so an edge exactly on a tile border stays out.
   auto index = [&](double v) { return std::clamp(static_cast<int>(std::floor(v)), 0, last); };
-  auto index_end = [&](double v) { return std::clamp(static_cast<int>(std::ceil(v)) - 1, 0, last); };
+  auto index_end = [&](double v) {
+    return std::clamp(static_cast<int>(std::ceil(v)) - 1, 0, last);
+  };
   MercTileRange r;
   r.zoom = zoom;
   r.col0 = index((b.x0 + kHalfWorld) / span);
@@ -145,8 +149,8 @@ cv::Mat RenderTile(RasterSource& source, const MbtilesPlan& plan, int zoom, int 
   }
   // Tile pixel i's centre is level coordinate u0 + (i + 0.5) s; in the (shrunk) block's pixel
   // index coordinates that is (u0 + (i + 0.5) s - bx0) sx - 0.5.
-  const cv::Matx23d m(s * sx, 0.0, (u0 - bx0 + 0.5 * s) * sx - 0.5,
-                      0.0, s * sy, (v0 - by0 + 0.5 * s) * sy - 0.5);
+  const cv::Matx23d m(s * sx, 0.0, (u0 - bx0 + 0.5 * s) * sx - 0.5, 0.0, s * sy,
+                      (v0 - by0 + 0.5 * s) * sy - 0.5);
   cv::Mat tile;
   cv::warpAffine(block, tile, m, cv::Size(kMbtilesTileSize, kMbtilesTileSize),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0));

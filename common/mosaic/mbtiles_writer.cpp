@@ -4,9 +4,9 @@
 #include <sqlite3.h>
 
 #include <filesystem>
+#include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
-#include <iomanip>
 
 #include "sqlite/sqlite_util.h"
 
@@ -20,7 +20,8 @@ std::string Degrees(double v) {
 }
 
 Status WriteMetadata(sqlite3* db, const std::vector<std::pair<std::string, std::string>>& rows) {
-  Result<sqlite::Stmt> insert = sqlite::Prepare(db, "INSERT INTO metadata(name, value) VALUES(?, ?)");
+  Result<sqlite::Stmt> insert =
+      sqlite::Prepare(db, "INSERT INTO metadata(name, value) VALUES(?, ?)");
   if (!insert.ok()) return insert.status();
   for (const auto& [name, value] : rows) {
     sqlite::ScopedReset reset(insert->get());
@@ -48,7 +49,8 @@ Status WriteTiles(sqlite3* db, RasterSource& source, const MbtilesPlan& plan,
         sqlite3_bind_int(insert->get(), 1, r.zoom);
         sqlite3_bind_int(insert->get(), 2, col);
         sqlite3_bind_int(insert->get(), 3, TmsRow(r.zoom, row));
-        sqlite3_bind_blob(insert->get(), 4, png.data(), static_cast<int>(png.size()), SQLITE_TRANSIENT);
+        sqlite3_bind_blob(insert->get(), 4, png.data(), static_cast<int>(png.size()),
+                          SQLITE_TRANSIENT);
         if (sqlite3_step(insert->get()) != SQLITE_DONE) return Internal(sqlite::ErrorMessage(db));
         if (progress) progress(++done, plan.total_tiles);
       }
@@ -58,19 +60,22 @@ Status WriteTiles(sqlite3* db, RasterSource& source, const MbtilesPlan& plan,
 }
 
 Status WriteFile(RasterSource& source, const MbtilesPlan& plan, const MbtilesOptions& options,
-                 const std::string& path, const std::function<void(long long, long long)>& progress) {
+                 const std::string& path,
+                 const std::function<void(long long, long long)>& progress) {
   Result<sqlite::Db> db = sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   if (!db.ok()) return db.status();
   FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db->get(),
-      "CREATE TABLE metadata (name TEXT, value TEXT);"
-      "CREATE TABLE tiles (zoom_level INTEGER, tile_column INTEGER, tile_row INTEGER, tile_data BLOB);"
-      "BEGIN;"));
-  FLEETLOC_RETURN_IF_ERROR(WriteMetadata(db->get(), MbtilesMetadata(source.layout(), plan, options)));
+                                        "CREATE TABLE metadata (name TEXT, value TEXT);"
+                                        "CREATE TABLE tiles (zoom_level INTEGER, tile_column "
+                                        "INTEGER, tile_row INTEGER, tile_data BLOB);"
+                                        "BEGIN;"));
+  FLEETLOC_RETURN_IF_ERROR(
+      WriteMetadata(db->get(), MbtilesMetadata(source.layout(), plan, options)));
   FLEETLOC_RETURN_IF_ERROR(WriteTiles(db->get(), source, plan, progress));
   return sqlite::Exec(db->get(),
-      "COMMIT;"
-      "CREATE UNIQUE INDEX tile_index ON tiles (zoom_level, tile_column, tile_row);"
-      "CREATE UNIQUE INDEX name ON metadata (name);");
+                      "COMMIT;"
+                      "CREATE UNIQUE INDEX tile_index ON tiles (zoom_level, tile_column, tile_row);"
+                      "CREATE UNIQUE INDEX name ON metadata (name);");
 }
 
 }  // namespace
@@ -87,15 +92,16 @@ std::vector<std::pair<std::string, std::string>> MbtilesMetadata(const MosaicLay
   description << "fleetloc floor mosaic " << id_version << ", " << layout.geo.resolution
               << " m/px, map origin at lat " << Degrees(options.anchor.lat_deg) << " lon "
               << Degrees(options.anchor.lon_deg) << " (local metres, not surveyed)";
-  return {{"name", options.name.empty() ? layout.mosaic_id : options.name},
-          {"format", "png"},
-          {"bounds", Degrees(west) + "," + Degrees(south) + "," + Degrees(east) + "," + Degrees(north)},
-          {"center", Degrees(lon_c) + "," + Degrees(lat_c) + "," + std::to_string(plan.zooms.min_zoom)},
-          {"minzoom", std::to_string(plan.zooms.min_zoom)},
-          {"maxzoom", std::to_string(plan.zooms.max_zoom)},
-          {"type", "baselayer"},
-          {"version", std::to_string(layout.version)},
-          {"description", description.str()}};
+  return {
+      {"name", options.name.empty() ? layout.mosaic_id : options.name},
+      {"format", "png"},
+      {"bounds", Degrees(west) + "," + Degrees(south) + "," + Degrees(east) + "," + Degrees(north)},
+      {"center", Degrees(lon_c) + "," + Degrees(lat_c) + "," + std::to_string(plan.zooms.min_zoom)},
+      {"minzoom", std::to_string(plan.zooms.min_zoom)},
+      {"maxzoom", std::to_string(plan.zooms.max_zoom)},
+      {"type", "baselayer"},
+      {"version", std::to_string(layout.version)},
+      {"description", description.str()}};
 }
 
 Result<MbtilesPlan> ExportMbtiles(RasterSource& source, const MbtilesOptions& options,

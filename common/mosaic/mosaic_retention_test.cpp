@@ -111,8 +111,7 @@ TEST_F(MosaicRetentionTest, KeepsTheTilesOfTheKeptVersionsAndDropsOldPatches) {
   EXPECT_EQ(patches_->Counts(3)->stored, 1);
   EXPECT_EQ(PruneMosaic(path_, {1, 7 * kDay, 90 * kDay}, Now() + 91 * kDay)->patches_deleted, 1);
   EXPECT_EQ(PruneMosaic(path_, {0, 1, 1}, Now()).status().code(), StatusCode::kInvalidInput);
-  EXPECT_EQ(PruneMosaic(dir_.File("missing.db"), {}, Now()).status().code(),
-            StatusCode::kNotFound);
+  EXPECT_EQ(PruneMosaic(dir_.File("missing.db"), {}, Now()).status().code(), StatusCode::kNotFound);
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ cv::Mat AssembleBlock(const MosaicLayout& layout, int level, const cv::Rect& rec
   // (6 % of a tracker cycle on a textured floor, measured with callgrind).
   cv::Mat block(rect.size(), type);
   const cv::Rect level_bounds(0, 0, layout.LevelWidth(level), layout.LevelHeight(level));
-  const cv::Rect wanted = rect & level_bounds;  // never copy a tile's zero padding
+  const cv::Rect wanted = rect & level_bounds;          // never copy a tile's zero padding
   if (wanted != rect) block.setTo(cv::Scalar::all(0));  // off the level's edge
   TilesCovering(layout, level, wanted).ForEach([&](const TileKey& key) {
     const TilePtr tile = fetch(key);

@@ -31,10 +31,10 @@ double WallSeconds() {
 
 // Adds `column` to the patches table of a file written before it existed; `fill` (SQL) sets it
 // on the rows already there.
-Status AddColumn(sqlite3* db, const std::string& path, const std::string& column, const std::string& type,
-                 const std::string& fill) {
-  Result<sqlite::Stmt> info =
-      sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('patches') WHERE name = '" + column + "'");
+Status AddColumn(sqlite3* db, const std::string& path, const std::string& column,
+                 const std::string& type, const std::string& fill) {
+  Result<sqlite::Stmt> info = sqlite::Prepare(
+      db, "SELECT 1 FROM pragma_table_info('patches') WHERE name = '" + column + "'");
   if (!info.ok()) return Internal(path + ": " + info.status().message());
   if (sqlite3_step(info->get()) == SQLITE_ROW) return Status::Ok();
   const std::string sql = "ALTER TABLE patches ADD COLUMN " + column + " " + type + ";" + fill;
@@ -49,7 +49,8 @@ Status AddColumn(sqlite3* db, const std::string& path, const std::string& column
 Status Migrate(sqlite3* db, const std::string& path) {
   FLEETLOC_RETURN_IF_ERROR(AddColumn(db, path, "refused_reason", "TEXT", ""));
   return AddColumn(db, path, "received", "REAL",
-                   "UPDATE patches SET received = " + std::to_string(WallSeconds()) + " WHERE received IS NULL;");
+                   "UPDATE patches SET received = " + std::to_string(WallSeconds()) +
+                       " WHERE received IS NULL;");
 }
 
 Status CheckPatch(const PatchRecord& p) {
@@ -70,9 +71,11 @@ Status CheckPatch(const PatchRecord& p) {
 }
 
 Result<double> ReadResolution(sqlite3* db, const std::string& path) {
-  Result<sqlite::Stmt> stmt = sqlite::Prepare(db, "SELECT value FROM metadata WHERE name = 'resolution'");
+  Result<sqlite::Stmt> stmt =
+      sqlite::Prepare(db, "SELECT value FROM metadata WHERE name = 'resolution'");
   if (!stmt.ok()) return InvalidInput(path + ": not a fleetloc mosaic (no metadata table)");
-  if (sqlite3_step(stmt->get()) != SQLITE_ROW) return InvalidInput(path + ": no resolution in metadata");
+  if (sqlite3_step(stmt->get()) != SQLITE_ROW)
+    return InvalidInput(path + ": no resolution in metadata");
   const double resolution = sqlite3_column_double(stmt->get(), 0);
   if (!(resolution > 0)) return InvalidInput(path + ": resolution in metadata is not positive");
   return resolution;
@@ -100,11 +103,12 @@ Result<std::unique_ptr<PatchStore>> PatchStore::Open(const std::string& path) {
 
 MapRect PatchStore::Footprint(const PatchRecord& p) const {
   // The decoded image's size, or the one its PNG header declares.
-  const cv::Size size = !p.image.empty() ? p.image.size() : PngHeaderSize(p.png).value_or(cv::Size(0, 0));
+  const cv::Size size =
+      !p.image.empty() ? p.image.size() : PngHeaderSize(p.png).value_or(cv::Size(0, 0));
   const double half_w = size.width * resolution_m_ / 2, half_h = size.height * resolution_m_ / 2;
   MapRect box{1e300, 1e300, -1e300, -1e300};
-  for (const auto& [a, b] : {std::pair{half_h, half_w}, {half_h, -half_w}, {-half_h, half_w},
-                             {-half_h, -half_w}}) {
+  for (const auto& [a, b] :
+       {std::pair{half_h, half_w}, {half_h, -half_w}, {-half_h, half_w}, {-half_h, -half_w}}) {
     const Eigen::Vector2d m = p.pose * Eigen::Vector2d(a, b);
     box.x_min = std::min(box.x_min, m.x()), box.x_max = std::max(box.x_max, m.x());
     box.y_min = std::min(box.y_min, m.y()), box.y_max = std::max(box.y_max, m.y());
@@ -114,14 +118,16 @@ MapRect PatchStore::Footprint(const PatchRecord& p) const {
 
 Result<PutOutcome> PatchStore::Put(const PatchRecord& p) {
   FLEETLOC_RETURN_IF_ERROR(CheckPatch(p));
-  Result<std::vector<std::uint8_t>> png = p.png.empty() ? EncodeTile(p.image) : Result<std::vector<std::uint8_t>>(p.png);
+  Result<std::vector<std::uint8_t>> png =
+      p.png.empty() ? EncodeTile(p.image) : Result<std::vector<std::uint8_t>>(p.png);
   if (!png.ok()) return png.status();
   const MapRect box = Footprint(p);
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
       db_.get(),
       "INSERT OR IGNORE INTO patches(vehicle_id, sequence, stamp, x, y, theta, covariance, quality,"
-      " min_x, min_y, max_x, max_y, image, received) VALUES(?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14)");
+      " min_x, min_y, max_x, max_y, image, received) "
+      "VALUES(?1,?2,?3,?4,?5,?6,?7,?8,?9,?10,?11,?12,?13,?14)");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_stmt* s = stmt->get();
   sqlite3_bind_text(s, 1, p.vehicle_id.c_str(), -1, SQLITE_TRANSIENT);
@@ -144,7 +150,8 @@ Result<PutOutcome> PatchStore::Put(const PatchRecord& p) {
 namespace {
 
 constexpr const char* kUnfoldedWhere =
-    " FROM patches WHERE (folded_in_version = 0 OR folded_in_version > ?1) AND refused_reason IS NULL"
+    " FROM patches WHERE (folded_in_version = 0 OR folded_in_version > ?1) AND refused_reason IS "
+    "NULL"
     " AND max_x > ?2 AND min_x < ?3 AND max_y > ?4 AND min_y < ?5 ORDER BY vehicle_id, sequence";
 
 // Columns 0-7 of a patches row: vehicle_id, sequence, stamp, x, y, theta, covariance, quality.
@@ -177,8 +184,10 @@ void BindRegion(sqlite3_stmt* s, const MapRect& r, int64_t committed_version) {
 Result<PatchQuery> PatchStore::Unfolded(const MapRect& r, int64_t committed_version) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
-      db_.get(), std::string("SELECT vehicle_id, sequence, stamp, x, y, theta, covariance, quality, image,"
-                             " folded_in_version") + kUnfoldedWhere);
+      db_.get(),
+      std::string("SELECT vehicle_id, sequence, stamp, x, y, theta, covariance, quality, image,"
+                  " folded_in_version") +
+          kUnfoldedWhere);
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_stmt* s = stmt->get();
   BindRegion(s, r, committed_version);
@@ -195,15 +204,18 @@ Result<PatchQuery> PatchStore::Unfolded(const MapRect& r, int64_t committed_vers
     p.image = std::move(image).value();
     query.patches.push_back(std::move(p));
   }
-  if (rc != SQLITE_DONE) return Internal(path_ + ": reading patches: " + sqlite::ErrorMessage(db_.get()));
+  if (rc != SQLITE_DONE)
+    return Internal(path_ + ": reading patches: " + sqlite::ErrorMessage(db_.get()));
   return query;
 }
 
-Result<std::vector<PatchRecord>> PatchStore::UnfoldedHeaders(const MapRect& r, int64_t committed_version) {
+Result<std::vector<PatchRecord>> PatchStore::UnfoldedHeaders(const MapRect& r,
+                                                             int64_t committed_version) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
       db_.get(), std::string("SELECT vehicle_id, sequence, stamp, x, y, theta, covariance, quality,"
-                             " folded_in_version") + kUnfoldedWhere);
+                             " folded_in_version") +
+                     kUnfoldedWhere);
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_stmt* s = stmt->get();
   BindRegion(s, r, committed_version);
@@ -213,19 +225,21 @@ Result<std::vector<PatchRecord>> PatchStore::UnfoldedHeaders(const MapRect& r, i
     headers.push_back(ReadHeader(s));
     headers.back().folded_in_version = sqlite3_column_int64(s, 8);
   }
-  if (rc != SQLITE_DONE) return Internal(path_ + ": reading patches: " + sqlite::ErrorMessage(db_.get()));
+  if (rc != SQLITE_DONE)
+    return Internal(path_ + ": reading patches: " + sqlite::ErrorMessage(db_.get()));
   return headers;
 }
 
 Result<cv::Mat> PatchStore::LoadImage(const std::string& vehicle_id, int64_t sequence) {
   std::lock_guard lock(mutex_);
-  Result<sqlite::Stmt> stmt =
-      sqlite::Prepare(db_.get(), "SELECT image FROM patches WHERE vehicle_id = ?1 AND sequence = ?2");
+  Result<sqlite::Stmt> stmt = sqlite::Prepare(
+      db_.get(), "SELECT image FROM patches WHERE vehicle_id = ?1 AND sequence = ?2");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_bind_text(stmt->get(), 1, vehicle_id.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(stmt->get(), 2, sequence);
   if (sqlite3_step(stmt->get()) != SQLITE_ROW) {
-    return NotFound(path_ + ": patch " + vehicle_id + "#" + std::to_string(sequence) + " is not stored");
+    return NotFound(path_ + ": patch " + vehicle_id + "#" + std::to_string(sequence) +
+                    " is not stored");
   }
   Result<cv::Mat> image = DecodeColumn(stmt->get(), 0);
   if (!image.ok()) {
@@ -238,7 +252,8 @@ Result<cv::Mat> PatchStore::LoadImage(const std::string& vehicle_id, int64_t seq
 Result<std::map<std::string, StoredUsage>> PatchStore::UsageByVehicle() {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
-      db_.get(), "SELECT vehicle_id, COUNT(*), SUM(LENGTH(image)) FROM patches GROUP BY vehicle_id");
+      db_.get(),
+      "SELECT vehicle_id, COUNT(*), SUM(LENGTH(image)) FROM patches GROUP BY vehicle_id");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   std::map<std::string, StoredUsage> usage;
   int rc;
@@ -246,7 +261,8 @@ Result<std::map<std::string, StoredUsage>> PatchStore::UsageByVehicle() {
     usage[reinterpret_cast<const char*>(sqlite3_column_text(stmt->get(), 0))] = {
         sqlite3_column_int64(stmt->get(), 1), sqlite3_column_int64(stmt->get(), 2)};
   }
-  if (rc != SQLITE_DONE) return Internal(path_ + ": counting patches: " + sqlite::ErrorMessage(db_.get()));
+  if (rc != SQLITE_DONE)
+    return Internal(path_ + ": counting patches: " + sqlite::ErrorMessage(db_.get()));
   return usage;
 }
 
@@ -254,7 +270,8 @@ Status PatchStore::MarkFolded(const std::vector<PatchRecord>& patches, int64_t v
   std::lock_guard lock(mutex_);
   FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db_.get(), "BEGIN IMMEDIATE"));
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
-      db_.get(), "UPDATE patches SET folded_in_version = ?1 WHERE vehicle_id = ?2 AND sequence = ?3");
+      db_.get(),
+      "UPDATE patches SET folded_in_version = ?1 WHERE vehicle_id = ?2 AND sequence = ?3");
   bool ok = stmt.ok();
   for (size_t i = 0; ok && i < patches.size(); ++i) {
     sqlite::ScopedReset reset(stmt->get());
@@ -306,10 +323,10 @@ Status PatchStore::ClearUncommittedMarks(int64_t committed_version) {
 
 Result<PatchCounts> PatchStore::Counts(int64_t committed_version) {
   std::lock_guard lock(mutex_);
-  Result<sqlite::Stmt> stmt = sqlite::Prepare(
-      db_.get(),
-      "SELECT COUNT(*), SUM(folded_in_version > 0 AND folded_in_version <= ?1),"
-      " SUM(refused_reason IS NOT NULL) FROM patches");
+  Result<sqlite::Stmt> stmt =
+      sqlite::Prepare(db_.get(),
+                      "SELECT COUNT(*), SUM(folded_in_version > 0 AND folded_in_version <= ?1),"
+                      " SUM(refused_reason IS NOT NULL) FROM patches");
   if (!stmt.ok()) return Internal(path_ + ": " + stmt.status().message());
   sqlite3_bind_int64(stmt->get(), 1, committed_version);
   if (sqlite3_step(stmt->get()) != SQLITE_ROW) {

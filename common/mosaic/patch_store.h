@@ -89,7 +89,8 @@ class PatchStore {
   // The same patches without their images (pose, covariance, quality, ids), ordered by vehicle
   // and sequence: a re-mapping job reads each image when it needs it (LoadImage), so its memory
   // does not grow with the number of patches.
-  Result<std::vector<PatchRecord>> UnfoldedHeaders(const MapRect& region, int64_t committed_version);
+  Result<std::vector<PatchRecord>> UnfoldedHeaders(const MapRect& region,
+                                                   int64_t committed_version);
   // The decoded image of one stored patch. NotFound if it is gone; InvalidInput if it does not
   // decode.
   Result<cv::Mat> LoadImage(const std::string& vehicle_id, int64_t sequence);

@@ -15,7 +15,6 @@
 namespace fleetloc::mosaic {
 namespace {
 
-
 class PatchStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -93,8 +92,10 @@ TEST_F(PatchStoreTest, BadFieldsAreNamed) {
   EXPECT_NE(store->Put(bad_quality).status().message().find("quality"), std::string::npos);
   EXPECT_NE(store->Put(empty).status().message().find("image"), std::string::npos);
   for (const PatchRecord* p : {&zero_covariance, &negative_covariance}) {
-    EXPECT_NE(store->Put(*p).status().message().find("covariance': covariance is not positive definite"),
-              std::string::npos) << store->Put(*p).status().message();
+    EXPECT_NE(
+        store->Put(*p).status().message().find("covariance': covariance is not positive definite"),
+        std::string::npos)
+        << store->Put(*p).status().message();
   }
   EXPECT_EQ(store->Counts(1)->stored, 0);
 }
@@ -105,8 +106,10 @@ TEST_F(PatchStoreTest, CorruptStoredImageIsCountedAndSkipped) {
   ASSERT_TRUE(store->Put(Patch(2)).ok());
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
-  ASSERT_EQ(sqlite3_exec(db, "UPDATE patches SET image = x'89504e470d0a1a0a0000' WHERE sequence = 2",
-                         nullptr, nullptr, nullptr), SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db, "UPDATE patches SET image = x'89504e470d0a1a0a0000' WHERE sequence = 2",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
   sqlite3_close(db);
   auto got = store->Unfolded(everywhere_, 1);
   ASSERT_TRUE(got.ok());
@@ -121,7 +124,7 @@ TEST_F(PatchStoreTest, FoldingCountsOnlyOnceTheVersionIsCommitted) {
   EXPECT_EQ(store->Unfolded(everywhere_, 1)->patches.size(), 1u);  // version 2 not committed
   EXPECT_EQ(store->Unfolded(everywhere_, 2)->patches.size(), 0u);  // committed: folded
   EXPECT_EQ(store->Counts(2)->folded, 1);
-  ASSERT_TRUE(store->ClearUncommittedMarks(1).ok());                // the job died before commit
+  ASSERT_TRUE(store->ClearUncommittedMarks(1).ok());  // the job died before commit
   EXPECT_EQ(store->Unfolded(everywhere_, 2)->patches.size(), 1u);
 }
 
@@ -141,15 +144,16 @@ TEST_F(PatchStoreTest, AFileWrittenBeforeRefusalsExistedGainsTheColumn) {
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path_.c_str(), &db), SQLITE_OK);
   // The patches table as earlier versions made it, with one patch in it.
-  ASSERT_EQ(sqlite3_exec(db,
-                         "CREATE TABLE patches(vehicle_id TEXT NOT NULL, sequence INTEGER NOT NULL,"
-                         " stamp REAL NOT NULL, x REAL NOT NULL, y REAL NOT NULL, theta REAL NOT NULL,"
-                         " covariance BLOB NOT NULL, quality REAL NOT NULL, min_x REAL NOT NULL,"
-                         " min_y REAL NOT NULL, max_x REAL NOT NULL, max_y REAL NOT NULL,"
-                         " image BLOB NOT NULL, folded_in_version INTEGER NOT NULL DEFAULT 0,"
-                         " PRIMARY KEY(vehicle_id, sequence))",
-                         nullptr, nullptr, nullptr),
-            SQLITE_OK);
+  ASSERT_EQ(
+      sqlite3_exec(db,
+                   "CREATE TABLE patches(vehicle_id TEXT NOT NULL, sequence INTEGER NOT NULL,"
+                   " stamp REAL NOT NULL, x REAL NOT NULL, y REAL NOT NULL, theta REAL NOT NULL,"
+                   " covariance BLOB NOT NULL, quality REAL NOT NULL, min_x REAL NOT NULL,"
+                   " min_y REAL NOT NULL, max_x REAL NOT NULL, max_y REAL NOT NULL,"
+                   " image BLOB NOT NULL, folded_in_version INTEGER NOT NULL DEFAULT 0,"
+                   " PRIMARY KEY(vehicle_id, sequence))",
+                   nullptr, nullptr, nullptr),
+      SQLITE_OK);
   sqlite3_close(db);
   auto store = Open();
   ASSERT_TRUE(store->Put(Patch(1)).ok());

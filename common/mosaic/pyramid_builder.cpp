@@ -74,7 +74,8 @@ cv::Mat DownsampleTile(const MosaicLayout& layout, const TileKey& parent,
   for (int dy = 0; dy < 2; ++dy) {
     for (int dx = 0; dx < 2; ++dx) {
       const TileKey key{below, 2 * parent.col + dx, 2 * parent.row + dy};
-      if (key.col * t >= layout.LevelWidth(below) || key.row * t >= layout.LevelHeight(below)) continue;
+      if (key.col * t >= layout.LevelWidth(below) || key.row * t >= layout.LevelHeight(below))
+        continue;
       child(key).copyTo(block(cv::Rect(dx * t, dy * t, t, t)));
     }
   }

@@ -110,9 +110,8 @@ TEST(PyramidBuilder, DownsampleTileRebuildsEveryUpperTileExactly) {
   int checked = 0;
   for (const auto& [key, tile] : tiles) {
     if (key.level == 0) continue;
-    const cv::Mat rebuilt = DownsampleTile(layout, key, [&](const TileKey& child) {
-      return tiles.at(child);
-    });
+    const cv::Mat rebuilt =
+        DownsampleTile(layout, key, [&](const TileKey& child) { return tiles.at(child); });
     EXPECT_EQ(MaxAbsDiff(rebuilt, tile), 0) << ToString(key);
     ++checked;
   }

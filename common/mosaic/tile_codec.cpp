@@ -42,10 +42,13 @@ Result<std::vector<std::uint8_t>> EncodeTile(const cv::Mat& tile) {
 Status CheckGrayPngHeader(std::span<const std::uint8_t> bytes, int max_side_px) {
   if (bytes.empty()) return InvalidInput("image data is empty");
   const std::optional<ImageHeader> header = ReadImageHeader(bytes);
-  if (!header || header->format != ImageFormat::kPng) return InvalidInput("image data is not a PNG");
-  if (header->width < 1 || header->height < 1 || header->width > max_side_px || header->height > max_side_px) {
-    return InvalidInput("image is " + std::to_string(header->width) + "x" + std::to_string(header->height) +
-                        " px, sides must be in [1, " + std::to_string(max_side_px) + "]");
+  if (!header || header->format != ImageFormat::kPng)
+    return InvalidInput("image data is not a PNG");
+  if (header->width < 1 || header->height < 1 || header->width > max_side_px ||
+      header->height > max_side_px) {
+    return InvalidInput("image is " + std::to_string(header->width) + "x" +
+                        std::to_string(header->height) + " px, sides must be in [1, " +
+                        std::to_string(max_side_px) + "]");
   }
   if (header->bit_depth != 8 || header->channels != 1) {
     return InvalidInput("image is " + header->Describe() + "; it must be 8-bit gray");

@@ -74,12 +74,14 @@ TEST(TileCodec, DepthAndChannelsAreRefusedFromTheHeaderBeforeDecoding) {
   ASSERT_TRUE(cv::imencode(".png", cv::Mat(240, 320, CV_16UC4, cv::Scalar(1, 2, 3, 4)), rgba16));
   const Status refused = CheckGrayPngHeader(rgba16, 4096);
   EXPECT_EQ(refused.code(), StatusCode::kInvalidInput);
-  EXPECT_NE(refused.message().find("320x240, 16-bit, 4 channels; it must be 8-bit gray"), std::string::npos)
+  EXPECT_NE(refused.message().find("320x240, 16-bit, 4 channels; it must be 8-bit gray"),
+            std::string::npos)
       << refused.message();
   EXPECT_EQ(DecodeGrayPng(rgba16, 4096).status().message(), refused.message());
   // A header declaring 30000 x 30000 in a few bytes: refused by size, nothing decoded.
   std::vector<std::uint8_t> huge = *EncodeTile(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0)));
-  for (size_t at : {16u, 20u}) huge[at] = 0, huge[at + 1] = 0, huge[at + 2] = 0x75, huge[at + 3] = 0x30;
+  for (size_t at : {16u, 20u})
+    huge[at] = 0, huge[at + 1] = 0, huge[at + 2] = 0x75, huge[at + 3] = 0x30;
   EXPECT_NE(DecodeGrayPng(huge, 4096).status().message().find("30000x30000 px"), std::string::npos);
   EXPECT_TRUE(CheckGrayPngHeader(*EncodeTile(RealTile()), 256).ok());
 }

@@ -15,8 +15,8 @@
 #include "mosaic/mosaic_metadata.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/raster_source.h"
-#include "sqlite/sqlite_util.h"
 #include "mosaic/tile_key.h"
+#include "sqlite/sqlite_util.h"
 
 namespace fleetloc::mosaic {
 

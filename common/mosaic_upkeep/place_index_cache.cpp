@@ -51,11 +51,9 @@ std::string PlaceIndexKey(const mapmatch::PlaceIndexOptions& o) {
          std::to_string(o.lsh_key_bits) + "x" + std::to_string(o.lsh_multiprobe_level);
 }
 
-Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
-                                               RasterSource& view,
+Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path, RasterSource& view,
                                                const mapmatch::PlaceIndexOptions& options,
-                                               IndexCache cache,
-                                               const std::atomic<bool>* cancel) {
+                                               IndexCache cache, const std::atomic<bool>* cancel) {
   const long long version = view.layout().version;
   const std::string key = PlaceIndexKey(options);
   if (cache == IndexCache::kUse) {
@@ -65,8 +63,8 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
   }
   const auto start = std::chrono::steady_clock::now();
   runtime::PercentLog log("place index of " + mosaic_path, "strips");
-  Result<mapmatch::PlaceIndex> built =
-      mapmatch::PlaceIndex::Build(view, options, [&](int done, int total) { log(done, total); }, cancel);
+  Result<mapmatch::PlaceIndex> built = mapmatch::PlaceIndex::Build(
+      view, options, [&](int done, int total) { log(done, total); }, cancel);
   if (!built.ok()) return built.status();
   LoadedPlaceIndex loaded{std::move(built).value(), {}, false, SecondsSince(start)};
   loaded.blob = loaded.index.Serialize();

@@ -29,7 +29,8 @@ using mosaic::testing::SourcePath;
 
 // A mosaic imported from the 0.5 m gravel photo, and a view over it.
 struct GravelMosaic {
-  explicit GravelMosaic(const ScratchDir& dir, const std::string& image = "deploy/demo/floors/gravel_1024.png")
+  explicit GravelMosaic(const ScratchDir& dir,
+                        const std::string& image = "deploy/demo/floors/gravel_1024.png")
       : path(dir.File("m.db")) {
     ImportOptions options;
     options.resolution_m = 0.0005;

@@ -29,7 +29,8 @@ Status CheckRegion(const MapRect& r, const MosaicLayout& layout) {
   for (double v : {r.x_min, r.y_min, r.x_max, r.y_max}) {
     if (!std::isfinite(v)) return InvalidInput("remap region has a non-finite coordinate");
   }
-  if (!(r.x_min < r.x_max && r.y_min < r.y_max)) return InvalidInput("remap region is empty or inverted");
+  if (!(r.x_min < r.x_max && r.y_min < r.y_max))
+    return InvalidInput("remap region is empty or inverted");
   const double x0 = layout.geo.origin_x, y1 = layout.geo.origin_y;
   const double x1 = x0 + layout.width_px * layout.geo.resolution;
   const double y0 = y1 - layout.height_px * layout.geo.resolution;
@@ -46,8 +47,10 @@ Status CheckPolicy(const RemapPolicy& p) {
   if (std::string problem = mapping::OptionsProblem(p.reputation); !problem.empty()) {
     return InvalidInput("remap policy: reputation: " + problem);
   }
-  if (p.corroboration.min_vehicles < 1) return InvalidInput("remap policy: min_vehicles must be >= 1");
-  if (p.max_patches_per_tile < 1) return InvalidInput("remap policy: max_patches_per_tile must be >= 1");
+  if (p.corroboration.min_vehicles < 1)
+    return InvalidInput("remap policy: min_vehicles must be >= 1");
+  if (p.max_patches_per_tile < 1)
+    return InvalidInput("remap policy: max_patches_per_tile must be >= 1");
   return Status::Ok();
 }
 
@@ -73,8 +76,8 @@ Result<long long> Commit(TileStore& store, const std::map<TileKey, cv::Mat>& til
 // The verdicts of one job: what to write back (refusals, standings, folded patches) and the report.
 class Verdicts {
  public:
-  Verdicts(std::map<std::string, mapping::VehicleStanding> standings, const mapping::ReputationOptions& reputation,
-           RemapResult* result)
+  Verdicts(std::map<std::string, mapping::VehicleStanding> standings,
+           const mapping::ReputationOptions& reputation, RemapResult* result)
       : standings_(std::move(standings)), reputation_(reputation), result_(result) {}
 
   bool Quarantined(const std::string& vehicle) const {
@@ -100,8 +103,9 @@ class Verdicts {
       case mapping::PatchFate::kRefused:
         ++report.refused;
         report.refused_by[mapping::VerdictName(o.admission.verdict)]++;
-        refusals_.push_back({p.vehicle_id, p.sequence,
-                             std::string(mapping::VerdictName(o.admission.verdict)) + ": " + o.reason});
+        refusals_.push_back(
+            {p.vehicle_id, p.sequence,
+             std::string(mapping::VerdictName(o.admission.verdict)) + ": " + o.reason});
         break;
     }
     mapping::VehicleStanding& standing = standings_[p.vehicle_id];
@@ -185,8 +189,10 @@ std::vector<const PatchRecord*> ToJudge(const std::vector<PatchRecord>& query, V
 
 // The computed tiles committed as version + 1 (`result` completed), unless none changed or the job
 // was cancelled.
-Result<RemapResult> CommitRemap(TileStore& store, PatchStore& patches, const std::vector<PatchRecord>& folded,
-                                const mapping::RemapTiles& computed, long long version, RemapResult result,
+Result<RemapResult> CommitRemap(TileStore& store, PatchStore& patches,
+                                const std::vector<PatchRecord>& folded,
+                                const mapping::RemapTiles& computed, long long version,
+                                RemapResult result,
                                 const std::function<void(const std::string&, int, int)>& report,
                                 const std::atomic<bool>* cancel) {
   if (computed.tiles.empty()) return result;  // nothing to change
@@ -209,13 +215,15 @@ Result<RemapResult> CommitRemap(TileStore& store, PatchStore& patches, const std
 
 std::string RemapSummary(const RemapResult& r, size_t max_chars) {
   std::ostringstream out;
-  out << r.patches_folded << " folded, " << r.patches_rejected << " refused, " << r.patches_held << " held";
+  out << r.patches_folded << " folded, " << r.patches_rejected << " refused, " << r.patches_held
+      << " held";
   for (const auto& [vehicle, v] : r.vehicles) {
     out << "; " << vehicle << ": " << v.folded << " folded";
     if (v.refused > 0) {
       out << ", " << v.refused << " refused (";
       const char* separator = "";
-      for (const auto& [reason, n] : v.refused_by) out << separator << reason << " " << n, separator = ", ";
+      for (const auto& [reason, n] : v.refused_by)
+        out << separator << reason << " " << n, separator = ", ";
       out << ")";
     }
     if (v.held > 0) out << ", " << v.held << " held";
@@ -258,11 +266,13 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   RemapResult result{layout.version, {}, 0, 0, 0, 0, {}, {}};
   Verdicts verdicts(std::move(standings).value(), request.policy.reputation, &result);
   const std::vector<const PatchRecord*> judged = ToJudge(*query, verdicts);
-  MosaicView view(layout, [&store](const TileKey& k) { return store.ReadTile(k); },
-                  std::make_shared<TileCache>(size_t{64} << 20));
+  MosaicView view(
+      layout, [&store](const TileKey& k) { return store.ReadTile(k); },
+      std::make_shared<TileCache>(size_t{64} << 20));
   const auto fetch = [&](const TileKey& key) {
     Result<cv::Mat> tile = store.ReadTile(key);
-    return tile.ok() ? *tile : cv::Mat(cv::Mat::zeros(layout.tile_size_px, layout.tile_size_px, CV_8UC1));
+    return tile.ok() ? *tile
+                     : cv::Mat(cv::Mat::zeros(layout.tile_size_px, layout.tile_size_px, CV_8UC1));
   };
   StorePatchSource source(&patches, judged);
   Result<mapping::RemapTiles> computed = mapping::ComputeRemap(
@@ -281,14 +291,14 @@ Result<RemapResult> RunRemap(TileStore& store, PatchStore& patches, VehicleStand
   if (!request.dry_run) FLEETLOC_RETURN_IF_ERROR(verdicts.Persist(patches, standing));
   result.patches_folded = static_cast<int>(verdicts.folded().size());
   result.patches_held = computed->Count(mapping::PatchFate::kHeld);
-  result.patches_rejected = static_cast<int>(query->size()) - result.patches_folded - result.patches_held -
-                            result.patches_unreadable;
+  result.patches_rejected = static_cast<int>(query->size()) - result.patches_folded -
+                            result.patches_held - result.patches_unreadable;
   if (request.dry_run) {
     for (const auto& [key, tile] : computed->tiles) result.changed_tiles.push_back(key);
     return result;
   }
-  return CommitRemap(store, patches, verdicts.folded(), *computed, layout.version, std::move(result), report,
-                     cancel);
+  return CommitRemap(store, patches, verdicts.folded(), *computed, layout.version,
+                     std::move(result), report, cancel);
 }
 
 }  // namespace fleetloc::mosaic_upkeep

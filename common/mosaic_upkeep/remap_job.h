@@ -54,18 +54,18 @@ struct RemapProgress {
 struct VehicleRemapReport {
   int folded = 0;
   int refused = 0;
-  int held = 0;                              // awaiting another vehicle's confirmation
-  std::map<std::string, int> refused_by;     // verdict name (or "quarantined") → count
-  bool quarantined = false;                  // quarantined now (before or by this job)
+  int held = 0;                           // awaiting another vehicle's confirmation
+  std::map<std::string, int> refused_by;  // verdict name (or "quarantined") → count
+  bool quarantined = false;               // quarantined now (before or by this job)
 };
 
 struct RemapResult {
-  long long new_version = 0;          // the previous version when nothing changed
+  long long new_version = 0;                   // the previous version when nothing changed
   std::vector<mosaic::TileKey> changed_tiles;  // every level
   int patches_folded = 0;
-  int patches_rejected = 0;           // refused (failed admission, unreadable, quarantined sender)
+  int patches_rejected = 0;  // refused (failed admission, unreadable, quarantined sender)
   int patches_held = 0;
-  int patches_unreadable = 0;         // stored image did not decode
+  int patches_unreadable = 0;  // stored image did not decode
   std::map<std::string, VehicleRemapReport> vehicles;
   std::vector<std::string> newly_quarantined;
 };
@@ -85,8 +85,7 @@ Result<RemapStores> OpenRemapStores(const std::string& path, mosaic::OpenMode ti
 // InvalidInput for an empty, inverted or non-finite region or one outside the mosaic, bad policy
 // options, and when cancelled; Internal on storage errors. `store` must be writable.
 Result<RemapResult> RunRemap(mosaic::TileStore& store, mosaic::PatchStore& patches,
-                             VehicleStandingStore& standing,
-                             const RemapRequest& request,
+                             VehicleStandingStore& standing, const RemapRequest& request,
                              const std::function<void(const RemapProgress&)>& progress = {},
                              const std::atomic<bool>* cancel = nullptr);
 

@@ -23,8 +23,8 @@ using mosaic::OpenMode;
 using mosaic::PatchStore;
 using mosaic::PutOutcome;
 using mosaic::TileKey;
-using mosaic::TileStore;
 using mosaic::TilesCovering;
+using mosaic::TileStore;
 namespace {
 
 using Scene = mapping::testing::ChangedFloorScene;
@@ -45,7 +45,8 @@ class RemapJobTest : public ::testing::Test {
   }
 
   void Put(const std::string& vehicle, const mapping::Patch& p) {
-    ASSERT_EQ(*patches_->Put({vehicle, ++sequence_[vehicle], 1.0, p.pose, p.covariance, p.quality, p.image}),
+    ASSERT_EQ(*patches_->Put(
+                  {vehicle, ++sequence_[vehicle], 1.0, p.pose, p.covariance, p.quality, p.image}),
               PutOutcome::kStored);
   }
   // The two views of the changed floor one vehicle (agv-1) reported, off by a few pixels.
@@ -57,14 +58,16 @@ class RemapJobTest : public ::testing::Test {
   int PutForged() {
     int n = 0;
     for (cv::Point centre : {cv::Point(490, 425), cv::Point(300, 300), cv::Point(700, 600)}) {
-      for (const auto& forged : mapping::testing::ForgedPatches(scene_, centre)) Put("forger", forged.patch), ++n;
+      for (const auto& forged : mapping::testing::ForgedPatches(scene_, centre))
+        Put("forger", forged.patch), ++n;
     }
     return n;
   }
 
   // The region around the change, in map metres.
   MapRect Region() const {
-    const Eigen::Vector2d a = scene_.geo.PixelToMap({400, 500}), b = scene_.geo.PixelToMap({600, 350});
+    const Eigen::Vector2d a = scene_.geo.PixelToMap({400, 500}),
+                          b = scene_.geo.PixelToMap({600, 350});
     return {a.x(), a.y(), b.x(), b.y()};
   }
   MapRect Everywhere() const { return {0, 0, 1024 * kRes, 1024 * kRes}; }
@@ -176,7 +179,8 @@ TEST_P(ForgedVehicle, ChangesNoMosaicPixelAndIsQuarantined) {
   EXPECT_EQ(result->newly_quarantined, std::vector<std::string>{"forger"});
   EXPECT_NE(RemapSummary(*result).find("forger: 0 folded, 18 refused"), std::string::npos)
       << RemapSummary(*result);
-  // Refused for good: they are not judged again, and the forger's next patches are refused unjudged.
+  // Refused for good: they are not judged again, and the forger's next patches are refused
+  // unjudged.
   EXPECT_EQ(patches_->Counts(1)->refused, forged);
   EXPECT_TRUE(patches_->Unfolded(Everywhere(), 1)->patches.empty());
   EXPECT_TRUE(*standing_->IsQuarantined("forger"));
@@ -189,14 +193,17 @@ TEST_P(ForgedVehicle, ChangesNoMosaicPixelAndIsQuarantined) {
 
 INSTANTIATE_TEST_SUITE_P(BlendAndReplace, ForgedVehicle,
                          ::testing::Values(RemapMode::kBlend, RemapMode::kReplace),
-                         [](const auto& info) { return info.param == RemapMode::kBlend ? "Blend" : "Replace"; });
+                         [](const auto& info) {
+                           return info.param == RemapMode::kBlend ? "Blend" : "Replace";
+                         });
 
 TEST_F(RemapJobTest, ARealChangeSeenBySeveralVehiclesIsFoldedBesideAForger) {
   PutForged();
   Put("agv-1", scene_.PatchAt({490, 425}, {2 * kRes, -1.5 * kRes, 0.005}));
   Put("agv-2", scene_.PatchAt({470, 440}, {-kRes, 2.5 * kRes, -0.003}));
   Put("agv-3", scene_.PatchAt({510, 415}, {0.5 * kRes, kRes, 0.002}));
-  Put("agv-3", mapping::testing::SplicedPatch(scene_, {700, 600}, "agv-3"));  // agv-3 is compromised too
+  Put("agv-3",
+      mapping::testing::SplicedPatch(scene_, {700, 600}, "agv-3"));  // agv-3 is compromised too
   RemapPolicy policy;
   policy.corroboration.min_vehicles = 2;
   auto result = Remap(Everywhere(), RemapMode::kReplace, policy);
@@ -234,7 +241,8 @@ TEST_F(RemapJobTest, CancelledJobLeavesTheMosaicAndThePatchesAsTheyWere) {
   PutGenuine();
   const auto before = store_->ReadTileBytes({0, 1, 1});
   std::atomic<bool> cancel{true};
-  auto result = RunRemap(*store_, *patches_, *standing_, {Region(), RemapMode::kBlend}, {}, &cancel);
+  auto result =
+      RunRemap(*store_, *patches_, *standing_, {Region(), RemapMode::kBlend}, {}, &cancel);
   ASSERT_FALSE(result.ok());
   auto reopened = TileStore::Open(path_, OpenMode::kReadOnly);
   EXPECT_EQ((*reopened)->version(), 1);

@@ -14,7 +14,6 @@ using mosaic::ImportImage;
 using mosaic::ImportOptions;
 namespace {
 
-
 class VehicleStandingStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {

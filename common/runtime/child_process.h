@@ -17,7 +17,8 @@ class ChildProcess {
  public:
   // Starts `program` (a path) with `args`; stdout and stderr go to `log_path` (truncated);
   // `env` entries ("NAME=value") are added to this process's environment.
-  static Result<ChildProcess> Start(const std::string& program, const std::vector<std::string>& args,
+  static Result<ChildProcess> Start(const std::string& program,
+                                    const std::vector<std::string>& args,
                                     const std::string& log_path,
                                     const std::vector<std::string>& env = {});
   ChildProcess(ChildProcess&& other) noexcept;

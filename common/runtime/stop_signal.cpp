@@ -16,7 +16,7 @@ extern "C" void OnStopSignal(int signal_number) {
 
 const std::atomic<bool>& InstallStopSignals() {
   static_assert(std::atomic<bool>::is_always_lock_free);  // safe in a signal handler
-  struct sigaction action{};
+  struct sigaction action {};
   action.sa_handler = OnStopSignal;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);

@@ -1,7 +1,6 @@
 // Tests for the camera renderer: geometry against the geotransform and camera model, sub-pixel
 // shifts, photometric effects and determinism.
 #include "sim/camera_renderer.h"
-#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -9,6 +8,8 @@
 #include <complex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "sim/sim_test_util.h"
 
 namespace fleetloc::sim {
 namespace {
@@ -21,7 +22,6 @@ cv::Mat Gravel() {
   EXPECT_FALSE(image.empty());
   return image;
 }
-
 
 // The gravel image as a floor with its top-left corner at map (1, 2).
 mosaic::ImageRasterSource GravelFloor() {

@@ -1,11 +1,12 @@
 // Tests for the simulated route: it stays over the floor, runs at the requested speed and heads
 // along its direction of travel.
 #include "sim/route.h"
-#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "sim/sim_test_util.h"
 
 namespace fleetloc::sim {
 namespace {

@@ -123,8 +123,7 @@ geometry::Pose2 RunSimulator::BaseAt(double elapsed_s) const {
 geometry::Pose2 RunSimulator::WheelBaseAt(double elapsed_s) const {
   const KidnapOptions& kidnap = options_.kidnap;
   if (!kidnap.enabled() || elapsed_s < kidnap.at_s) return BaseAt(elapsed_s);
-  const geometry::Pose2 picked_up =
-      route_.CameraPoseAt(kidnap.at_s) * camera_.mount.Inverse();
+  const geometry::Pose2 picked_up = route_.CameraPoseAt(kidnap.at_s) * camera_.mount.Inverse();
   return picked_up * geometry::Between(BaseAt(kidnap.at_s), BaseAt(elapsed_s));
 }
 

@@ -1,12 +1,13 @@
 // Tests for the run simulator: the planned run follows the contract (times, coverage of odometry,
 // truth), its odometry drifts as configured, its summary is right and it is reproducible.
 #include "sim/run_simulator.h"
-#include "sim/sim_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+
+#include "sim/sim_test_util.h"
 
 namespace fleetloc::sim {
 namespace {
@@ -19,7 +20,6 @@ mosaic::ImageRasterSource GravelFloor() {
   EXPECT_FALSE(gravel.empty());
   return mosaic::ImageRasterSource(gravel, geometry::Geotransform{1.0, 2.0, kResolutionM});
 }
-
 
 TEST(RunSimulator, PlansAscendingFramesCoveredByOdometry) {
   mosaic::ImageRasterSource floor = GravelFloor();
@@ -166,8 +166,8 @@ TEST(RunSimulator, KidnapMovesTheFramesButNotTheOdometry) {
     EXPECT_NEAR(base.pose.x, expected.x, 1e-12);
     EXPECT_NEAR(base.pose.y, expected.y, 1e-12);
   }
-  const double truth_step = std::hypot(truth[20].pose.x - truth[19].pose.x,
-                                       truth[20].pose.y - truth[19].pose.y);
+  const double truth_step =
+      std::hypot(truth[20].pose.x - truth[19].pose.x, truth[20].pose.y - truth[19].pose.y);
   EXPECT_GT(truth_step, 0.05);  // the vehicle was carried off (a frame step is ~0.3 m · 0.2 s)
   // Exact odometry without jitter (clean options) has a sample at every frame time: its increment
   // over the jump is the motion without it, and after it every increment is the truth's.

@@ -57,7 +57,8 @@ TEST(SqliteUtil, RemovingADatabaseRemovesItsSideFiles) {
   const std::string path = TempPath("side_files.db").string();
   for (const char* suffix : {"", "-wal", "-shm", "-journal"}) std::ofstream(path + suffix) << "x";
   RemoveDatabaseFiles(path);
-  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) EXPECT_FALSE(fs::exists(path + suffix));
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"})
+    EXPECT_FALSE(fs::exists(path + suffix));
   RemoveDatabaseFiles(path);  // absent files are no error
 }
 

@@ -19,10 +19,12 @@ std::string Shortest(double value) {
 Status CheckCameraResolution(double camera_resolution_m, double mosaic_resolution_m,
                              const std::string& camera_source) {
   const double ratio = camera_resolution_m / mosaic_resolution_m;
-  if (std::isfinite(ratio) && std::abs(ratio - 1.0) <= kMaxCameraResolutionMismatch) return Status::Ok();
+  if (std::isfinite(ratio) && std::abs(ratio - 1.0) <= kMaxCameraResolutionMismatch)
+    return Status::Ok();
   return InvalidInput(camera_source + ": camera resolution " + Shortest(camera_resolution_m) +
                       " m/px differs from the mosaic's " + Shortest(mosaic_resolution_m) +
-                      " m/px by more than " + std::to_string(static_cast<int>(kMaxCameraResolutionMismatch * 100)) +
+                      " m/px by more than " +
+                      std::to_string(static_cast<int>(kMaxCameraResolutionMismatch * 100)) +
                       " % (rectify the camera to the mosaic's resolution: fleetctl calibrate)");
 }
 

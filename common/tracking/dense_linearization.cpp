@@ -156,8 +156,8 @@ float Sum(const float* values, int n) {
 
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans_in,
-                                  const Eigen::Vector2d& principal_px, double tukey_c,
-                                  double sigma, double gain) {
+                                  const Eigen::Vector2d& principal_px, double tukey_c, double sigma,
+                                  double gain) {
   CV_Assert(frame.type() == CV_32F && view.type() == CV_32F);
   CV_Assert(view.cols == inner.width + 2 && view.rows == inner.height + 2);
   CV_Assert((cv::Rect(0, 0, frame.cols, frame.rows) & inner) == inner);

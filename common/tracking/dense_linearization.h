@@ -96,7 +96,7 @@ Linearization LinearizePoints(const PointSet& points, const PointViews& views, d
 // direct_aligner.cpp), times the gain.
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans,
-                                  const Eigen::Vector2d& principal_px, double tukey_c,
-                                  double sigma, double gain = 1.0);
+                                  const Eigen::Vector2d& principal_px, double tukey_c, double sigma,
+                                  double gain = 1.0);
 
 }  // namespace fleetloc::tracking

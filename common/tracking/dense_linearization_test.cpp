@@ -179,8 +179,8 @@ TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
   PointViews views(0);
   AllPixels(frame, view, inner, principal, &points, &views);
   for (const double gain : {1.0, 0.0}) {
-    const Linearization whole = LinearizeWholeFrame(frame, view, inner, {},
-                                                    {principal.x, principal.y}, 4.685, 0.0, gain);
+    const Linearization whole =
+        LinearizeWholeFrame(frame, view, inner, {}, {principal.x, principal.y}, 4.685, 0.0, gain);
     const Linearization sparse = LinearizePoints(points, views, 4.685, whole.sigma, whole.gain);
     EXPECT_EQ(sparse.points, whole.points);
     EXPECT_NEAR(sparse.correlation, whole.correlation, 1e-5);

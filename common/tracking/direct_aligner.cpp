@@ -14,12 +14,12 @@
 
 namespace fleetloc::tracking {
 
-using geometry::Difference;
-using geometry::Pose2;
-using geometry::PoseWithCovariance;
 using direct_detail::ApplyStep;
 using direct_detail::CornerSigmaPx;
 using direct_detail::RotationBlock;
+using geometry::Difference;
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
 
 namespace direct_detail {
 
@@ -203,9 +203,9 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
   // off with a claimed sigma of 0.03–0.15 px).
   const bool significant = fit.searched && fit.peak_z >= o.min_significant_peak_z &&
                            fit.correlation >= o.min_significant_correlation;
-  const bool distinct = clear_peak || significant ||
-                        (fit.coarse_correlation >= o.min_distinct_correlation &&
-                         ratio <= o.max_distinct_peak_ratio);
+  const bool distinct =
+      clear_peak || significant ||
+      (fit.coarse_correlation >= o.min_distinct_correlation && ratio <= o.max_distinct_peak_ratio);
   const double max_chi2 = distinct ? o.max_distinct_prior_chi2 : o.max_prior_chi2;
   // Strong at the search level, or at the finest level where a weak floor's texture lives (a
   // coarse search peak that is not ambiguous, then a high correlation once aligned).

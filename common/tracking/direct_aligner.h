@@ -29,18 +29,18 @@ struct DirectAlignment {
   geometry::PoseWithCovariance measurement;  // the image alone (covariance of the image term)
   double correlation = 0.0;                  // weighted NCC at the finest level
   double coarse_correlation = 0.0;  // weighted NCC at the level above the finest (or the search's)
-  double inlier_fraction = 0.0;              // at the finest level
-  double peak_ratio = 0.0;                   // of the coarse search (0 when none ran)
+  double inlier_fraction = 0.0;     // at the finest level
+  double peak_ratio = 0.0;          // of the coarse search (0 when none ran)
   // The search peak's correlation above the rest of the search surface, in its standard
   // deviations (0 when no search ran).
   double peak_z = 0.0;
   double prior_chi2 = 0.0;
-  double sigma_px = 0.0;  // image-only worst-direction position sigma, level-0 px
+  double sigma_px = 0.0;      // image-only worst-direction position sigma, level-0 px
   double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
-  int points = 0;         // pixels used at the finest level
-  int iterations = 0;     // Gauss–Newton iterations over all levels
-  bool searched = false;  // the coarse exhaustive search ran
-  int searches = 0;       // how many times (one per heading tried)
+  int points = 0;             // pixels used at the finest level
+  int iterations = 0;         // Gauss–Newton iterations over all levels
+  bool searched = false;      // the coarse exhaustive search ran
+  int searches = 0;           // how many times (one per heading tried)
 };
 
 class DirectAligner {
@@ -88,8 +88,8 @@ class DirectAligner {
                               const geometry::Pose2& pose, DirectAlignment* out) const;
   geometry::Pose2 GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                               const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
-                              double tolerance_px, int* iterations,
-                              Linearization* final_fit, bool fit_gain) const;
+                              double tolerance_px, int* iterations, Linearization* final_fit,
+                              bool fit_gain) const;
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;

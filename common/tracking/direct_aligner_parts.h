@@ -106,7 +106,7 @@ struct DirectAligner::Level {
   cv::Mat normalized;  // CV_32F, the frame at this level, locally normalized
   cv::Mat searched;    // the same with occluders set to 0 (the floor's mean), for the search
   int border = 0;      // pixels whose normalization window was clipped
-  PointSet points;  // grouped by score block
+  PointSet points;     // grouped by score block
 };
 
 }  // namespace fleetloc::tracking

@@ -257,8 +257,8 @@ TEST(DirectAligner, ARepeatedCoarsePatternIsToldApartByAligningTheRivalPeak) {
       options.verify_rival_peak = verify;
       const DirectAligner aligner(options, scene.camera, &normalized);
       const DirectAlignment fit = aligner.Align(frame, prior, prior.pose);
-      SCOPED_TRACE(testing::Message() << "fine gain " << fine_gain << ", verify " << verify
-                                      << ": " << fit.reason << ", peak ratio " << fit.peak_ratio);
+      SCOPED_TRACE(testing::Message() << "fine gain " << fine_gain << ", verify " << verify << ": "
+                                      << fit.reason << ", peak ratio " << fit.peak_ratio);
       EXPECT_TRUE(fit.searched);
       EXPECT_EQ(fit.valid, verify && fine_gain == 2.0);
       if (fit.valid) {
@@ -338,7 +338,8 @@ TEST(DirectAligner, PolishRefusesAStartItWouldHaveToMoveFar) {
   const Pose2 truth = base * f.scene.camera.mount;
   const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
   // 2 px off: a template fit that far is wrong, and the polish must not be the one to say so.
-  const DirectAlignment fit = f.aligner.Polish(frame, prior, {truth.x + 0.001, truth.y, truth.theta});
+  const DirectAlignment fit =
+      f.aligner.Polish(frame, prior, {truth.x + 0.001, truth.y, truth.theta});
   EXPECT_FALSE(fit.valid);
 }
 

@@ -20,12 +20,12 @@
 
 namespace fleetloc::tracking {
 
-using geometry::Difference;
-using geometry::Pose2;
-using geometry::PoseWithCovariance;
 using direct_detail::ApplyStep;
 using direct_detail::Median;
 using direct_detail::RotationBlock;
+using geometry::Difference;
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
 
 namespace {
 
@@ -234,8 +234,7 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
 Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
                                        const Pose2& pose, double sigma, double gain) const {
   const LevelWarp warp(
-      FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level),
-      level.level);
+      FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level), level.level);
   return LinearizePoints(level.points, warp.Views(source, level.points), options_.tukey_c, sigma,
                          gain);
 }
@@ -246,12 +245,10 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
                                 double tolerance_px, int* iterations, Linearization* final_fit,
                                 bool fit_gain) const {
   const Source source = ReadSource(level, pose);
-  return GaussNewton(
-      [&](const Pose2& at, double sigma, double gain) {
-        return Linearize(level, *source, at, sigma, gain);
-      },
-      level.level, options_.max_iterations, prior, pose, tolerance_px, iterations, final_fit,
-      fit_gain);
+  return GaussNewton([&](const Pose2& at, double sigma,
+                         double gain) { return Linearize(level, *source, at, sigma, gain); },
+                     level.level, options_.max_iterations, prior, pose, tolerance_px, iterations,
+                     final_fit, fit_gain);
 }
 
 // Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the

@@ -13,24 +13,25 @@
 
 namespace fleetloc::tracking {
 
+using direct_detail::GrownBy;
 using geometry::Difference;
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
-using direct_detail::GrownBy;
 
 // Per row of `inner`, the columns (relative to inner.x) whose pixel and its gradient neighbours
 // fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
-std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner) const {
+std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose,
+                                                    const cv::Rect& inner) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
   constexpr double kSpare = 3.0;
-  const geometry::ConvexPolygon mosaic_in_frame =
-      MosaicInFrame(FrameMosaicWarp::For(pose, camera_, layout.geo), layout.width_px,
-                    layout.height_px, kSpare);
+  const geometry::ConvexPolygon mosaic_in_frame = MosaicInFrame(
+      FrameMosaicWarp::For(pose, camera_, layout.geo), layout.width_px, layout.height_px, kSpare);
   std::vector<cv::Range> spans(inner.height);
   for (int y = 0; y < inner.height; ++y) {
     const auto [lo, hi] = geometry::SpanAtY(mosaic_in_frame, inner.y + y + 0.5);
     spans[y].start = lo > hi ? 0 : std::max(0, static_cast<int>(std::ceil(lo - 0.5)) - inner.x);
-    spans[y].end = lo > hi ? 0 : std::min(inner.width, static_cast<int>(std::floor(hi - 0.5)) + 1 - inner.x);
+    spans[y].end =
+        lo > hi ? 0 : std::min(inner.width, static_cast<int>(std::floor(hi - 0.5)) + 1 - inner.x);
   }
   return spans;
 }
@@ -65,17 +66,17 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
   out.view_blur_px = blur;
   const int m = BlurMarginPx(blur);
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
-    const cv::Mat view = BlurredView(
-        RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
-                             FrameMosaicWarp::For(pose, camera_, layout.geo), 0),
-        blur, m);
+    const cv::Mat view =
+        BlurredView(RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
+                                         FrameMosaicWarp::For(pose, camera_, layout.geo), 0),
+                    blur, m);
     return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma,
                                gain);
   };
   Linearization fit;
-  const Pose2 pose = GaussNewton(linearize, 0, options_.polish_iterations, prior, start,
-                                 options_.converged_px, &out.iterations, &fit,
-                                 options_.fit_contrast);
+  const Pose2 pose =
+      GaussNewton(linearize, 0, options_.polish_iterations, prior, start, options_.converged_px,
+                  &out.iterations, &fit, options_.fit_contrast);
   out.points = fit.points;
   out.correlation = out.coarse_correlation = fit.correlation;
   out.inlier_fraction = fit.inlier_fraction;

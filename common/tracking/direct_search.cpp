@@ -13,10 +13,10 @@
 
 namespace fleetloc::tracking {
 
-using geometry::Pose2;
-using geometry::PoseWithCovariance;
 using direct_detail::CornerSigmaPx;
 using direct_detail::GrownBy;
+using geometry::Pose2;
+using geometry::PoseWithCovariance;
 
 // The level the search starts at: at least one above the finest (a wider window at a finer level
 // holds more chance peaks: measured at 320×240 on a plain dusty floor, searching at 160×120 left
@@ -92,11 +92,11 @@ DirectAligner::SearchHit DirectAligner::CoarseSearch(const Level& level,
   // fits the heading too. (Significant but only unambiguous is not enough: at 320×240 under
   // `all`, peaks at z 10–14 with a second peak at 0.25–0.28 of them ended 0.8 px off or were
   // refused, where one heading step further gave z 21–23 and 0.12.)
-  const bool clear = (best.correlation >= options_.min_strong_correlation &&
-                      best.peak_ratio <= options_.max_weak_peak_ratio) ||
-                     (options_.significant_peak_ends_search &&
-                      best.peak_z >= options_.min_significant_peak_z &&
-                      best.peak_ratio <= options_.max_distinct_peak_ratio);
+  const bool clear =
+      (best.correlation >= options_.min_strong_correlation &&
+       best.peak_ratio <= options_.max_weak_peak_ratio) ||
+      (options_.significant_peak_ends_search && best.peak_z >= options_.min_significant_peak_z &&
+       best.peak_ratio <= options_.max_distinct_peak_ratio);
   const double half_diagonal = 0.5 * std::hypot(level.normalized.cols, level.normalized.rows);
   const double heading_3sigma = 3.0 * std::sqrt(std::max(0.0, prior.covariance(2, 2)));
   const int steps = std::min(options_.max_heading_steps,

@@ -16,8 +16,7 @@ void InternalEstimate::Reset(const geometry::PoseWithCovariance& base_in_map,
   initialized_ = true;
 }
 
-const geometry::PoseWithCovariance& InternalEstimate::Predict(double t,
-                                                              const geometry::Pose2& odom,
+const geometry::PoseWithCovariance& InternalEstimate::Predict(double t, const geometry::Pose2& odom,
                                                               double extrapolated_s) {
   FLEETLOC_CHECK(initialized_);
   const double dt_s = has_time_ ? t - t_last_ : 0.0;

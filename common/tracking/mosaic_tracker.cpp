@@ -211,11 +211,10 @@ bool MosaicTracker::Agree(const PoseWithCovariance& a, const PoseWithCovariance&
 // The located frame's fit polished over every pixel at full resolution, when the polish
 // validates and agrees with it; else the fit as it was.
 PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithCovariance& prior,
-                                           const PoseWithCovariance& fit,
-                                           FrameResult* stats) {
+                                           const PoseWithCovariance& fit, FrameResult* stats) {
   const auto t_polish = std::chrono::steady_clock::now();
-  const bool estimate_blur = view_blur_px_ < 0 ||
-                             ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
+  const bool estimate_blur =
+      view_blur_px_ < 0 || ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
   const DirectAlignment polished =
       direct_.Polish(frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_);
   stats->polish_ms += MsSince(t_polish);

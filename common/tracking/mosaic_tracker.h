@@ -40,7 +40,9 @@ class MosaicTracker : public FrameLocalizer {
                     double extrapolated_s);
   // The odometry pose at the last frame's time t, extrapolated then, is now known: the next
   // prediction starts from it (InternalEstimate::CorrectOdometry).
-  void CorrectOdometry(double t, const geometry::Pose2& odom) { estimate_.CorrectOdometry(t, odom); }
+  void CorrectOdometry(double t, const geometry::Pose2& odom) {
+    estimate_.CorrectOdometry(t, odom);
+  }
 
   // Odometry-only step (a frame that could not be read or used): the pose coasts.
   FrameResult Coast(double t, const geometry::Pose2& odom) override;

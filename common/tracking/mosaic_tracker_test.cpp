@@ -123,13 +123,14 @@ TEST(MosaicTracker, WarmUpNormalizesTheFirstFramesTilesAFewAtATimeWithoutChangin
     return tracker.Track(frame, 0.1, geometry::Between(start, next));
   };
   CountingSource cold_source(&image), warm_source(&image);
-  MosaicTracker cold(options, scene.camera, &cold_source), warm(options, scene.camera, &warm_source);
+  MosaicTracker cold(options, scene.camera, &cold_source),
+      warm(options, scene.camera, &warm_source);
   int warmed = 0, steps = 0;
   for (int step; (step = warm.WarmUp(given, 2)) > 0; ++steps) {
     ASSERT_LE(step, 2);
     warmed += step;
   }
-  EXPECT_GT(steps, 1);  // a few tiles per call
+  EXPECT_GT(steps, 1);                    // a few tiles per call
   EXPECT_EQ(warm.WarmUp(given, 100), 0);  // nothing left
   EXPECT_EQ(warm_source.reads, warmed);   // one read per normalized tile
   const FrameResult cold_result = first_frame(cold);

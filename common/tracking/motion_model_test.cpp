@@ -58,8 +58,8 @@ TEST(MotionModel, CameraIncrementOfATurnOnTheSpotMovesAMountedCamera) {
   // base_link does not move, so its heading error alone moves the camera, across the lever: the
   // lever ends along +y of the camera's start frame, and a further turn δθ moves the camera by
   // −0.4·δθ in x.
-  const double heading_sigma = n.heading_sigma_per_rad * M_PI / 2 + n.heading_sigma_per_s * 0.5 +
-                               n.floor_sigma_m;
+  const double heading_sigma =
+      n.heading_sigma_per_rad * M_PI / 2 + n.heading_sigma_per_s * 0.5 + n.floor_sigma_m;
   EXPECT_NEAR(std::sqrt(c.covariance(2, 2)), heading_sigma, 1e-12);
   EXPECT_NEAR(std::sqrt(c.covariance(0, 0)), 0.4 * heading_sigma, 1e-5);
   EXPECT_LT(std::sqrt(c.covariance(1, 1)), 2e-5);  // the floor sigma only

@@ -44,8 +44,8 @@ TEST(OdometryHistory, GapAroundIsTheSpacingOfTheSamplesAroundATime) {
   for (double t : {1.0, 1.01, 1.02, 2.5, 2.51}) ASSERT_TRUE(h.Add({t, {t, 0.0, 0.0}}).ok());
   EXPECT_NEAR(h.GapAround(1.005), 0.01, 1e-12);
   EXPECT_NEAR(h.GapAround(2.0), 1.48, 1e-12);  // odometry stopped for 1.48 s
-  EXPECT_EQ(h.GapAround(0.5), 0.0);             // before the history
-  EXPECT_EQ(h.GapAround(2.6), 0.0);             // past the newest sample
+  EXPECT_EQ(h.GapAround(0.5), 0.0);            // before the history
+  EXPECT_EQ(h.GapAround(2.6), 0.0);            // past the newest sample
 }
 
 }  // namespace

@@ -12,8 +12,24 @@ namespace {
 // The sums of one score block: the normal equations' upper triangle, the score Σ w·r·J, the
 // correlation sums, the pixels with weight > 0 and the inliers (weight > 0.5).
 enum PointSum {
-  kH00, kH01, kH02, kH11, kH12, kH22, kS0, kS1, kS2,
-  kSw, kSt, kSv, kStt, kSvv, kStv, kUsed, kInliers, kPointSums
+  kH00,
+  kH01,
+  kH02,
+  kH11,
+  kH12,
+  kH22,
+  kS0,
+  kS1,
+  kS2,
+  kSw,
+  kSt,
+  kSv,
+  kStt,
+  kSvv,
+  kStv,
+  kUsed,
+  kInliers,
+  kPointSums
 };
 
 // A PointSet's and its PointViews' arrays as plain pointers, for the vectorizer.
@@ -53,9 +69,8 @@ inline void AddPoint(const PointArrays& p, int i, float gain, float inv_cutoff_s
 // the lanes (a plain reduction it may not reorder); built for AVX2 as well as the baseline, the
 // loader picks the best the CPU has. Float: a block holds at most a few hundred pixels.
 __attribute__((target_clones("avx2", "default"))) void SumBlock(const PointArrays& p, int begin,
-                                                                 int end, float gain,
-                                                                 float inv_cutoff_sq,
-                                                                 float* sums) {
+                                                                int end, float gain,
+                                                                float inv_cutoff_sq, float* sums) {
   constexpr int kLanes = 8;
   alignas(32) float lanes[kPointSums][kLanes] = {};
   int i = begin;
@@ -109,7 +124,7 @@ Linearization LinearizePoints(const PointSet& p, const PointViews& view, double 
   CorrelationSums c;
   double inliers = 0;
   const PointArrays arrays{p.value.data(), view.value.data(), view.seen.data(), view.gx.data(),
-                           view.gy.data(),  p.du0.data(),     p.dv0.data()};
+                           view.gy.data(), p.du0.data(),      p.dv0.data()};
   for (int b = 0; b < kScoreBlocks * kScoreBlocks; ++b) {
     if (p.block_start[b + 1] <= p.block_start[b]) continue;
     float s[kPointSums];

@@ -9,8 +9,8 @@
 namespace fleetloc::tracking {
 namespace {
 
-using geometry::Pose2;
 using geometry::Difference;
+using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
 // Iterated EKF: x ← x̂ + (P⁻¹ + HᵀR⁻¹H)⁻¹ HᵀR⁻¹ (z − h(x) − H(x̂ − x)), linearized at x.

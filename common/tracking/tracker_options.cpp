@@ -25,8 +25,8 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
                                  "direct.max_iterations", "must be in [1, 100]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.polish_iterations >= 0 && d.polish_iterations <= 10,
                                  "direct.polish_iterations", "must be in [0, 10]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.max_polish_shift_px > 0, "direct.max_polish_shift_px",
-                                 "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.max_polish_shift_px > 0, "direct.max_polish_shift_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_polish_correlation >= 0 && d.min_polish_correlation < 1,
                                  "direct.min_polish_correlation", "must be in [0, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
@@ -34,8 +34,8 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
                                  "direct.max_view_blur_px", "must be in [0, 5]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_step_px >= 0.1 && d.view_blur_step_px <= 2,
                                  "direct.view_blur_step_px", "must be in [0.1, 2]"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.view_blur_every_frames >= 1, "direct.view_blur_every_frames",
-                                 "must be ≥ 1"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.view_blur_every_frames >= 1, "direct.view_blur_every_frames", "must be ≥ 1"));
   return Status::Ok();
 }
 
@@ -75,10 +75,10 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
         {d.max_clear_peak_ratio, "direct.max_clear_peak_ratio"}}) {
     FLEETLOC_RETURN_IF_ERROR(Check(value > 0 && value <= 1, name, "must be in (0, 1]"));
   }
-  FLEETLOC_RETURN_IF_ERROR(Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z",
-                                 "must be > 0"));
-  FLEETLOC_RETURN_IF_ERROR(Check(d.rival_same_place_px >= 0, "direct.rival_same_place_px",
-                                 "must be >= 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.rival_same_place_px >= 0, "direct.rival_same_place_px", "must be >= 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
                                  "direct.max_prior_chi2", "and max_weak_prior_chi2 must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_distinct_prior_chi2 >= d.max_prior_chi2,
@@ -165,12 +165,11 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
 }
 
 Status ValidateOdometryNoise(const OdometryNoiseOptions& n) {
-  FLEETLOC_RETURN_IF_ERROR(Check(n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 &&
-                                     n.heading_sigma_per_rad >= 0 && n.heading_sigma_per_m >= 0 &&
-                                     n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0 &&
-                                     n.extrapolation_accel_m_s2 >= 0 &&
-                                     n.extrapolation_angular_accel_rad_s2 >= 0,
-                                 "odometry", "noise terms must be ≥ 0 (floor_sigma_m > 0)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(
+      n.along_sigma_per_m >= 0 && n.lateral_sigma_per_m >= 0 && n.heading_sigma_per_rad >= 0 &&
+          n.heading_sigma_per_m >= 0 && n.heading_sigma_per_s >= 0 && n.floor_sigma_m > 0 &&
+          n.extrapolation_accel_m_s2 >= 0 && n.extrapolation_angular_accel_rad_s2 >= 0,
+      "odometry", "noise terms must be ≥ 0 (floor_sigma_m > 0)"));
   return Status::Ok();
 }
 

@@ -56,7 +56,8 @@ struct DirectAlignOptions {
   // steps of view_blur_step_px (see tracking/view_blur.h). Measured at 320×240 under `all`
   // (fast and dusty): camera RMS 0.16 → 0.07 px on epoxy trak1a, 0.19 → 0.14 on painted pavement,
   // 0.11 → 0.06 on painted floor 016 (docs/benchmarks.md, "Contrast and blur in the polish"). The
-  // coarse-to-fine alignment that validates a dense fit keeps gain 1: its thresholds were set on it.
+  // coarse-to-fine alignment that validates a dense fit keeps gain 1: its thresholds were set on
+  // it.
   bool fit_contrast = true;
   double max_view_blur_px = 2.5;
   double view_blur_step_px = 0.5;

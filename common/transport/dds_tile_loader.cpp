@@ -53,7 +53,8 @@ bool DdsTileLoader::IsCurrent(const ReceivedTile& tile) {
 void DdsTileLoader::Receive(ReceivedTile tile) {
   ++stats_.received;
   if (auto asked = in_flight_.find(tile.key); asked != in_flight_.end()) {
-    if (round_trip_) round_trip_(std::chrono::duration<double>(Clock::now() - asked->second).count());
+    if (round_trip_)
+      round_trip_(std::chrono::duration<double>(Clock::now() - asked->second).count());
     in_flight_.erase(asked);
   }
   if (!IsCurrent(tile)) return;
@@ -85,14 +86,16 @@ Result<size_t> DdsTileLoader::DecodeArrived(size_t max_tiles) {
 }
 
 void DdsTileLoader::Keep(ReceivedTile tile) {
-  Result<cv::Mat> decoded = NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
+  Result<cv::Mat> decoded =
+      NotFound("tile " + mosaic::ToString(tile.key) + " is not in the mosaic");
   if (tile.status == fleetloc_TILE_OK) {
     decoded = mosaic::DecodeTile(tile.data, tile_size_px_);
   } else if (tile.status != fleetloc_TILE_NOT_FOUND) {
     decoded = InvalidInput("tile " + mosaic::ToString(tile.key) + ": " + tile.error);
   }
   if (!decoded.ok() && decoded.status().code() != StatusCode::kNotFound) ++stats_.errors;
-  if (arrived_.insert_or_assign(tile.key, std::move(decoded)).second) arrival_order_.push_back(tile.key);
+  if (arrived_.insert_or_assign(tile.key, std::move(decoded)).second)
+    arrival_order_.push_back(tile.key);
   while (arrival_order_.size() > max_buffered_) {  // oldest first (consumed ones are gone)
     arrived_.erase(arrival_order_.front());
     arrival_order_.pop_front();
@@ -121,7 +124,8 @@ Status DdsTileLoader::Prefetch(const std::vector<mosaic::TileKey>& keys) {
   std::vector<mosaic::TileKey> wanted;
   const Clock::time_point now = Clock::now();
   for (const mosaic::TileKey& key : keys) {
-    if (!arrived_.count(key) && !encoded_.count(key) && NeedsAsking(key, now)) wanted.push_back(key);
+    if (!arrived_.count(key) && !encoded_.count(key) && NeedsAsking(key, now))
+      wanted.push_back(key);
   }
   return Ask(wanted);
 }

@@ -18,15 +18,15 @@
 namespace fleetloc::transport {
 
 struct DdsTileLoaderStats {
-  long long requested = 0;   // tiles asked for (on demand and prefetch)
-  long long received = 0;    // tiles that arrived
-  long long waited = 0;      // on-demand loads that had to wait for the network
-  long long timeouts = 0;    // on-demand loads that gave up (map server unreachable)
-  long long unserved = 0;    // on-demand loads not waited for (server known to be unreachable)
-  long long errors = 0;      // tiles answered with an error status or undecodable bytes
-  long long invalidated = 0; // tiles named by TileUpdates (Invalidate)
-  long long refreshed = 0;   // invalidated tiles received again at the announced version or newer
-  long long stale = 0;       // answers older than an announced version, refused and asked again
+  long long requested = 0;    // tiles asked for (on demand and prefetch)
+  long long received = 0;     // tiles that arrived
+  long long waited = 0;       // on-demand loads that had to wait for the network
+  long long timeouts = 0;     // on-demand loads that gave up (map server unreachable)
+  long long unserved = 0;     // on-demand loads not waited for (server known to be unreachable)
+  long long errors = 0;       // tiles answered with an error status or undecodable bytes
+  long long invalidated = 0;  // tiles named by TileUpdates (Invalidate)
+  long long refreshed = 0;    // invalidated tiles received again at the announced version or newer
+  long long stale = 0;        // answers older than an announced version, refused and asked again
   long long reasked = 0;  // requests presumed lost (unanswered for half a timeout) and sent again
 };
 
@@ -95,7 +95,7 @@ class DdsTileLoader {
   uint32_t next_request_ = 1;
   std::map<mosaic::TileKey, Clock::time_point> in_flight_;  // when each was last asked for
   std::map<mosaic::TileKey, Result<cv::Mat>> arrived_;
-  std::deque<mosaic::TileKey> arrival_order_;  // for the buffer bound
+  std::deque<mosaic::TileKey> arrival_order_;        // for the buffer bound
   std::map<mosaic::TileKey, ReceivedTile> encoded_;  // received, not decoded yet
   std::deque<mosaic::TileKey> encoded_order_;  // decoding order and its bound (may name gone keys)
   std::map<mosaic::TileKey, long long> min_version_;  // announced by TileUpdates, not yet received

@@ -31,8 +31,8 @@ fleetloc_MosaicInfo ToIdl(const mosaic::MosaicLayout& layout, const std::string&
 Result<mosaic::MosaicLayout> LayoutFromIdl(const fleetloc_MosaicInfo& info) {
   const std::string where = "MosaicInfo from '" + GetBounded(info.server_id) + "': ";
   if (info.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
-    return InvalidInput(where + "wire_version " + std::to_string(info.wire_version) +
-                        " is not " + std::to_string(fleetloc_CURRENT_WIRE_VERSION));
+    return InvalidInput(where + "wire_version " + std::to_string(info.wire_version) + " is not " +
+                        std::to_string(fleetloc_CURRENT_WIRE_VERSION));
   }
   if (info.width_px <= 0 || info.height_px <= 0) return InvalidInput(where + "size not positive");
   if (info.tile_size_px <= 0 || info.tile_size_px % 2 != 0) {
@@ -41,8 +41,8 @@ Result<mosaic::MosaicLayout> LayoutFromIdl(const fleetloc_MosaicInfo& info) {
   if (info.levels != mosaic::PyramidLevelCount(info.width_px, info.height_px, info.tile_size_px)) {
     return InvalidInput(where + "levels do not match the size");
   }
-  if (!std::isfinite(info.origin_x) || !std::isfinite(info.origin_y) ||
-      !(info.resolution > 0) || !std::isfinite(info.resolution)) {
+  if (!std::isfinite(info.origin_x) || !std::isfinite(info.origin_y) || !(info.resolution > 0) ||
+      !std::isfinite(info.resolution)) {
     return InvalidInput(where + "geotransform not finite and positive");
   }
   mosaic::MosaicLayout layout;

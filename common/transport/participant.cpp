@@ -22,8 +22,8 @@ Result<std::shared_ptr<Entity>> AcquireDomain(uint32_t domain_id, const std::str
   if (auto existing = domains[domain_id].lock()) return existing;
   const char* config = xml.empty() ? nullptr : xml.c_str();
   Result<Entity> domain =
-      Adopt(dds_create_domain(domain_id, config), "DDS domain " + std::to_string(domain_id) +
-                                                     " (check the Cyclone configuration)");
+      Adopt(dds_create_domain(domain_id, config),
+            "DDS domain " + std::to_string(domain_id) + " (check the Cyclone configuration)");
   if (!domain.ok()) return domain.status();
   auto shared = std::make_shared<Entity>(std::move(domain).value());
   domains[domain_id] = shared;
@@ -55,9 +55,8 @@ Result<Participant> Participant::Create(uint32_t domain_id, const DdsConfig& con
   if (!xml.ok()) return xml.status();
   Result<std::shared_ptr<Entity>> domain = AcquireDomain(domain_id, *xml);
   if (!domain.ok()) return domain.status();
-  Result<Entity> participant =
-      Adopt(dds_create_participant(domain_id, nullptr, nullptr),
-            "DDS participant on domain " + std::to_string(domain_id));
+  Result<Entity> participant = Adopt(dds_create_participant(domain_id, nullptr, nullptr),
+                                     "DDS participant on domain " + std::to_string(domain_id));
   if (!participant.ok()) return participant.status();
   return Participant(domain_id, std::move(domain).value(), std::move(participant).value());
 }

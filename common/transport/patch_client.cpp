@@ -23,7 +23,8 @@ Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& part
   if (!IsValidEntityId(vehicle_id)) {
     return InvalidInput("vehicle id '" + vehicle_id + "' is not 1-11 of [A-Za-z0-9_-]");
   }
-  auto patch_topic = Topic<fleetloc_PatchObservation>::Create(participant, topics::kPatchObservation);
+  auto patch_topic =
+      Topic<fleetloc_PatchObservation>::Create(participant, topics::kPatchObservation);
   auto ack_topic = Topic<fleetloc_PatchAck>::Create(participant, topics::kPatchAck);
   if (!patch_topic.ok()) return patch_topic.status();
   if (!ack_topic.ok()) return ack_topic.status();
@@ -58,7 +59,9 @@ Status PatchClient::Send(const PatchToSend& p) {
   return SendRaw(sample);
 }
 
-Status PatchClient::SendRaw(const fleetloc_PatchObservation& sample) { return patches_.Write(sample); }
+Status PatchClient::SendRaw(const fleetloc_PatchObservation& sample) {
+  return patches_.Write(sample);
+}
 
 Result<std::vector<ReceivedAck>> PatchClient::TakeAcks() {
   std::vector<ReceivedAck> acks;

@@ -22,11 +22,11 @@ struct PatchToSend {
   double stamp_s = 0;
   std::string mosaic_id;
   long long mosaic_version = 0;
-  geometry::Pose2 pose;             // camera_ground of the image centre in map
-  double covariance[9] = {};        // row-major (x, y, theta)
+  geometry::Pose2 pose;       // camera_ground of the image centre in map
+  double covariance[9] = {};  // row-major (x, y, theta)
   float quality = 0;
   double resolution_m = 0;
-  std::vector<std::uint8_t> png;    // 8-bit gray PNG
+  std::vector<std::uint8_t> png;  // 8-bit gray PNG
 };
 
 struct ReceivedAck {
@@ -49,8 +49,9 @@ class PatchClient {
   dds_entity_t ack_reader() const { return ack_reader_.get(); }
 
  private:
-  PatchClient(std::string vehicle_id, Entity subscriber, Topic<fleetloc_PatchObservation> patch_topic,
-              Topic<fleetloc_PatchAck> ack_topic, VehicleStreamWriter<fleetloc_PatchObservation> patches,
+  PatchClient(std::string vehicle_id, Entity subscriber,
+              Topic<fleetloc_PatchObservation> patch_topic, Topic<fleetloc_PatchAck> ack_topic,
+              VehicleStreamWriter<fleetloc_PatchObservation> patches,
               Reader<fleetloc_PatchAck> ack_reader);
   std::string vehicle_id_;
   Entity subscriber_;

@@ -21,8 +21,8 @@ Status PlaceIndexAssembler::Check(const fleetloc_PlaceIndexChunk& c) {
     return InvalidInput("place index chunk from an invalid server id");
   }
   if (c.blob_bytes == 0 || c.blob_bytes > kMaxPlaceIndexBytes) {
-    return InvalidInput("place index of " + std::to_string(c.blob_bytes) +
-                        " bytes (at most " + std::to_string(kMaxPlaceIndexBytes) + ")");
+    return InvalidInput("place index of " + std::to_string(c.blob_bytes) + " bytes (at most " +
+                        std::to_string(kMaxPlaceIndexBytes) + ")");
   }
   if (c.chunk_count == 0 || c.chunk_count > c.blob_bytes || c.chunk >= c.chunk_count) {
     return InvalidInput("place index chunk " + std::to_string(c.chunk) + " of " +
@@ -57,7 +57,8 @@ PlaceIndexBlob PlaceIndexAssembler::Concatenate(Partial* p) {
 Result<std::optional<PlaceIndexBlob>> PlaceIndexAssembler::Add(const fleetloc_PlaceIndexChunk& c) {
   FLEETLOC_RETURN_IF_ERROR(Check(c));
   const std::string server = GetBounded(c.server_id);
-  if (auto done = completed_.find(server); done != completed_.end() && c.generation <= done->second) {
+  if (auto done = completed_.find(server);
+      done != completed_.end() && c.generation <= done->second) {
     return kNothingYet;
   }
   auto found = partial_.find(server);
@@ -99,11 +100,11 @@ Result<std::unique_ptr<PlaceIndexPublisher>> PlaceIndexPublisher::Create(
   }
   auto topic = Topic<fleetloc_PlaceIndexChunk>::Create(participant, topics::kPlaceIndex);
   if (!topic.ok()) return topic.status();
-  auto writer = Writer<fleetloc_PlaceIndexChunk>::Create(participant.get(), *topic,
-                                                         DurableStateQos(1));
+  auto writer =
+      Writer<fleetloc_PlaceIndexChunk>::Create(participant.get(), *topic, DurableStateQos(1));
   if (!writer.ok()) return writer.status();
-  return std::unique_ptr<PlaceIndexPublisher>(new PlaceIndexPublisher(
-      server_id, std::move(topic).value(), std::move(writer).value()));
+  return std::unique_ptr<PlaceIndexPublisher>(
+      new PlaceIndexPublisher(server_id, std::move(topic).value(), std::move(writer).value()));
 }
 
 Status PlaceIndexPublisher::Publish(const std::string& mosaic_id, long long mosaic_version,
@@ -124,7 +125,8 @@ Status PlaceIndexPublisher::Publish(const std::string& mosaic_id, long long mosa
   for (std::size_t i = 0; i < count; ++i) {
     const std::size_t begin = i * kPlaceIndexChunkBytes;
     chunk.chunk = static_cast<std::uint32_t>(i);
-    chunk.data = BorrowOctets(blob.subspan(begin, std::min(kPlaceIndexChunkBytes, blob.size() - begin)));
+    chunk.data =
+        BorrowOctets(blob.subspan(begin, std::min(kPlaceIndexChunkBytes, blob.size() - begin)));
     FLEETLOC_RETURN_IF_ERROR(writer_.Write(chunk));
   }
   // The previous generation's chunks beyond the new count would stay in the durable history.
@@ -146,8 +148,8 @@ Result<std::unique_ptr<PlaceIndexReceiver>> PlaceIndexReceiver::Create(
     const Participant& participant) {
   auto topic = Topic<fleetloc_PlaceIndexChunk>::Create(participant, topics::kPlaceIndex);
   if (!topic.ok()) return topic.status();
-  auto reader = Reader<fleetloc_PlaceIndexChunk>::Create(participant.get(), *topic,
-                                                         DurableStateQos(1));
+  auto reader =
+      Reader<fleetloc_PlaceIndexChunk>::Create(participant.get(), *topic, DurableStateQos(1));
   if (!reader.ok()) return reader.status();
   return std::unique_ptr<PlaceIndexReceiver>(
       new PlaceIndexReceiver(std::move(topic).value(), std::move(reader).value()));
@@ -155,8 +157,8 @@ Result<std::unique_ptr<PlaceIndexReceiver>> PlaceIndexReceiver::Create(
 
 std::vector<PlaceIndexBlob> PlaceIndexReceiver::Poll() {
   std::vector<PlaceIndexBlob> done;
-  const Result<int> taken = reader_.TakeAll(
-      [&](const fleetloc_PlaceIndexChunk& chunk, const dds_sample_info_t&) {
+  const Result<int> taken =
+      reader_.TakeAll([&](const fleetloc_PlaceIndexChunk& chunk, const dds_sample_info_t&) {
         Result<std::optional<PlaceIndexBlob>> added = assembler_.Add(chunk);
         if (!added.ok()) {
           ++rejected_, last_error_ = added.status().message();

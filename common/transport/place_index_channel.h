@@ -54,8 +54,8 @@ class PlaceIndexAssembler {
   static Status CheckSameIndex(const Partial& partial, const fleetloc_PlaceIndexChunk& chunk);
   static PlaceIndexBlob Concatenate(Partial* partial);
 
-  std::map<std::string, Partial> partial_;            // by server id
-  std::map<std::string, std::uint64_t> completed_;    // newest generation done, by server id
+  std::map<std::string, Partial> partial_;          // by server id
+  std::map<std::string, std::uint64_t> completed_;  // newest generation done, by server id
 };
 
 class PlaceIndexPublisher {

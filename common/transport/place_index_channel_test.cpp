@@ -55,7 +55,8 @@ TEST(PlaceIndexAssembler, ReassemblesChunksInAnyOrderIgnoringRepeats) {
   EXPECT_EQ((*done)->mosaic_id, "floor");
   EXPECT_EQ((*done)->mosaic_version, 3);
   // The durable history sent again completes nothing.
-  for (std::uint32_t i = 0; i < 4; ++i) EXPECT_FALSE(assembler.Add(ChunkOf(blob, i, 4, 10))->has_value());
+  for (std::uint32_t i = 0; i < 4; ++i)
+    EXPECT_FALSE(assembler.Add(ChunkOf(blob, i, 4, 10))->has_value());
 }
 
 TEST(PlaceIndexAssembler, ANewerGenerationReplacesAnUnfinishedOneAndOlderChunksAreIgnored) {

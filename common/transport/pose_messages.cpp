@@ -11,20 +11,28 @@ namespace fleetloc::transport {
 
 fleetloc_LockState ToIdl(tracking::LockState state) {
   switch (state) {
-    case tracking::LockState::kTracking: return fleetloc_LOCK_TRACKING;
-    case tracking::LockState::kCoasting: return fleetloc_LOCK_COASTING;
-    case tracking::LockState::kLost: return fleetloc_LOCK_LOST;
-    case tracking::LockState::kRelocalized: return fleetloc_LOCK_RELOCALIZED;
+    case tracking::LockState::kTracking:
+      return fleetloc_LOCK_TRACKING;
+    case tracking::LockState::kCoasting:
+      return fleetloc_LOCK_COASTING;
+    case tracking::LockState::kLost:
+      return fleetloc_LOCK_LOST;
+    case tracking::LockState::kRelocalized:
+      return fleetloc_LOCK_RELOCALIZED;
   }
   return fleetloc_LOCK_LOST;
 }
 
 tracking::LockState FromIdl(fleetloc_LockState state) {
   switch (state) {
-    case fleetloc_LOCK_TRACKING: return tracking::LockState::kTracking;
-    case fleetloc_LOCK_COASTING: return tracking::LockState::kCoasting;
-    case fleetloc_LOCK_RELOCALIZED: return tracking::LockState::kRelocalized;
-    default: return tracking::LockState::kLost;
+    case fleetloc_LOCK_TRACKING:
+      return tracking::LockState::kTracking;
+    case fleetloc_LOCK_COASTING:
+      return tracking::LockState::kCoasting;
+    case fleetloc_LOCK_RELOCALIZED:
+      return tracking::LockState::kRelocalized;
+    default:
+      return tracking::LockState::kLost;
   }
 }
 
@@ -46,8 +54,10 @@ fleetloc_VehiclePose ToIdl(const PoseReport& r) {
   pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(pose.vehicle_id, r.vehicle_id);
   pose.stamp = ToStamp(r.t);
-  pose.x = r.base_in_map.pose.x, pose.y = r.base_in_map.pose.y, pose.theta = r.base_in_map.pose.theta;
-  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(pose.covariance) = r.base_in_map.covariance;
+  pose.x = r.base_in_map.pose.x, pose.y = r.base_in_map.pose.y,
+  pose.theta = r.base_in_map.pose.theta;
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(pose.covariance) =
+      r.base_in_map.covariance;
   pose.lock_state = ToIdl(r.state);
   pose.localized = r.state != tracking::LockState::kLost;
   pose.localization_score = static_cast<float>(LocalizationScore(r.base_in_map, r.state));
@@ -61,7 +71,8 @@ PoseReport FromIdl(const fleetloc_VehiclePose& p) {
   r.vehicle_id = GetBounded(p.vehicle_id);
   r.t = ToSeconds(p.stamp);
   r.base_in_map.pose = {p.x, p.y, p.theta};
-  r.base_in_map.covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(p.covariance);
+  r.base_in_map.covariance =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(p.covariance);
   r.state = FromIdl(p.lock_state);
   r.mosaic_version = p.mosaic_version;
   return r;

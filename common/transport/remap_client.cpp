@@ -14,7 +14,8 @@ Result<std::unique_ptr<RemapClient>> RemapClient::Create(const Participant& part
   auto status_topic = Topic<fleetloc_RemapStatus>::Create(participant, topics::kRemapStatus);
   if (!command_topic.ok()) return command_topic.status();
   if (!status_topic.ok()) return status_topic.status();
-  auto writer = Writer<fleetloc_RemapCommand>::Create(participant.get(), *command_topic, CommandQos());
+  auto writer =
+      Writer<fleetloc_RemapCommand>::Create(participant.get(), *command_topic, CommandQos());
   // Every map server writes a command's statuses in the same instance (keyed by command_id), and
   // split servers finish within moments of each other: a deep history keeps each server's final
   // status until it is taken, where depth 1 would keep only the last server's.
@@ -57,13 +58,16 @@ Result<uint64_t> RemapClient::Send(const RemapRequest& r) {
   return id;
 }
 
-Status RemapClient::SendRaw(const fleetloc_RemapCommand& command) { return commands_.Write(command); }
+Status RemapClient::SendRaw(const fleetloc_RemapCommand& command) {
+  return commands_.Write(command);
+}
 
 Result<std::vector<RemapProgress>> RemapClient::TakeStatuses() {
   std::vector<RemapProgress> statuses;
-  Result<int> taken = statuses_.TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
-    statuses.push_back(FromIdl(s));
-  });
+  Result<int> taken =
+      statuses_.TakeAll([&](const fleetloc_RemapStatus& s, const dds_sample_info_t&) {
+        statuses.push_back(FromIdl(s));
+      });
   if (!taken.ok()) return taken.status();
   return statuses;
 }

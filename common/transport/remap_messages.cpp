@@ -7,11 +7,16 @@ namespace fleetloc::transport {
 
 const char* RemapStateName(fleetloc_RemapState state) {
   switch (state) {
-    case fleetloc_REMAP_QUEUED: return "queued";
-    case fleetloc_REMAP_RUNNING: return "running";
-    case fleetloc_REMAP_DONE: return "done";
-    case fleetloc_REMAP_FAILED: return "failed";
-    case fleetloc_REMAP_REJECTED: return "rejected";
+    case fleetloc_REMAP_QUEUED:
+      return "queued";
+    case fleetloc_REMAP_RUNNING:
+      return "running";
+    case fleetloc_REMAP_DONE:
+      return "done";
+    case fleetloc_REMAP_FAILED:
+      return "failed";
+    case fleetloc_REMAP_REJECTED:
+      return "rejected";
   }
   return "unknown";
 }

@@ -20,7 +20,7 @@ struct ServiceHealthReport {
     fleetloc_HealthLevel level = fleetloc_HEALTH_WARN;
     std::string message;
   };
-  std::optional<Issue> issue;  // none: the service is OK
+  std::optional<Issue> issue;                                   // none: the service is OK
   std::vector<std::pair<std::string, std::uint64_t>> counters;  // at most 64 are sent
 };
 

@@ -10,8 +10,8 @@ namespace fleetloc::transport {
 TileClient::TileClient(std::string vehicle_id, Entity subscriber,
                        Topic<fleetloc_TileRequest> request_topic, Topic<fleetloc_Tile> tile_topic,
                        Topic<fleetloc_MosaicInfo> info_topic,
-                       VehicleStreamWriter<fleetloc_TileRequest> requests, Reader<fleetloc_Tile> tile_reader,
-                       Reader<fleetloc_MosaicInfo> info_reader)
+                       VehicleStreamWriter<fleetloc_TileRequest> requests,
+                       Reader<fleetloc_Tile> tile_reader, Reader<fleetloc_MosaicInfo> info_reader)
     : vehicle_id_(std::move(vehicle_id)),
       subscriber_(std::move(subscriber)),
       request_topic_(std::move(request_topic)),

@@ -41,9 +41,8 @@ TEST(Transport, VehiclePoseRoundTripBetweenParticipants) {
   ASSERT_TRUE(writer.Write(pose).ok());
   std::vector<fleetloc_VehiclePose> got;
   ASSERT_TRUE(Eventually([&] {
-    (void)reader.Take([&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) {
-      got.push_back(p);
-    });
+    (void)reader.Take(
+        [&](const fleetloc_VehiclePose& p, const dds_sample_info_t&) { got.push_back(p); });
     return !got.empty();
   }));
   EXPECT_STREQ(got[0].vehicle_id, "agv-7");
@@ -63,7 +62,8 @@ TEST(Transport, LargeTileSampleArrivesIntact) {
   auto reader = Unwrap(Reader<fleetloc_Tile>::Create(b.get(), topic_b, BulkQos()));
   ASSERT_TRUE(Eventually([&] { return writer.MatchedReaders() == 1; }));
   std::vector<uint8_t> payload(300 * 1024);
-  for (size_t i = 0; i < payload.size(); ++i) payload[i] = static_cast<uint8_t>(i * 2654435761u >> 13);
+  for (size_t i = 0; i < payload.size(); ++i)
+    payload[i] = static_cast<uint8_t>(i * 2654435761u >> 13);
   fleetloc_Tile tile{};
   tile.level = 2, tile.col = 3, tile.row = 4;
   tile.data._buffer = payload.data();
@@ -110,7 +110,8 @@ TEST(Transport, PartitionsKeepRepliesToTheirVehicle) {
 TEST(Transport, LateJoinerGetsDurableState) {
   Participant server = Unwrap(Participant::Create(kDomain));
   auto topic_s = Unwrap(Topic<fleetloc_MosaicInfo>::Create(server, "test_info"));
-  auto writer = Unwrap(Writer<fleetloc_MosaicInfo>::Create(server.get(), topic_s, DurableStateQos()));
+  auto writer =
+      Unwrap(Writer<fleetloc_MosaicInfo>::Create(server.get(), topic_s, DurableStateQos()));
   fleetloc_MosaicInfo info{};
   std::snprintf(info.server_id, sizeof info.server_id, "map-1");
   info.version = 7;
@@ -124,9 +125,8 @@ TEST(Transport, LateJoinerGetsDurableState) {
   ASSERT_TRUE(Eventually([&] {
     auto tags = waitset.Wait(0.1);
     EXPECT_TRUE(tags.ok());
-    (void)reader.Take([&](const fleetloc_MosaicInfo& i, const dds_sample_info_t&) {
-      version = i.version;
-    });
+    (void)reader.Take(
+        [&](const fleetloc_MosaicInfo& i, const dds_sample_info_t&) { version = i.version; });
     return version == 7;
   }));
 }
@@ -143,7 +143,8 @@ TEST(Transport, WakeReturnsWaitAtOnce) {
 }
 
 TEST(Transport, MalformedConfigurationIsAnErrorNamingTheDomain) {
-  Result<Participant> p = Participant::Create(72, DdsConfig{"<CycloneDDS><Domain><Bogus/></Domain>", ""});
+  Result<Participant> p =
+      Participant::Create(72, DdsConfig{"<CycloneDDS><Domain><Bogus/></Domain>", ""});
   ASSERT_FALSE(p.ok());
   EXPECT_NE(p.status().message().find("domain 72"), std::string::npos) << p.status().message();
 }

@@ -17,10 +17,9 @@ class Topic {
  public:
   // Creates (or finds, if this participant has it) the topic `name` of wire type T.
   static Result<Topic> Create(const Participant& participant, const std::string& name) {
-    Result<Entity> topic = Adopt(
-        dds_create_topic(participant.get(), DdsType<T>::descriptor(), name.c_str(), nullptr,
-                         nullptr),
-        "DDS topic " + name);
+    Result<Entity> topic = Adopt(dds_create_topic(participant.get(), DdsType<T>::descriptor(),
+                                                  name.c_str(), nullptr, nullptr),
+                                 "DDS topic " + name);
     if (!topic.ok()) return topic.status();
     return Topic(std::move(topic).value(), name);
   }

@@ -20,10 +20,10 @@ Result<WaitSet> WaitSet::Create(const Participant& participant) {
 }
 
 Status WaitSet::AttachReader(dds_entity_t reader, dds_attach_t tag) {
-  Result<Entity> condition = Adopt(
-      dds_create_readcondition(reader, DDS_NOT_READ_SAMPLE_STATE | DDS_ANY_VIEW_STATE |
-                                           DDS_ANY_INSTANCE_STATE),
-      "DDS read condition");
+  Result<Entity> condition =
+      Adopt(dds_create_readcondition(
+                reader, DDS_NOT_READ_SAMPLE_STATE | DDS_ANY_VIEW_STATE | DDS_ANY_INSTANCE_STATE),
+            "DDS read condition");
   if (!condition.ok()) return condition.status();
   FLEETLOC_RETURN_IF_ERROR(
       DdsStatus(dds_waitset_attach(waitset_.get(), condition->get(), tag), "attach reader"));

@@ -60,7 +60,8 @@ TEST(ApiRoutes, EachPatternMatchesItsDocumentedExample) {
     const std::string example = Example(r.path, operation);
     EXPECT_TRUE(std::regex_match(example, std::regex(r.pattern))) << r.pattern << " vs " << example;
     for (const json& p : operation.value("parameters", json::array())) {
-      EXPECT_TRUE(p.contains("example")) << r.path << ": parameter " << p.value("name", "") << " has no example";
+      EXPECT_TRUE(p.contains("example"))
+          << r.path << ": parameter " << p.value("name", "") << " has no example";
     }
   }
 }

@@ -28,7 +28,8 @@ void EventStream::SetListener(std::function<void()> listener) {
 bool EventStream::WaitNewer(uint64_t* seq, std::shared_ptr<const std::string>* data,
                             std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  if (!changed_.wait_for(lock, timeout, [&] { return closed_ || seq_ > *seq; }) || closed_) return false;
+  if (!changed_.wait_for(lock, timeout, [&] { return closed_ || seq_ > *seq; }) || closed_)
+    return false;
   *seq = seq_;
   *data = data_;
   return true;

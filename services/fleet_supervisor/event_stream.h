@@ -19,7 +19,8 @@ class EventStream {
   void Publish(std::string data);
   // Waits up to `timeout` for a snapshot with a sequence number above *seq; on success stores it
   // in *data, updates *seq and returns true. False on time-out or once closed.
-  bool WaitNewer(uint64_t* seq, std::shared_ptr<const std::string>* data, std::chrono::milliseconds timeout);
+  bool WaitNewer(uint64_t* seq, std::shared_ptr<const std::string>* data,
+                 std::chrono::milliseconds timeout);
   // The newest snapshot and its sequence number (0 and null before the first).
   std::pair<uint64_t, std::shared_ptr<const std::string>> Latest() const;
   // Called (on the publishing thread, after each Publish and on Close) to tell a listener there is

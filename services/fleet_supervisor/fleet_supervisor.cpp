@@ -19,12 +19,12 @@ namespace fleetloc::fleet_supervisor {
 
 namespace {
 
-constexpr double kFlushPeriodS = 1.0;    // history rows are written in one transaction per second
-constexpr double kPrunePeriodS = 60.0;   // retention runs once a minute
+constexpr double kFlushPeriodS = 1.0;   // history rows are written in one transaction per second
+constexpr double kPrunePeriodS = 60.0;  // retention runs once a minute
 constexpr double kAlertPeriodS = 0.1;
 constexpr double kMapServerTimeoutS = 5.0;
 constexpr dds_attach_t kFleetData = 1;
-constexpr double kMaxStepGapS = 2.0;     // /readyz: the loop steps every 10 ms when healthy
+constexpr double kMaxStepGapS = 2.0;  // /readyz: the loop steps every 10 ms when healthy
 
 // Moves a created object into *out; its Status otherwise.
 template <typename T>
@@ -61,10 +61,12 @@ std::string FleetSupervisor::ResolveWebDir() const {
   if (!config_.web_dir.empty()) return config_.web_dir;
   namespace fs = std::filesystem;
   const fs::path exe = runtime::ExecutableDir();
-  for (const fs::path& candidate : {exe / "../share/fleetloc/fleet_supervisor/web", exe / "fleet_supervisor_web",
-                                    fs::path(FLEETLOC_SUPERVISOR_WEB_DIR)}) {
+  for (const fs::path& candidate :
+       {exe / "../share/fleetloc/fleet_supervisor/web", exe / "fleet_supervisor_web",
+        fs::path(FLEETLOC_SUPERVISOR_WEB_DIR)}) {
     std::error_code ec;
-    if (fs::is_regular_file(candidate / "index.html", ec)) return candidate.lexically_normal().string();
+    if (fs::is_regular_file(candidate / "index.html", ec))
+      return candidate.lexically_normal().string();
   }
   return FLEETLOC_SUPERVISOR_WEB_DIR;
 }
@@ -75,21 +77,26 @@ Status FleetSupervisor::Open() {
   FLEETLOC_RETURN_IF_ERROR(MoveTo(HistoryStore::Open(config_.history_db), &history_));
   fleet_ = std::make_unique<SharedFleet>(config_.alerts, config_.trail, config_.history_period_s);
   FLEETLOC_RETURN_IF_ERROR(Restore());
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(
-      transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}), &participant_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
+               &participant_));
   const transport::Participant& p = *participant_;
   FLEETLOC_RETURN_IF_ERROR(MoveTo(fleet_link::FleetListener::Create(p), &listener_));
   auto client = transport::TileClient::Create(p, config_.supervisor_id);
   if (!client.ok()) return client.status();
   tiles_ = std::make_unique<OverviewTiles>(
       std::move(client).value(), static_cast<size_t>(config_.tile_cache_mb) << 20,
-      std::chrono::milliseconds(static_cast<int>(config_.tile_timeout_s * 1000)), config_.min_tile_level);
+      std::chrono::milliseconds(static_cast<int>(config_.tile_timeout_s * 1000)),
+      config_.min_tile_level);
   FLEETLOC_RETURN_IF_ERROR(MoveTo(transport::RemapClient::Create(p), &remap_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(
-      transport::Topic<fleetloc_ServiceHealth>::Create(p, transport::topics::kServiceHealth), &health_topic_));
+      transport::Topic<fleetloc_ServiceHealth>::Create(p, transport::topics::kServiceHealth),
+      &health_topic_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<fleetloc_ServiceHealth>::Create(
-      p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::Writer<fleetloc_ServiceHealth>::Create(
+                   p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)),
+               &health_writer_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::WaitSet::Create(p), &waitset_));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(listener_->pose_reader(), kFleetData));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(listener_->health_reader(), kFleetData));
@@ -110,7 +117,9 @@ Status FleetSupervisor::Open() {
     std::ofstream(config_.port_file) << http_->port() << "\n";
   }
   metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "fleet_supervisor");
-  if (config_.vda5050.enabled) FLEETLOC_RETURN_IF_ERROR(MoveTo(Vda5050Publisher::Start(config_.vda5050, config_.supervisor_id), &vda_));
+  if (config_.vda5050.enabled)
+    FLEETLOC_RETURN_IF_ERROR(
+        MoveTo(Vda5050Publisher::Start(config_.vda5050, config_.supervisor_id), &vda_));
   return Status::Ok();
 }
 
@@ -118,7 +127,8 @@ void FleetSupervisor::RefreshMetrics(double now) {
   metrics::FamilyBuilder b(kSupervisorMetricPrefix, {{"service_id", config_.supervisor_id}});
   fleet_->AddMetrics(&b);
   AddSupervisorFamilies(AllCounters(), fleet_->MapServerAlive(now, kMapServerTimeoutS), &b);
-  if (vda_) b.Gauge("vda5050_connected", "1 while connected to the MQTT broker", vda_->connected() ? 1 : 0);
+  if (vda_)
+    b.Gauge("vda5050_connected", "1 while connected to the MQTT broker", vda_->connected() ? 1 : 0);
   metrics_->Publish(b.Take());
 }
 
@@ -128,16 +138,19 @@ Status FleetSupervisor::Restore() {
   Result<std::vector<fleet::Alert>> open = history_->Alerts({"", true, 100000});
   if (!open.ok()) return open.status();
   fleet_->Restore(*vehicles, *open);
-  spdlog::info("history {}: {} vehicles, {} open alerts restored", config_.history_db, vehicles->size(), open->size());
+  spdlog::info("history {}: {} vehicles, {} open alerts restored", config_.history_db,
+               vehicles->size(), open->size());
   return Status::Ok();
 }
 
 void FleetSupervisor::StoreAlerts(const std::vector<fleet::Alert>& changes) {
   for (const fleet::Alert& a : changes) {
     spdlog::log(a.cleared_t ? spdlog::level::info : spdlog::level::warn, "alert {} {} {}: {}",
-                a.cleared_t ? "cleared" : "raised", a.vehicle_id, fleet::AlertKindName(a.kind), a.message);
+                a.cleared_t ? "cleared" : "raised", a.vehicle_id, fleet::AlertKindName(a.kind),
+                a.message);
     if (a.cleared_t) {
-      if (a.id > 0 && !history_->CloseAlert(a.id, *a.cleared_t).ok()) ++fleet_->counters().history_errors;
+      if (a.id > 0 && !history_->CloseAlert(a.id, *a.cleared_t).ok())
+        ++fleet_->counters().history_errors;
       continue;
     }
     Result<long long> id = history_->InsertAlert(a);
@@ -154,8 +167,10 @@ void FleetSupervisor::StoreAlerts(const std::vector<fleet::Alert>& changes) {
 std::vector<ReadinessCheck> FleetSupervisor::Readiness() const {
   const double gap = SteadyNow() - last_step_.load();
   std::vector<ReadinessCheck> checks = {
-      {"dds", gap < kMaxStepGapS, gap < kMaxStepGapS ? "" : "the DDS loop has not run for " + std::to_string(gap) + " s"},
-      {"history", history_written_.load(), history_written_.load() ? "" : config_.history_db + ": the newest write failed"},
+      {"dds", gap < kMaxStepGapS,
+       gap < kMaxStepGapS ? "" : "the DDS loop has not run for " + std::to_string(gap) + " s"},
+      {"history", history_written_.load(),
+       history_written_.load() ? "" : config_.history_db + ": the newest write failed"},
   };
   if (metrics_) {
     const std::string error = metrics_->error();
@@ -178,8 +193,10 @@ void FleetSupervisor::FlushHistory(double now) {
   if (now >= next_prune_) {
     next_prune_ = now + kPrunePeriodS;
     Result<long long> pruned = history_->Prune(now - config_.retention_s);
-    if (!pruned.ok()) spdlog::error("{}", pruned.status().message());
-    else if (*pruned > 0) spdlog::info("retention: {} history rows deleted", *pruned);
+    if (!pruned.ok())
+      spdlog::error("{}", pruned.status().message());
+    else if (*pruned > 0)
+      spdlog::info("retention: {} history rows deleted", *pruned);
   }
 }
 
@@ -190,7 +207,8 @@ void FleetSupervisor::Step(double now) {
   fleet_->Apply(received, now, &pending_poses_, &pending_health_);
   fleet_->counters().history_queue = pending_poses_.size() + pending_health_.size();
   tiles_->Pump();
-  if (Result<std::vector<transport::RemapProgress>> jobs = remap_->TakeStatuses(); jobs.ok() && !jobs->empty()) {
+  if (Result<std::vector<transport::RemapProgress>> jobs = remap_->TakeStatuses();
+      jobs.ok() && !jobs->empty()) {
     fleet_->OnRemapStatus(*jobs);
   }
   if (now >= next_alerts_) {
@@ -206,8 +224,9 @@ void FleetSupervisor::Step(double now) {
     next_snapshot_ = now + config_.stream_period_s;
     nlohmann::json snapshot = fleet_->Snapshot(now);
     const std::optional<mosaic::MosaicLayout> layout = tiles_->Layout();
-    snapshot["mosaic"] = layout ? nlohmann::json{{"mosaic_id", layout->mosaic_id}, {"version", layout->version}}
-                                : nlohmann::json(nullptr);
+    snapshot["mosaic"] =
+        layout ? nlohmann::json{{"mosaic_id", layout->mosaic_id}, {"version", layout->version}}
+               : nlohmann::json(nullptr);
     snapshot["map_server_alive"] = fleet_->MapServerAlive(now, kMapServerTimeoutS);
     stream_.Publish(io::DumpJson(snapshot));
     ++fleet_->counters().stream_snapshots;
@@ -227,7 +246,8 @@ Status FleetSupervisor::PublishHealth() {
   transport::ServiceHealthReport report{config_.supervisor_id, "fleet_supervisor", std::nullopt,
                                         AllCounters()};
   if (fleet_->counters().history_errors > 0) {
-    report.issue = {"history_errors", fleetloc_HEALTH_ERROR, "the SQLite history could not be written"};
+    report.issue = {"history_errors", fleetloc_HEALTH_ERROR,
+                    "the SQLite history could not be written"};
   } else if (vda_ && !vda_->connected()) {
     report.issue = {"vda5050_broker_unreachable", fleetloc_HEALTH_WARN, vda_->problem()};
   } else if (!metrics_->error().empty()) {

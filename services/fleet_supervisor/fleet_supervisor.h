@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "fleet_supervisor/event_stream.h"
 #include "fleet_link/fleet_listener.h"
+#include "fleet_supervisor/event_stream.h"
 #include "fleet_supervisor/history_store.h"
 #include "fleet_supervisor/http_api.h"
 #include "fleet_supervisor/overview_tiles.h"
@@ -62,11 +62,11 @@ class FleetSupervisor {
   // "metrics_unavailable", and the supervisor runs on without metrics.
   std::unique_ptr<metrics::ServiceMetrics> metrics_;
   std::unique_ptr<Vda5050Publisher> vda_;  // null unless "vda5050" is enabled
-  std::unique_ptr<HttpApi> http_;  // declared last: stopped first
+  std::unique_ptr<HttpApi> http_;          // declared last: stopped first
   std::vector<StoredPose> pending_poses_;
   std::vector<StoredHealth> pending_health_;
   // For GET /readyz, written by the main loop and read by HTTP threads.
-  std::atomic<double> last_step_{0.0};     // steady seconds of the newest loop step (DDS taken)
+  std::atomic<double> last_step_{0.0};       // steady seconds of the newest loop step (DDS taken)
   std::atomic<bool> history_written_{true};  // the newest history flush succeeded
   std::vector<ReadinessCheck> Readiness() const;
   double next_flush_ = 0, next_prune_ = 0, next_snapshot_ = 0, next_health_ = 0, next_alerts_ = 0;

@@ -1,7 +1,8 @@
 // fleet_supervisor: the operators' view of the fleet (DDS in, HTTP dashboard out) until
 // SIGINT/SIGTERM.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 
 #include "cli/command_line.h"
 #include "fleet_supervisor/fleet_supervisor.h"
@@ -10,7 +11,8 @@
 
 int main(int argc, char** argv) {
   using namespace fleetloc::fleet_supervisor;
-  CLI::App app{"fleetloc fleet supervisor: fleet state, alerts, history and the operators' dashboard"};
+  CLI::App app{
+      "fleetloc fleet supervisor: fleet state, alerts, history and the operators' dashboard"};
   std::string config_path, history, dds_config, bind, token_file, web_dir, port_file;
   std::string metrics_port_file;
   int domain = -1, port = -1, metrics_port = -1;
@@ -22,15 +24,19 @@ int main(int argc, char** argv) {
   app.add_option("--http-port", port, "Port (0: any free one; see --port-file)");
   app.add_option("--port-file", port_file, "Write the bound port into this file");
   app.add_option("--token-file", token_file, "File whose first line is the maintainer token");
-  app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9472)");
-  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
+  app.add_option("--metrics-port", metrics_port,
+                 "Prometheus /metrics port (0: any free one; default 9472)");
+  app.add_option("--metrics-port-file", metrics_port_file,
+                 "Write the bound metrics port into this file");
   app.add_option("--web-dir", web_dir, "Dashboard files (default: installed beside the binary)");
-  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleet_supervisor", argc, argv)) return *exit_status;
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleet_supervisor", argc, argv))
+    return *exit_status;
 
   SupervisorConfig config;
   if (!config_path.empty()) {
     auto loaded = LoadSupervisorConfig(config_path);
-    if (!loaded.ok()) return std::fprintf(stderr, "fleet_supervisor: %s\n", loaded.status().message().c_str()), 2;
+    if (!loaded.ok())
+      return std::fprintf(stderr, "fleet_supervisor: %s\n", loaded.status().message().c_str()), 2;
     config = *loaded;
   }
   if (domain >= 0) config.domain_id = domain;

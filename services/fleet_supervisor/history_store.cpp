@@ -64,7 +64,8 @@ std::vector<std::string> SplitIssues(const std::string& joined) {
 void BindPose(sqlite3_stmt* s, const StoredPose& r) {
   const fleet::PoseSample& p = r.pose;
   BindText(s, 1, r.vehicle_id);
-  const double values[] = {p.t, r.received, p.x, p.y, p.theta, p.cov_xx, p.cov_xy, p.cov_yy, p.cov_tt};
+  const double values[] = {p.t,      r.received, p.x,      p.y,     p.theta,
+                           p.cov_xx, p.cov_xy,   p.cov_yy, p.cov_tt};
   for (int i = 0; i < 9; ++i) sqlite3_bind_double(s, 2 + i, values[i]);
   sqlite3_bind_int(s, 11, static_cast<int>(p.lock));
   sqlite3_bind_double(s, 12, p.localization_score);
@@ -77,7 +78,8 @@ StoredPose ReadPose(sqlite3_stmt* s) {
   r.vehicle_id = Text(s, 0);
   r.received = sqlite3_column_double(s, 2);
   fleet::PoseSample& p = r.pose;
-  double* targets[] = {&p.t, nullptr, &p.x, &p.y, &p.theta, &p.cov_xx, &p.cov_xy, &p.cov_yy, &p.cov_tt};
+  double* targets[] = {&p.t,      nullptr,   &p.x,      &p.y,     &p.theta,
+                       &p.cov_xx, &p.cov_xy, &p.cov_yy, &p.cov_tt};
   for (int i = 0; i < 9; ++i) {
     if (targets[i]) *targets[i] = sqlite3_column_double(s, 1 + i);
   }
@@ -160,7 +162,8 @@ Result<std::vector<T>> Query(sqlite3* db, const std::string& sql, Bind&& bind, R
   if (!stmt.ok()) return stmt.status();
   bind(stmt->get());
   std::vector<T> rows;
-  FLEETLOC_RETURN_IF_ERROR(Rows(db, stmt->get(), [&](sqlite3_stmt* s) { rows.push_back(read(s)); }));
+  FLEETLOC_RETURN_IF_ERROR(
+      Rows(db, stmt->get(), [&](sqlite3_stmt* s) { rows.push_back(read(s)); }));
   return rows;
 }
 
@@ -169,8 +172,9 @@ template <typename T, typename Read>
 Result<std::vector<T>> RangeOf(sqlite3* db, const char* table, const char* columns,
                                const std::string& vehicle, double from, double to, int limit,
                                Read&& read) {
-  const std::string sql = std::string("SELECT ") + columns + " FROM " + table +
-                          " WHERE vehicle = ?1 AND received >= ?2 AND received <= ?3 ORDER BY received DESC LIMIT ?4";
+  const std::string sql =
+      std::string("SELECT ") + columns + " FROM " + table +
+      " WHERE vehicle = ?1 AND received >= ?2 AND received <= ?3 ORDER BY received DESC LIMIT ?4";
   Result<std::vector<T>> rows = Query<T>(
       db, sql,
       [&](sqlite3_stmt* s) {
@@ -187,7 +191,8 @@ Result<std::vector<T>> RangeOf(sqlite3* db, const char* table, const char* colum
 }  // namespace
 
 Result<std::unique_ptr<HistoryStore>> HistoryStore::Open(const std::string& path) {
-  Result<sqlite::Db> db = sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX);
+  Result<sqlite::Db> db =
+      sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX);
   if (!db.ok()) return db.status();
   std::unique_ptr<HistoryStore> store(new HistoryStore(std::move(db).value()));
   if (Status created = store->CreateSchema(); !created.ok()) {
@@ -197,7 +202,8 @@ Result<std::unique_ptr<HistoryStore>> HistoryStore::Open(const std::string& path
 }
 
 Status HistoryStore::CreateSchema() {
-  FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db_.get(), "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"));
+  FLEETLOC_RETURN_IF_ERROR(
+      sqlite::Exec(db_.get(), "PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;"));
   sqlite3_busy_timeout(db_.get(), 5000);
   FLEETLOC_RETURN_IF_ERROR(sqlite::Exec(db_.get(), kSchema));
   Result<std::vector<std::string>> format = Query<std::string>(
@@ -210,7 +216,8 @@ Status HistoryStore::CreateSchema() {
   return Status::Ok();
 }
 
-Status HistoryStore::Append(const std::vector<StoredPose>& poses, const std::vector<StoredHealth>& health) {
+Status HistoryStore::Append(const std::vector<StoredPose>& poses,
+                            const std::vector<StoredHealth>& health) {
   if (poses.empty() && health.empty()) return Status::Ok();
   std::lock_guard lock(mutex_);
   sqlite3* db = db_.get();
@@ -221,7 +228,8 @@ Status HistoryStore::Append(const std::vector<StoredPose>& poses, const std::vec
     for (const auto& row : rows) {
       sqlite::ScopedReset reset(stmt->get());
       bind(stmt->get(), row);
-      if (sqlite3_step(stmt->get()) != SQLITE_DONE) return Internal("history: " + sqlite::ErrorMessage(db));
+      if (sqlite3_step(stmt->get()) != SQLITE_DONE)
+        return Internal("history: " + sqlite::ErrorMessage(db));
     }
     return Status::Ok();
   };
@@ -243,54 +251,64 @@ Status HistoryStore::Append(const std::vector<StoredPose>& poses, const std::vec
 Result<long long> HistoryStore::InsertAlert(const Alert& a) {
   std::lock_guard lock(mutex_);
   Result<sqlite::Stmt> stmt = sqlite::Prepare(
-      db_.get(), "INSERT INTO alerts(vehicle, kind, severity, raised, message) VALUES(?1,?2,?3,?4,?5)");
+      db_.get(),
+      "INSERT INTO alerts(vehicle, kind, severity, raised, message) VALUES(?1,?2,?3,?4,?5)");
   if (!stmt.ok()) return stmt.status();
   BindText(stmt->get(), 1, a.vehicle_id);
   BindText(stmt->get(), 2, fleet::AlertKindName(a.kind));
   BindText(stmt->get(), 3, fleet::SeverityName(a.severity));
   sqlite3_bind_double(stmt->get(), 4, a.raised_t);
   BindText(stmt->get(), 5, a.message);
-  if (sqlite3_step(stmt->get()) != SQLITE_DONE) return Internal("history: " + sqlite::ErrorMessage(db_.get()));
+  if (sqlite3_step(stmt->get()) != SQLITE_DONE)
+    return Internal("history: " + sqlite::ErrorMessage(db_.get()));
   return static_cast<long long>(sqlite3_last_insert_rowid(db_.get()));
 }
 
 Status HistoryStore::CloseAlert(long long id, double cleared_t) {
   std::lock_guard lock(mutex_);
-  Result<sqlite::Stmt> stmt = sqlite::Prepare(db_.get(), "UPDATE alerts SET cleared = ?2 WHERE id = ?1");
+  Result<sqlite::Stmt> stmt =
+      sqlite::Prepare(db_.get(), "UPDATE alerts SET cleared = ?2 WHERE id = ?1");
   if (!stmt.ok()) return stmt.status();
   sqlite3_bind_int64(stmt->get(), 1, id);
   sqlite3_bind_double(stmt->get(), 2, cleared_t);
-  if (sqlite3_step(stmt->get()) != SQLITE_DONE) return Internal("history: " + sqlite::ErrorMessage(db_.get()));
+  if (sqlite3_step(stmt->get()) != SQLITE_DONE)
+    return Internal("history: " + sqlite::ErrorMessage(db_.get()));
   return Status::Ok();
 }
 
 Result<long long> HistoryStore::Prune(double before) {
   std::lock_guard lock(mutex_);
   long long deleted = 0;
-  for (const char* sql : {"DELETE FROM poses WHERE received < ?1", "DELETE FROM health WHERE received < ?1",
-                          "DELETE FROM alerts WHERE cleared IS NOT NULL AND cleared < ?1"}) {
+  for (const char* sql :
+       {"DELETE FROM poses WHERE received < ?1", "DELETE FROM health WHERE received < ?1",
+        "DELETE FROM alerts WHERE cleared IS NOT NULL AND cleared < ?1"}) {
     Result<sqlite::Stmt> stmt = sqlite::Prepare(db_.get(), sql);
     if (!stmt.ok()) return stmt.status();
     sqlite3_bind_double(stmt->get(), 1, before);
-    if (sqlite3_step(stmt->get()) != SQLITE_DONE) return Internal("history: " + sqlite::ErrorMessage(db_.get()));
+    if (sqlite3_step(stmt->get()) != SQLITE_DONE)
+      return Internal("history: " + sqlite::ErrorMessage(db_.get()));
     deleted += sqlite3_changes(db_.get());
   }
   return deleted;
 }
 
-Result<std::vector<StoredPose>> HistoryStore::Poses(const std::string& vehicle, double from, double to, int limit) {
+Result<std::vector<StoredPose>> HistoryStore::Poses(const std::string& vehicle, double from,
+                                                    double to, int limit) {
   std::lock_guard lock(mutex_);
   return RangeOf<StoredPose>(db_.get(), "poses", kPoseColumns, vehicle, from, to, limit, ReadPose);
 }
 
-Result<std::vector<StoredHealth>> HistoryStore::Health(const std::string& vehicle, double from, double to, int limit) {
+Result<std::vector<StoredHealth>> HistoryStore::Health(const std::string& vehicle, double from,
+                                                       double to, int limit) {
   std::lock_guard lock(mutex_);
-  return RangeOf<StoredHealth>(db_.get(), "health", kHealthColumns, vehicle, from, to, limit, ReadHealth);
+  return RangeOf<StoredHealth>(db_.get(), "health", kHealthColumns, vehicle, from, to, limit,
+                               ReadHealth);
 }
 
 Result<std::vector<Alert>> HistoryStore::Alerts(const AlertQuery& q) {
   std::lock_guard lock(mutex_);
-  std::string sql = "SELECT id, vehicle, kind, severity, raised, cleared, message FROM alerts WHERE 1";
+  std::string sql =
+      "SELECT id, vehicle, kind, severity, raised, cleared, message FROM alerts WHERE 1";
   if (!q.vehicle_id.empty()) sql += " AND vehicle = ?1";
   if (q.active_only) sql += " AND cleared IS NULL";
   sql += " ORDER BY raised DESC, id DESC LIMIT ?2";
@@ -307,14 +325,15 @@ Result<std::vector<fleet::VehicleState>> HistoryStore::LatestVehicles() {
   std::lock_guard lock(mutex_);
   std::map<std::string, fleet::VehicleState> vehicles;
   auto newest = [](const char* table, const char* columns) {
-    return std::string("SELECT ") + columns + " FROM " + table + " r JOIN (SELECT vehicle AS v, MAX(received) AS mt FROM " +
-           table + " GROUP BY vehicle) m ON r.vehicle = m.v AND r.received = m.mt";
+    return std::string("SELECT ") + columns + " FROM " + table +
+           " r JOIN (SELECT vehicle AS v, MAX(received) AS mt FROM " + table +
+           " GROUP BY vehicle) m ON r.vehicle = m.v AND r.received = m.mt";
   };
-  Result<std::vector<StoredPose>> poses =
-      Query<StoredPose>(db_.get(), newest("poses", kPoseColumns), [](sqlite3_stmt*) {}, ReadPose);
+  Result<std::vector<StoredPose>> poses = Query<StoredPose>(
+      db_.get(), newest("poses", kPoseColumns), [](sqlite3_stmt*) {}, ReadPose);
   if (!poses.ok()) return poses.status();
-  Result<std::vector<StoredHealth>> health =
-      Query<StoredHealth>(db_.get(), newest("health", kHealthColumns), [](sqlite3_stmt*) {}, ReadHealth);
+  Result<std::vector<StoredHealth>> health = Query<StoredHealth>(
+      db_.get(), newest("health", kHealthColumns), [](sqlite3_stmt*) {}, ReadHealth);
   if (!health.ok()) return health.status();
   for (const StoredPose& p : *poses) {
     fleet::VehicleState& v = vehicles[p.vehicle_id];
@@ -332,7 +351,9 @@ Result<std::vector<fleet::VehicleState>> HistoryStore::LatestVehicles() {
 Result<bool> HistoryStore::KnowsVehicle(const std::string& vehicle_id) {
   std::lock_guard lock(mutex_);
   Result<std::vector<int>> found = Query<int>(
-      db_.get(), "SELECT 1 FROM poses WHERE vehicle = ?1 UNION SELECT 1 FROM health WHERE vehicle = ?1 LIMIT 1",
+      db_.get(),
+      "SELECT 1 FROM poses WHERE vehicle = ?1 UNION SELECT 1 FROM health WHERE vehicle = ?1 LIMIT "
+      "1",
       [&](sqlite3_stmt* s) { BindText(s, 1, vehicle_id); }, [](sqlite3_stmt*) { return 1; });
   if (!found.ok()) return found.status();
   return !found->empty();

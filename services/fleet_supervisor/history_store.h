@@ -51,8 +51,10 @@ class HistoryStore {
   Result<long long> Prune(double before);
 
   // Rows of one vehicle received in [from, to], oldest first, at most `limit` (the newest kept).
-  Result<std::vector<StoredPose>> Poses(const std::string& vehicle_id, double from, double to, int limit);
-  Result<std::vector<StoredHealth>> Health(const std::string& vehicle_id, double from, double to, int limit);
+  Result<std::vector<StoredPose>> Poses(const std::string& vehicle_id, double from, double to,
+                                        int limit);
+  Result<std::vector<StoredHealth>> Health(const std::string& vehicle_id, double from, double to,
+                                           int limit);
   // Alerts, newest raised first.
   Result<std::vector<fleet::Alert>> Alerts(const AlertQuery& query);
   // Every vehicle with its newest stored pose and health (trail empty); last_seen is the

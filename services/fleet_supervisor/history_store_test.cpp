@@ -11,8 +11,8 @@ namespace {
 constexpr double kT0 = 1.7e9;
 
 std::string TempDb(const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() /
-                    (name + "_" + std::to_string(::getpid()) + ".db");
+  const auto path =
+      std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".db");
   sqlite::RemoveDatabaseFiles(path.string());
   return path.string();
 }
@@ -72,9 +72,17 @@ TEST(HistoryStore, RetentionDeletesOldRowsAndClearedAlertsOnly) {
   ASSERT_TRUE(store.ok());
   std::vector<StoredPose> poses;
   for (int i = 0; i < 100; ++i) poses.push_back(Pose("agv-1", kT0 + i, i));
-  ASSERT_TRUE((*store)->Append(poses, {Health("agv-1", kT0, 2), Health("agv-1", kT0 + 90, 2)}).ok());
-  auto old_cleared = (*store)->InsertAlert({0, "agv-1", fleet::AlertKind::kCycleOverrun, fleet::Severity::kWarning, kT0 + 1, {}, "slow"});
-  auto old_open = (*store)->InsertAlert({0, "agv-1", fleet::AlertKind::kSilent, fleet::Severity::kCritical, kT0 + 2, {}, "silent"});
+  ASSERT_TRUE(
+      (*store)->Append(poses, {Health("agv-1", kT0, 2), Health("agv-1", kT0 + 90, 2)}).ok());
+  auto old_cleared = (*store)->InsertAlert({0,
+                                            "agv-1",
+                                            fleet::AlertKind::kCycleOverrun,
+                                            fleet::Severity::kWarning,
+                                            kT0 + 1,
+                                            {},
+                                            "slow"});
+  auto old_open = (*store)->InsertAlert(
+      {0, "agv-1", fleet::AlertKind::kSilent, fleet::Severity::kCritical, kT0 + 2, {}, "silent"});
   ASSERT_TRUE(old_cleared.ok() && old_open.ok());
   EXPECT_GT(*old_open, *old_cleared);
   ASSERT_TRUE((*store)->CloseAlert(*old_cleared, kT0 + 5).ok());
@@ -94,9 +102,20 @@ TEST(HistoryStore, ReopenedStoreGivesEachVehiclesNewestStateAndOpenAlerts) {
   {
     auto store = HistoryStore::Open(path);
     ASSERT_TRUE(store.ok());
-    ASSERT_TRUE((*store)->Append({Pose("agv-1", kT0, 1), Pose("agv-1", kT0 + 1, 2), Pose("agv-2", kT0 + 3, 7)},
-                                 {Health("agv-1", kT0 + 4, 3.5)}).ok());
-    ASSERT_TRUE((*store)->InsertAlert({0, "agv-2", fleet::AlertKind::kLockLost, fleet::Severity::kCritical, kT0 + 3, {}, "lost"}).ok());
+    ASSERT_TRUE(
+        (*store)
+            ->Append({Pose("agv-1", kT0, 1), Pose("agv-1", kT0 + 1, 2), Pose("agv-2", kT0 + 3, 7)},
+                     {Health("agv-1", kT0 + 4, 3.5)})
+            .ok());
+    ASSERT_TRUE((*store)
+                    ->InsertAlert({0,
+                                   "agv-2",
+                                   fleet::AlertKind::kLockLost,
+                                   fleet::Severity::kCritical,
+                                   kT0 + 3,
+                                   {},
+                                   "lost"})
+                    .ok());
   }
   auto store = HistoryStore::Open(path);
   ASSERT_TRUE(store.ok());

@@ -4,8 +4,9 @@
 // token as "Authorization: Bearer <token>" — 401 without it, 403 with a wrong one or when no token
 // is configured (read-only), 429 while the client must wait after repeated wrong tokens
 // (auth_throttle.h). GET /healthz answers 200 while the process serves HTTP; GET /readyz 200 when
-// every readiness check holds, else 503 naming the failing ones. Bad input gets a 4xx JSON {"error": "..."} and is counted. The API is listed
-// in docs/architecture.md; what a client may cost the server, in http_limits.h.
+// every readiness check holds, else 503 naming the failing ones. Bad input gets a 4xx JSON
+// {"error": "..."} and is counted. The API is listed in docs/architecture.md; what a client may
+// cost the server, in http_limits.h.
 #pragma once
 
 #include <functional>

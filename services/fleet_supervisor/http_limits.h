@@ -10,7 +10,7 @@
 namespace fleetloc::fleet_supervisor {
 
 struct HttpLimits {
-  int max_connections = 4096;     // open sockets beside the live streams; beyond: 503 and closed
+  int max_connections = 4096;  // open sockets beside the live streams; beyond: 503 and closed
   // Of those, from one client address; beyond: 503 and closed. 0: no such cap (the default,
   // because on loopback and behind a reverse proxy every client has the same address; set it
   // where clients reach the port directly).

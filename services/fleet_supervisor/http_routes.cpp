@@ -1,7 +1,5 @@
 // HttpApi's routes: one handler per route of the route table (api_routes.h), the checks of the
 // requests' input (vehicle ids, query parameters, the maintainer token) and the server's hooks.
-#include "fleet_supervisor/http_api.h"  // Eigen before httplib (see guarded_server.h)
-
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
@@ -14,6 +12,7 @@
 #include "fleet_link/fleet_view.h"
 #include "fleet_supervisor/api_routes.h"
 #include "fleet_supervisor/guarded_server.h"
+#include "fleet_supervisor/http_api.h"  // Eigen before httplib (see guarded_server.h)
 #include "fleet_supervisor/supervisor_view.h"
 #include "io/json_fields.h"
 #include "transport/wire_util.h"
@@ -39,7 +38,9 @@ void Reply(Response& res, int status, const json& body) {
   res.set_content(io::DumpJson(body), "application/json");
 }
 
-void Fail(Response& res, int status, const std::string& message) { Reply(res, status, {{"error", message}}); }
+void Fail(Response& res, int status, const std::string& message) {
+  Reply(res, status, {{"error", message}});
+}
 
 // Strict parsing: the whole text must be the number.
 bool ParseInt(const std::string& text, long long* out) {
@@ -55,7 +56,8 @@ bool ParseDouble(const std::string& text, double* out) {
 
 // The query parameter `name` as a number; `fallback` when absent. False (with a 400 sent) when
 // present but not a number.
-bool NumberParam(const Request& req, Response& res, const char* name, double fallback, double* out) {
+bool NumberParam(const Request& req, Response& res, const char* name, double fallback,
+                 double* out) {
   *out = fallback;
   if (!req.has_param(name)) return true;
   if (ParseDouble(req.get_param_value(name), out)) return true;
@@ -66,7 +68,8 @@ bool NumberParam(const Request& req, Response& res, const char* name, double fal
 // Constant-time comparison, so a wrong token's timing tells nothing about the right one.
 bool SameToken(const std::string& a, const std::string& b) {
   unsigned char diff = a.size() == b.size() ? 0 : 1;
-  for (size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i % std::max<size_t>(b.size(), 1)]);
+  for (size_t i = 0; i < a.size(); ++i)
+    diff |= static_cast<unsigned char>(a[i] ^ b[i % std::max<size_t>(b.size(), 1)]);
   return diff == 0;
 }
 
@@ -86,10 +89,13 @@ void HttpApi::Hooks() {
   });
   s.set_error_handler([](const Request& req, Response& res) {
     if (res.body.empty()) {
-      Fail(res, res.status, res.status == 404 ? "no such resource: " + req.path : "request failed (HTTP " + std::to_string(res.status) + ")");
+      Fail(res, res.status,
+           res.status == 404 ? "no such resource: " + req.path
+                             : "request failed (HTTP " + std::to_string(res.status) + ")");
     }
   });
-  s.set_exception_handler([](const Request&, Response& res, std::exception_ptr) { Fail(res, 500, "internal error"); });
+  s.set_exception_handler(
+      [](const Request&, Response& res, std::exception_ptr) { Fail(res, 500, "internal error"); });
 }
 
 void HttpApi::Routes() {
@@ -122,7 +128,9 @@ void HttpApi::Routes() {
   for (const Route& r : kRoutes) {
     ++registered;
     const char* pattern = RoutePattern(r.method, r.path);
-    auto handler = [this, handle = r.handle](const Request& req, Response& res) { (this->*handle)(req, res); };
+    auto handler = [this, handle = r.handle](const Request& req, Response& res) {
+      (this->*handle)(req, res);
+    };
     if (std::string_view(r.method) == "POST") {
       s.Post(pattern, handler);
     } else {
@@ -169,8 +177,9 @@ bool HttpApi::Authorized(const Request& req, Response& res) {
   if (const double wait = throttle_.RetryAfter(req.remote_addr, SteadyNow()); wait > 0) {
     ++ctx_.fleet->counters().http_auth_throttled;
     res.set_header("Retry-After", std::to_string(static_cast<long long>(std::ceil(wait))));
-    Fail(res, 429, "too many wrong maintainer tokens: try again in " +
-                       std::to_string(static_cast<long long>(std::ceil(wait))) + " s");
+    Fail(res, 429,
+         "too many wrong maintainer tokens: try again in " +
+             std::to_string(static_cast<long long>(std::ceil(wait))) + " s");
     return false;
   }
   if (!SameToken(header.substr(7), ctx_.maintainer_token)) {
@@ -191,7 +200,8 @@ void HttpApi::GetHealthz(const Request&, Response& res) { Reply(res, 200, {{"ali
 
 void HttpApi::GetReadyz(const Request&, Response& res) {
   bool ready = true;
-  const json body = ReadinessJson(ctx_.readiness ? ctx_.readiness() : std::vector<ReadinessCheck>{}, &ready);
+  const json body =
+      ReadinessJson(ctx_.readiness ? ctx_.readiness() : std::vector<ReadinessCheck>{}, &ready);
   Reply(res, ready ? 200 : 503, body);
 }
 
@@ -202,7 +212,8 @@ void HttpApi::GetFleet(const Request& req, Response& res) {
 void HttpApi::GetVehicle(const Request& req, Response& res) {
   std::string id;
   if (!VehicleId(req, res, &id)) return;
-  Reply(res, 200, ctx_.fleet->Vehicle(id).value_or(json{{"id", id}, {"silent", true}, {"pose", nullptr}}));
+  Reply(res, 200,
+        ctx_.fleet->Vehicle(id).value_or(json{{"id", id}, {"silent", true}, {"pose", nullptr}}));
 }
 
 void HttpApi::GetVehicleHistory(const Request& req, Response& res) {
@@ -210,24 +221,33 @@ void HttpApi::GetVehicleHistory(const Request& req, Response& res) {
   std::string id;
   if (!VehicleId(req, res, &id)) return;
   double to = 0, from = 0, points = 0;
-  if (!NumberParam(req, res, "to", Now(), &to) || !NumberParam(req, res, "from", to - kDefaultHistoryS, &from) ||
+  if (!NumberParam(req, res, "to", Now(), &to) ||
+      !NumberParam(req, res, "from", to - kDefaultHistoryS, &from) ||
       !NumberParam(req, res, "max_points", kDefaultHistoryPoints, &points)) {
     return;
   }
   if (from > to) return Fail(res, 400, "'from' is after 'to'");
   if (to - from > config.max_query_range_s) {
-    return Fail(res, 400, "query range of " + std::to_string(static_cast<long long>(to - from)) +
-                              " s exceeds the limit of " + std::to_string(static_cast<long long>(config.max_query_range_s)) + " s");
+    return Fail(res, 400,
+                "query range of " + std::to_string(static_cast<long long>(to - from)) +
+                    " s exceeds the limit of " +
+                    std::to_string(static_cast<long long>(config.max_query_range_s)) + " s");
   }
   if (points != std::floor(points) || points < 2 || points > config.max_history_points) {
-    return Fail(res, 400, "'max_points' must be an integer in [2, " + std::to_string(config.max_history_points) + "]");
+    return Fail(res, 400,
+                "'max_points' must be an integer in [2, " +
+                    std::to_string(config.max_history_points) + "]");
   }
   auto poses = ctx_.history->Poses(id, from, to, kMaxHistoryRows);
   auto health = ctx_.history->Health(id, from, to, kMaxHistoryRows);
   if (!poses.ok() || !health.ok()) return Fail(res, 500, "history unavailable");
   const size_t n = static_cast<size_t>(points);
-  Reply(res, 200, {{"vehicle", id}, {"from", from}, {"to", to},
-                   {"poses", PoseHistoryJson(*poses, n)}, {"health", HealthHistoryJson(*health, n)}});
+  Reply(res, 200,
+        {{"vehicle", id},
+         {"from", from},
+         {"to", to},
+         {"poses", PoseHistoryJson(*poses, n)},
+         {"health", HealthHistoryJson(*health, n)}});
 }
 
 void HttpApi::GetAlerts(const Request& req, Response& res) {
@@ -235,7 +255,8 @@ void HttpApi::GetAlerts(const Request& req, Response& res) {
   q.active_only = req.get_param_value("active") == "1";
   q.vehicle_id = req.get_param_value("vehicle");
   long long limit = 200;
-  if (req.has_param("limit") && (!ParseInt(req.get_param_value("limit"), &limit) || limit < 1 || limit > 10000)) {
+  if (req.has_param("limit") &&
+      (!ParseInt(req.get_param_value("limit"), &limit) || limit < 1 || limit > 10000)) {
     return Fail(res, 400, "'limit' must be an integer in [1, 10000]");
   }
   if (!q.vehicle_id.empty() && !transport::IsValidEntityId(q.vehicle_id)) {
@@ -253,43 +274,59 @@ void HttpApi::GetMosaic(const Request&, Response& res) {
   std::optional<mosaic::MosaicLayout> layout = ctx_.tiles->Layout();
   if (!layout) return Fail(res, 503, "no map server has announced a mosaic yet");
   const std::string& name = ctx_.config->mosaic_name;
-  Reply(res, 200, {{"mosaic_id", layout->mosaic_id}, {"version", layout->version},
-                   {"name", name.empty() ? "floor" : name},
-                   {"width_px", layout->width_px}, {"height_px", layout->height_px},
-                   {"tile_size_px", layout->tile_size_px}, {"levels", layout->levels},
-                   {"origin_x", layout->geo.origin_x}, {"origin_y", layout->geo.origin_y},
-                   {"resolution", layout->geo.resolution}, {"min_level", ctx_.config->min_tile_level}});
+  Reply(res, 200,
+        {{"mosaic_id", layout->mosaic_id},
+         {"version", layout->version},
+         {"name", name.empty() ? "floor" : name},
+         {"width_px", layout->width_px},
+         {"height_px", layout->height_px},
+         {"tile_size_px", layout->tile_size_px},
+         {"levels", layout->levels},
+         {"origin_x", layout->geo.origin_x},
+         {"origin_y", layout->geo.origin_y},
+         {"resolution", layout->geo.resolution},
+         {"min_level", ctx_.config->min_tile_level}});
 }
 
 void HttpApi::GetTile(const Request& req, Response& res) {
   long long v[3];
   for (int i = 0; i < 3; ++i) {
     if (!ParseInt(req.matches[i + 1], &v[i]) || v[i] < 0 || v[i] > (1 << 24)) {
-      return Fail(res, 400, "tile address must be /api/tiles/LEVEL/COL/ROW.png with non-negative integers");
+      return Fail(res, 400,
+                  "tile address must be /api/tiles/LEVEL/COL/ROW.png with non-negative integers");
     }
   }
-  const TileAnswer answer = ctx_.tiles->Get({static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])});
+  const TileAnswer answer =
+      ctx_.tiles->Get({static_cast<int>(v[0]), static_cast<int>(v[1]), static_cast<int>(v[2])});
   using Outcome = TileAnswer::Outcome;
   switch (answer.outcome) {
     case Outcome::kOk:
       ++ctx_.fleet->counters().tiles_served;
       res.set_header("Cache-Control", "max-age=3600");
       res.set_header("X-Mosaic-Version", std::to_string(answer.version));
-      res.set_content(reinterpret_cast<const char*>(answer.png->data()), answer.png->size(), "image/png");
+      res.set_content(reinterpret_cast<const char*>(answer.png->data()), answer.png->size(),
+                      "image/png");
       return;
-    case Outcome::kOutOfRange: return Fail(res, 404, answer.error);
-    case Outcome::kNoMosaic: return Fail(res, 503, answer.error);
-    case Outcome::kTimeout: return Fail(res, 504, answer.error);
-    case Outcome::kError: return Fail(res, 502, answer.error);
+    case Outcome::kOutOfRange:
+      return Fail(res, 404, answer.error);
+    case Outcome::kNoMosaic:
+      return Fail(res, 503, answer.error);
+    case Outcome::kTimeout:
+      return Fail(res, 504, answer.error);
+    case Outcome::kError:
+      return Fail(res, 502, answer.error);
   }
 }
 
-void HttpApi::GetRemapJobs(const Request&, Response& res) { Reply(res, 200, {{"jobs", ctx_.fleet->RemapJobs()}}); }
+void HttpApi::GetRemapJobs(const Request&, Response& res) {
+  Reply(res, 200, {{"jobs", ctx_.fleet->RemapJobs()}});
+}
 
 void HttpApi::PostRemap(const Request& req, Response& res) {
   if (!Authorized(req, res)) return;
   const json body = json::parse(req.body, nullptr, false);
-  if (body.is_discarded() || !body.is_object()) return Fail(res, 400, "the body must be a JSON object");
+  if (body.is_discarded() || !body.is_object())
+    return Fail(res, 400, "the body must be a JSON object");
   for (const auto& [key, value] : body.items()) {
     if (key != "region" && key != "mode")
       return Fail(res, 400, "unknown key '" + key + "' (known: region, mode)");
@@ -300,12 +337,21 @@ void HttpApi::PostRemap(const Request& req, Response& res) {
     return Fail(res, 400, "'region' must be [x_min, y_min, x_max, y_max] in map metres");
   }
   const std::string mode = body.value("mode", "blend");
-  if (mode != "blend" && mode != "replace") return Fail(res, 400, "'mode' must be 'blend' or 'replace'");
-  transport::RemapRequest request{(*region)[0], (*region)[1], (*region)[2], (*region)[3],
-                                  mode == "replace", "", "dashboard:" + ctx_.config->supervisor_id};
-  if (!ctx_.map_server_listening()) return Fail(res, 503, "no map server is listening for re-mapping commands");
+  if (mode != "blend" && mode != "replace")
+    return Fail(res, 400, "'mode' must be 'blend' or 'replace'");
+  transport::RemapRequest request{(*region)[0],
+                                  (*region)[1],
+                                  (*region)[2],
+                                  (*region)[3],
+                                  mode == "replace",
+                                  "",
+                                  "dashboard:" + ctx_.config->supervisor_id};
+  if (!ctx_.map_server_listening())
+    return Fail(res, 503, "no map server is listening for re-mapping commands");
   Result<uint64_t> id = ctx_.start_remap(request);
-  if (!id.ok()) return Fail(res, id.status().code() == StatusCode::kInvalidInput ? 400 : 502, id.status().message());
+  if (!id.ok())
+    return Fail(res, id.status().code() == StatusCode::kInvalidInput ? 400 : 502,
+                id.status().message());
   ++ctx_.fleet->counters().remaps_started;
   spdlog::info("remap {} started from the dashboard: [{}, {}, {}, {}] {}", *id, request.x_min,
                request.y_min, request.x_max, request.y_max, mode);

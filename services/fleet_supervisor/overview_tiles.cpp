@@ -11,7 +11,10 @@ using Outcome = TileAnswer::Outcome;
 
 OverviewTiles::OverviewTiles(std::unique_ptr<transport::TileClient> client, size_t cache_bytes,
                              std::chrono::milliseconds timeout, int min_level)
-    : client_(std::move(client)), cache_bytes_(cache_bytes), timeout_(timeout), min_level_(min_level) {}
+    : client_(std::move(client)),
+      cache_bytes_(cache_bytes),
+      timeout_(timeout),
+      min_level_(min_level) {}
 
 void OverviewTiles::Pump() {
   std::lock_guard lock(mutex_);
@@ -73,7 +76,9 @@ TileAnswer OverviewTiles::Get(const mosaic::TileKey& key) {
   const long long version = layout_->version;
   if (key.level < min_level_ || !transport::InGrid(*layout_, key)) {
     return {Outcome::kOutOfRange, nullptr,
-            "tile " + mosaic::ToString(key) + " is not an overview tile of mosaic " + layout_->mosaic_id, version};
+            "tile " + mosaic::ToString(key) + " is not an overview tile of mosaic " +
+                layout_->mosaic_id,
+            version};
   }
   const auto deadline = std::chrono::steady_clock::now() + timeout_;
   bool requested = false;
@@ -98,7 +103,8 @@ TileAnswer OverviewTiles::Get(const mosaic::TileKey& key) {
             std::cv_status::timeout &&
         std::chrono::steady_clock::now() >= deadline) {
       in_flight_.erase(key);  // ask again next time
-      return {Outcome::kTimeout, nullptr, "the map server did not answer for tile " + mosaic::ToString(key), version};
+      return {Outcome::kTimeout, nullptr,
+              "the map server did not answer for tile " + mosaic::ToString(key), version};
     }
     PumpLocked();  // in case the DDS thread is busy
     if (!layout_) return {Outcome::kNoMosaic, nullptr, "no mosaic", version};

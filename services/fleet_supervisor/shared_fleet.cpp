@@ -18,24 +18,32 @@ constexpr size_t kMaxJobs = 50;  // newest re-mapping jobs kept for the page
 }
 
 std::vector<std::pair<std::string, uint64_t>> SupervisorCounters::Snapshot() const {
-  return {{"poses_received", poses_received},     {"health_received", health_received},
-          {"rejected_samples", rejected_samples}, {"history_rows", history_rows},
-          {"history_errors", history_errors},     {"history_queue", history_queue},
-          {"alerts_raised", alerts_raised},       {"alerts_cleared", alerts_cleared},
-          {"http_requests", http_requests},       {"http_rejected", http_rejected},
-          {"tiles_served", tiles_served},         {"remaps_started", remaps_started},
-          {"stream_snapshots", stream_snapshots}, {"deadline_misses", deadline_misses},
-          {"http_connections_refused", http_connections_refused},
-          {"http_head_timeouts", http_head_timeouts},
-          {"http_heads_too_large", http_heads_too_large},
-          {"http_requests_refused", http_requests_refused},
-          {"http_busy", http_busy},
-          {"http_auth_throttled", http_auth_throttled},
-          {"http_streams_refused", http_streams_refused},
-          {"http_streams_dropped", http_streams_dropped},
-          {"http_address_refused", http_address_refused},
-          {"http_connections_open", static_cast<uint64_t>(std::max<int64_t>(0, http_connections_open))},
-          {"http_streams_open", static_cast<uint64_t>(std::max<int64_t>(0, http_streams_open))}};
+  return {
+      {"poses_received", poses_received},
+      {"health_received", health_received},
+      {"rejected_samples", rejected_samples},
+      {"history_rows", history_rows},
+      {"history_errors", history_errors},
+      {"history_queue", history_queue},
+      {"alerts_raised", alerts_raised},
+      {"alerts_cleared", alerts_cleared},
+      {"http_requests", http_requests},
+      {"http_rejected", http_rejected},
+      {"tiles_served", tiles_served},
+      {"remaps_started", remaps_started},
+      {"stream_snapshots", stream_snapshots},
+      {"deadline_misses", deadline_misses},
+      {"http_connections_refused", http_connections_refused},
+      {"http_head_timeouts", http_head_timeouts},
+      {"http_heads_too_large", http_heads_too_large},
+      {"http_requests_refused", http_requests_refused},
+      {"http_busy", http_busy},
+      {"http_auth_throttled", http_auth_throttled},
+      {"http_streams_refused", http_streams_refused},
+      {"http_streams_dropped", http_streams_dropped},
+      {"http_address_refused", http_address_refused},
+      {"http_connections_open", static_cast<uint64_t>(std::max<int64_t>(0, http_connections_open))},
+      {"http_streams_open", static_cast<uint64_t>(std::max<int64_t>(0, http_streams_open))}};
 }
 
 SharedFleet::SharedFleet(const fleet::AlertOptions& alerts, const fleet::TrailOptions& trail,
@@ -71,14 +79,16 @@ void SharedFleet::NewestUnstored(std::vector<StoredPose>* poses) {
   std::lock_guard lock(mutex_);
   fleet_.ForEach([&](const fleet::VehicleState& v) {
     double& last = last_stored_[v.id];
-    if (v.pose && last < v.last_seen) poses->push_back({v.id, v.last_seen, *v.pose}), last = v.last_seen;
+    if (v.pose && last < v.last_seen)
+      poses->push_back({v.id, v.last_seen, *v.pose}), last = v.last_seen;
   });
 }
 
 std::vector<fleet::Alert> SharedFleet::Evaluate(double now) {
   std::lock_guard lock(mutex_);
   std::vector<fleet::Alert> changes = fleet_.Evaluate(now);
-  for (const fleet::Alert& a : changes) ++(a.cleared_t ? counters_.alerts_cleared : counters_.alerts_raised);
+  for (const fleet::Alert& a : changes)
+    ++(a.cleared_t ? counters_.alerts_cleared : counters_.alerts_raised);
   return changes;
 }
 
@@ -94,8 +104,9 @@ void SharedFleet::OnRemapStatus(const std::vector<transport::RemapProgress>& sta
     if (!added && (s.t >= it->second.t || s.final())) it->second = s;
   }
   while (jobs_.size() > kMaxJobs) {
-    auto oldest = std::min_element(jobs_.begin(), jobs_.end(),
-                                   [](const auto& a, const auto& b) { return a.second.t < b.second.t; });
+    auto oldest = std::min_element(jobs_.begin(), jobs_.end(), [](const auto& a, const auto& b) {
+      return a.second.t < b.second.t;
+    });
     jobs_.erase(oldest);
   }
 }
@@ -122,7 +133,9 @@ json SharedFleet::ServicesJson(double now) const {
   json services = json::array();
   for (const auto& [id, entry] : services_) {
     const auto& [report, received] = entry;
-    services.push_back({{"id", id}, {"kind", report.kind}, {"level", fleet::HealthLevelName(report.level)},
+    services.push_back({{"id", id},
+                        {"kind", report.kind},
+                        {"level", fleet::HealthLevelName(report.level)},
                         {"age_s", now - received}});
   }
   return services;
@@ -152,7 +165,9 @@ json SharedFleet::Snapshot(double now) const {
 
 json SharedFleet::Fleet(double now, bool trails) const {
   std::lock_guard lock(mutex_);
-  return {{"t", now}, {"summary", fleet_link::SummaryJson(fleet_.Summary())}, {"vehicles", VehiclesJson(trails)},
+  return {{"t", now},
+          {"summary", fleet_link::SummaryJson(fleet_.Summary())},
+          {"vehicles", VehiclesJson(trails)},
           {"services", ServicesJson(now)}};
 }
 

@@ -65,11 +65,12 @@ class SharedFleet {
   std::vector<fleet::Alert> Evaluate(double now);
   void SetAlertId(const fleet::Alert& alert, long long id);
   void OnRemapStatus(const std::vector<transport::RemapProgress>& statuses);
-  void Restore(const std::vector<fleet::VehicleState>& vehicles, const std::vector<fleet::Alert>& open);
+  void Restore(const std::vector<fleet::VehicleState>& vehicles,
+               const std::vector<fleet::Alert>& open);
 
   // Views. `mosaic` and `map_server` are filled in by the caller.
-  nlohmann::json Snapshot(double now) const;                 // the live stream's state
-  nlohmann::json Fleet(double now, bool trails) const;       // GET /api/fleet
+  nlohmann::json Snapshot(double now) const;            // the live stream's state
+  nlohmann::json Fleet(double now, bool trails) const;  // GET /api/fleet
   std::optional<nlohmann::json> Vehicle(const std::string& id) const;
   nlohmann::json ActiveAlerts() const;
   nlohmann::json RemapJobs() const;
@@ -95,7 +96,8 @@ class SharedFleet {
   std::map<std::string, double> last_stored_;  // per vehicle: receive time of the last stored pose
   // Re-mapping jobs by command and server: with the mosaic split, every server runs each command.
   std::map<std::pair<uint64_t, std::string>, transport::RemapProgress> jobs_;
-  std::map<std::string, std::pair<fleet_link::ServiceReport, double>> services_;  // with the received time
+  std::map<std::string, std::pair<fleet_link::ServiceReport, double>>
+      services_;  // with the received time
   std::string last_rejection_;
   SupervisorCounters counters_;
 };

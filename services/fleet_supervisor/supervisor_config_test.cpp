@@ -23,7 +23,8 @@ TEST(SupervisorConfig, DefaultsBindLoopbackAndAreValid) {
 }
 
 TEST(SupervisorConfig, ShippedSampleLoads) {
-  auto config = LoadSupervisorConfig(std::string(FLEETLOC_SOURCE_DIR) + "/deploy/config/fleet_supervisor.json");
+  auto config = LoadSupervisorConfig(std::string(FLEETLOC_SOURCE_DIR) +
+                                     "/deploy/config/fleet_supervisor.json");
   ASSERT_TRUE(config.ok()) << config.status().message();
   // Its "http" block lists the defaults.
   const HttpLimits defaults;
@@ -36,7 +37,8 @@ TEST(SupervisorConfig, ShippedSampleLoads) {
 }
 
 TEST(SupervisorConfig, FieldsAndAlertRulesAreRead) {
-  auto c = LoadSupervisorConfig(Write("ok", R"({"http_port": 9000, "maintainer_token": "s3cret-s3cret-s3cret",
+  auto c = LoadSupervisorConfig(
+      Write("ok", R"({"http_port": 9000, "maintainer_token": "s3cret-s3cret-s3cret",
       "retention_s": 3600, "alerts": {"cycle_p95_ms": {"raise_above": 40, "clear_below": 20}},
       "trail": {"length_s": 30}})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
@@ -50,9 +52,11 @@ TEST(SupervisorConfig, FieldsAndAlertRulesAreRead) {
 }
 
 // Writes a token file with `mode`.
-std::string WriteToken(const std::string& name, const std::string& text, std::filesystem::perms mode) {
+std::string WriteToken(const std::string& name, const std::string& text,
+                       std::filesystem::perms mode) {
   // A read-only file of an earlier run could not be written over: start afresh.
-  std::filesystem::remove(std::filesystem::temp_directory_path() / ("sup_config_" + name + ".json"));
+  std::filesystem::remove(std::filesystem::temp_directory_path() /
+                          ("sup_config_" + name + ".json"));
   const std::string path = Write(name, text);
   std::filesystem::permissions(path, mode);
   return path;
@@ -61,7 +65,8 @@ std::string WriteToken(const std::string& name, const std::string& text, std::fi
 TEST(SupervisorConfig, TokenFileFirstLineIsTheToken) {
   using std::filesystem::perms;
   SupervisorConfig c;
-  c.maintainer_token_file = WriteToken("token", "abc123-abc123-abc123\nignored\n", perms::owner_read | perms::owner_write);
+  c.maintainer_token_file = WriteToken("token", "abc123-abc123-abc123\nignored\n",
+                                       perms::owner_read | perms::owner_write);
   EXPECT_EQ(*ResolveMaintainerToken(c), "abc123-abc123-abc123");
   c.maintainer_token_file = "/nonexistent/token";
   EXPECT_FALSE(ResolveMaintainerToken(c).ok());
@@ -74,17 +79,20 @@ TEST(SupervisorConfig, ATokenFileOthersCanReadOrAShortTokenIsRefused) {
                                        perms::owner_read | perms::owner_write | perms::others_read);
   auto resolved = ResolveMaintainerToken(c);
   ASSERT_FALSE(resolved.ok());
-  EXPECT_NE(resolved.status().message().find("mode 604"), std::string::npos) << resolved.status().message();
-  c.maintainer_token_file = WriteToken("token_group", "abc123-abc123-abc123\n",
-                                       perms::owner_read | perms::group_read);
+  EXPECT_NE(resolved.status().message().find("mode 604"), std::string::npos)
+      << resolved.status().message();
+  c.maintainer_token_file =
+      WriteToken("token_group", "abc123-abc123-abc123\n", perms::owner_read | perms::group_read);
   EXPECT_NE(ResolveMaintainerToken(c).status().message().find("mode 440"), std::string::npos);
   c.maintainer_token_file = WriteToken("token_short", "abc123\n", perms::owner_read);
-  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("shorter than 16"), std::string::npos);
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("shorter than 16"),
+            std::string::npos);
   c.maintainer_token_file = WriteToken("token_space", "abc123 abc123 abc123\n", perms::owner_read);
   EXPECT_NE(ResolveMaintainerToken(c).status().message().find("printable"), std::string::npos);
   c.maintainer_token_file.clear();
   c.maintainer_token = "short";
-  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("maintainer_token"), std::string::npos);
+  EXPECT_NE(ResolveMaintainerToken(c).status().message().find("maintainer_token"),
+            std::string::npos);
 }
 
 TEST(SupervisorConfig, HttpLimitsAreReadAndChecked) {
@@ -101,7 +109,8 @@ TEST(SupervisorConfig, HttpLimitsAreReadAndChecked) {
 TEST(SupervisorConfig, MetricsAreOnByDefaultAndConfigurable) {
   EXPECT_TRUE(SupervisorConfig{}.metrics.enabled);
   EXPECT_EQ(SupervisorConfig{}.metrics.port, 9472);
-  auto c = LoadSupervisorConfig(Write("metrics", R"({"metrics": {"enabled": false, "port": 9500, "threads": 2}})"));
+  auto c = LoadSupervisorConfig(
+      Write("metrics", R"({"metrics": {"enabled": false, "port": 9500, "threads": 2}})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_FALSE(c->metrics.enabled);
   EXPECT_EQ(c->metrics.port, 9500);
@@ -111,7 +120,8 @@ TEST(SupervisorConfig, MetricsAreOnByDefaultAndConfigurable) {
 
 TEST(SupervisorConfig, Vda5050IsOffByDefaultAndReadWithItsSerialNumbers) {
   EXPECT_FALSE(SupervisorConfig{}.vda5050.enabled);
-  auto c = LoadSupervisorConfig(Write("vda", R"({"vda5050": {"enabled": true, "host": "broker.site", "port": 8883,
+  auto c = LoadSupervisorConfig(
+      Write("vda", R"({"vda5050": {"enabled": true, "host": "broker.site", "port": 8883,
       "username": "fleet", "password_file": "/etc/fleetloc/mqtt_password", "tls": true, "ca_file": "/etc/ca.pem",
       "interface_name": "site-a", "manufacturer": "acme", "rate_hz": 2, "max_pose_age_s": 5,
       "serial_numbers": {"agv-1": "SN-001"}, "connection_serial": "fleetloc-sup"}})"));
@@ -153,7 +163,8 @@ TEST(SupervisorConfig, BadFieldsAreNamed) {
       {R"({"vda5050": {"enabled": true, "manufacturer": "a/b"}})", "vda5050.manufacturer"},
       {R"({"vda5050": {"enabled": true, "password": "p"}})", "vda5050.username"},
       {R"({"vda5050": {"enabled": true, "tls": true}})", "vda5050.ca_file"},
-      {R"({"vda5050": {"enabled": true, "serial_numbers": {"agv-1": "a#b"}}})", "serial_numbers.agv-1"},
+      {R"({"vda5050": {"enabled": true, "serial_numbers": {"agv-1": "a#b"}}})",
+       "serial_numbers.agv-1"},
       {R"({"vda5050": {"serial_numbers": ["x"]}})", "serial_numbers"},
   };
   for (const auto& [json, field] : cases) {

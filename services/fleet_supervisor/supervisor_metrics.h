@@ -21,7 +21,7 @@ inline constexpr const char* kSupervisorMetricPrefix = "fleetloc_supervisor_";
 void AddFleetFamilies(const fleet::FleetState& fleet, metrics::FamilyBuilder* b);
 
 // Adds the supervisor's counters (SupervisorCounters::Snapshot) and whether a map server reports.
-void AddSupervisorFamilies(const std::vector<std::pair<std::string, uint64_t>>& counters, bool map_server_alive,
-                           metrics::FamilyBuilder* b);
+void AddSupervisorFamilies(const std::vector<std::pair<std::string, uint64_t>>& counters,
+                           bool map_server_alive, metrics::FamilyBuilder* b);
 
 }  // namespace fleetloc::fleet_supervisor

@@ -38,7 +38,8 @@ TEST(SupervisorMetrics, CountsVehiclesByLockStateAndReportsEachVehiclesHealth) {
   AddFleetFamilies(fleet, &b);
   const metrics::Exposition e = Parse(&b);
   auto vehicles = [&](const char* state) {
-    return *e.Value("fleetloc_supervisor_vehicles", {{"lock_state", state}, {"service_id", "sup-1"}});
+    return *e.Value("fleetloc_supervisor_vehicles",
+                    {{"lock_state", state}, {"service_id", "sup-1"}});
   };
   EXPECT_EQ(vehicles("tracking"), 2);
   EXPECT_EQ(vehicles("lost"), 1);
@@ -49,15 +50,18 @@ TEST(SupervisorMetrics, CountsVehiclesByLockStateAndReportsEachVehiclesHealth) {
   EXPECT_EQ(*e.Value("fleetloc_supervisor_vehicle_patch_outbox_patches", agv4), 17);
   EXPECT_EQ(*e.Value("fleetloc_supervisor_vehicle_tile_cache_hit_ratio", agv4), 0.75);
   EXPECT_EQ(*e.Value("fleetloc_supervisor_vehicle_map_server_reachable", agv4), 0);
-  EXPECT_NEAR(*e.Value("fleetloc_supervisor_vehicle_cycle_seconds", {{"vehicle_id", "agv-4"}, {"quantile", "0.95"}}),
+  EXPECT_NEAR(*e.Value("fleetloc_supervisor_vehicle_cycle_seconds",
+                       {{"vehicle_id", "agv-4"}, {"quantile", "0.95"}}),
               0.0125, 1e-9);
   // Vehicles without health have no per-vehicle series.
-  EXPECT_FALSE(e.Value("fleetloc_supervisor_vehicle_patch_outbox_patches", {{"vehicle_id", "agv-1"}}).ok());
+  EXPECT_FALSE(
+      e.Value("fleetloc_supervisor_vehicle_patch_outbox_patches", {{"vehicle_id", "agv-1"}}).ok());
 }
 
 TEST(SupervisorMetrics, QueueDepthsAreGaugesAndEventsCounters) {
   metrics::FamilyBuilder b(kSupervisorMetricPrefix, {});
-  AddSupervisorFamilies({{"poses_received", 10}, {"history_queue", 3}, {"http_streams_open", 2}}, true, &b);
+  AddSupervisorFamilies({{"poses_received", 10}, {"history_queue", 3}, {"http_streams_open", 2}},
+                        true, &b);
   const metrics::Exposition e = Parse(&b);
   EXPECT_EQ(e.types.at("fleetloc_supervisor_poses_received_total"), "counter");
   EXPECT_EQ(e.types.at("fleetloc_supervisor_history_queue"), "gauge");

@@ -11,7 +11,8 @@ TEST(ReadinessJson, ReadyOnlyWhenEveryCheckHoldsAndTheFailingOneIsNamed) {
   nlohmann::json out = ReadinessJson({{"dds", true, ""}, {"history", true, ""}}, &ready);
   EXPECT_TRUE(ready);
   EXPECT_EQ(out["ready"], true);
-  out = ReadinessJson({{"dds", true, ""}, {"history", false, "h.db: the newest write failed"}}, &ready);
+  out = ReadinessJson({{"dds", true, ""}, {"history", false, "h.db: the newest write failed"}},
+                      &ready);
   EXPECT_FALSE(ready);
   EXPECT_EQ(out["ready"], false);
   EXPECT_EQ(out["checks"]["dds"]["ok"], true);

@@ -10,8 +10,10 @@
 
 namespace fleetloc::fleet_supervisor {
 
-std::string Vda5050Topic(const Vda5050Header& h, const std::string& serial_number, const std::string& subtopic) {
-  return h.interface_name + "/" + h.major_version + "/" + h.manufacturer + "/" + serial_number + "/" + subtopic;
+std::string Vda5050Topic(const Vda5050Header& h, const std::string& serial_number,
+                         const std::string& subtopic) {
+  return h.interface_name + "/" + h.major_version + "/" + h.manufacturer + "/" + serial_number +
+         "/" + subtopic;
 }
 
 std::string Iso8601(double unix_s) {
@@ -23,8 +25,8 @@ std::string Iso8601(double unix_s) {
   std::tm utc{};
   gmtime_r(&shown, &utc);
   char text[40];
-  std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900, utc.tm_mon + 1,
-                utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, millis);
+  std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900,
+                utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, millis);
   return text;
 }
 
@@ -44,32 +46,38 @@ std::string Vda5050MapId(const std::string& mosaic_id, long long version) {
 
 namespace {
 
-nlohmann::json Header(const Vda5050Header& h, const std::string& serial_number, std::uint32_t header_id, double now) {
-  return {{"headerId", header_id}, {"timestamp", Iso8601(now)}, {"version", h.version},
-          {"manufacturer", h.manufacturer}, {"serialNumber", serial_number}};
+nlohmann::json Header(const Vda5050Header& h, const std::string& serial_number,
+                      std::uint32_t header_id, double now) {
+  return {{"headerId", header_id},
+          {"timestamp", Iso8601(now)},
+          {"version", h.version},
+          {"manufacturer", h.manufacturer},
+          {"serialNumber", serial_number}};
 }
 
 }  // namespace
 
-nlohmann::json VisualizationMessage(const Vda5050Header& h, const std::string& serial_number, std::uint32_t header_id,
-                                    double now, const fleet::PoseSample& pose, const std::string& mosaic_id,
+nlohmann::json VisualizationMessage(const Vda5050Header& h, const std::string& serial_number,
+                                    std::uint32_t header_id, double now,
+                                    const fleet::PoseSample& pose, const std::string& mosaic_id,
                                     const std::optional<Velocity>& velocity) {
   nlohmann::json m = Header(h, serial_number, header_id, now);
-  m["agvPosition"] = {
-      {"x", pose.x},
-      {"y", pose.y},
-      {"theta", geometry::WrapAngle(pose.theta)},
-      {"mapId", Vda5050MapId(mosaic_id, pose.mosaic_version)},
-      {"mapDescription", "fleetloc floor mosaic " + mosaic_id + " version " + std::to_string(pose.mosaic_version)},
-      {"positionInitialized", pose.lock != localization::LockState::kLost},
-      {"localizationScore", std::clamp(pose.localization_score, 0.0, 1.0)},
-      {"deviationRange", std::max(0.0, pose.deviation_range_m)}};
-  if (velocity) m["velocity"] = {{"vx", velocity->vx}, {"vy", velocity->vy}, {"omega", velocity->omega}};
+  m["agvPosition"] = {{"x", pose.x},
+                      {"y", pose.y},
+                      {"theta", geometry::WrapAngle(pose.theta)},
+                      {"mapId", Vda5050MapId(mosaic_id, pose.mosaic_version)},
+                      {"mapDescription", "fleetloc floor mosaic " + mosaic_id + " version " +
+                                             std::to_string(pose.mosaic_version)},
+                      {"positionInitialized", pose.lock != localization::LockState::kLost},
+                      {"localizationScore", std::clamp(pose.localization_score, 0.0, 1.0)},
+                      {"deviationRange", std::max(0.0, pose.deviation_range_m)}};
+  if (velocity)
+    m["velocity"] = {{"vx", velocity->vx}, {"vy", velocity->vy}, {"omega", velocity->omega}};
   return m;
 }
 
-nlohmann::json ConnectionMessage(const Vda5050Header& h, const std::string& serial_number, std::uint32_t header_id,
-                                 double now, const std::string& state) {
+nlohmann::json ConnectionMessage(const Vda5050Header& h, const std::string& serial_number,
+                                 std::uint32_t header_id, double now, const std::string& state) {
   nlohmann::json m = Header(h, serial_number, header_id, now);
   m["connectionState"] = state;
   return m;

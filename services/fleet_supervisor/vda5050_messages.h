@@ -23,7 +23,8 @@ struct Vda5050Header {
 };
 
 // `<interface_name>/<major_version>/<manufacturer>/<serial_number>/<subtopic>`.
-std::string Vda5050Topic(const Vda5050Header& header, const std::string& serial_number, const std::string& subtopic);
+std::string Vda5050Topic(const Vda5050Header& header, const std::string& serial_number,
+                         const std::string& subtopic);
 
 // Unix seconds as ISO 8601 UTC with milliseconds: "2026-11-26T12:13:09.123Z".
 std::string Iso8601(double unix_s);
@@ -34,13 +35,15 @@ std::string Iso8601(double unix_s);
 struct Velocity {
   double vx = 0, vy = 0, omega = 0;
 };
-std::optional<Velocity> VelocityBetween(const fleet::PoseSample& before, const fleet::PoseSample& after);
+std::optional<Velocity> VelocityBetween(const fleet::PoseSample& before,
+                                        const fleet::PoseSample& after);
 
 // The `visualization` message of one vehicle. `map_id` names the mosaic and its version
 // ("<mosaic_id>@<version>"); `map_description` says so in words.
 nlohmann::json VisualizationMessage(const Vda5050Header& header, const std::string& serial_number,
-                                    std::uint32_t header_id, double now, const fleet::PoseSample& pose,
-                                    const std::string& mosaic_id, const std::optional<Velocity>& velocity);
+                                    std::uint32_t header_id, double now,
+                                    const fleet::PoseSample& pose, const std::string& mosaic_id,
+                                    const std::optional<Velocity>& velocity);
 
 // The `connection` message: `state` is ONLINE, OFFLINE or CONNECTIONBROKEN.
 nlohmann::json ConnectionMessage(const Vda5050Header& header, const std::string& serial_number,

@@ -57,14 +57,16 @@ TEST(Vda5050, VisualizationCarriesThePositionFieldsTheSchemaRequires) {
   p.localization_score = 1.3;  // clamped to [0, 1]
   p.deviation_range_m = 0.004;
   p.mosaic_version = 3;
-  const nlohmann::json m = VisualizationMessage({}, "SN-7", 41, 1764159189.5, p, "floor-a", Velocity{0.5, 0, 0.1});
+  const nlohmann::json m =
+      VisualizationMessage({}, "SN-7", 41, 1764159189.5, p, "floor-a", Velocity{0.5, 0, 0.1});
   EXPECT_EQ(m["headerId"], 41);
   EXPECT_EQ(m["timestamp"], "2025-11-26T12:13:09.500Z");
   EXPECT_EQ(m["version"], "2.0.0");
   EXPECT_EQ(m["manufacturer"], "fleetloc");
   EXPECT_EQ(m["serialNumber"], "SN-7");
   const nlohmann::json& a = m["agvPosition"];
-  for (const char* key : {"x", "y", "theta", "mapId", "positionInitialized"}) EXPECT_TRUE(a.contains(key)) << key;
+  for (const char* key : {"x", "y", "theta", "mapId", "positionInitialized"})
+    EXPECT_TRUE(a.contains(key)) << key;
   EXPECT_EQ(a["x"], 1.5);
   EXPECT_NEAR(a["theta"].get<double>(), 4.0 - 2 * M_PI, 1e-12);
   EXPECT_EQ(a["mapId"], "floor-a@3");

@@ -57,13 +57,14 @@ class Vda5050Publisher {
   std::string connection_serial_;
   mosquitto* client_ = nullptr;
   std::atomic<bool> connected_{false};
-  std::atomic<std::uint64_t> published_{0}, dropped_{0}, publish_errors_{0}, connects_{0}, losses_{0}, refused_{0};
+  std::atomic<std::uint64_t> published_{0}, dropped_{0}, publish_errors_{0}, connects_{0},
+      losses_{0}, refused_{0};
   std::atomic<std::uint32_t> connection_header_id_{0};
   mutable std::mutex mutex_;
   std::string problem_ = "not connected to the MQTT broker yet";
   double next_publish_ = 0;
-  std::map<std::string, std::uint32_t> header_ids_;      // per vehicle's visualization topic
-  std::map<std::string, fleet::PoseSample> previous_;    // per vehicle: the pose last published
+  std::map<std::string, std::uint32_t> header_ids_;    // per vehicle's visualization topic
+  std::map<std::string, fleet::PoseSample> previous_;  // per vehicle: the pose last published
 };
 
 }  // namespace fleetloc::fleet_supervisor

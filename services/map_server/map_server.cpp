@@ -31,7 +31,8 @@ constexpr const char* kRejectedPartition = "rejected_vehicle_partition";
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
   names.push_back(kRejectedPartition);
-  for (const char* name : {"tile_rows_pruned", "patches_pruned", "prune_errors"}) names.push_back(name);
+  for (const char* name : {"tile_rows_pruned", "patches_pruned", "prune_errors"})
+    names.push_back(name);
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
                            PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
@@ -64,9 +65,9 @@ Status MapServer::Open() {
   if (!standing.ok()) return standing.status();
   standing_ = std::move(standing).value();
   owned_ = config_.owned_tiles.value_or(mosaic::TileOwnership::All(store_->layout()));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(
-      transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
-      &participant_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(transport::Participant::Create(config_.domain_id, {"", config_.dds_config_path}),
+               &participant_));
   FLEETLOC_RETURN_IF_ERROR(OpenTopics());
   FLEETLOC_RETURN_IF_ERROR(OpenServices());
   metrics_ = std::make_unique<metrics::ServiceMetrics>(config_.metrics, "map_server");
@@ -78,23 +79,47 @@ Status MapServer::OpenTopics() {
   using transport::VehicleStreamReader;
   using transport::Writer;
   const transport::Participant& p = *participant_;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_TileRequest>::Create(p, topics::kTileRequest), &request_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_MosaicInfo>::Create(p, topics::kMosaicInfo), &info_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_TileRequest>::Create(p, topics::kTileRequest), &request_topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_Tile>::Create(p, topics::kTile), &tile_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_PatchAck>::Create(p, topics::kPatchAck), &ack_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_ServiceHealth>::Create(p, topics::kServiceHealth), &health_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_PatchObservation>::Create(p, topics::kPatchObservation), &patch_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_RemapCommand>::Create(p, topics::kRemapCommand), &remap_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_RemapStatus>::Create(p, topics::kRemapStatus), &remap_status_topic_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_PatchAck>::Create(p, topics::kPatchAck), &ack_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_ServiceHealth>::Create(p, topics::kServiceHealth), &health_topic_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      Topic<fleetloc_PatchObservation>::Create(p, topics::kPatchObservation), &patch_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_RemapCommand>::Create(p, topics::kRemapCommand), &remap_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_RemapStatus>::Create(p, topics::kRemapStatus), &remap_status_topic_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Topic<fleetloc_TileUpdate>::Create(p, topics::kTileUpdate), &update_topic_));
   const double period = config_.health_period_s;
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_MosaicInfo>::Create(p.get(), *info_topic_, transport::DurableStateQos()), &info_writer_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_ServiceHealth>::Create(p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)), &health_writer_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_, transport::DurableStateQos()), &remap_status_writer_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)), &update_writer_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_TileRequest>::Create(p, *request_topic_, transport::CommandQos()), &request_reader_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_PatchObservation>::Create(p, *patch_topic_, transport::BulkQos()), &patch_reader_));
-  FLEETLOC_RETURN_IF_ERROR(AssignTo(Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()), &remap_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      Writer<fleetloc_MosaicInfo>::Create(p.get(), *info_topic_, transport::DurableStateQos()),
+      &info_writer_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Writer<fleetloc_ServiceHealth>::Create(
+                   p.get(), *health_topic_, transport::PeriodicStateQos(3 * period, 5 * period)),
+               &health_writer_));
+  FLEETLOC_RETURN_IF_ERROR(
+      AssignTo(Writer<fleetloc_RemapStatus>::Create(p.get(), *remap_status_topic_,
+                                                    transport::DurableStateQos()),
+               &remap_status_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      Writer<fleetloc_TileUpdate>::Create(p.get(), *update_topic_, transport::DurableStateQos(32)),
+      &update_writer_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_TileRequest>::Create(
+                                        p, *request_topic_, transport::CommandQos()),
+                                    &request_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(VehicleStreamReader<fleetloc_PatchObservation>::Create(
+                                        p, *patch_topic_, transport::BulkQos()),
+                                    &patch_reader_));
+  FLEETLOC_RETURN_IF_ERROR(AssignTo(
+      Reader<fleetloc_RemapCommand>::Create(p.get(), *remap_topic_, transport::CommandQos()),
+      &remap_reader_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::WaitSet::Create(p), &waitset_));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(request_reader_->get(), kTileRequests));
   FLEETLOC_RETURN_IF_ERROR(waitset_->AttachReader(patch_reader_->get(), kPatches));
@@ -110,13 +135,12 @@ Status MapServer::OpenServices() {
                                          static_cast<size_t>(config_.tile_cache_mb) << 20);
   PatchIntake intake = config_.intake;
   intake.limits = {config_.max_patch_bytes, config_.max_patch_side_px};
-  patch_service_ = std::make_unique<PatchService>(patches_.get(), store_.get(), standing_.get(), intake,
-                                                  channels_.get(), &counters_);
+  patch_service_ = std::make_unique<PatchService>(patches_.get(), store_.get(), standing_.get(),
+                                                  intake, channels_.get(), &counters_);
   remaps_ = std::make_unique<RemapService>(
       config_.server_id,
-      [this](const RemapJob& job, const RemapProgressFn& progress, const std::atomic<bool>& cancel) {
-        return RunRemapJob(job, progress, cancel);
-      },
+      [this](const RemapJob& job, const RemapProgressFn& progress,
+             const std::atomic<bool>& cancel) { return RunRemapJob(job, progress, cancel); },
       remap_status_writer_.get(), &counters_,
       Maintenance{config_.retention.prune_period_s, [this] { Prune(); }});
   if (!config_.serve_place_index) return Status::Ok();
@@ -164,14 +188,17 @@ Result<RemapOutcome> MapServer::RunRemapJob(const RemapJob& job, const RemapProg
 }
 
 void MapServer::Prune() {
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  Result<mosaic::PruneResult> pruned = mosaic::PruneMosaic(config_.mosaic_path, config_.retention.policy, now);
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  Result<mosaic::PruneResult> pruned =
+      mosaic::PruneMosaic(config_.mosaic_path, config_.retention.policy, now);
   if (!pruned.ok()) return counters_.Reject("prune_errors", pruned.status().message());
   counters_.Add("tile_rows_pruned", static_cast<uint64_t>(pruned->tile_rows_deleted));
   counters_.Add("patches_pruned", static_cast<uint64_t>(pruned->patches_deleted));
   if (pruned->tile_rows_deleted > 0 || pruned->patches_deleted > 0) {
-    spdlog::info("pruned {} tile rows older than version {} and {} patches ({} MB)", pruned->tile_rows_deleted,
-                 pruned->oldest_version_kept, pruned->patches_deleted, pruned->patch_bytes_deleted >> 20);
+    spdlog::info("pruned {} tile rows older than version {} and {} patches ({} MB)",
+                 pruned->tile_rows_deleted, pruned->oldest_version_kept, pruned->patches_deleted,
+                 pruned->patch_bytes_deleted >> 20);
   }
   patch_service_->RefreshUsage();
 }
@@ -195,8 +222,10 @@ Status MapServer::AnnounceVersionsCommittedElsewhere() {
   if (*committed <= served || *committed <= announced_version_) return Status::Ok();
   Result<std::vector<mosaic::TileKey>> changed = store_->TilesChangedAfter(served);
   if (!changed.ok()) return changed.status();
-  spdlog::info("mosaic version {} was committed by another writer (e.g. fleetctl mosaic rollback): "
-               "{} tiles changed since version {}", *committed, changed->size(), served);
+  spdlog::info(
+      "mosaic version {} was committed by another writer (e.g. fleetctl mosaic rollback): "
+      "{} tiles changed since version {}",
+      *committed, changed->size(), served);
   return AnnounceVersion(*committed, *changed);
 }
 
@@ -221,9 +250,8 @@ Status MapServer::AnnounceVersion(long long version, const std::vector<mosaic::T
 
 Status MapServer::PublishMosaicInfo() {
   const mosaic::MosaicLayout layout = store_->layout();
-  spdlog::info("serving mosaic {} version {} ({}x{} px, {} levels) on domain {}",
-               layout.mosaic_id, layout.version, layout.width_px, layout.height_px,
-               layout.levels, config_.domain_id);
+  spdlog::info("serving mosaic {} version {} ({}x{} px, {} levels) on domain {}", layout.mosaic_id,
+               layout.version, layout.width_px, layout.height_px, layout.levels, config_.domain_id);
   return info_writer_->Write(transport::ToIdl(layout, config_.server_id, owned_));
 }
 
@@ -240,12 +268,14 @@ std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   std::string quarantined;
   if (standings.ok()) {
     for (const auto& [vehicle, s] : *standings) {
-      if (s.quarantined) quarantined += (quarantined.empty() ? "" : "; ") + vehicle + ": " + s.reason;
+      if (s.quarantined)
+        quarantined += (quarantined.empty() ? "" : "; ") + vehicle + ": " + s.reason;
     }
   }
   if (!quarantined.empty()) return {{"vehicle_quarantined", fleetloc_HEALTH_WARN, quarantined}};
   if (new_rejects) return {{"rejected_input", fleetloc_HEALTH_WARN, counters_.last_error()}};
-  if (!metrics_->error().empty()) return {{"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()}};
+  if (!metrics_->error().empty())
+    return {{"metrics_unavailable", fleetloc_HEALTH_WARN, metrics_->error()}};
   // The floor repeats itself: a vehicle lost there is refused as ambiguous until it moves on.
   if (place_index_) {
     if (std::optional<std::string> similar = place_index_->self_similarity_warning())
@@ -261,8 +291,8 @@ Status MapServer::PublishHealth() {
 }
 
 void MapServer::RefreshMetrics() {
-  MapServerMetricsInput in{counters_.Snapshot(), tiles_->reply_latency().Snapshot(), tiles_->cache_stats(),
-                           tiles_->pending(), store_->layout().version};
+  MapServerMetricsInput in{counters_.Snapshot(), tiles_->reply_latency().Snapshot(),
+                           tiles_->cache_stats(), tiles_->pending(), store_->layout().version};
   metrics::FamilyBuilder b(kMapServerMetricPrefix, {{"service_id", config_.server_id}});
   AddMapServerFamilies(in, &b);
   metrics_->Publish(b.Take());
@@ -276,21 +306,19 @@ Status MapServer::ServeOnce() {
       counters_.Reject(kRejectedPartition, std::string(what) + ": " + message);
     };
   };
-  Result<int> taken = request_reader_->TakeAll(
-      [this](const fleetloc_TileRequest& request, const dds_sample_info_t&) {
-        tiles_->Receive(request);
-      },
-      rejected("tile request"));
+  Result<int> taken =
+      request_reader_->TakeAll([this](const fleetloc_TileRequest& request,
+                                      const dds_sample_info_t&) { tiles_->Receive(request); },
+                               rejected("tile request"));
   if (!taken.ok()) return taken.status();
-  taken = patch_reader_->TakeAll(
-      [this](const fleetloc_PatchObservation& patch, const dds_sample_info_t&) {
-        patch_service_->Receive(patch);
-      },
-      rejected("patch"));
+  taken =
+      patch_reader_->TakeAll([this](const fleetloc_PatchObservation& patch,
+                                    const dds_sample_info_t&) { patch_service_->Receive(patch); },
+                             rejected("patch"));
   if (!taken.ok()) return taken.status();
   const mosaic::MosaicLayout layout = store_->layout();
-  taken = remap_reader_->TakeAll(
-      [&](const fleetloc_RemapCommand& command, const dds_sample_info_t&) {
+  taken =
+      remap_reader_->TakeAll([&](const fleetloc_RemapCommand& command, const dds_sample_info_t&) {
         remaps_->Receive(command, layout);
       });
   if (!taken.ok()) return taken.status();

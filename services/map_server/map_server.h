@@ -101,7 +101,7 @@ class MapServer {
   std::unique_ptr<RemapService> remaps_;  // declared last: its worker stops first
   // The health report's issue, worst first: tile read errors, quarantined vehicles, rejects.
   std::optional<transport::ServiceHealthReport::Issue> HealthIssue();
-  uint64_t reported_rejected_ = 0;     // counts in the last health report
+  uint64_t reported_rejected_ = 0;  // counts in the last health report
   uint64_t reported_read_errors_ = 0;
 };
 

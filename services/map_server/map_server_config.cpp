@@ -14,7 +14,8 @@ Status Validate(const MapServerConfig& c) {
   auto bad = [](const std::string& field, const std::string& what) {
     return InvalidInput("map server config: field '" + field + "': " + what);
   };
-  if (!transport::IsValidEntityId(c.server_id)) return bad("server_id", "must be 1-11 of [A-Za-z0-9_-]");
+  if (!transport::IsValidEntityId(c.server_id))
+    return bad("server_id", "must be 1-11 of [A-Za-z0-9_-]");
   if (c.mosaic_path.empty()) return bad("mosaic", "is required");
   if (c.domain_id < 0 || c.domain_id > 232) return bad("domain", "must be in [0, 232]");
   if (c.owned_tiles && c.owned_tiles->empty()) return bad("owned_tiles", "is empty");
@@ -24,7 +25,8 @@ Status Validate(const MapServerConfig& c) {
   if (c.max_patch_bytes < 1024) return bad("max_patch_bytes", "must be >= 1024");
   if (c.max_patch_side_px < 16) return bad("max_patch_side_px", "must be >= 16");
   if (c.max_vehicles < 1) return bad("max_vehicles", "must be >= 1");
-  if (c.tile_cache_mb < 0 || c.tile_cache_mb > 65536) return bad("tile_cache_mb", "must be in [0, 65536]");
+  if (c.tile_cache_mb < 0 || c.tile_cache_mb > 65536)
+    return bad("tile_cache_mb", "must be in [0, 65536]");
   if (c.self_similarity_grid < 0 || c.self_similarity_grid > 16) {
     return bad("self_similarity_grid", "must be in [0, 16]");
   }
@@ -34,8 +36,10 @@ Status Validate(const MapServerConfig& c) {
   if (const std::string problem = PolicyProblem(c.remap_policy); !problem.empty()) {
     return bad("patch_admission", problem);
   }
-  if (const std::string problem = IntakeProblem(c.intake); !problem.empty()) return bad("patch_intake", problem);
-  if (const std::string problem = RetentionProblem(c.retention); !problem.empty()) return bad("retention", problem);
+  if (const std::string problem = IntakeProblem(c.intake); !problem.empty())
+    return bad("patch_intake", problem);
+  if (const std::string problem = RetentionProblem(c.retention); !problem.empty())
+    return bad("retention", problem);
   return metrics::Validate(c.metrics, "map server config");
 }
 
@@ -62,28 +66,45 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
   if (!json.ok()) return json.status();
   const io::JsonFields fields(*json, path);
-  static const std::set<std::string> known = {
-      "server_id", "mosaic", "domain", "dds_config", "owned_tiles", "max_tiles_per_request",
-      "max_patch_bytes", "max_patch_side_px", "max_vehicles", "tile_cache_mb", "health_period_s",
-      "serve_place_index", "self_similarity_grid", "patch_admission", "patch_intake",
-      "retention", "metrics"};
+  static const std::set<std::string> known = {"server_id",
+                                              "mosaic",
+                                              "domain",
+                                              "dds_config",
+                                              "owned_tiles",
+                                              "max_tiles_per_request",
+                                              "max_patch_bytes",
+                                              "max_patch_side_px",
+                                              "max_vehicles",
+                                              "tile_cache_mb",
+                                              "health_period_s",
+                                              "serve_place_index",
+                                              "self_similarity_grid",
+                                              "patch_admission",
+                                              "patch_intake",
+                                              "retention",
+                                              "metrics"};
   for (const auto& [key, value] : json->items()) {
     if (!known.contains(key)) return fields.Error(key, "unknown option");
   }
   MapServerConfig c;
-  if (fields.Has("server_id")) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("server_id", &c.server_id));
-  if (fields.Has("mosaic")) FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("mosaic", &c.mosaic_path));
+  if (fields.Has("server_id"))
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("server_id", &c.server_id));
+  if (fields.Has("mosaic"))
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("mosaic", &c.mosaic_path));
   if (fields.Has("dds_config")) {
     FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("dds_config", &c.dds_config_path));
   }
-  struct IntField { const char* key; int* target; };  // ranges: Validate()
-  for (const IntField& f : {IntField{"domain", &c.domain_id},
-                            IntField{"max_tiles_per_request", &c.max_tiles_per_request},
-                            IntField{"max_patch_bytes", &c.max_patch_bytes},
-                            IntField{"max_patch_side_px", &c.max_patch_side_px},
-                            IntField{"max_vehicles", &c.max_vehicles},
-                            IntField{"tile_cache_mb", &c.tile_cache_mb},
-                            IntField{"self_similarity_grid", &c.self_similarity_grid}}) {
+  struct IntField {
+    const char* key;
+    int* target;
+  };  // ranges: Validate()
+  for (const IntField& f :
+       {IntField{"domain", &c.domain_id},
+        IntField{"max_tiles_per_request", &c.max_tiles_per_request},
+        IntField{"max_patch_bytes", &c.max_patch_bytes},
+        IntField{"max_patch_side_px", &c.max_patch_side_px},
+        IntField{"max_vehicles", &c.max_vehicles}, IntField{"tile_cache_mb", &c.tile_cache_mb},
+        IntField{"self_similarity_grid", &c.self_similarity_grid}}) {
     if (!fields.Has(f.key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(f.key, &value));
@@ -99,8 +120,10 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   }
   for (const auto& [key, read] :
        {std::pair<const char*, std::function<Status(const io::JsonFields&, const nlohmann::json&)>>{
-            "patch_intake", [&](const auto& f, const auto& j) { return ReadPatchIntake(f, j, &c.intake); }},
-        {"retention", [&](const auto& f, const auto& j) { return ReadRetention(f, j, &c.retention); }}}) {
+            "patch_intake",
+            [&](const auto&f, const auto&j) { return ReadPatchIntake(f, j, &c.intake); }},
+        {"retention",
+         [&](const auto&f, const auto&j) { return ReadRetention(f, j, &c.retention); }}}) {
     if (!fields.Has(key)) continue;
     Result<io::JsonFields> object = fields.Object(key);
     if (!object.ok()) return object.status();
@@ -109,9 +132,11 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   if (fields.Has("patch_admission")) {
     Result<io::JsonFields> admission = fields.Object("patch_admission");
     if (!admission.ok()) return admission.status();
-    FLEETLOC_RETURN_IF_ERROR(ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
+    FLEETLOC_RETURN_IF_ERROR(
+        ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
   }
-  if (fields.Has("metrics")) FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
+  if (fields.Has("metrics"))
+    FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

@@ -14,21 +14,21 @@
 namespace fleetloc::map_server {
 
 struct MapServerConfig {
-  std::string server_id = "map-1";         // 1-11 of [A-Za-z0-9_-]
-  std::string mosaic_path;                 // the SQLite mosaic this server owns (required)
+  std::string server_id = "map-1";  // 1-11 of [A-Za-z0-9_-]
+  std::string mosaic_path;          // the SQLite mosaic this server owns (required)
   int domain_id = 0;
-  std::string dds_config_path;             // empty: CYCLONEDDS_URI or the compiled-in loopback
+  std::string dds_config_path;  // empty: CYCLONEDDS_URI or the compiled-in loopback
   std::optional<mosaic::TileOwnership> owned_tiles;  // level-0 tile range; absent: every tile
   int max_tiles_per_request = 256;
-  int max_patch_bytes = 4 << 20;           // encoded patch image; larger ones are rejected
+  int max_patch_bytes = 4 << 20;  // encoded patch image; larger ones are rejected
   int max_patch_side_px = 4096;
   // Each vehicle's rate and quotas, the decoding queue ("patch_intake"; its limits are the two
   // above).
   PatchIntake intake;
   // Old tile versions and patches deleted, and how often ("retention").
   Retention retention;
-  int max_vehicles = 4096;                 // reply channels kept open (LRU)
-  int tile_cache_mb = 64;                  // encoded tiles kept in memory
+  int max_vehicles = 4096;  // reply channels kept open (LRU)
+  int tile_cache_mb = 64;   // encoded tiles kept in memory
   double health_period_s = 1.0;
   // Build (or load from the mosaic file) and publish the place index of each version served, so
   // vehicles can relocalize anywhere (global relocalization).

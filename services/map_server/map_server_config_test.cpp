@@ -10,14 +10,15 @@ namespace fleetloc::map_server {
 namespace {
 
 std::string WriteConfig(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("map_server_config_" + name + ".json");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("map_server_config_" + name + ".json");
   std::ofstream(path) << text;
   return path.string();
 }
 
 TEST(MapServerConfig, ReadsFieldsOverDefaults) {
-  auto config = LoadMapServerConfig(WriteConfig(
-      "ok", R"({"server_id": "map-2", "mosaic": "/data/m.db", "domain": 7,
+  auto config = LoadMapServerConfig(
+      WriteConfig("ok", R"({"server_id": "map-2", "mosaic": "/data/m.db", "domain": 7,
                 "owned_tiles": {"col_begin": 0, "col_end": 4, "row_begin": 2, "row_end": 9}})"));
   ASSERT_TRUE(config.ok()) << config.status().message();
   EXPECT_EQ(config->server_id, "map-2");
@@ -30,8 +31,8 @@ TEST(MapServerConfig, ReadsFieldsOverDefaults) {
 }
 
 TEST(MapServerConfig, ShippedSampleConfigLoads) {
-  auto config = LoadMapServerConfig(std::string(FLEETLOC_SOURCE_DIR) +
-                                    "/deploy/config/map_server.json");
+  auto config =
+      LoadMapServerConfig(std::string(FLEETLOC_SOURCE_DIR) + "/deploy/config/map_server.json");
   ASSERT_TRUE(config.ok()) << config.status().message();
   // Its patch_admission block lists the defaults.
   const mosaic_upkeep::RemapPolicy defaults;
@@ -48,7 +49,8 @@ TEST(MapServerConfig, ShippedSampleConfigLoads) {
   // So do its patch_intake and retention blocks.
   EXPECT_EQ(config->intake.budget.max_bytes_total, PatchBudgetOptions{}.max_bytes_total);
   EXPECT_EQ(config->intake.queue, PatchIntake{}.queue);
-  EXPECT_EQ(config->retention.policy.unfolded_patch_retention_s, mosaic::RetentionPolicy{}.unfolded_patch_retention_s);
+  EXPECT_EQ(config->retention.policy.unfolded_patch_retention_s,
+            mosaic::RetentionPolicy{}.unfolded_patch_retention_s);
   EXPECT_EQ(config->retention.prune_period_s, Retention{}.prune_period_s);
   EXPECT_EQ(config->self_similarity_grid, MapServerConfig{}.self_similarity_grid);
 }
@@ -61,7 +63,8 @@ struct BadCase {
 TEST(MapServerConfig, MetricsAreOnByDefaultAndConfigurable) {
   EXPECT_TRUE(MapServerConfig{}.metrics.enabled);
   EXPECT_EQ(MapServerConfig{}.metrics.port, 9471);
-  auto config = LoadMapServerConfig(WriteConfig("metrics", R"({"mosaic": "m.db", "metrics": {"port": 0, "bind": "::1"}})"));
+  auto config = LoadMapServerConfig(
+      WriteConfig("metrics", R"({"mosaic": "m.db", "metrics": {"port": 0, "bind": "::1"}})"));
   ASSERT_TRUE(config.ok()) << config.status().message();
   EXPECT_EQ(config->metrics.port, 0);
   EXPECT_EQ(config->metrics.bind, "::1");
@@ -80,14 +83,19 @@ TEST(MapServerConfig, BadFieldsAreNamed) {
       {R"({"mosaic": "m.db", "health_period_s": -1})", "health_period_s"},
       {R"({"mosaic": "m.db", "owned_tiles": {"col_begin": 3, "col_end": 3, "row_begin": 0, "row_end": 1}})",
        "owned_tiles"},
-      {R"({"mosaic": "m.db", "patch_admission": {"trust_the_vehicle": true}})", "trust_the_vehicle"},
-      {R"({"mosaic": "m.db", "patch_admission": {"max_changed_fraction": 1.5}})", "max_changed_fraction"},
-      {R"({"mosaic": "m.db", "patch_admission": {"min_vehicles_per_change": 0}})", "min_vehicles_per_change"},
-      {R"({"mosaic": "m.db", "patch_admission": {"quarantine_window": 2}})", "quarantine_min_judged"},
+      {R"({"mosaic": "m.db", "patch_admission": {"trust_the_vehicle": true}})",
+       "trust_the_vehicle"},
+      {R"({"mosaic": "m.db", "patch_admission": {"max_changed_fraction": 1.5}})",
+       "max_changed_fraction"},
+      {R"({"mosaic": "m.db", "patch_admission": {"min_vehicles_per_change": 0}})",
+       "min_vehicles_per_change"},
+      {R"({"mosaic": "m.db", "patch_admission": {"quarantine_window": 2}})",
+       "quarantine_min_judged"},
       {R"({"mosaic": "m.db", "patch_admission": 3})", "patch_admission"},
       {R"({"mosaic": "m.db", "patch_intake": {"patches_per_s": 0}})", "patches_per_s"},
       {R"({"mosaic": "m.db", "patch_intake": {"burst": 2.5}})", "burst"},
-      {R"({"mosaic": "m.db", "patch_intake": {"max_store_mb": 10, "max_mb_per_vehicle": 20}})", "max_store_mb"},
+      {R"({"mosaic": "m.db", "patch_intake": {"max_store_mb": 10, "max_mb_per_vehicle": 20}})",
+       "max_store_mb"},
       {R"({"mosaic": "m.db", "patch_intake": {"flood": 1}})", "flood"},
       {R"({"mosaic": "m.db", "retention": {"tile_versions_kept": 0}})", "tile_versions_kept"},
       {R"({"mosaic": "m.db", "retention": {"prune_period_s": 1}})", "prune_period_s"},
@@ -122,7 +130,8 @@ TEST(MapServerConfig, PatchAdmissionIsReadInTheFilesUnits) {
 
 TEST(MapServerConfig, PatchIntakeAndRetentionAreReadInTheFilesUnits) {
   auto config = LoadMapServerConfig(WriteConfig(
-      "intake", R"({"mosaic": "m.db", "patch_intake": {"patches_per_s": 0.5, "max_mb_per_vehicle": 64,
+      "intake",
+      R"({"mosaic": "m.db", "patch_intake": {"patches_per_s": 0.5, "max_mb_per_vehicle": 64,
                     "max_store_mb": 1024}, "retention": {"tile_versions_kept": 3, "patch_retention_days": 2}})"));
   ASSERT_TRUE(config.ok()) << config.status().message();
   EXPECT_EQ(config->intake.budget.patches_per_s, 0.5);

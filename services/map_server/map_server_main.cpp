@@ -1,6 +1,7 @@
 // map_server: serves the shared floor mosaic over DDS until SIGINT/SIGTERM.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 
 #include "cli/command_line.h"
 #include "map_server/map_server.h"
@@ -17,14 +18,18 @@ int main(int argc, char** argv) {
   app.add_option("--server-id", server_id, "Server id (overrides the configuration)");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  app.add_option("--metrics-port", metrics_port, "Prometheus /metrics port (0: any free one; default 9471)");
-  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
-  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "map_server", argc, argv)) return *exit_status;
+  app.add_option("--metrics-port", metrics_port,
+                 "Prometheus /metrics port (0: any free one; default 9471)");
+  app.add_option("--metrics-port-file", metrics_port_file,
+                 "Write the bound metrics port into this file");
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "map_server", argc, argv))
+    return *exit_status;
 
   MapServerConfig config;
   if (!config_path.empty()) {
     auto loaded = fleetloc::map_server::LoadMapServerConfig(config_path);
-    if (!loaded.ok()) return std::fprintf(stderr, "map_server: %s\n", loaded.status().message().c_str()), 2;
+    if (!loaded.ok())
+      return std::fprintf(stderr, "map_server: %s\n", loaded.status().message().c_str()), 2;
     config = *loaded;
   }
   if (!mosaic.empty()) config.mosaic_path = mosaic;

@@ -33,8 +33,8 @@ TEST(PatchBudget, QuotasStopAVehicleAndEveryone) {
   EXPECT_EQ(budget.Admit("agv-2", 200, 0), BudgetVerdict::kAccept);
   EXPECT_EQ(budget.Admit("agv-3", 200, 0), BudgetVerdict::kAccept);
   EXPECT_EQ(budget.Admit("agv-4", 200, 0), BudgetVerdict::kOverTotalQuota);  // 800 > 600
-  for (const auto& [vehicle, bytes] : {std::pair{"agv-1", 100}, {"agv-1", 100}, {"agv-2", 200},
-                                       {"agv-3", 200}}) {
+  for (const auto& [vehicle, bytes] :
+       {std::pair{"agv-1", 100}, {"agv-1", 100}, {"agv-2", 200}, {"agv-3", 200}}) {
     budget.Commit(vehicle, bytes);  // all stored
   }
   budget.SetUsage({{"agv-1", {3, 10}}});  // what the store says after a prune
@@ -49,7 +49,7 @@ TEST(PatchBudget, QuotasStopAVehicleAndEveryone) {
 TEST(PatchBudget, ReservationsInFlightSurviveARefreshFromTheStore) {
   PatchBudget budget({1000.0, 1000, 1000, 300, 1LL << 40, 16});
   EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);
-  budget.Commit("agv-1", 100);                                     // stored
+  budget.Commit("agv-1", 100);                                       // stored
   EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);  // queued
   EXPECT_EQ(budget.Admit("agv-1", 100, 0), BudgetVerdict::kAccept);  // queued
   budget.SetUsage({{"agv-1", {1, 100}}});  // the store holds the first only

@@ -30,7 +30,8 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
   const std::string vehicle = GetBounded(s.vehicle_id);
   const std::string what = "PatchObservation " + vehicle + "#" + std::to_string(s.sequence_number);
   if (s.wire_version != fleetloc_CURRENT_WIRE_VERSION) {
-    return Reject("rejected_patch_malformed", what + ": unknown wire_version " + std::to_string(s.wire_version));
+    return Reject("rejected_patch_malformed",
+                  what + ": unknown wire_version " + std::to_string(s.wire_version));
   }
   if (!transport::IsValidEntityId(vehicle)) {
     return Reject("rejected_patch_malformed", what + ": vehicle_id is not 1-11 of [A-Za-z0-9_-]");
@@ -43,12 +44,14 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
     return Reject("rejected_patch_mosaic", what + ": unknown mosaic '" + mosaic_id + "'");
   }
   if (!(std::abs(s.resolution / layout.geo.resolution - 1.0) < 1e-6)) {
-    return Reject("rejected_patch_malformed", what + ": resolution " + std::to_string(s.resolution) +
-                                                  " m/px is not the mosaic's");
+    return Reject(
+        "rejected_patch_malformed",
+        what + ": resolution " + std::to_string(s.resolution) + " m/px is not the mosaic's");
   }
   const double pose[3] = {s.x, s.y, s.theta};
   if (!AllFinite(pose, 3)) return Reject("rejected_patch_malformed", what + ": pose not finite");
-  const Eigen::Matrix3d covariance = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
+  const Eigen::Matrix3d covariance =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
   if (const std::string problem = geometry::CovarianceProblem(covariance); !problem.empty()) {
     // A zero or negative covariance claims a certainty no vehicle has: malformed, counted apart.
     return Reject("rejected_patch_covariance", what + ": " + problem);
@@ -57,19 +60,22 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
     return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
   }
   if (GetBounded(s.encoding) != "png") {
-    return Reject("rejected_patch_malformed", what + ": encoding '" + GetBounded(s.encoding) + "' is not png");
+    return Reject("rejected_patch_malformed",
+                  what + ": encoding '" + GetBounded(s.encoding) + "' is not png");
   }
   const auto bytes = transport::OctetSpan(s.image);
   if (bytes.size() > static_cast<size_t>(limits.max_bytes)) {
     return Reject("rejected_patch_oversized", what + ": image of " + std::to_string(bytes.size()) +
-                                                  " bytes, more than " + std::to_string(limits.max_bytes));
+                                                  " bytes, more than " +
+                                                  std::to_string(limits.max_bytes));
   }
   const std::optional<cv::Size> size = mosaic::PngHeaderSize(bytes);
   if (!size) return Reject("rejected_patch_image", what + ": image is not a PNG");
   if (size->width < 16 || size->height < 16 || size->width > limits.max_side_px ||
       size->height > limits.max_side_px) {
-    return Reject("rejected_patch_oversized", what + ": image " + std::to_string(size->width) + "x" +
-                                                  std::to_string(size->height) + " px out of [16, " +
+    return Reject("rejected_patch_oversized", what + ": image " + std::to_string(size->width) +
+                                                  "x" + std::to_string(size->height) +
+                                                  " px out of [16, " +
                                                   std::to_string(limits.max_side_px) + "]");
   }
   if (Status header = mosaic::CheckGrayPngHeader(bytes, limits.max_side_px); !header.ok()) {
@@ -93,15 +99,15 @@ void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* recor
 Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits) {
   Result<cv::Mat> image = mosaic::DecodeGrayPng(record->png, limits.max_side_px);
   if (!image.ok()) {
-    return InvalidInput("PatchObservation " + record->vehicle_id + "#" + std::to_string(record->sequence) + ": " +
-                        image.status().message());
+    return InvalidInput("PatchObservation " + record->vehicle_id + "#" +
+                        std::to_string(record->sequence) + ": " + image.status().message());
   }
   record->image = std::move(image).value();
   return Status::Ok();
 }
 
-DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
-                         const PatchLimits& limits) {
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample,
+                         const mosaic::MosaicLayout& layout, const PatchLimits& limits) {
   DecodedPatch checked = CheckPatch(sample, layout, limits);
   if (!checked.record.ok()) return checked;
   CopyPng(sample, &*checked.record);

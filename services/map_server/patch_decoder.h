@@ -37,7 +37,7 @@ void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* recor
 Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits);
 
 // CheckPatch, then DecodePatchImage.
-DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
-                         const PatchLimits& limits);
+DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample,
+                         const mosaic::MosaicLayout& layout, const PatchLimits& limits);
 
 }  // namespace fleetloc::map_server

@@ -12,18 +12,27 @@ double SteadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-std::string Name(const mosaic::PatchRecord& r) { return "PatchObservation " + r.vehicle_id + "#" + std::to_string(r.sequence); }
+std::string Name(const mosaic::PatchRecord& r) {
+  return "PatchObservation " + r.vehicle_id + "#" + std::to_string(r.sequence);
+}
 
 }  // namespace
 
 std::vector<std::string> PatchService::CounterNames() {
-  return {"patches_received",          "patches_stored",
-          "patches_duplicate",         "rejected_patch_malformed",
-          "rejected_patch_oversized",  "rejected_patch_image",
-          "rejected_patch_mosaic",     "patch_store_errors",
-          "patch_acks_unmatched",      "rejected_patch_covariance",
-          "rejected_patch_quarantined", BudgetVerdictName(BudgetVerdict::kRateLimited),
-          BudgetVerdictName(BudgetVerdict::kOverVehicleQuota), BudgetVerdictName(BudgetVerdict::kOverTotalQuota),
+  return {"patches_received",
+          "patches_stored",
+          "patches_duplicate",
+          "rejected_patch_malformed",
+          "rejected_patch_oversized",
+          "rejected_patch_image",
+          "rejected_patch_mosaic",
+          "patch_store_errors",
+          "patch_acks_unmatched",
+          "rejected_patch_covariance",
+          "rejected_patch_quarantined",
+          BudgetVerdictName(BudgetVerdict::kRateLimited),
+          BudgetVerdictName(BudgetVerdict::kOverVehicleQuota),
+          BudgetVerdictName(BudgetVerdict::kOverTotalQuota),
           "patches_deferred"};
 }
 
@@ -67,7 +76,8 @@ void PatchService::Refuse(const std::string& vehicle, uint64_t sequence, const s
                           const std::string& reason) {
   counters_->Reject(counter, reason);
   // Without a valid id there is no partition to answer in.
-  if (transport::IsValidEntityId(vehicle)) PushAck(vehicle, {sequence, fleetloc_PATCH_REJECTED, reason});
+  if (transport::IsValidEntityId(vehicle))
+    PushAck(vehicle, {sequence, fleetloc_PATCH_REJECTED, reason});
 }
 
 void PatchService::PushAck(const std::string& vehicle, Ack ack) {
@@ -80,7 +90,8 @@ void PatchService::Receive(const fleetloc_PatchObservation& sample) {
   const std::string vehicle = transport::GetBounded(sample.vehicle_id);
   DecodedPatch checked = CheckPatch(sample, tiles_->layout(), intake_.limits);
   if (!checked.record.ok()) {
-    return Refuse(vehicle, sample.sequence_number, checked.reject_counter, checked.record.status().message());
+    return Refuse(vehicle, sample.sequence_number, checked.reject_counter,
+                  checked.record.status().message());
   }
   mosaic::PatchRecord& record = *checked.record;
   const auto bytes = static_cast<long long>(transport::OctetSpan(sample.image).size());
@@ -91,7 +102,8 @@ void PatchService::Receive(const fleetloc_PatchObservation& sample) {
   {
     std::lock_guard lock(queue_mutex_);
     const size_t max_bytes = static_cast<size_t>(intake_.max_queued_mb) << 20;
-    if (queue_.size() < static_cast<size_t>(intake_.queue) && queued_bytes_ + static_cast<size_t>(bytes) <= max_bytes) {
+    if (queue_.size() < static_cast<size_t>(intake_.queue) &&
+        queued_bytes_ + static_cast<size_t>(bytes) <= max_bytes) {
       CopyPng(sample, &record);
       queued_bytes_ += record.png.size();
       queue_.push_back(std::move(record));
@@ -125,8 +137,9 @@ void PatchService::Store(mosaic::PatchRecord& record) {
   if (quarantined.ok() && *quarantined) {
     budget_.Unreserve(record.vehicle_id, bytes);
     return Refuse(record.vehicle_id, sequence, "rejected_patch_quarantined",
-                  Name(record) + ": vehicle quarantined (its patches kept failing admission; "
-                                 "fleetctl mosaic vehicles --release lifts it)");
+                  Name(record) +
+                      ": vehicle quarantined (its patches kept failing admission; "
+                      "fleetctl mosaic vehicles --release lifts it)");
   }
   if (Status decoded = DecodePatchImage(&record, intake_.limits); !decoded.ok()) {
     budget_.Unreserve(record.vehicle_id, bytes);
@@ -145,7 +158,8 @@ void PatchService::Store(mosaic::PatchRecord& record) {
     budget_.Commit(record.vehicle_id, bytes);
   }
   counters_->Add(duplicate ? "patches_duplicate" : "patches_stored");
-  PushAck(record.vehicle_id, {sequence, duplicate ? fleetloc_PATCH_DUPLICATE : fleetloc_PATCH_STORED, ""});
+  PushAck(record.vehicle_id,
+          {sequence, duplicate ? fleetloc_PATCH_DUPLICATE : fleetloc_PATCH_STORED, ""});
 }
 
 void PatchService::FlushAcks(std::chrono::steady_clock::duration match_timeout) {
@@ -170,7 +184,8 @@ void PatchService::FlushAcks(std::chrono::steady_clock::duration match_timeout) 
       [&](const std::string& vehicle, const Ack& ack) {
         // The patch is stored; the vehicle will resend it and get a duplicate acknowledgement.
         counters_->Add("patch_acks_unmatched");
-        spdlog::warn("PatchAck {}#{}: no ack reader of that vehicle matched", vehicle, ack.sequence);
+        spdlog::warn("PatchAck {}#{}: no ack reader of that vehicle matched", vehicle,
+                     ack.sequence);
       },
       match_timeout);
 }

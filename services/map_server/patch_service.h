@@ -32,8 +32,8 @@ namespace fleetloc::map_server {
 struct PatchIntake {
   PatchLimits limits;
   PatchBudgetOptions budget;
-  int queue = 16;            // checked patches waiting to be decoded and stored
-  int max_queued_mb = 64;    // their bytes together
+  int queue = 16;          // checked patches waiting to be decoded and stored
+  int max_queued_mb = 64;  // their bytes together
 };
 
 class PatchService {
@@ -64,7 +64,8 @@ class PatchService {
   void Work();
   void Store(mosaic::PatchRecord& record);
   // Counts a rejection and queues its acknowledgement (when the id can be answered at all).
-  void Refuse(const std::string& vehicle, uint64_t sequence, const std::string& counter, const std::string& reason);
+  void Refuse(const std::string& vehicle, uint64_t sequence, const std::string& counter,
+              const std::string& reason);
   void PushAck(const std::string& vehicle, Ack ack);
 
   mosaic::PatchStore* patches_;

@@ -19,8 +19,8 @@ constexpr std::size_t kBuildCacheBytes = std::size_t{64} << 20;  // tiles the bu
 }  // namespace
 
 std::vector<std::string> PlaceIndexService::CounterNames() {
-  return {"place_index_built",       "place_index_loaded",       "place_index_failed",
-          "place_index_published",   "self_similarity_checked",  "self_similarity_skipped",
+  return {"place_index_built",     "place_index_loaded",      "place_index_failed",
+          "place_index_published", "self_similarity_checked", "self_similarity_skipped",
           "self_similar_places"};
 }
 
@@ -57,7 +57,8 @@ void PlaceIndexService::PublishReady() {
     ready.swap(ready_);
   }
   if (!ready || ready->version <= published_version_) return;
-  if (Status sent = publisher_->Publish(ready->mosaic_id, ready->version, ready->blob); !sent.ok()) {
+  if (Status sent = publisher_->Publish(ready->mosaic_id, ready->version, ready->blob);
+      !sent.ok()) {
     counters_->Add("place_index_failed");
     spdlog::error("place index of version {} not published: {}", ready->version, sent.message());
     return;
@@ -148,8 +149,8 @@ void PlaceIndexService::CheckSelfSimilarity() {
   }
   mapmatch::SelfSimilarityOptions options;
   options.grid = self_similarity_grid_;
-  Result<mapmatch::SelfSimilarityReport> report = mapmatch::FindSelfSimilarity(
-      **search, view, camera, options, [&](int done, int total) {
+  Result<mapmatch::SelfSimilarityReport> report =
+      mapmatch::FindSelfSimilarity(**search, view, camera, options, [&](int done, int total) {
         spdlog::info("self-similarity: {} of {} places searched", done, total);
         return !stopping_.load();
       });
@@ -166,8 +167,10 @@ void PlaceIndexService::CheckSelfSimilarity() {
     spdlog::info("self-similarity of version {}: {} ({:.2f} s)", store->layout().version, text,
                  seconds);
   } else {
-    spdlog::warn("self-similarity of version {}: {} ({:.2f} s): a frame there cannot be "
-                 "relocalized alone", store->layout().version, text, seconds);
+    spdlog::warn(
+        "self-similarity of version {}: {} ({:.2f} s): a frame there cannot be "
+        "relocalized alone",
+        store->layout().version, text, seconds);
   }
   std::lock_guard<std::mutex> lock(mutex_);
   self_similarity_warning_ =

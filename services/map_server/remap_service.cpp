@@ -14,8 +14,8 @@ namespace fleetloc::map_server {
 using transport::GetBounded;
 
 std::vector<std::string> RemapService::CounterNames() {
-  return {"remap_commands",  "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command",
-          "patches_folded",  "patches_refused", "patches_held",      "vehicles_quarantined"};
+  return {"remap_commands", "remap_jobs_done", "remap_jobs_failed", "rejected_remap_command",
+          "patches_folded", "patches_refused", "patches_held",      "vehicles_quarantined"};
 }
 
 RemapService::RemapService(std::string server_id, RemapRunner runner,
@@ -42,7 +42,8 @@ std::string Problem(const fleetloc_RemapCommand& c, const mosaic::MosaicLayout& 
     return "unknown wire_version " + std::to_string(c.wire_version);
   }
   const std::string mosaic_id = GetBounded(c.mosaic_id);
-  if (!mosaic_id.empty() && mosaic_id != layout.mosaic_id) return "unknown mosaic '" + mosaic_id + "'";
+  if (!mosaic_id.empty() && mosaic_id != layout.mosaic_id)
+    return "unknown mosaic '" + mosaic_id + "'";
   const fleetloc_MapRegion& r = c.region;
   for (double v : {r.x_min, r.y_min, r.x_max, r.y_max}) {
     if (!std::isfinite(v)) return "region has a non-finite coordinate";
@@ -70,8 +71,8 @@ void RemapService::Receive(const fleetloc_RemapCommand& c, const mosaic::MosaicL
   }
   {
     std::lock_guard lock(mutex_);
-    queue_.push_back({c.command_id, c.region.x_min, c.region.y_min, c.region.x_max,
-                      c.region.y_max, c.mode == fleetloc_REMAP_REPLACE});
+    queue_.push_back({c.command_id, c.region.x_min, c.region.y_min, c.region.x_max, c.region.y_max,
+                      c.mode == fleetloc_REMAP_REPLACE});
   }
   spdlog::info("remap {} queued by '{}'", c.command_id, GetBounded(c.requester));
   Publish(c.command_id, fleetloc_REMAP_QUEUED, "queued", 0, "");
@@ -118,8 +119,8 @@ void RemapService::Work() {
     Publish(job.command_id, fleetloc_REMAP_RUNNING, "start", 0, "");
     Result<RemapOutcome> outcome = runner_(job, progress, stopping_);
     if (!outcome.ok()) {
-      counters_->Reject("remap_jobs_failed",
-                        "remap " + std::to_string(job.command_id) + ": " + outcome.status().message());
+      counters_->Reject("remap_jobs_failed", "remap " + std::to_string(job.command_id) + ": " +
+                                                 outcome.status().message());
       Publish(job.command_id, fleetloc_REMAP_FAILED, "failed", 0, outcome.status().message());
       continue;
     }
@@ -131,8 +132,10 @@ void RemapService::Work() {
                  outcome->changed_tiles.size(), outcome->summary);
     for (const std::string& vehicle : outcome->newly_quarantined) {
       counters_->Add("vehicles_quarantined");
-      spdlog::warn("vehicle '{}' quarantined: its patches keep failing admission; its patches are "
-                   "refused until `fleetctl mosaic vehicles MOSAIC --release {}`", vehicle, vehicle);
+      spdlog::warn(
+          "vehicle '{}' quarantined: its patches keep failing admission; its patches are "
+          "refused until `fleetctl mosaic vehicles MOSAIC --release {}`",
+          vehicle, vehicle);
     }
     Publish(job.command_id, fleetloc_REMAP_DONE, "done", 1.0, outcome->summary, &*outcome);
     std::lock_guard lock(mutex_);

@@ -1,9 +1,10 @@
 // Re-mapping jobs: a RemapCommand is checked (wire version, mosaic, region) and queued; one worker
 // thread runs the jobs in order with the re-mapping engine, reporting RemapStatus (queued, running
-// with phase and progress, done with the per-vehicle summary as its message, failed, rejected). Finished jobs are handed back to the DDS loop
-// (TakeFinished) to announce the new version. Stopping cancels the running job, which then leaves
-// the mosaic as it was. Between jobs the same thread runs the periodic maintenance (pruning old
-// tile versions and patches), so it never races a job for the mosaic file.
+// with phase and progress, done with the per-vehicle summary as its message, failed, rejected).
+// Finished jobs are handed back to the DDS loop (TakeFinished) to announce the new version.
+// Stopping cancels the running job, which then leaves the mosaic as it was. Between jobs the same
+// thread runs the periodic maintenance (pruning old tile versions and patches), so it never races a
+// job for the mosaic file.
 #pragma once
 
 #include <atomic>

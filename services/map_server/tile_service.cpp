@@ -11,9 +11,9 @@ namespace fleetloc::map_server {
 using transport::GetBounded;
 
 std::vector<std::string> TileService::CounterNames() {
-  return {"tile_requests",          "tiles_served",           "tile_bytes_served",
-          "rejected_tile_request",  "rejected_tile_range",    "rejected_unknown_mosaic",
-          "tiles_not_found",        "tile_read_errors",       "tile_requests_unmatched",
+  return {"tile_requests",         "tiles_served",        "tile_bytes_served",
+          "rejected_tile_request", "rejected_tile_range", "rejected_unknown_mosaic",
+          "tiles_not_found",       "tile_read_errors",    "tile_requests_unmatched",
           "tiles_not_owned"};
 }
 
@@ -42,13 +42,16 @@ void TileService::Receive(const fleetloc_TileRequest& sample) {
     return;
   }
   if (static_cast<int>(sample.tiles._length) > max_tiles_per_request_) {
-    counters_->Reject("rejected_tile_request",
-                      "TileRequest from '" + vehicle_id + "': " +
-                          std::to_string(sample.tiles._length) + " tiles, more than " +
-                          std::to_string(max_tiles_per_request_));
+    counters_->Reject("rejected_tile_request", "TileRequest from '" + vehicle_id +
+                                                   "': " + std::to_string(sample.tiles._length) +
+                                                   " tiles, more than " +
+                                                   std::to_string(max_tiles_per_request_));
     return;
   }
-  Request request{vehicle_id, sample.request_id, GetBounded(sample.mosaic_id), {},
+  Request request{vehicle_id,
+                  sample.request_id,
+                  GetBounded(sample.mosaic_id),
+                  {},
                   std::chrono::steady_clock::now()};
   for (uint32_t i = 0; i < sample.tiles._length; ++i) {
     request.tiles.push_back(transport::FromIdl(sample.tiles._buffer[i]));
@@ -68,7 +71,9 @@ void TileService::AnswerPending(std::chrono::steady_clock::duration match_timeou
         VehicleChannel* c = channel(vehicle);
         return c != nullptr && c->tiles.MatchedReaders() > 0;
       },
-      [&](const std::string& vehicle, const Request& request) { Answer(request, *channel(vehicle)); },
+      [&](const std::string& vehicle, const Request& request) {
+        Answer(request, *channel(vehicle));
+      },
       [&](const std::string& vehicle, const Request& request) {
         counters_->Reject("tile_requests_unmatched",
                           "TileRequest " + std::to_string(request.request_id) + " from '" +
@@ -94,7 +99,8 @@ void TileService::Answer(const Request& request, VehicleChannel& channel) {
       counters_->Add("tile_bytes_served", bytes->total());
     }
   }
-  reply_latency_.Observe(std::chrono::duration<double>(std::chrono::steady_clock::now() - request.received).count());
+  reply_latency_.Observe(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - request.received).count());
 }
 
 Result<mosaic::TilePtr> TileService::EncodedTile(const mosaic::TileKey& key) {
@@ -120,7 +126,8 @@ fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& 
   const std::string what = "tile " + mosaic::ToString(key) + " for '" + request.vehicle_id + "'";
   if (!request.mosaic_id.empty() && request.mosaic_id != layout.mosaic_id) {
     tile.status = fleetloc_TILE_UNKNOWN_MOSAIC;
-    counters_->Reject("rejected_unknown_mosaic", what + ": unknown mosaic '" + request.mosaic_id + "'");
+    counters_->Reject("rejected_unknown_mosaic",
+                      what + ": unknown mosaic '" + request.mosaic_id + "'");
   } else if (!transport::InGrid(layout, key)) {
     tile.status = fleetloc_TILE_OUT_OF_RANGE;
     counters_->Reject("rejected_tile_range", what + ": outside the mosaic's tile grid");

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "map_server/pending_replies.h"
-#include "metrics/histogram.h"
 #include "map_server/server_counters.h"
 #include "map_server/vehicle_channels.h"
+#include "metrics/histogram.h"
 #include "mosaic/tile_cache.h"
 #include "mosaic/tile_ownership.h"
 #include "mosaic/tile_store.h"

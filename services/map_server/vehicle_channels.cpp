@@ -19,8 +19,8 @@ Result<std::unique_ptr<VehicleChannel>> VehicleChannels::Open(const std::string&
   Result<transport::Entity> publisher =
       participant_.CreatePublisher({transport::topics::VehiclePartition(vehicle_id)});
   if (!publisher.ok()) return publisher.status();
-  auto tiles = transport::Writer<fleetloc_Tile>::Create(publisher->get(), tile_topic_,
-                                                        transport::TileQos());
+  auto tiles =
+      transport::Writer<fleetloc_Tile>::Create(publisher->get(), tile_topic_, transport::TileQos());
   if (!tiles.ok()) return tiles.status();
   auto acks = transport::Writer<fleetloc_PatchAck>::Create(
       publisher->get(), ack_topic_,

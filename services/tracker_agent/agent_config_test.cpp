@@ -71,7 +71,8 @@ TEST(AgentConfig, ShippedSampleLoads) {
 
 TEST(AgentConfig, MetricsAreOffByDefaultAndConfigurable) {
   EXPECT_FALSE(AgentConfig{}.metrics.enabled);
-  auto c = LoadAgentConfig(Write("metrics", R"({"run": "r", "metrics": {"enabled": true, "port": 9600}})"));
+  auto c = LoadAgentConfig(
+      Write("metrics", R"({"run": "r", "metrics": {"enabled": true, "port": 9600}})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_TRUE(c->metrics.enabled);
   EXPECT_EQ(c->metrics.port, 9600);
@@ -90,7 +91,8 @@ TEST(AgentConfig, BadFieldsAreNamed) {
       {R"({"run": "r", "map_server_timeout_s": 0.01})", "map_server_timeout_s"},
       {R"({"run": "r", "start_pose": "guess"})", "start_pose"},
       {R"({"run": "r", "relocalize_on_lost": 1})", "relocalize_on_lost"},
-      {R"({"run": "r", "relocalize_after_coasting_frames": 0})", "relocalize_after_coasting_frames"},
+      {R"({"run": "r", "relocalize_after_coasting_frames": 0})",
+       "relocalize_after_coasting_frames"},
       {R"({"run": "r", "relocalize_interval_s": 100})", "relocalize_interval_s"},
       {R"({"run": "r", "landmarks": ""})", "landmarks"},
       {R"({"run": "r", "position_update_period_s": 0.01})", "position_update_period_s"},

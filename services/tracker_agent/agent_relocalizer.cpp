@@ -22,9 +22,8 @@ AgentRelocalizer::~AgentRelocalizer() {
 }
 
 Result<std::unique_ptr<AgentRelocalizer>> AgentRelocalizer::Create(
-    const transport::Participant& participant, std::string mosaic_id,
-    mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
-    const mapmatch::RelocalizerOptions& options) {
+    const transport::Participant& participant, std::string mosaic_id, mosaic::RasterSource* mosaic,
+    const geometry::CameraModel& camera, const mapmatch::RelocalizerOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(options));
   auto receiver = transport::PlaceIndexReceiver::Create(participant);
   if (!receiver.ok()) return receiver.status();
@@ -45,8 +44,7 @@ void AgentRelocalizer::Poll() {
     if (queued_ && blob.mosaic_version < queued_->mosaic_version) continue;
     queued_ = std::make_unique<transport::PlaceIndexBlob>(std::move(blob));
   }
-  if (loading_.valid() &&
-      loading_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+  if (loading_.valid() && loading_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     FinishLoading();
   }
   if (!loading_.valid() && queued_) {
@@ -69,7 +67,8 @@ void AgentRelocalizer::FinishLoading() {
   Result<mapmatch::PlaceIndex> loaded = loading_.get();
   if (!loaded.ok()) {
     ++stats_.indexes_rejected;
-    spdlog::warn("place index of version {} unusable: {}", loading_version_, loaded.status().message());
+    spdlog::warn("place index of version {} unusable: {}", loading_version_,
+                 loaded.status().message());
     return;
   }
   auto index = std::make_unique<mapmatch::PlaceIndex>(std::move(loaded).value());
@@ -84,7 +83,8 @@ void AgentRelocalizer::FinishLoading() {
   index_ = std::move(index);
   index_version_ = loading_version_;
   ++stats_.indexes_loaded;
-  spdlog::info("place index of mosaic version {} ready: {} features", index_version_, index_->size());
+  spdlog::info("place index of mosaic version {} ready: {} features", index_version_,
+               index_->size());
 }
 
 void AgentRelocalizer::ResetTrajectory() {

@@ -47,7 +47,8 @@ nlohmann::json CaptureLatency::Summary() const {
   all["first_ms"] = std::vector<double>(latency.begin(), latency.begin() + skip);
   nlohmann::json stages = nlohmann::json::object();
   for (size_t i = 0; i < kStages; ++i)
-    stages[kStageNames[i]] = Percentiles(std::vector<double>(stage_ms_[i].begin(), stage_ms_[i].end()));
+    stages[kStageNames[i]] =
+        Percentiles(std::vector<double>(stage_ms_[i].begin(), stage_ms_[i].end()));
   all["stages"] = stages;
   return all;
 }

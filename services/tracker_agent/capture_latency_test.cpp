@@ -47,8 +47,8 @@ TEST(CaptureLatency, KeepsTheLastPosesOnly) {
   for (size_t i = 0; i < n; ++i) latency.Record({0.0, 0.0, 0.0}, 0.0, i < 500 ? 1.0 : 0.002);
   const nlohmann::json s = latency.Summary();
   EXPECT_EQ(s["frames"].get<size_t>(), CaptureLatency::kKept);
-  EXPECT_NEAR(s["p99"].get<double>(), 2.0, 1e-6);      // the slow first 500 are gone
-  EXPECT_TRUE(s["first_ms"].empty());                   // and with them the warm-up ones
+  EXPECT_NEAR(s["p99"].get<double>(), 2.0, 1e-6);  // the slow first 500 are gone
+  EXPECT_TRUE(s["first_ms"].empty());              // and with them the warm-up ones
   EXPECT_EQ(s["stages"]["cycle_and_publish"]["frames"].get<size_t>(), CaptureLatency::kKept);
 }
 

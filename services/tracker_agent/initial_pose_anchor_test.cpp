@@ -11,7 +11,8 @@ namespace {
 
 tracking::OdometryHistory History(double from, double to) {
   tracking::OdometryHistory h(10.0, 0.02);
-  for (double t = from; t <= to + 1e-9; t += 0.01) EXPECT_TRUE(h.Add({t, {t * 0.5, 0.0, 0.0}}).ok());
+  for (double t = from; t <= to + 1e-9; t += 0.01)
+    EXPECT_TRUE(h.Add({t, {t * 0.5, 0.0, 0.0}}).ok());
   return h;
 }
 

@@ -69,10 +69,9 @@ Status ReadGstreamer(const io::JsonFields& fields, const nlohmann::json& parent,
 }
 
 Status ReadLive(const io::JsonFields& fields, const nlohmann::json& parent, LiveOptions* o) {
-  auto f = Nested(
-      fields, parent, "live",
-      {"camera_stall_s", "camera_reopen_s", "odometry_stale_s", "odometry_extrapolation_s",
-       "issue_hold_s", "frame_queue"});
+  auto f = Nested(fields, parent, "live",
+                  {"camera_stall_s", "camera_reopen_s", "odometry_stale_s",
+                   "odometry_extrapolation_s", "issue_hold_s", "frame_queue"});
   if (!f.ok()) return f.status();
   if (f->Has("odometry_extrapolation_s")) {
     FLEETLOC_RETURN_IF_ERROR(

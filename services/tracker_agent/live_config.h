@@ -43,8 +43,8 @@ struct LiveOptions {
   // extrapolated under constant velocity (its prediction's covariance grown for it) instead of
   // waiting for odometry to cover it; 0: frames always wait. About two odometry periods.
   double odometry_extrapolation_s = 0.02;
-  double issue_hold_s = 5.0;      // a bad sample is reported in health for this long
-  int frame_queue = 4;            // frames waiting for the tracker; beyond, the oldest drop
+  double issue_hold_s = 5.0;  // a bad sample is reported in health for this long
+  int frame_queue = 4;        // frames waiting for the tracker; beyond, the oldest drop
 };
 
 Status ValidateLive(const std::string& source, const LiveOptions& live, const RosOptions& ros);

@@ -1,9 +1,9 @@
 // Map servers of the vehicle's mosaic: owned tile ranges and reachability.
 #include "tracker_agent/map_server_directory.h"
 
-#include <algorithm>
-
 #include <spdlog/spdlog.h>
+
+#include <algorithm>
 
 #include "transport/mosaic_messages.h"
 #include "transport/wire_util.h"
@@ -11,8 +11,8 @@
 namespace fleetloc::tracker_agent {
 
 Result<std::unique_ptr<MapServerDirectory>> MapServerDirectory::Create(
-    const transport::Participant& participant, transport::TileClient* tiles, const mosaic::MosaicLayout& layout,
-    std::chrono::duration<double> timeout) {
+    const transport::Participant& participant, transport::TileClient* tiles,
+    const mosaic::MosaicLayout& layout, std::chrono::duration<double> timeout) {
   auto watch = transport::ServiceWatch::Create(participant, "map_server");
   if (!watch.ok()) return watch.status();
   auto directory = std::unique_ptr<MapServerDirectory>(new MapServerDirectory(
@@ -58,7 +58,8 @@ void MapServerDirectory::Poll() {
 
 bool MapServerDirectory::Reachable(const mosaic::TileKey& key) const {
   for (const std::string& owner : owners_.OwnersOf(key)) {
-    if (std::find(unreachable_.begin(), unreachable_.end(), owner) == unreachable_.end()) return true;
+    if (std::find(unreachable_.begin(), unreachable_.end(), owner) == unreachable_.end())
+      return true;
   }
   return false;
 }

@@ -19,10 +19,9 @@ namespace fleetloc::tracker_agent {
 class MapServerDirectory {
  public:
   // `tiles` must outlive the directory; only servers announcing the mosaic of `layout` count.
-  static Result<std::unique_ptr<MapServerDirectory>> Create(const transport::Participant& participant,
-                                                            transport::TileClient* tiles,
-                                                            const mosaic::MosaicLayout& layout,
-                                                            std::chrono::duration<double> timeout);
+  static Result<std::unique_ptr<MapServerDirectory>> Create(
+      const transport::Participant& participant, transport::TileClient* tiles,
+      const mosaic::MosaicLayout& layout, std::chrono::duration<double> timeout);
 
   // Takes new MosaicInfos and health reports; logs servers appearing and reachability changes.
   void Poll();

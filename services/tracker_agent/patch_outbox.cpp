@@ -32,10 +32,12 @@ constexpr const char* kVictim =
 
 // Outboxes written before sends were tied to a boot lack sent_boot: their patches are due at once.
 Status AddSentBoot(sqlite3* db, const std::string& path) {
-  auto info = sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('outbox') WHERE name = 'sent_boot'");
+  auto info =
+      sqlite::Prepare(db, "SELECT 1 FROM pragma_table_info('outbox') WHERE name = 'sent_boot'");
   if (!info.ok()) return Internal(path + ": " + info.status().message());
   if (sqlite3_step(info->get()) == SQLITE_ROW) return Status::Ok();
-  if (Status s = sqlite::Exec(db, "ALTER TABLE outbox ADD COLUMN sent_boot TEXT NOT NULL DEFAULT ''");
+  if (Status s =
+          sqlite::Exec(db, "ALTER TABLE outbox ADD COLUMN sent_boot TEXT NOT NULL DEFAULT ''");
       !s.ok()) {
     return Internal(path + ": cannot add the sent_boot column: " + s.message());
   }
@@ -52,7 +54,8 @@ OutboxTime OutboxNow() {
   return {boot, monotonic};
 }
 
-Result<std::unique_ptr<PatchOutbox>> PatchOutbox::Open(const std::string& path, OutboxLimits limits) {
+Result<std::unique_ptr<PatchOutbox>> PatchOutbox::Open(const std::string& path,
+                                                       OutboxLimits limits) {
   Result<sqlite::Db> db = sqlite::OpenDb(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   if (!db.ok()) return db.status();
   sqlite3_busy_timeout(db->get(), 5000);
@@ -96,15 +99,16 @@ Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
   sqlite3_bind_double(s, 9, p->quality), sqlite3_bind_double(s, 10, p->resolution_m);
   sqlite3_bind_blob(s, 11, p->png.data(), static_cast<int>(p->png.size()), SQLITE_STATIC);
   if (sqlite3_step(s) != SQLITE_DONE) return fail("storing the patch");
-  if (!sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'").ok()) {
+  if (!sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'")
+           .ok()) {
     return fail("advancing the sequence");
   }
   Result<long long> dropped = EnforceLimitsLocked();
   if (!dropped.ok()) return fail("keeping the outbox within its limits");
   FLEETLOC_RETURN_IF_ERROR(Exec("commit", "COMMIT"));
   if (*dropped > 0) {
-    spdlog::warn("{}: outbox full ({} patches, {} MB at most): {} patch(es) dropped", path_, limits_.max_patches,
-                 limits_.max_bytes >> 20, *dropped);
+    spdlog::warn("{}: outbox full ({} patches, {} MB at most): {} patch(es) dropped", path_,
+                 limits_.max_patches, limits_.max_bytes >> 20, *dropped);
   }
   return p->sequence;
 }
@@ -113,17 +117,21 @@ Result<long long> PatchOutbox::EnforceLimitsLocked() {
   long long dropped = 0;
   for (;;) {
     auto totals = sqlite::Prepare(db_.get(), "SELECT COUNT(*), TOTAL(LENGTH(png)) FROM outbox");
-    if (!totals.ok() || sqlite3_step(totals->get()) != SQLITE_ROW) return Internal("counting the outbox");
+    if (!totals.ok() || sqlite3_step(totals->get()) != SQLITE_ROW)
+      return Internal("counting the outbox");
     const long long count = sqlite3_column_int64(totals->get(), 0);
     const auto bytes = static_cast<long long>(sqlite3_column_double(totals->get(), 1));
     if (count <= limits_.max_patches && bytes <= limits_.max_bytes) break;
     auto victim = sqlite::Prepare(db_.get(), kVictim);
-    if (!victim.ok() || sqlite3_step(victim->get()) != SQLITE_ROW) return Internal("choosing a patch to drop");
-    FLEETLOC_RETURN_IF_ERROR(RemoveLocked(static_cast<uint64_t>(sqlite3_column_int64(victim->get(), 0))));
+    if (!victim.ok() || sqlite3_step(victim->get()) != SQLITE_ROW)
+      return Internal("choosing a patch to drop");
+    FLEETLOC_RETURN_IF_ERROR(
+        RemoveLocked(static_cast<uint64_t>(sqlite3_column_int64(victim->get(), 0))));
     ++dropped;
   }
   if (dropped > 0) {
-    auto count = sqlite::Prepare(db_.get(), "UPDATE meta SET value = value + ?1 WHERE name = 'dropped'");
+    auto count =
+        sqlite::Prepare(db_.get(), "UPDATE meta SET value = value + ?1 WHERE name = 'dropped'");
     if (!count.ok()) return count.status();
     sqlite3_bind_int64(count->get(), 1, dropped);
     if (sqlite3_step(count->get()) != SQLITE_DONE) return Internal("counting dropped patches");
@@ -131,8 +139,8 @@ Result<long long> PatchOutbox::EnforceLimitsLocked() {
   return dropped;
 }
 
-Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& now, double retry_after_s,
-                                                             int max) {
+Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& now,
+                                                             double retry_after_s, int max) {
   std::lock_guard lock(mutex_);
   auto select = sqlite::Prepare(
       db_.get(),
@@ -151,7 +159,8 @@ Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& n
     p.stamp_s = sqlite3_column_double(s, 1);
     p.mosaic_id = reinterpret_cast<const char*>(sqlite3_column_text(s, 2));
     p.mosaic_version = sqlite3_column_int64(s, 3);
-    p.pose = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5), sqlite3_column_double(s, 6)};
+    p.pose = {sqlite3_column_double(s, 4), sqlite3_column_double(s, 5),
+              sqlite3_column_double(s, 6)};
     if (sqlite3_column_bytes(s, 7) == sizeof p.covariance) {
       std::memcpy(p.covariance, sqlite3_column_blob(s, 7), sizeof p.covariance);
     }
@@ -166,29 +175,28 @@ Result<std::vector<transport::PatchToSend>> PatchOutbox::Due(const OutboxTime& n
 
 Status PatchOutbox::MarkSent(uint64_t sequence, const OutboxTime& now) {
   std::lock_guard lock(mutex_);
-  auto update = sqlite::Prepare(db_.get(),
-                                        "UPDATE outbox SET last_sent = ?1, sent_boot = ?3 WHERE sequence = ?2");
+  auto update = sqlite::Prepare(
+      db_.get(), "UPDATE outbox SET last_sent = ?1, sent_boot = ?3 WHERE sequence = ?2");
   if (!update.ok()) return Internal(path_ + ": " + update.status().message());
   sqlite3_bind_double(update->get(), 1, now.monotonic_s);
   sqlite3_bind_int64(update->get(), 2, static_cast<sqlite3_int64>(sequence));
   sqlite3_bind_text(update->get(), 3, now.boot_id.c_str(), -1, SQLITE_TRANSIENT);
-  if (sqlite3_step(update->get()) != SQLITE_DONE) return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
+  if (sqlite3_step(update->get()) != SQLITE_DONE)
+    return Internal(path_ + ": " + sqlite::ErrorMessage(db_.get()));
   return Status::Ok();
 }
 
 Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& server_id,
                                       const std::vector<std::string>& required) {
   std::lock_guard lock(mutex_);
-  auto insert =
-      sqlite::Prepare(db_.get(),
-                              "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
-                              " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
+  auto insert = sqlite::Prepare(db_.get(),
+                                "INSERT OR IGNORE INTO acks(sequence, server_id) SELECT ?1, ?2"
+                                " WHERE EXISTS(SELECT 1 FROM outbox WHERE sequence = ?1)");
   if (!insert.ok()) return Internal(path_ + ": " + insert.status().message());
   sqlite3_bind_int64(insert->get(), 1, static_cast<sqlite3_int64>(sequence));
   sqlite3_bind_text(insert->get(), 2, server_id.c_str(), -1, SQLITE_TRANSIENT);
   if (sqlite3_step(insert->get()) != SQLITE_DONE) {
-    return Internal(path_ +
-                    ": recording an acknowledgement: " + sqlite::ErrorMessage(db_.get()));
+    return Internal(path_ + ": recording an acknowledgement: " + sqlite::ErrorMessage(db_.get()));
   }
   Result<std::vector<std::string>> acked = AckedByLocked(sequence);
   if (!acked.ok()) return acked.status();
@@ -200,8 +208,7 @@ Result<bool> PatchOutbox::Acknowledge(uint64_t sequence, const std::string& serv
 }
 
 Result<std::vector<std::string>> PatchOutbox::AckedByLocked(uint64_t sequence) {
-  auto select =
-      sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
+  auto select = sqlite::Prepare(db_.get(), "SELECT server_id FROM acks WHERE sequence = ?1");
   if (!select.ok()) return Internal(path_ + ": " + select.status().message());
   sqlite3_bind_int64(select->get(), 1, static_cast<sqlite3_int64>(sequence));
   std::vector<std::string> servers;
@@ -233,14 +240,16 @@ Status PatchOutbox::RemoveLocked(uint64_t sequence) {
 Result<long long> PatchOutbox::Dropped() {
   std::lock_guard lock(mutex_);
   auto count = sqlite::Prepare(db_.get(), "SELECT value FROM meta WHERE name = 'dropped'");
-  if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW) return Internal(path_ + ": reading the drop count");
+  if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW)
+    return Internal(path_ + ": reading the drop count");
   return static_cast<long long>(sqlite3_column_int64(count->get(), 0));
 }
 
 Result<long long> PatchOutbox::Size() {
   std::lock_guard lock(mutex_);
   auto count = sqlite::Prepare(db_.get(), "SELECT COUNT(*) FROM outbox");
-  if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW) return Internal(path_ + ": counting the outbox");
+  if (!count.ok() || sqlite3_step(count->get()) != SQLITE_ROW)
+    return Internal(path_ + ": counting the outbox");
   return static_cast<long long>(sqlite3_column_int64(count->get(), 0));
 }
 

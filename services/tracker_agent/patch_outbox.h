@@ -38,7 +38,8 @@ struct OutboxLimits {
 class PatchOutbox {
  public:
   // Opens (creating if needed) the outbox file. Internal naming the file on SQLite errors.
-  static Result<std::unique_ptr<PatchOutbox>> Open(const std::string& path, OutboxLimits limits = {});
+  static Result<std::unique_ptr<PatchOutbox>> Open(const std::string& path,
+                                                   OutboxLimits limits = {});
 
   // Stores `patch` under the next sequence number (written into it) in one transaction, then drops
   // patches while the outbox is over its limits (oldest tenth, lowest quality first; counted).
@@ -46,7 +47,8 @@ class PatchOutbox {
   Result<uint64_t> Add(transport::PatchToSend* patch);
   // Up to `max` patches never sent, sent in another boot, or sent more than `retry_after_s` before
   // `now`, oldest first.
-  Result<std::vector<transport::PatchToSend>> Due(const OutboxTime& now, double retry_after_s, int max);
+  Result<std::vector<transport::PatchToSend>> Due(const OutboxTime& now, double retry_after_s,
+                                                  int max);
   Status MarkSent(uint64_t sequence, const OutboxTime& now);
   // Records that map server `server_id` stored (or already had) patch `sequence`, and forgets the
   // patch once `server_id` and every server in `required` have. True when it was forgotten.

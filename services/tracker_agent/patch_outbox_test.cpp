@@ -55,7 +55,8 @@ TEST(PatchOutbox, APatchLeavesOnlyWhenEveryReplicaAcknowledgedIt) {
 
 TEST(PatchOutbox, SurvivesRestartWithoutReusingSequenceNumbersAndRetries) {
   const std::string path = (std::filesystem::temp_directory_path() /
-                            ("outbox_test_" + std::to_string(::getpid()) + ".db")).string();
+                            ("outbox_test_" + std::to_string(::getpid()) + ".db"))
+                               .string();
   std::filesystem::remove(path);
   {
     auto outbox = std::move(PatchOutbox::Open(path)).value();
@@ -68,7 +69,7 @@ TEST(PatchOutbox, SurvivesRestartWithoutReusingSequenceNumbersAndRetries) {
   auto outbox = std::move(PatchOutbox::Open(path)).value();  // the agent restarted
   EXPECT_EQ(*outbox->Size(), 1);
   transport::PatchToSend c = Patch(3);
-  EXPECT_EQ(*outbox->Add(&c), 3u);  // 2 was used before the restart
+  EXPECT_EQ(*outbox->Add(&c), 3u);                     // 2 was used before the restart
   auto due = outbox->Due({"boot-a", 101.0}, 2.0, 10);  // 1 was sent 1 s ago: not yet due
   ASSERT_EQ(due->size(), 1u);
   EXPECT_EQ((*due)[0].sequence, 3u);

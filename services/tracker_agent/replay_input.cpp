@@ -9,8 +9,9 @@ void Pacer::WaitUntil(double t) {
   if (!paced_) return;
   const auto now = std::chrono::steady_clock::now();
   if (!wall_start_) wall_start_ = now, t_start_ = t;
-  std::this_thread::sleep_until(*wall_start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                   std::chrono::duration<double>(t - t_start_)));
+  std::this_thread::sleep_until(*wall_start_ +
+                                std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(t - t_start_)));
 }
 
 ReplayInput::ReplayInput(io::Run run, bool paced) : run_(std::move(run)), pacer_(paced) {}

@@ -29,7 +29,8 @@ Status SimInput::PlanStretch(std::optional<std::pair<double, geometry::Pose2>> f
     o.odometry.start_pose = odom0;
     o.seed = options_.seed + 7919;  // fresh noise for the new stretch
   }
-  Result<std::unique_ptr<sim::RunSimulator>> planned = sim::RunSimulator::Create(floor_, camera_, o);
+  Result<std::unique_ptr<sim::RunSimulator>> planned =
+      sim::RunSimulator::Create(floor_, camera_, o);
   if (!planned.ok()) return planned.status();
   options_ = o;
   simulator_ = std::move(planned).value();
@@ -45,9 +46,9 @@ Result<std::optional<InputEvent>> SimInput::Next() {
     FLEETLOC_RETURN_IF_ERROR(PlanStretch(std::make_pair(odometry.back().t, odometry.back().pose)));
     return Next();
   }
-  const bool take_odometry = next_odometry_ < odometry.size() &&
-                             (next_frame_ >= static_cast<int>(truth.size()) ||
-                              odometry[next_odometry_].t <= truth[next_frame_].t);
+  const bool take_odometry =
+      next_odometry_ < odometry.size() && (next_frame_ >= static_cast<int>(truth.size()) ||
+                                           odometry[next_odometry_].t <= truth[next_frame_].t);
   InputEvent event;
   if (take_odometry) {
     event.kind = InputEvent::Kind::kOdometry;

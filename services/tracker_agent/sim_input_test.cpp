@@ -37,8 +37,11 @@ TEST(SimInput, DrivesOnAcrossStretchesWithoutJumps) {
       const geometry::Pose2 odom_camera = e.odom * camera.mount;
       const geometry::Pose2 truth = (*input)->TruthAt(e.t) * camera.mount;
       if (last_t >= 0) {
-        largest_odometry_step = std::max(largest_odometry_step, std::hypot(odom_camera.x - last_odom.x, odom_camera.y - last_odom.y));
-        largest_truth_step = std::max(largest_truth_step, std::hypot(truth.x - last_truth.x, truth.y - last_truth.y));
+        largest_odometry_step =
+            std::max(largest_odometry_step,
+                     std::hypot(odom_camera.x - last_odom.x, odom_camera.y - last_odom.y));
+        largest_truth_step = std::max(largest_truth_step,
+                                      std::hypot(truth.x - last_truth.x, truth.y - last_truth.y));
       }
       last_odom = odom_camera, last_truth = truth;
     }

@@ -1,7 +1,8 @@
 // tracker_agent: one vehicle's localization over the shared mosaic, until its input ends or
 // SIGINT/SIGTERM.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 
 #include "cli/command_line.h"
 #include "io/tracker_config.h"
@@ -41,21 +42,22 @@ Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
   camera.model = sim::DefaultSimCameraModel(640, 480, res);
   auto input = tracker_agent::SimInput::Create(&source, camera.model, sim, config.paced);
   if (!input.ok()) return input.status();
-  auto agent = tracker_agent::TrackerAgent::Create(config, camera, StartPose(config, (*input)->initial_pose()),
-                                                   options);
+  auto agent = tracker_agent::TrackerAgent::Create(
+      config, camera, StartPose(config, (*input)->initial_pose()), options);
   if (!agent.ok()) return agent.status();
   return (*agent)->Run(**input, stop);
 }
 
 // A real vehicle: a live camera and ROS 2 odometry; the start pose from the vehicle's stack
 // (initialpose) or, with start_pose "relocalize", from the place index.
-Status RunLiveVehicle(const tracker_agent::AgentConfig& config, const tracking::TrackerOptions& options,
-                      const std::atomic<bool>& stop) {
+Status RunLiveVehicle(const tracker_agent::AgentConfig& config,
+                      const tracking::TrackerOptions& options, const std::atomic<bool>& stop) {
   Result<io::CameraFile> camera = io::ReadCameraJson(config.live.camera_path);
   if (!camera.ok()) return camera.status();
   auto agent = tracker_agent::TrackerAgent::Create(config, *camera, std::nullopt, options);
   if (!agent.ok()) return agent.status();
-  auto input = tracker_agent::LiveInput::Create(config, *camera, tracker_agent::LiveInput::OpenerFor(config));
+  auto input = tracker_agent::LiveInput::Create(config, *camera,
+                                                tracker_agent::LiveInput::OpenerFor(config));
   if (!input.ok()) return input.status();
   return (*agent)->Run(**input, stop);
 }
@@ -73,7 +75,8 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   Result<io::Run> run = io::ReadRun(config.run_path);
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;
-  const geometry::PoseWithCovariance initial{run->initial_pose, sigma.cwiseProduct(sigma).asDiagonal()};
+  const geometry::PoseWithCovariance initial{run->initial_pose,
+                                             sigma.cwiseProduct(sigma).asDiagonal()};
   auto position_update = tracker_agent::PositionUpdateForRun(config, *run);
   if (!position_update.ok()) return position_update.status();
   auto agent = tracker_agent::TrackerAgent::Create(config, run->camera, StartPose(config, initial),
@@ -98,18 +101,22 @@ int main(int argc, char** argv) {
   std::string landmarks;
   app.add_option("--landmarks", landmarks,
                  "Landmark map for the position updates (default: the run's landmarks.csv)");
-  app.add_option("--sim-floor", sim_floor, "Drive a live simulated vehicle over this floor image forever");
+  app.add_option("--sim-floor", sim_floor,
+                 "Drive a live simulated vehicle over this floor image forever");
   app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
   app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  app.add_option("--metrics-port", metrics_port, "Serve Prometheus /metrics on this port (0: any free one; off by default)");
-  app.add_option("--metrics-port-file", metrics_port_file, "Write the bound metrics port into this file");
+  app.add_option("--metrics-port", metrics_port,
+                 "Serve Prometheus /metrics on this port (0: any free one; off by default)");
+  app.add_option("--metrics-port-file", metrics_port_file,
+                 "Write the bound metrics port into this file");
   app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
   app.add_option("--summary", summary, "Write a JSON summary (frames, cycle times) at exit");
   app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
   bool relocalize = false;
   app.add_flag("--relocalize", relocalize,
                "Start without the given initial pose: find it with the map server's place index");
-  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "tracker_agent", argc, argv)) return *exit_status;
+  if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "tracker_agent", argc, argv))
+    return *exit_status;
   tracker_agent::AgentConfig config;
   if (!config_path.empty()) {
     auto loaded = tracker_agent::LoadAgentConfig(config_path);

@@ -22,10 +22,10 @@ struct InputEvent {
   // good); the agent forgets the old history before the odometry that follows.
   enum class Kind { kOdometry, kFrame, kForwardFrame, kIdle, kOdometryRestart };
   Kind kind = Kind::kOdometry;
-  double t = 0.0;            // capture time, seconds (the source's clock)
-  geometry::Pose2 odom;      // kOdometry: base_link in odom
-  cv::Mat frame;             // kFrame: the camera image (raw or rectified, see camera.json);
-                             // kForwardFrame: the forward camera's image as recorded
+  double t = 0.0;        // capture time, seconds (the source's clock)
+  geometry::Pose2 odom;  // kOdometry: base_link in odom
+  cv::Mat frame;         // kFrame: the camera image (raw or rectified, see camera.json);
+                         // kForwardFrame: the forward camera's image as recorded
   // Live sources, kFrame (host clock, 0 otherwise): when the frame's buffer reached the process
   // and when Next handed it out (the agent's capture -> pose latency stages).
   double arrival_t = 0.0;
@@ -34,8 +34,8 @@ struct InputEvent {
 
 // A problem with the input a live source sees (camera gone, odometry stale, ...), for health.
 struct InputIssue {
-  std::string name;     // e.g. "camera_stalled"
-  bool error = false;   // ERROR (else WARN)
+  std::string name;    // e.g. "camera_stalled"
+  bool error = false;  // ERROR (else WARN)
   std::string message;
 };
 
@@ -48,7 +48,9 @@ class VehicleInput {
   virtual long long DroppedFrames() const { return 0; }
   // The latest odometry the source has seen (base_link in odom, its time): the anchor for a start
   // pose that arrives between samples. nullopt when the source cannot tell.
-  virtual std::optional<std::pair<double, geometry::Pose2>> LatestOdometry() const { return std::nullopt; }
+  virtual std::optional<std::pair<double, geometry::Pose2>> LatestOdometry() const {
+    return std::nullopt;
+  }
   // The next event; nullopt when the source has ended. A frame (of either camera) that cannot be
   // read is an error naming its file (the agent counts it as a dropped frame and goes on).
   virtual Result<std::optional<InputEvent>> Next() = 0;

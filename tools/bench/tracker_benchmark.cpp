@@ -91,8 +91,9 @@ BENCHMARK(BM_TextureScoreHalfResolution)->Unit(benchmark::kMicrosecond);
 void BM_NormalizeAndMatch32(benchmark::State& state) {
   const int radius = static_cast<int>(state.range(0));
   const cv::Mat& frame = Shared().frames[0];
-  const cv::Mat templ = imaging::LocalNormalize(frame(cv::Rect(300, 200, 44, 44)), 11)(
-      cv::Rect(6, 6, 32, 32)).clone();
+  const cv::Mat templ =
+      imaging::LocalNormalize(frame(cv::Rect(300, 200, 44, 44)), 11)(cv::Rect(6, 6, 32, 32))
+          .clone();
   const cv::Rect window(300 - radius, 200 - radius, 44 + 2 * radius, 44 + 2 * radius);
   for (auto _ : state) {
     const cv::Mat w = imaging::LocalNormalize(frame(window), 11);
@@ -124,9 +125,9 @@ void BM_ReferenceScalarLoop(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  state.counters["ns_per_px"] = benchmark::Counter(static_cast<double>(state.iterations()) * 2304,
-                                                   benchmark::Counter::kIsRate |
-                                                       benchmark::Counter::kInvert);
+  state.counters["ns_per_px"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 2304,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_ReferenceScalarLoop);
 
@@ -153,7 +154,11 @@ void BM_NccSurface(benchmark::State& state) {
   const cv::Mat templ = f(cv::Rect(100 + r, 100 + r, t, t)).clone();
   for (auto _ : state) benchmark::DoNotOptimize(imaging::NccSurface(window, templ));
 }
-BENCHMARK(BM_NccSurface)->Args({48, 2})->Args({16, 8})->Args({16, 13})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NccSurface)
+    ->Args({48, 2})
+    ->Args({16, 8})
+    ->Args({16, 13})
+    ->Unit(benchmark::kMicrosecond);
 
 // The dense alignment's coarse search: a whole 640×480 frame at pyramid level 2 (inner 152×112)
 // correlated over ±r, ours against OpenCV's matchTemplate (the peer it replaced), same inputs.
@@ -180,7 +185,11 @@ void BM_CoarseSearchOpenCvMatchTemplate(benchmark::State& state) {
     benchmark::DoNotOptimize(surface.data);
   }
 }
-BENCHMARK(BM_CoarseSearchOpenCvMatchTemplate)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CoarseSearchOpenCvMatchTemplate)
+    ->Arg(6)
+    ->Arg(10)
+    ->Arg(16)
+    ->Unit(benchmark::kMicrosecond);
 // Ours with the template's spectrum taken once: a first search (spectrum included) and each
 // further view of the same frame (the heading steps).
 void BM_CoarseSearchSpectralNccFirst(benchmark::State& state) {
@@ -196,7 +205,11 @@ void BM_CoarseSearchSpectralNccRepeat(benchmark::State& state) {
   const imaging::SpectralNcc ncc(in.templ, in.window.size());
   for (auto _ : state) benchmark::DoNotOptimize(ncc.Surface(in.window).data);
 }
-BENCHMARK(BM_CoarseSearchSpectralNccRepeat)->Arg(6)->Arg(10)->Arg(16)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CoarseSearchSpectralNccRepeat)
+    ->Arg(6)
+    ->Arg(10)
+    ->Arg(16)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace fleetloc

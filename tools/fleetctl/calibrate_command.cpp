@@ -17,7 +17,8 @@ struct CalibrateArgs {
   std::string floor_view;
   std::string board = "9x6";
   double square_m = 0.025;
-  std::string camera;  // rectified model to keep (width, height, resolution, principal point, mount)
+  std::string
+      camera;  // rectified model to keep (width, height, resolution, principal point, mount)
   std::string out;
 };
 
@@ -42,7 +43,8 @@ Status RunCalibrate(const CalibrateArgs& a) {
   }
   Result<cv::Mat> floor = io::ReadGrayImage(a.floor_view);
   if (!floor.ok()) return floor.status();
-  spdlog::info("calibrate: {} views, board {} inner corners of {} m", views.size(), a.board, a.square_m);
+  spdlog::info("calibrate: {} views, board {} inner corners of {} m", views.size(), a.board,
+               a.square_m);
   Result<calibration::Intrinsics> intrinsics = calibration::CalibrateIntrinsics(views, board);
   if (!intrinsics.ok()) return InvalidInput("--images: " + intrinsics.status().message());
   Result<cv::Matx33d> H = calibration::GroundHomography(*floor, *intrinsics, board);
@@ -79,10 +81,12 @@ void RegisterCalibrateCommand(CLI::App& app, Status* result) {
   cmd->add_option("--images", a->images, "Chessboard views (comma-separated; at least 3 boards)")
       ->required()
       ->delimiter(',');
-  cmd->add_option("--floor-view", a->floor_view, "A view of the board lying on the floor")->required();
+  cmd->add_option("--floor-view", a->floor_view, "A view of the board lying on the floor")
+      ->required();
   cmd->add_option("--board", a->board, "Inner corners, COLSxROWS");
   cmd->add_option("--square", a->square_m, "Square side in metres")->check(CLI::PositiveNumber);
-  cmd->add_option("--camera", a->camera, "camera.json whose rectified model to keep (default: 640x480, 0.5 mm/px)");
+  cmd->add_option("--camera", a->camera,
+                  "camera.json whose rectified model to keep (default: 640x480, 0.5 mm/px)");
   cmd->add_option("--out", a->out, "camera.json to write")->required();
   cmd->callback([a, result] { *result = RunCalibrate(*a); });
 }

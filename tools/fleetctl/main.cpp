@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   fleetloc::fleetctl::RegisterStatusCommand(app, &result);
   spdlog::set_default_logger(spdlog::stderr_color_mt("fleetctl"));
   try {
-    if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleetctl", argc, argv)) return *exit_status;
+    if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "fleetctl", argc, argv))
+      return *exit_status;
   } catch (const std::exception& e) {
     std::cerr << "fleetctl: " << e.what() << "\n";
     return 1;

@@ -42,7 +42,7 @@ struct ExportArgs {
   std::string mosaic;
   std::string out;
   int level = 0;
-  std::string region;  // "x0,y0,x1,y1" or empty
+  std::string region;     // "x0,y0,x1,y1" or empty
   std::string nav2_yaml;  // also write a Nav2 map.yaml there
 };
 
@@ -94,7 +94,8 @@ Status RunInfo(const std::string& path) {
 Status RunExport(const ExportArgs& args) {
   std::optional<mosaic::MapRegion> region;
   if (!args.region.empty()) {
-    Result<std::vector<double>> r = ParseNumbers(args.region, 4, "--region", "x0,y0,x1,y1 (metres)");
+    Result<std::vector<double>> r =
+        ParseNumbers(args.region, 4, "--region", "x0,y0,x1,y1 (metres)");
     if (!r.ok()) return r.status();
     region = mosaic::MapRegion{(*r)[0], (*r)[1], (*r)[2], (*r)[3]};
   }
@@ -122,15 +123,18 @@ Status RunExport(const ExportArgs& args) {
                rect->x + rect->width, rect->y, rect->y + rect->height);
   // Georeference beside it: the world file always, the Nav2 map.yaml on request.
   const std::string world = mosaic::WorldFilePath(args.out);
-  FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(world, mosaic::WorldFileText(layout, args.level, *rect)));
+  FLEETLOC_RETURN_IF_ERROR(
+      io::WriteFileAtomically(world, mosaic::WorldFileText(layout, args.level, *rect)));
   spdlog::info("wrote {} (world file: map coordinates of the pixels)", world);
   if (!args.nav2_yaml.empty()) {
     // The image as Nav2 finds it: relative to the yaml's directory when beside it.
     namespace fs = std::filesystem;
-    const fs::path image = fs::absolute(args.out), yaml_dir = fs::absolute(args.nav2_yaml).parent_path();
-    const std::string ref = image.parent_path() == yaml_dir ? image.filename().string() : image.string();
-    FLEETLOC_RETURN_IF_ERROR(
-        io::WriteFileAtomically(args.nav2_yaml, mosaic::Nav2MapYaml(layout, args.level, *rect, ref)));
+    const fs::path image = fs::absolute(args.out),
+                   yaml_dir = fs::absolute(args.nav2_yaml).parent_path();
+    const std::string ref =
+        image.parent_path() == yaml_dir ? image.filename().string() : image.string();
+    FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(
+        args.nav2_yaml, mosaic::Nav2MapYaml(layout, args.level, *rect, ref)));
     spdlog::info("wrote {} (Nav2 map_server)", args.nav2_yaml);
   }
   return Status::Ok();
@@ -149,11 +153,13 @@ Status RunExportMbtiles(const MbtilesArgs& args) {
   std::shared_ptr<mosaic::TileStore> store = std::move(opened).value();
   const mosaic::MosaicLayout layout = store->layout();
   // A tile needs about one tile of the source level (a few when it straddles tile borders).
-  const std::size_t cache_bytes = 16 * static_cast<std::size_t>(layout.tile_size_px) * layout.tile_size_px;
+  const std::size_t cache_bytes =
+      16 * static_cast<std::size_t>(layout.tile_size_px) * layout.tile_size_px;
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(cache_bytes));
   runtime::PercentLog progress("export-mbtiles " + args.out, "tiles", 10);
-  Result<mosaic::MbtilesPlan> plan = mosaic::ExportMbtiles(view, args.options, args.out, std::ref(progress));
+  Result<mosaic::MbtilesPlan> plan =
+      mosaic::ExportMbtiles(view, args.options, args.out, std::ref(progress));
   if (!plan.ok()) return Status(plan.status().code(), args.mosaic + ": " + plan.status().message());
   if (view.missing_tiles() + view.unreadable_tiles() > 0) {
     spdlog::warn("{}: {} missing and {} unreadable tiles exported as black", args.mosaic,
@@ -248,7 +254,8 @@ void RegisterMosaicExportCommand(CLI::App& mosaic, Status* result) {
   cmd->add_option("--level", args->level, "Pyramid level (0 = full resolution)");
   cmd->add_option("--region", args->region, "Map region x0,y0,x1,y1 in metres (default: all)");
   cmd->add_option("--nav2-yaml", args->nav2_yaml,
-                  "Also write a Nav2/ROS map_server map.yaml for the image (a world file is always written beside it)");
+                  "Also write a Nav2/ROS map_server map.yaml for the image (a world file is always "
+                  "written beside it)");
   cmd->callback([args, result] { *result = RunExport(*args); });
 }
 

@@ -59,9 +59,10 @@ struct PruneArgs {
 };
 
 Status RunPrune(const PruneArgs& a) {
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  Result<mosaic::PruneResult> r =
-      mosaic::PruneMosaic(a.mosaic, {a.keep_versions, a.patch_days * 86400, a.unfolded_days * 86400}, now, a.vacuum);
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  Result<mosaic::PruneResult> r = mosaic::PruneMosaic(
+      a.mosaic, {a.keep_versions, a.patch_days * 86400, a.unfolded_days * 86400}, now, a.vacuum);
   if (!r.ok()) return r.status();
   const nlohmann::json out = {{"mosaic_version", r->mosaic_version},
                               {"oldest_version_kept", r->oldest_version_kept},
@@ -77,17 +78,22 @@ Status RunPrune(const PruneArgs& a) {
 
 void RegisterMosaicPruneCommand(CLI::App& mosaic, Status* result) {
   auto a = std::make_shared<PruneArgs>();
-  CLI::App* cmd = mosaic.add_subcommand(
-      "prune", "Delete tile versions older than the last kept ones, and old folded, refused or stale patches");
+  CLI::App* cmd = mosaic.add_subcommand("prune",
+                                        "Delete tile versions older than the last kept ones, and "
+                                        "old folded, refused or stale patches");
   cmd->option_defaults()->always_capture_default();
   cmd->add_option("MOSAIC", a->mosaic, "Mosaic file")->required();
-  cmd->add_option("--keep-versions", a->keep_versions, "Mosaic versions whose tiles stay (the current one included)")
+  cmd->add_option("--keep-versions", a->keep_versions,
+                  "Mosaic versions whose tiles stay (the current one included)")
       ->check(CLI::Range(1, 1 << 30));
-  cmd->add_option("--patch-retention-days", a->patch_days, "Folded and refused patches older than this go")
+  cmd->add_option("--patch-retention-days", a->patch_days,
+                  "Folded and refused patches older than this go")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--unfolded-retention-days", a->unfolded_days, "Patches never folded older than this go")
+  cmd->add_option("--unfolded-retention-days", a->unfolded_days,
+                  "Patches never folded older than this go")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--vacuum", a->vacuum, "Also give the freed space back to the file system (rewrites the file)");
+  cmd->add_flag("--vacuum", a->vacuum,
+                "Also give the freed space back to the file system (rewrites the file)");
   cmd->callback([a, result] { *result = RunPrune(*a); });
 }
 
@@ -105,8 +111,8 @@ Status RunRollback(const RollbackArgs& a) {
   if (!r.ok()) return r.status();
   nlohmann::json tiles = nlohmann::json::array();
   for (const mosaic::TileKey& key : r->tiles) tiles.push_back(mosaic::ToString(key));
-  const nlohmann::json out = {{"from_version", r->from_version}, {"to_version", r->to_version},
-                              {"new_version", r->new_version},   {"dry_run", a.dry_run},
+  const nlohmann::json out = {{"from_version", r->from_version},  {"to_version", r->to_version},
+                              {"new_version", r->new_version},    {"dry_run", a.dry_run},
                               {"tiles_changed", r->tiles.size()}, {"tiles", tiles}};
   std::cout << out.dump(2) << "\n";
   return Status::Ok();

@@ -59,9 +59,10 @@ Result<nlohmann::json> SelfSimilarityJson(mapmatch::Relocalizer& relocalizer,
                       {"twin_correlation", p.twin_correlation}});
   }
   if (!places.empty()) {
-    spdlog::warn("the floor repeats itself: {} of {} sampled places have a twin (relocalization "
-                 "there is refused as ambiguous)",
-                 places.size(), report->sampled);
+    spdlog::warn(
+        "the floor repeats itself: {} of {} sampled places have a twin (relocalization "
+        "there is refused as ambiguous)",
+        places.size(), report->sampled);
   }
   return nlohmann::json{{"sampled", report->sampled}, {"ambiguous", places}, {"seconds", seconds}};
 }
@@ -92,9 +93,9 @@ Status RunReloc(const RelocArgs& args) {
   if (!index.ok() && index.status().code() != StatusCode::kInvalidInput) return index.status();
   if (!index.ok())
     spdlog::warn("{}; relocalizing by the dense place search alone", index.status().message());
-  auto relocalizer = mapmatch::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view,
-                                                   run->camera.model,
-                                                   mapmatch::RelocalizerOptions{});
+  auto relocalizer =
+      mapmatch::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view, run->camera.model,
+                                    mapmatch::RelocalizerOptions{});
   if (!relocalizer.ok()) {
     if (index.ok()) return relocalizer.status();
     return InvalidInput(index.status().message() + "; and " + relocalizer.status().message());
@@ -113,8 +114,7 @@ Status RunReloc(const RelocArgs& args) {
   json["index"] = index.ok() ? nlohmann::json{{"features", index->index.size()},
                                               {"from_cache", index->from_cache},
                                               {"seconds", index->seconds}}
-                             : nlohmann::json{{"features", 0},
-                                              {"error", index.status().message()}};
+                             : nlohmann::json{{"features", 0}, {"error", index.status().message()}};
   if (result->found && args.frame < static_cast<int>(run->truth.size()))
     json["error"] = TruthError(*run, args.frame, result->base_in_map.pose);
   std::cout << json.dump(2) << "\n";

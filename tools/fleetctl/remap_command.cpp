@@ -128,7 +128,7 @@ Status RunRemap(const RemapArgs& a) {
                                            std::chrono::duration<double>(a.timeout_s));
   Result<std::vector<std::string>> servers = WaitForServers(client->get(), a, deadline);
   if (!servers.ok()) return servers.status();
-  const RemapRequest request{a.region[0], a.region[1], a.region[2], a.region[3],
+  const RemapRequest request{a.region[0],         a.region[1], a.region[2], a.region[3],
                              a.mode == "replace", a.mosaic_id, "fleetctl"};
   Result<uint64_t> id = (*client)->Send(request);
   if (!id.ok()) return id.status();
@@ -191,7 +191,8 @@ void RegisterRemapCommand(CLI::App& app, Status* result) {
   remap->add_option("--mosaic-id", a->mosaic_id, "Mosaic id (default: the one the server serves)");
   remap->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
   remap->add_option("--dds-config", a->dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  remap->add_option("--timeout", a->timeout_s, "Seconds to wait for the job")->check(CLI::PositiveNumber);
+  remap->add_option("--timeout", a->timeout_s, "Seconds to wait for the job")
+      ->check(CLI::PositiveNumber);
   remap->add_flag("--dry-run", a->dry_run,
                   "Preview the job on --mosaic FILE: the tiles it would change and what it would "
                   "fold and refuse; writes nothing, needs no DDS");

@@ -27,8 +27,10 @@ nlohmann::json MosaicInfoJson(const fleetloc_MosaicInfo& i) {
           {"origin_y", i.origin_y},
           {"tile_encoding", GetBounded(i.tile_encoding)},
           {"owned_tiles",
-           {{"col_begin", i.owned_col_begin}, {"col_end", i.owned_col_end},
-            {"row_begin", i.owned_row_begin}, {"row_end", i.owned_row_end}}},
+           {{"col_begin", i.owned_col_begin},
+            {"col_end", i.owned_col_end},
+            {"row_begin", i.owned_row_begin},
+            {"row_end", i.owned_row_end}}},
           {"wire_version", i.wire_version},
           {"stamp", transport::ToSeconds(i.stamp)}};
 }

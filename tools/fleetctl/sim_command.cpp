@@ -220,8 +220,9 @@ void AddMotionOptions(CLI::App* sim, SimArgs* a) {
   sim->add_option("--min-floor-overlap", o.route.min_floor_overlap_fraction,
                   "Share of every frame that must lie on the floor");
   sim->add_option("--start-fraction", o.route.start_fraction, "Start point along the route (0..1)");
-  sim->add_option("--kidnap-at", o.kidnap.at_s,
-                  "Kidnap the vehicle this many seconds after the start (frames jump, odometry does not)");
+  sim->add_option(
+      "--kidnap-at", o.kidnap.at_s,
+      "Kidnap the vehicle this many seconds after the start (frames jump, odometry does not)");
   sim->add_option("--kidnap-jump", o.kidnap.jump_fraction, "How far it is carried, in laps (0..1)");
 }
 

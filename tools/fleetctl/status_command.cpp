@@ -45,11 +45,13 @@ double Now() {
 
 void PrintTable(const nlohmann::json& out) {
   const nlohmann::json& s = out["summary"];
-  const std::string where = out.contains("supervisor") ? "from supervisor " + out["supervisor"].get<std::string>()
-                                                       : "on domain " + std::to_string(out["domain"].get<int>());
-  std::printf("fleet %s: %d vehicles (%d tracking, %d coasting, %d lost, %d relocalized, %d stale)\n",
-              where.c_str(), s["vehicles"].get<int>(), s["tracking"].get<int>(), s["coasting"].get<int>(),
-              s["lost"].get<int>(), s["relocalized"].get<int>(), s["silent"].get<int>());
+  const std::string where = out.contains("supervisor")
+                                ? "from supervisor " + out["supervisor"].get<std::string>()
+                                : "on domain " + std::to_string(out["domain"].get<int>());
+  std::printf(
+      "fleet %s: %d vehicles (%d tracking, %d coasting, %d lost, %d relocalized, %d stale)\n",
+      where.c_str(), s["vehicles"].get<int>(), s["tracking"].get<int>(), s["coasting"].get<int>(),
+      s["lost"].get<int>(), s["relocalized"].get<int>(), s["silent"].get<int>());
   for (const nlohmann::json& m : out["mosaics"]) {
     std::printf("mosaic %s version %lld from %s\n", m["mosaic_id"].get<std::string>().c_str(),
                 m["version"].get<long long>(), m["server_id"].get<std::string>().c_str());
@@ -58,19 +60,23 @@ void PrintTable(const nlohmann::json& out) {
     std::printf("service %-11s %-16s %s\n", sv["id"].get<std::string>().c_str(),
                 sv["kind"].get<std::string>().c_str(), sv["level"].get<std::string>().c_str());
   }
-  std::printf("%-11s %-11s %10s %10s %8s %7s %8s %-6s %s\n", "vehicle", "lock", "x m", "y m", "theta", "sigma mm",
-              "p95 ms", "health", "issues");
+  std::printf("%-11s %-11s %10s %10s %8s %7s %8s %-6s %s\n", "vehicle", "lock", "x m", "y m",
+              "theta", "sigma mm", "p95 ms", "health", "issues");
   for (const nlohmann::json& v : out["vehicles"]) {
     const nlohmann::json& p = v["pose"];
     const nlohmann::json& h = v["health"];
     std::string issues;
     if (!h.is_null()) {
-      for (const auto& issue : h["issues"]) issues += (issues.empty() ? "" : ",") + issue.get<std::string>();
+      for (const auto& issue : h["issues"])
+        issues += (issues.empty() ? "" : ",") + issue.get<std::string>();
     }
-    const std::string lock = v.value("silent", false) ? "STALE" : p.is_null() ? "-" : p["lock"].get<std::string>();
-    std::printf("%-11s %-11s %10.4f %10.4f %8.3f %7.2f %8.2f %-6s %s\n", v["id"].get<std::string>().c_str(),
-                lock.c_str(), p.is_null() ? 0.0 : p["x"].get<double>(),
-                p.is_null() ? 0.0 : p["y"].get<double>(), p.is_null() ? 0.0 : p["theta"].get<double>(),
+    const std::string lock = v.value("silent", false) ? "STALE"
+                             : p.is_null()            ? "-"
+                                                      : p["lock"].get<std::string>();
+    std::printf("%-11s %-11s %10.4f %10.4f %8.3f %7.2f %8.2f %-6s %s\n",
+                v["id"].get<std::string>().c_str(), lock.c_str(),
+                p.is_null() ? 0.0 : p["x"].get<double>(), p.is_null() ? 0.0 : p["y"].get<double>(),
+                p.is_null() ? 0.0 : p["theta"].get<double>(),
                 p.is_null() ? 0.0 : p["deviation_m"].get<double>() * 1e3 / 3,
                 h.is_null() ? 0.0 : h["cycle_ms"][1].get<double>(),
                 h.is_null() ? "-" : h["level"].get<std::string>().c_str(), issues.c_str());
@@ -88,12 +94,17 @@ Result<nlohmann::json> SupervisorStatus(const std::string& url) {
   client.set_connection_timeout(5);
   client.set_read_timeout(10);
   httplib::Result r = client.Get("/api/fleet");
-  if (!r) return Internal("supervisor " + url + " did not answer: " + httplib::to_string(r.error()));
+  if (!r)
+    return Internal("supervisor " + url + " did not answer: " + httplib::to_string(r.error()));
   nlohmann::json body = nlohmann::json::parse(r->body, nullptr, false);
-  if (r->status != 200 || !body.is_object() || !body.contains("summary") || !body.contains("vehicles")) {
-    return Internal("supervisor " + url + " answered GET /api/fleet with HTTP " + std::to_string(r->status));
+  if (r->status != 200 || !body.is_object() || !body.contains("summary") ||
+      !body.contains("vehicles")) {
+    return Internal("supervisor " + url + " answered GET /api/fleet with HTTP " +
+                    std::to_string(r->status));
   }
-  return nlohmann::json{{"supervisor", url}, {"summary", body["summary"]}, {"vehicles", body["vehicles"]},
+  return nlohmann::json{{"supervisor", url},
+                        {"summary", body["summary"]},
+                        {"vehicles", body["vehicles"]},
                         {"services", body.value("services", nlohmann::json::array())},
                         {"mosaics", nlohmann::json::array()}};
 }
@@ -120,7 +131,8 @@ Status RunStatus(const StatusArgs& a) {
   if (!listener.ok()) return listener.status();
   auto info_topic = Topic<fleetloc_MosaicInfo>::Create(*participant, topics::kMosaicInfo);
   if (!info_topic.ok()) return info_topic.status();
-  auto infos = Reader<fleetloc_MosaicInfo>::Create(participant->get(), *info_topic, DurableStateQos());
+  auto infos =
+      Reader<fleetloc_MosaicInfo>::Create(participant->get(), *info_topic, DurableStateQos());
   if (!infos.ok()) return infos.status();
   fleet::FleetState fleet({}, {});
   std::map<std::string, std::pair<fleet_link::ServiceReport, double>> services;
@@ -140,12 +152,17 @@ Status RunStatus(const StatusArgs& a) {
     });
   } while (std::chrono::steady_clock::now() < end);
   (void)fleet.Evaluate(Now());  // vehicles heard at the start but not since are STALE (silent_s)
-  nlohmann::json out = {{"domain", a.domain}, {"summary", fleet_link::SummaryJson(fleet.Summary())},
-                        {"vehicles", nlohmann::json::array()}, {"services", nlohmann::json::array()},
+  nlohmann::json out = {{"domain", a.domain},
+                        {"summary", fleet_link::SummaryJson(fleet.Summary())},
+                        {"vehicles", nlohmann::json::array()},
+                        {"services", nlohmann::json::array()},
                         {"mosaics", nlohmann::json::array()}};
-  fleet.ForEach([&](const fleet::VehicleState& v) { out["vehicles"].push_back(fleet_link::VehicleJson(v, fleet.Silent(v.id), false)); });
+  fleet.ForEach([&](const fleet::VehicleState& v) {
+    out["vehicles"].push_back(fleet_link::VehicleJson(v, fleet.Silent(v.id), false));
+  });
   for (const auto& [id, entry] : services) {
-    out["services"].push_back({{"id", id}, {"kind", entry.first.kind},
+    out["services"].push_back({{"id", id},
+                               {"kind", entry.first.kind},
                                {"level", fleet::HealthLevelName(entry.first.level)},
                                {"counters", entry.first.counters}});
   }
@@ -158,15 +175,18 @@ Status RunStatus(const StatusArgs& a) {
 
 void RegisterStatusCommand(CLI::App& app, Status* result) {
   auto a = std::make_shared<StatusArgs>();
-  CLI::App* status = app.add_subcommand("status", "Fleet summary from the running fleet (over DDS)");
+  CLI::App* status =
+      app.add_subcommand("status", "Fleet summary from the running fleet (over DDS)");
   status->option_defaults()->always_capture_default();
   status->add_option("--domain", a->domain, "DDS domain")->check(CLI::Range(0, 232));
   status->add_option("--dds-config", a->dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  status->add_option("--wait", a->wait_s, "Seconds to listen before printing")->check(CLI::Range(0.1, 600.0));
+  status->add_option("--wait", a->wait_s, "Seconds to listen before printing")
+      ->check(CLI::Range(0.1, 600.0));
   status->add_flag("--json", a->json, "Print JSON instead of a table");
-  status->add_option("--supervisor", a->supervisor,
-                     "Ask this fleet supervisor (e.g. http://127.0.0.1:8080) instead of listening to DDS: "
-                     "every vehicle it knows, silent ones shown STALE");
+  status->add_option(
+      "--supervisor", a->supervisor,
+      "Ask this fleet supervisor (e.g. http://127.0.0.1:8080) instead of listening to DDS: "
+      "every vehicle it knows, silent ones shown STALE");
   status->callback([a, result] { *result = RunStatus(*a); });
 }
 

@@ -36,8 +36,9 @@ Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const 
       mosaic::TileStore::Open(mosaic_path, mosaic::OpenMode::kReadOnly);
   if (!opened.ok()) return opened.status();
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
-  FLEETLOC_RETURN_IF_ERROR(tracking::CheckCameraResolution(
-      run.camera.model.resolution_m, store->layout().geo.resolution, (run.dir / "run.json").string() + " (its camera)"));
+  FLEETLOC_RETURN_IF_ERROR(
+      tracking::CheckCameraResolution(run.camera.model.resolution_m, store->layout().geo.resolution,
+                                      (run.dir / "run.json").string() + " (its camera)"));
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(cache_mb << 20));
   tracking::MosaicTracker tracker(options, run.camera.model, &view);
@@ -68,8 +69,8 @@ std::string FramesCsv(const replay::ReplayResult& replayed) {
         f.rms_residual_px, f.search_radius_px, f.select_ms, f.coarse_ms, f.fine_ms, f.direct_ms,
         tracking::DirectUseName(f.direct), f.direct_reason, f.direct_correlation,
         f.direct_coarse_correlation, f.direct_peak_ratio, f.direct_chi2, replayed.cycle_ms[i],
-        f.polish_ms, f.polished ? 1 : 0, f.direct_peak_z,
-        f.direct_sigma_px, f.view_blur_px, f.direct_searches, f.direct_iterations);
+        f.polish_ms, f.polished ? 1 : 0, f.direct_peak_z, f.direct_sigma_px, f.view_blur_px,
+        f.direct_searches, f.direct_iterations);
   }
   return csv;
 }

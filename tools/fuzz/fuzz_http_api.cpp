@@ -35,8 +35,10 @@ Server* StartServer() {
   s->config.http_port = 0;
   s->config.supervisor_id = "sup-fuzz";
   s->history = std::move(HistoryStore::Open((fuzz::ScratchDir() / "history.db").string())).value();
-  s->fleet = std::make_unique<SharedFleet>(s->config.alerts, s->config.trail, s->config.history_period_s);
-  s->participant = std::make_unique<transport::Participant>(transport::Participant::Create(kDomain).value());
+  s->fleet =
+      std::make_unique<SharedFleet>(s->config.alerts, s->config.trail, s->config.history_period_s);
+  s->participant =
+      std::make_unique<transport::Participant>(transport::Participant::Create(kDomain).value());
   s->tiles = std::make_unique<OverviewTiles>(
       std::move(transport::TileClient::Create(*s->participant, s->config.supervisor_id)).value(),
       std::size_t{4} << 20, std::chrono::milliseconds(1), 0);

@@ -14,7 +14,8 @@
 namespace fleetloc::fuzz {
 
 // The input cut at each "\n--\n" into at most `n` parts (missing parts are empty).
-inline std::vector<std::string> SplitParts(const std::uint8_t* data, std::size_t size, std::size_t n) {
+inline std::vector<std::string> SplitParts(const std::uint8_t* data, std::size_t size,
+                                           std::size_t n) {
   std::vector<std::string> parts;
   std::string_view rest(reinterpret_cast<const char*>(data), size);
   while (parts.size() + 1 < n) {
@@ -31,7 +32,8 @@ inline std::vector<std::string> SplitParts(const std::uint8_t* data, std::size_t
 // A directory of this process under /dev/shm (or the temp dir), emptied for each input.
 inline std::filesystem::path ScratchDir() {
   static const std::filesystem::path dir = [] {
-    std::filesystem::path base = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+    std::filesystem::path base =
+        std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
     return base / ("fleetloc_fuzz_" + std::to_string(::getpid()));
   }();
   std::error_code ec;

@@ -26,7 +26,8 @@ void FuzzPatch(FuzzedDataProvider& in) {
   p.quality = in.ConsumeFloatingPoint<float>();
   p.resolution = in.ConsumeBool() ? 0.0005 : in.ConsumeFloatingPoint<double>();
   transport::SetBounded(p.encoding, in.ConsumeBool() ? "png" : in.ConsumeRandomLengthString(20));
-  const std::vector<std::uint8_t> image = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, 1 << 16));
+  const std::vector<std::uint8_t> image =
+      in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, 1 << 16));
   p.image = transport::BorrowOctets(image);
   mosaic::MosaicLayout layout;
   layout.mosaic_id = "fuzz";
@@ -41,7 +42,8 @@ void FuzzChunks(FuzzedDataProvider& in) {
     fleetloc_PlaceIndexChunk c{};
     c.wire_version =
         in.ConsumeBool() ? fleetloc_CURRENT_WIRE_VERSION : in.ConsumeIntegral<std::uint16_t>();
-    transport::SetBounded(c.server_id, in.ConsumeBool() ? "ms-1" : in.ConsumeRandomLengthString(12));
+    transport::SetBounded(c.server_id,
+                          in.ConsumeBool() ? "ms-1" : in.ConsumeRandomLengthString(12));
     c.chunk = in.ConsumeIntegralInRange<std::uint32_t>(0, 8);
     transport::SetBounded(c.mosaic_id, "fuzz");
     c.mosaic_version = in.ConsumeIntegralInRange<std::int64_t>(0, 3);
@@ -49,7 +51,8 @@ void FuzzChunks(FuzzedDataProvider& in) {
     c.chunk_count = in.ConsumeIntegralInRange<std::uint32_t>(0, 8);
     c.blob_bytes = in.ConsumeBool() ? in.ConsumeIntegralInRange<std::uint64_t>(0, 4096)
                                     : in.ConsumeIntegral<std::uint64_t>();
-    const std::vector<std::uint8_t> data = in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, 1024));
+    const std::vector<std::uint8_t> data =
+        in.ConsumeBytes<std::uint8_t>(in.ConsumeIntegralInRange<std::size_t>(0, 1024));
     c.data = transport::BorrowOctets(data);
     (void)assembler.Add(c);
   }

@@ -12,8 +12,8 @@
 #include "geometry/camera_model.h"
 #include "mosaic/raster_source.h"
 #include "tracking/frame_localizer.h"
-#include "tracking/internal_estimate.h"
 #include "tracking/frame_mosaic_warp.h"
+#include "tracking/internal_estimate.h"
 #include "tracking/pose_update.h"
 #include "tracking/tracker_options.h"
 

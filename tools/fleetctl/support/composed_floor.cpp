@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <span>
 
-#include "support/floor_images.h"
 #include "mosaic/row_image_io.h"
 #include "runtime/progress_log.h"
+#include "support/floor_images.h"
 
 namespace fleetloc::fleetctl {
 namespace {

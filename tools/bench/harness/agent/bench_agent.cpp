@@ -9,9 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/common/bench_paths.h"
-#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
+#include "runtime/child_process.h"
 #include "support/tracker_summary.h"
 
 namespace fleetloc::bench {
@@ -25,7 +25,8 @@ Status RunSibling(const std::string& program, const std::vector<std::string>& ar
   auto child = runtime::ChildProcess::Start(runtime::ExecutableDir() + "/" + program, args, log);
   if (!child.ok()) return child.status();
   const int status = child->Wait(limit);
-  if (status != 0) return Internal(program + " failed (exit " + std::to_string(status) + "), see " + log);
+  if (status != 0)
+    return Internal(program + " failed (exit " + std::to_string(status) + "), see " + log);
   return Status::Ok();
 }
 
@@ -34,12 +35,14 @@ Status RunSibling(const std::string& program, const std::vector<std::string>& ar
 Status RunAgentBench(const AgentBenchSettings& s) {
   const std::string work = io::AbsoluteDir(s.work_dir).string();
   fs::create_directories(work);
-  Result<std::string> mosaic = EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
+  Result<std::string> mosaic =
+      EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
   if (!mosaic.ok()) return mosaic.status();
   const std::string run_dir = work + "/run";
   spdlog::info("bench agent: simulating {} frames", s.frames);
-  FLEETLOC_RETURN_IF_ERROR(RunSibling("fleetctl", {"sim", "--mosaic", *mosaic, "--frames", std::to_string(s.frames),
-                                                   "--out", run_dir, "--overwrite"},
+  FLEETLOC_RETURN_IF_ERROR(RunSibling("fleetctl",
+                                      {"sim", "--mosaic", *mosaic, "--frames",
+                                       std::to_string(s.frames), "--out", run_dir, "--overwrite"},
                                       work + "/sim.log", std::chrono::seconds(1800)));
   Result<io::Run> run = io::ReadRun(run_dir);
   if (!run.ok()) return run.status();
@@ -54,10 +57,11 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   const std::string summary_path = work + "/agent_summary.json";
   fs::remove(summary_path);
   fs::remove(work + "/outbox.db");
-  FLEETLOC_RETURN_IF_ERROR(RunSibling(
-      "tracker_agent", {"--run", run_dir, "--domain", std::to_string(s.domain), "--fast",
-                        "--vehicle-id", "bench", "--outbox", work + "/outbox.db", "--summary", summary_path},
-      work + "/agent.log", std::chrono::seconds(3600)));
+  FLEETLOC_RETURN_IF_ERROR(
+      RunSibling("tracker_agent",
+                 {"--run", run_dir, "--domain", std::to_string(s.domain), "--fast", "--vehicle-id",
+                  "bench", "--outbox", work + "/outbox.db", "--summary", summary_path},
+                 work + "/agent.log", std::chrono::seconds(3600)));
   server->Stop(SIGTERM);
   Result<std::string> text = io::ReadFileText(summary_path);
   if (!text.ok()) return text.status();
@@ -66,11 +70,15 @@ Status RunAgentBench(const AgentBenchSettings& s) {
   const double offline_p95 = replay::Percentile(offline->cycle_ms, 95);
   const double live_median = agent["cycle_ms"]["median"], live_p95 = agent["cycle_ms"]["p95"];
   const double ratio = live_median / offline_median;
-  std::printf("\ntracker cycle, same run of %d frames (rock floor, 640x480, 5 Hz at 3000 px/s)\n", s.frames);
+  std::printf("\ntracker cycle, same run of %d frames (rock floor, 640x480, 5 Hz at 3000 px/s)\n",
+              s.frames);
   std::printf("%-34s %8s %10s %10s\n", "path", "frames", "median ms", "p95 ms");
-  std::printf("%-34s %8zu %10.3f %10.3f\n", "offline (fleetctl track replay)", offline->poses.size(), offline_median, offline_p95);
-  std::printf("%-34s %8lld %10.3f %10.3f\n", "live (tracker_agent over DDS)", agent["frames"].get<long long>(), live_median, live_p95);
-  std::printf("live / offline median: %.3f -> %s\n", ratio, ratio <= 1.10 ? "within 10 %" : "NOT within 10 %");
+  std::printf("%-34s %8zu %10.3f %10.3f\n", "offline (fleetctl track replay)",
+              offline->poses.size(), offline_median, offline_p95);
+  std::printf("%-34s %8lld %10.3f %10.3f\n", "live (tracker_agent over DDS)",
+              agent["frames"].get<long long>(), live_median, live_p95);
+  std::printf("live / offline median: %.3f -> %s\n", ratio,
+              ratio <= 1.10 ? "within 10 %" : "NOT within 10 %");
   std::printf("agent tiles: %s\n", agent["tiles"].dump().c_str());
   if (s.json.empty()) return Status::Ok();
   const nlohmann::json out{{"frames", s.frames},

@@ -13,14 +13,14 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "harness/common/bench_paths.h"
 #include "camera_io/camera_source.h"
-#include "support/floor_images.h"
-#include "runtime/child_process.h"
+#include "harness/common/bench_paths.h"
 #include "io/file_util.h"
 #include "live_sim/live_vehicle_sim.h"
-#include "tracker_agent/ros_bridge.h"
+#include "runtime/child_process.h"
+#include "support/floor_images.h"
 #include "support/tracker_summary.h"
+#include "tracker_agent/ros_bridge.h"
 #include "transport/pose_messages.h"
 #include "transport/ros_messages.h"
 #include "transport/topic_names.h"
@@ -69,11 +69,11 @@ nlohmann::json AgentConfig(const LiveAgentBenchSettings& s, const std::string& w
   } else {  // aravissrc's PTS: the camera's clock, or the buffer's creation (do-timestamp)
     const bool device = s.gstreamer_timestamps == "device";
     config["gstreamer"] = {
-        {"pipeline",
-         std::string("aravissrc camera-name=127.0.0.1") + (device ? "" : " do-timestamp=true") +
-             " ! video/x-raw,format=GRAY8,width=640,height=480,framerate=" +
-             std::to_string(static_cast<int>(s.rate_hz)) +
-             "/1 ! appsink max-buffers=2 drop=true sync=false"},
+        {"pipeline", std::string("aravissrc camera-name=127.0.0.1") +
+                         (device ? "" : " do-timestamp=true") +
+                         " ! video/x-raw,format=GRAY8,width=640,height=480,framerate=" +
+                         std::to_string(static_cast<int>(s.rate_hz)) +
+                         "/1 ! appsink max-buffers=2 drop=true sync=false"},
         {"timestamps", device ? "device" : "buffer"}};
   }
   return config;
@@ -148,7 +148,8 @@ Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::Pla
   if (!init_writer.ok()) return init_writer.status();
   // The agent's own pose stream carries the lock state (the ROS 2 pose does not): every pose it
   // publishes, frame-time and odometry-rate, is checked against the truth by state.
-  auto fleet_topic = transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
+  auto fleet_topic =
+      transport::Topic<fleetloc_VehiclePose>::Create(p, transport::topics::kVehiclePose);
   if (!fleet_topic.ok()) return fleet_topic.status();
   auto fleet_reader = transport::VehicleStreamReader<fleetloc_VehiclePose>::Create(
       p, *fleet_topic, transport::Qos().Reliable().Volatile().KeepLast(5000));
@@ -188,13 +189,13 @@ Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::Pla
 
 // The live run against the truth and the offline tracker.
 struct LiveOutcome {
-  nlohmann::json summary;            // the agent's --summary
-  std::vector<double> live_errors;   // of the frames' ROS 2 poses, m
-  double stamp_offset_ms = 0;        // median pose stamp − true capture time
+  nlohmann::json summary;                              // the agent's --summary
+  std::vector<double> live_errors;                     // of the frames' ROS 2 poses, m
+  double stamp_offset_ms = 0;                          // median pose stamp − true capture time
   nlohmann::json by_state = nlohmann::json::object();  // the agent's pose stream by lock state
   long long false_locks = 0;
-  replay::Accuracy accuracy;         // the offline tracker's
-  double live_rms = 0, ratio = 0;    // live, and live / offline
+  replay::Accuracy accuracy;       // the offline tracker's
+  double live_rms = 0, ratio = 0;  // live, and live / offline
 };
 
 // The frames' ROS 2 poses against the truth: errors, and the stamps' median offset.
@@ -212,8 +213,8 @@ void CompareFramePoses(const std::map<double, geometry::Pose2>& poses, live_sim:
 }
 
 // Lock states vs truth: a frame's pose against the truth of the planned frame nearest its
-// stamp, an odometry-rate pose against the truth at its time. A tracked or relocalized frame pose more
-// than kFalseLockM from the truth is a false lock.
+// stamp, an odometry-rate pose against the truth at its time. A tracked or relocalized frame pose
+// more than kFalseLockM from the truth is a false lock.
 constexpr double kFalseLockM = 0.002;
 
 // The agent's pose stream against the truth, by lock state (and written to
@@ -248,18 +249,20 @@ void CompareLockStates(const HeardPoses& heard, live_sim::PlannedDrive& d, const
     if (e.is_null()) e = {{"poses", 0}, {"max_error_m", 0.0}, {"over_1px", 0}};
     e["poses"] = e.value("poses", 0) + 1;
     e["max_error_m"] = std::max(e.value("max_error_m", 0.0), error);
-    e["mean_error_m"] = e.value("mean_error_m", 0.0) + (error - e.value("mean_error_m", 0.0)) / e["poses"].get<double>();
+    e["mean_error_m"] = e.value("mean_error_m", 0.0) +
+                        (error - e.value("mean_error_m", 0.0)) / e["poses"].get<double>();
     e["max_error_shifted_m"] = std::max(e.value("max_error_shifted_m", 0.0), error_shifted);
     if (error > 0.0005) e["over_1px"] = e.value("over_1px", 0) + 1;
-    if (at_frame && error > kFalseLockM && (r.state == tracking::LockState::kTracking ||
-                                            r.state == tracking::LockState::kRelocalized)) {
+    if (at_frame && error > kFalseLockM &&
+        (r.state == tracking::LockState::kTracking ||
+         r.state == tracking::LockState::kRelocalized)) {
       ++o->false_locks;
       spdlog::warn("false lock: {} pose at t={:.3f} is {:.1f} mm from the truth",
                    tracking::LockStateName(r.state), r.t, error * 1000);
     }
-    pose_log += fmt::format("{:.6f},{},{},{:.6f},{},{:.6f},{:.6f}\n", r.t,
-                            tracking::LockStateName(r.state), i, r.t - d.frame_t(i),
-                            at_frame ? 1 : 0, error, error_shifted);
+    pose_log +=
+        fmt::format("{:.6f},{},{},{:.6f},{},{:.6f},{:.6f}\n", r.t, tracking::LockStateName(r.state),
+                    i, r.t - d.frame_t(i), at_frame ? 1 : 0, error, error_shifted);
   }
   (void)io::WriteFileAtomically(work + "/live_poses_vs_truth.csv", pose_log);
 }
@@ -280,10 +283,11 @@ void PrintLatency(const nlohmann::json& latency, double p50, double p99, double 
     const nlohmann::json& v = latency["stages"][stage];
     std::printf(" %s %.2f / %.2f ms;", stage, v["p50"].get<double>(), v["p99"].get<double>());
   }
-  std::printf("\npose stamp - true capture time: median %.2f ms (latency above is from the stamp; "
-              "from the true capture: p50 %.2f ms, p99 %.2f ms after the first poses)\n",
-              stamp_offset_ms, latency["steady"]["p50"].get<double>() + stamp_offset_ms,
-              latency["steady"]["p99"].get<double>() + stamp_offset_ms);
+  std::printf(
+      "\npose stamp - true capture time: median %.2f ms (latency above is from the stamp; "
+      "from the true capture: p50 %.2f ms, p99 %.2f ms after the first poses)\n",
+      stamp_offset_ms, latency["steady"]["p50"].get<double>() + stamp_offset_ms,
+      latency["steady"]["p99"].get<double>() + stamp_offset_ms);
 }
 
 void PrintOutcome(const LiveAgentBenchSettings& s, const LiveOutcome& o, size_t reports) {
@@ -296,9 +300,9 @@ void PrintOutcome(const LiveAgentBenchSettings& s, const LiveOutcome& o, size_t 
       "\nlive vehicle: aravis fake GigE Vision camera 640x480 Mono8 at %.0f Hz read by %s, ROS 2 "
       "odometry, %d frames, odometry extrapolation up to %.0f ms\n",
       s.rate_hz,
-      s.source == "aravis"                    ? "the aravis source"
+      s.source == "aravis"                 ? "the aravis source"
       : s.gstreamer_timestamps == "device" ? "aravissrc (gstreamer, the camera's timestamps)"
-                                              : "aravissrc (gstreamer, do-timestamp)",
+                                           : "aravissrc (gstreamer, do-timestamp)",
       s.frames, s.odometry_extrapolation_s * 1000);
   PrintLatency(latency, p50, p99, o.stamp_offset_ms);
   std::printf("frames run on extrapolated odometry: %lld (up to %.2f ms past the newest sample)\n",

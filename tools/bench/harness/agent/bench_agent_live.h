@@ -17,7 +17,7 @@ struct LiveAgentBenchSettings {
   double rate_hz = 10.0;
   int domain = 92;
   std::string json;
-  std::string source = "aravis";  // or "gstreamer" (aravissrc)
+  std::string source = "aravis";           // or "gstreamer" (aravissrc)
   double odometry_extrapolation_s = 0.02;  // the agent's live.odometry_extrapolation_s
   // gstreamer: "device" (aravissrc's PTS, the camera's clock, mapped by gstreamer.timestamps
   // device) or "created" (aravissrc do-timestamp=true: stamped when the buffer is created).

@@ -3,8 +3,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include "support/floor_images.h"
 #include "mosaic/importer.h"
+#include "support/floor_images.h"
 
 namespace fleetloc::bench {
 

@@ -15,8 +15,8 @@ extern char** environ;
 namespace fleetloc::bench {
 
 Result<RerunResult> RunFleetctlChild(const std::vector<std::string>& args,
-                                  const std::filesystem::path& stdout_file,
-                                  const std::filesystem::path& stderr_file) {
+                                     const std::filesystem::path& stdout_file,
+                                     const std::filesystem::path& stderr_file) {
   std::string exe = "/proc/self/exe";
   std::vector<char*> argv{exe.data()};
   std::vector<std::string> copies(args);

@@ -20,7 +20,7 @@ struct RerunResult {
 // Runs `/proc/self/exe <args...>` with stdout and stderr sent to the given files (created or
 // truncated) and waits for it. Internal when it cannot be started.
 Result<RerunResult> RunFleetctlChild(const std::vector<std::string>& args,
-                                  const std::filesystem::path& stdout_file,
-                                  const std::filesystem::path& stderr_file);
+                                     const std::filesystem::path& stdout_file,
+                                     const std::filesystem::path& stderr_file);
 
 }  // namespace fleetloc::bench

@@ -4,6 +4,8 @@
 // so it shows growth stopping at the flooding vehicle's quota. The server is configured with a
 // high patch rate, so the quota is what stops the flood. No assertions: numbers for
 // docs/benchmarks.md.
+#include "harness/map_server/bench_patch_flood.h"
+
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
@@ -15,10 +17,9 @@
 
 #include "harness/common/bench_paths.h"
 #include "harness/tiles/bench_tiles.h"
-#include "harness/map_server/bench_patch_flood.h"
-#include "runtime/child_process.h"
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_codec.h"
+#include "runtime/child_process.h"
 #include "transport/patch_client.h"
 
 namespace fleetloc::bench {
@@ -97,8 +98,7 @@ void PrintFlood(const PatchFloodBenchArgs& a, int vehicles, const TileLatency& i
   std::printf("  alone:        p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
               idle.p50_ms, idle.p99_ms, idle.max_ms, idle.answered, idle.requests);
   std::printf("  during flood: p50 %6.2f ms  p99 %6.2f ms  max %6.2f ms  (%lld of %lld answered)\n",
-              flooded.p50_ms, flooded.p99_ms, flooded.max_ms, flooded.answered,
-              flooded.requests);
+              flooded.p50_ms, flooded.p99_ms, flooded.max_ms, flooded.answered, flooded.requests);
   std::printf(
       "flood: %.0f MB sent in %.1f s (%.1f MB/s), %.1f MB stored (quota %d MB); mosaic file %.1f "
       "-> %.1f MB\n",

@@ -3,6 +3,8 @@
 // resident memory is its own: the job streams the patches (one decoded image at a time, plus the
 // tiles it writes), and for comparison a child that only reads every patch of the region into
 // memory, as jobs did before issue 18. No assertions: numbers for docs/benchmarks.md.
+#include "harness/map_server/bench_remap.h"
+
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -14,11 +16,10 @@
 #include <random>
 
 #include "harness/common/bench_paths.h"
-#include "harness/map_server/bench_remap.h"
-#include "support/floor_images.h"
 #include "harness/common/forked_step.h"
 #include "io/run.h"
 #include "mosaic_upkeep/remap_job.h"
+#include "support/floor_images.h"
 
 namespace fleetloc::bench {
 namespace {

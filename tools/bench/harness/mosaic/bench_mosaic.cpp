@@ -8,9 +8,9 @@
 #include <functional>
 #include <string>
 
-#include "support/composed_floor.h"
 #include "mosaic/importer.h"
 #include "runtime/progress_log.h"
+#include "support/composed_floor.h"
 
 namespace fleetloc::bench {
 namespace {

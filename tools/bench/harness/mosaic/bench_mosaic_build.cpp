@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "harness/common/fleetctl_rerun.h"
 #include "harness/mosaic/bench_mosaic_distortion.h"
 #include "harness/tracker/bench_tracker.h"
-#include "support/floor_images.h"
-#include "harness/common/fleetctl_rerun.h"
 #include "io/file_util.h"
 #include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "support/floor_images.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -64,7 +64,8 @@ Result<Step> RunStep(const std::string& name, const std::vector<std::string>& ar
   return step;
 }
 
-std::vector<std::string> SimArgs(const MosaicBuildBenchArgs& s, const fs::path& out, int frames, int seed) {
+std::vector<std::string> SimArgs(const MosaicBuildBenchArgs& s, const fs::path& out, int frames,
+                                 int seed) {
   return {"sim",
           "--image",
           s.floor,

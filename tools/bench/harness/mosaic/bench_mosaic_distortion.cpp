@@ -55,9 +55,7 @@ Result<mapping::DistortionReport> MeasureBuiltMosaicDistortion(const fs::path& b
   return report;
 }
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 Status RunMosaicDistortionBench(const MosaicDistortionBenchArgs& args) {
   Result<mapping::DistortionReport> report =

@@ -2,6 +2,8 @@
 // 100 Mpx, 1 Gpx) compose a real-texture floor, import it with the real importer (time, peak RSS)
 // and time random tile and block lookups. Progress on stderr; the table and the verdict on stdout;
 // every number as JSON with --json.
+#include "harness/mosaic/run_mosaic_bench.h"
+
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -13,10 +15,9 @@
 
 #include "harness/mosaic/bench_mosaic.h"
 #include "harness/mosaic/bench_mosaic_report.h"
-#include "harness/mosaic/run_mosaic_bench.h"
+#include "io/file_util.h"
 #include "support/composed_floor.h"
 #include "support/floor_images.h"
-#include "io/file_util.h"
 
 namespace fleetloc::bench {
 namespace {

@@ -5,11 +5,11 @@
 #include <opencv2/core/utility.hpp>
 #include <random>
 
-#include "runtime/progress_log.h"
-#include "support/reloc_index.h"
 #include "replay/replay.h"
+#include "runtime/progress_log.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
+#include "support/reloc_index.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -149,7 +149,8 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
     const RelocTrial& t = trials[i];
     if (t.correct) continue;
     nlohmann::json runs = nlohmann::json::array();
-    for (const mapmatch::Relocalization& r : t.runs) runs.push_back(fleetctl::RelocalizationJson(r));
+    for (const mapmatch::Relocalization& r : t.runs)
+      runs.push_back(fleetctl::RelocalizationJson(r));
     failures.push_back({{"trial", i},
                         {"found", t.found},
                         {"error_m", t.error_m},
@@ -205,7 +206,8 @@ AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
   for (const RelocTrial& t : trials) {
     for (const mapmatch::Relocalization& r : t.runs) {
       a.attempt_ms.push_back(Ms(r) + r.trajectory_ms);
-      a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms), a.verify.push_back(r.verify_ms);
+      a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms),
+          a.verify.push_back(r.verify_ms);
       // The dense stages' p50 over the attempts they ran in.
       if (r.dense) a.dense.push_back(r.dense_ms - r.dense_fine_ms);
       if (r.dense_fine) a.dense_fine.push_back(r.dense_fine_ms);
@@ -232,9 +234,9 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
     if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
   }
   const AttemptTimes times = TimesOf(trials);
-  const std::vector<double>&attempt_ms = times.attempt_ms, &detect = times.detect, &match = times.match,
-                           &verify = times.verify, &dense = times.dense, &dense_fine = times.dense_fine,
-                           &trajectory = times.trajectory;
+  const std::vector<double>&attempt_ms = times.attempt_ms, &detect = times.detect,
+        &match = times.match, &verify = times.verify, &dense = times.dense,
+        &dense_fine = times.dense_fine, &trajectory = times.trajectory;
   const double n = static_cast<double>(trials.size());
   const auto pct = [](const std::vector<double>& v) {
     return nlohmann::json{{"p50", replay::Percentile(v, 50)},

@@ -85,20 +85,20 @@ std::string SingleFrame(const nlohmann::json& t) {
 }
 
 void PrintRow(const Cell& cell, const nlohmann::json& t, const nlohmann::json& index) {
-  std::printf("%-18s %-30s %-9s %-6s %-8s %6d %7d %7d %6d %6d %8.0f %8.0f %8.0f %9s\n",
-              cell.floor->floor_class.c_str(), cell.floor->file.c_str(), cell.size.label.c_str(),
-              cell.condition.c_str(), cell.layout.c_str(), t["trials"].get<int>(),
-              t["correct"].get<int>(), t["correct_within_target"].get<int>(),
-              t["wrong_pose"].get<int>(), t["not_found"].get<int>(),
-              t["attempt_ms"]["p95"].get<double>(), t["time_to_correct_pose_ms"]["p95"].get<double>(),
-              index["features"].get<double>(), SingleFrame(t).c_str());
+  std::printf(
+      "%-18s %-30s %-9s %-6s %-8s %6d %7d %7d %6d %6d %8.0f %8.0f %8.0f %9s\n",
+      cell.floor->floor_class.c_str(), cell.floor->file.c_str(), cell.size.label.c_str(),
+      cell.condition.c_str(), cell.layout.c_str(), t["trials"].get<int>(), t["correct"].get<int>(),
+      t["correct_within_target"].get<int>(), t["wrong_pose"].get<int>(), t["not_found"].get<int>(),
+      t["attempt_ms"]["p95"].get<double>(), t["time_to_correct_pose_ms"]["p95"].get<double>(),
+      index["features"].get<double>(), SingleFrame(t).c_str());
   std::fflush(stdout);
 }
 
 void PrintHeader() {
-  std::printf("%-18s %-30s %-9s %-6s %-8s %6s %7s %7s %6s %6s %8s %8s %8s %9s\n", "class",
-              "floor", "size", "cond", "layout", "trials", "correct", "in 1 s", "wrong", "none",
-              "try p95", "pose p95", "features", "1f 1s/wr");
+  std::printf("%-18s %-30s %-9s %-6s %-8s %6s %7s %7s %6s %6s %8s %8s %8s %9s\n", "class", "floor",
+              "size", "cond", "layout", "trials", "correct", "in 1 s", "wrong", "none", "try p95",
+              "pose p95", "features", "1f 1s/wr");
 }
 
 Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
@@ -131,10 +131,14 @@ Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
       index.ok() ? IndexJson(*index, build_s, layout)
                  : nlohmann::json{{"features", 0}, {"error", index.status().message()}};
   PrintRow(cell, stats, index_json);
-  return nlohmann::json{{"class", cell.floor->floor_class}, {"floor", cell.floor->file},
-                        {"split", cell.floor->split},       {"size", cell.size.label},
-                        {"condition", cell.condition},      {"layout", cell.layout},
-                        {"index", index_json},              {"trials", stats}};
+  return nlohmann::json{{"class", cell.floor->floor_class},
+                        {"floor", cell.floor->file},
+                        {"split", cell.floor->split},
+                        {"size", cell.size.label},
+                        {"condition", cell.condition},
+                        {"layout", cell.layout},
+                        {"index", index_json},
+                        {"trials", stats}};
 }
 
 // Per split, class, condition and layout: trials, correct within 1 s, wrong, not found, the
@@ -160,9 +164,10 @@ void PrintSummary(const nlohmann::json& cells, const std::string& split) {
     }
     s.attempt_p95_ms = std::max(s.attempt_p95_ms, t["attempt_ms"]["p95"].get<double>());
   }
-  std::printf("\n-- %s summary: class condition layout: correct within 1 s / trials, wrong, none, "
-              "worst cell's attempt p95 ms; single frame: correct within 1 s, wrong\n",
-              split.c_str());
+  std::printf(
+      "\n-- %s summary: class condition layout: correct within 1 s / trials, wrong, none, "
+      "worst cell's attempt p95 ms; single frame: correct within 1 s, wrong\n",
+      split.c_str());
   for (const auto& [key, s] : sums) {
     std::printf("%-40s %5d/%-5d (%5.1f %%) wrong %d none %d  %6.0f ms  1f %d wrong %d\n",
                 key.c_str(), s.within, s.trials, 100.0 * s.within / s.trials, s.wrong, s.none,

@@ -3,12 +3,13 @@
 // camera pose (DensePlaceSearch::Refine started at the truth), the search's best and second
 // peaks and the best's distance from the truth — the measurement that showed why dust hid the
 // plainest floors at the default levels and not one level finer (docs/benchmarks.md, issue 17).
+#include "harness/reloc/run_dense_probe.h"
+
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <opencv2/core/utility.hpp>
 
-#include "harness/reloc/run_dense_probe.h"
 #include "io/run.h"
 #include "mapmatch/dense_place_search.h"
 #include "mosaic/mosaic_view.h"

@@ -4,6 +4,8 @@
 // process (time, size, peak RSS), load it as the agent would (from the mosaic's cache table), and
 // relocalize sim-rendered frames from random poses: success rate, time to the first correct pose,
 // wrong poses. Progress on stderr; the summary on stdout; every number as JSON with --json.
+#include "harness/reloc/run_reloc_bench.h"
+
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -11,15 +13,14 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core/utility.hpp>
 
+#include "harness/common/forked_step.h"
 #include "harness/reloc/bench_reloc.h"
 #include "harness/reloc/bench_reloc_stress.h"
-#include "harness/reloc/run_reloc_bench.h"
-#include "support/composed_floor.h"
-#include "support/floor_images.h"
-#include "harness/common/forked_step.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
 #include "mosaic_upkeep/place_index_cache.h"
+#include "support/composed_floor.h"
+#include "support/floor_images.h"
 #include "support/reloc_index.h"
 
 namespace fleetloc::bench {
@@ -43,7 +44,8 @@ Result<std::string> PrepareMosaic(const RelocBenchArgs& args) {
   const std::string db = (dir / (stem + ".db")).string();
   if (fs::exists(db)) return db;
   Result<std::vector<fs::path>> photos = fleetctl::ListFloorImages(
-      args.floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(args.floors_dir), "--floors-dir");
+      args.floors_dir.empty() ? fleetctl::DefaultFloorsDir() : fs::path(args.floors_dir),
+      "--floors-dir");
   if (!photos.ok()) return photos.status();
   sim::FloorComposerOptions compose{.width_px = size->width, .height_px = size->height};
   compose.seed = args.trials.seed;

@@ -1,6 +1,8 @@
 // fleetctl bench tracker-stress: every floor of the stress manifest × frame size × condition, each
 // cell a `bench tracker` run (same simulator, scoring and peers); one line per method and cell,
 // the cell's verdict against issue 15's targets, tuning and holdout floors in separate tables.
+#include "harness/stress/run_stress_bench.h"
+
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -10,9 +12,8 @@
 #include <opencv2/core/utility.hpp>
 #include <sstream>
 
-#include "harness/tracker/bench_report.h"
 #include "harness/stress/bench_stress.h"
-#include "harness/stress/run_stress_bench.h"
+#include "harness/tracker/bench_report.h"
 #include "io/file_util.h"
 #include "support/parse_numbers.h"
 

@@ -8,6 +8,8 @@
 #include "mosaic/importer.h"  // Eigen before httplib (<resolv.h> defines `_res`)
 #include <httplib.h>
 // clang-format on
+#include "harness/supervisor/bench_supervisor_abuse.h"
+
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
@@ -18,11 +20,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
-#include "harness/supervisor/bench_supervisor_abuse.h"
 #include "harness/supervisor/http_abuse.h"
-#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "replay/replay.h"
+#include "runtime/child_process.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -142,29 +143,29 @@ void WaitForRemapCommands(httplib::Client& http) {
   }
 }
 
-nlohmann::json AbuseJson(const SupervisorAbuseBenchArgs& a, const AbuseStats& attack, const Phase& idle,
-                         const Phase& attacked, double peak_rss, const nlohmann::json& counters) {
-  return {
-      {"attack",
-       {{"idle", a.abuse.idle},
-        {"streams", a.abuse.streams},
-        {"slow", a.abuse.slow},
-        {"flood_mb", a.abuse.flood_mb},
-        {"connects", attack.connects},
-        {"closed_by_server", attack.closed_by_server},
-        {"streams_answered", attack.streams_answered},
-        {"streams_refused", attack.streams_refused},
-        {"flood_mb_sent", attack.flood_mb_sent}}},
-      {"idle",
-       {{"fleet", idle.fleet.Summary()},
-        {"remap", idle.remap.Summary()},
-        {"max_rss_mb", idle.max_rss_mb}}},
-      {"attacked",
-       {{"fleet", attacked.fleet.Summary()},
-        {"remap", attacked.remap.Summary()},
-        {"max_rss_mb", attacked.max_rss_mb}}},
-      {"supervisor_peak_rss_mb", peak_rss},
-      {"supervisor_counters", counters}};
+nlohmann::json AbuseJson(const SupervisorAbuseBenchArgs& a, const AbuseStats& attack,
+                         const Phase& idle, const Phase& attacked, double peak_rss,
+                         const nlohmann::json& counters) {
+  return {{"attack",
+           {{"idle", a.abuse.idle},
+            {"streams", a.abuse.streams},
+            {"slow", a.abuse.slow},
+            {"flood_mb", a.abuse.flood_mb},
+            {"connects", attack.connects},
+            {"closed_by_server", attack.closed_by_server},
+            {"streams_answered", attack.streams_answered},
+            {"streams_refused", attack.streams_refused},
+            {"flood_mb_sent", attack.flood_mb_sent}}},
+          {"idle",
+           {{"fleet", idle.fleet.Summary()},
+            {"remap", idle.remap.Summary()},
+            {"max_rss_mb", idle.max_rss_mb}}},
+          {"attacked",
+           {{"fleet", attacked.fleet.Summary()},
+            {"remap", attacked.remap.Summary()},
+            {"max_rss_mb", attacked.max_rss_mb}}},
+          {"supervisor_peak_rss_mb", peak_rss},
+          {"supervisor_counters", counters}};
 }
 
 }  // namespace
@@ -206,9 +207,9 @@ Status RunSupervisorAbuseBench(SupervisorAbuseBenchArgs a) {
   abuse.Stop();
   const AbuseStats attack = abuse.stats();
   const double peak_rss = runtime::UsageOf(supervisor->pid()).peak_rss_mb;
-  const nlohmann::json out = AbuseJson(
-      a, attack, idle, attacked, peak_rss,
-      stats ? nlohmann::json::parse(stats->body, nullptr, false) : nlohmann::json());
+  const nlohmann::json out =
+      AbuseJson(a, attack, idle, attacked, peak_rss,
+                stats ? nlohmann::json::parse(stats->body, nullptr, false) : nlohmann::json());
   std::printf(
       "supervisor under %d idle sockets, %d live streams (half never read), %d slow senders and "
       "a %.0f MB header flood (%.0f MB sent, %lld connections)\n",

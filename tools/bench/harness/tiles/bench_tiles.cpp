@@ -13,10 +13,10 @@
 
 #include "harness/common/bench_paths.h"
 #include "harness/tiles/ddsperf_peer.h"
-#include "runtime/child_process.h"
 #include "io/file_util.h"
 #include "mosaic/importer.h"
 #include "replay/replay.h"
+#include "runtime/child_process.h"
 #include "transport/tile_client.h"
 #include "transport/waitset.h"
 
@@ -82,7 +82,8 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   Clock::time_point measuring;
   bool warm = false;
   while (SecondsSince(start) < 1.0 + s.seconds) {
-    if (!warm && SecondsSince(start) >= 1.0) warm = true, measuring = Clock::now(), t.tiles = 0, bytes = 0;
+    if (!warm && SecondsSince(start) >= 1.0)
+      warm = true, measuring = Clock::now(), t.tiles = 0, bytes = 0;
     while (static_cast<int>(outstanding.size()) < s.pipeline) FLEETLOC_RETURN_IF_ERROR(send());
     (void)waitset->Wait(0.01);
     auto tiles = (*client)->TakeTiles();
@@ -119,7 +120,8 @@ Result<TileLatency> MeasureTileLatency(const transport::Participant& participant
   std::map<std::pair<int, uint32_t>, Clock::time_point> sent;
   std::vector<double> latencies_ms;
   std::vector<Clock::time_point> due(vehicles);
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / s.rate_hz));
+  const auto period =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / s.rate_hz));
   const auto start = Clock::now() + std::chrono::seconds(1);  // warm-up: channels opened first
   for (int i = 0; i < vehicles; ++i) {
     FLEETLOC_RETURN_IF_ERROR(fleet[i]->Request(0, "", {keys[0]}));  // opens the reply channel
@@ -143,7 +145,8 @@ Result<TileLatency> MeasureTileLatency(const transport::Participant& participant
       for (const auto& tile : *tiles) {
         const auto it = sent.find({i, tile.request_id});
         if (it == sent.end()) continue;  // warm-up request
-        latencies_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
+        latencies_ms.push_back(
+            std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
         sent.erase(it);
       }
     }
@@ -159,7 +162,8 @@ namespace {
 
 void Print(const Throughput& tp, const DdsperfThroughput& peer, const std::vector<TileLatency>& lat,
            const DdsperfLatency& ping) {
-  std::printf("\ntile streaming, loopback, one map_server process (throughput phase: one vehicle)\n");
+  std::printf(
+      "\ntile streaming, loopback, one map_server process (throughput phase: one vehicle)\n");
   std::printf("%-28s %12s %10s %12s\n", "method", "samples/s", "MB/s", "sample bytes");
   std::printf("%-28s %12.0f %10.1f %12.0f\n", "fleetloc tiles (req/reply)", tp.tiles_per_s,
               tp.megabytes_per_s, tp.mean_tile_bytes);
@@ -182,15 +186,24 @@ nlohmann::json ToJson(const TileBenchSettings& s, const Throughput& tp,
                       const DdsperfLatency& ping) {
   nlohmann::json latency = nlohmann::json::array();
   for (const TileLatency& l : lat) {
-    latency.push_back({{"vehicles", l.vehicles}, {"requests", l.requests}, {"answered", l.answered},
-                       {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}});
+    latency.push_back({{"vehicles", l.vehicles},
+                       {"requests", l.requests},
+                       {"answered", l.answered},
+                       {"p50_ms", l.p50_ms},
+                       {"p99_ms", l.p99_ms},
+                       {"max_ms", l.max_ms}});
   }
-  return {{"settings", {{"seconds", s.seconds}, {"rate_hz", s.rate_hz},
-                        {"batch_tiles", s.batch_tiles}, {"pipeline", s.pipeline}}},
-          {"throughput", {{"tiles_per_s", tp.tiles_per_s}, {"megabytes_per_s", tp.megabytes_per_s},
-                          {"mean_tile_bytes", tp.mean_tile_bytes}}},
-          {"ddsperf_throughput", {{"samples_per_s", peer.samples_per_s},
-                                  {"megabytes_per_s", peer.megabytes_per_s}}},
+  return {{"settings",
+           {{"seconds", s.seconds},
+            {"rate_hz", s.rate_hz},
+            {"batch_tiles", s.batch_tiles},
+            {"pipeline", s.pipeline}}},
+          {"throughput",
+           {{"tiles_per_s", tp.tiles_per_s},
+            {"megabytes_per_s", tp.megabytes_per_s},
+            {"mean_tile_bytes", tp.mean_tile_bytes}}},
+          {"ddsperf_throughput",
+           {{"samples_per_s", peer.samples_per_s}, {"megabytes_per_s", peer.megabytes_per_s}}},
           {"throughput_ratio", tp.megabytes_per_s / peer.megabytes_per_s},
           {"latency", latency},
           {"ddsperf_pingpong", {{"rtt_p50_us", ping.rtt_p50_us}, {"rtt_p99_us", ping.rtt_p99_us}}}};
@@ -203,9 +216,9 @@ Status RunTileBench(const TileBenchSettings& s) {
   std::error_code error;
   fs::create_directories(work, error);
   if (error) return InvalidInput(work + ": cannot create the work directory: " + error.message());
-  Result<std::string> mosaic = s.mosaic.empty()
-                                    ? EnsureDemoMosaic(work, "rock_dirt_2048.png", "tiles_bench_mosaic.db")
-                                    : Result<std::string>(s.mosaic);
+  Result<std::string> mosaic =
+      s.mosaic.empty() ? EnsureDemoMosaic(work, "rock_dirt_2048.png", "tiles_bench_mosaic.db")
+                       : Result<std::string>(s.mosaic);
   if (!mosaic.ok()) return mosaic.status();
   const std::string config = work + "/cyclonedds.xml";
   FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(config, transport::DefaultLoopbackXml()));

@@ -12,14 +12,14 @@
 namespace fleetloc::bench {
 
 struct TileBenchSettings {
-  std::string mosaic;                 // empty: import the demo floor into work_dir
+  std::string mosaic;  // empty: import the demo floor into work_dir
   std::string work_dir;
-  int domain = 90;                    // map server and clients; ddsperf uses domain + 1
-  double seconds = 5.0;               // per phase, after a warm-up
+  int domain = 90;       // map server and clients; ddsperf uses domain + 1
+  double seconds = 5.0;  // per phase, after a warm-up
   std::vector<int> vehicles{1, 10, 50};
-  double rate_hz = 10.0;              // tile requests per vehicle per second (latency phase)
-  int batch_tiles = 32;               // tiles per request in the throughput phase
-  int pipeline = 2;                   // requests in flight (2 × 32 tiles ≈ 3 MB: below rmem_max)
+  double rate_hz = 10.0;  // tile requests per vehicle per second (latency phase)
+  int batch_tiles = 32;   // tiles per request in the throughput phase
+  int pipeline = 2;       // requests in flight (2 × 32 tiles ≈ 3 MB: below rmem_max)
   std::string json;
   // Cyclone configurations of the map server, of the benchmark's participant and of the ddsperf
   // peer (empty: the built-in loopback one); secured ones measure DDS Security's cost, and a

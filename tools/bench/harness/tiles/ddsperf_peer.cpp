@@ -50,10 +50,12 @@ std::vector<double> Matches(const std::string& text, const std::regex& pattern) 
 Result<DdsperfThroughput> RunDdsperfThroughput(int domain, int size_bytes, double seconds,
                                                const std::string& config_uri,
                                                const std::string& work_dir) {
-  const std::string d = std::to_string(domain), secs = std::to_string(static_cast<int>(seconds) + 1);
-  Result<std::string> log = RunPair({"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 2), "sub"},
-                                    {"-i", d, "-D", secs, "pub", "size", std::to_string(size_bytes)},
-                                    seconds, config_uri, work_dir, "throughput", true);
+  const std::string d = std::to_string(domain),
+                    secs = std::to_string(static_cast<int>(seconds) + 1);
+  Result<std::string> log =
+      RunPair({"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 2), "sub"},
+              {"-i", d, "-D", secs, "pub", "size", std::to_string(size_bytes)}, seconds, config_uri,
+              work_dir, "throughput", true);
   if (!log.ok()) return log.status();
   // "... rate 64.72 kS/s 25888.80 Mb/s (...)": the first number after "rate" per line.
   std::vector<double> rates = Matches(*log, std::regex(R"(rate ([0-9.]+) kS/s)"));
@@ -69,11 +71,11 @@ Result<DdsperfLatency> RunDdsperfPingPong(int domain, int size_bytes, double sec
                                           const std::string& config_uri,
                                           const std::string& work_dir) {
   const std::string d = std::to_string(domain);
-  Result<std::string> log = RunPair(
-      {"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 2), "pong"},
-      {"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 1), "ping", "size",
-       std::to_string(size_bytes)},
-      seconds, config_uri, work_dir, "pingpong", false);
+  Result<std::string> log =
+      RunPair({"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 2), "pong"},
+              {"-i", d, "-D", std::to_string(static_cast<int>(seconds) + 1), "ping", "size",
+               std::to_string(size_bytes)},
+              seconds, config_uri, work_dir, "pingpong", false);
   if (!log.ok()) return log.status();
   const std::vector<double> p50 = Matches(*log, std::regex(R"( 50% ([0-9.]+)us)"));
   const std::vector<double> p99 = Matches(*log, std::regex(R"( 99% ([0-9.]+)us)"));

@@ -101,8 +101,8 @@ Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& se
                             const fs::path& run_dir, sim::SimSummary* summary) {
   const sim::SimOptions options = SimOptionsFor(settings);
   FLEETLOC_RETURN_IF_ERROR(sim::Validate(options));
-  const io::CameraFile camera =
-      fleetctl::DefaultSimCamera(settings.width_px, settings.height_px, floor->layout().geo.resolution);
+  const io::CameraFile camera = fleetctl::DefaultSimCamera(settings.width_px, settings.height_px,
+                                                           floor->layout().geo.resolution);
   Result<std::unique_ptr<sim::RunSimulator>> simulator =
       sim::RunSimulator::Create(floor, camera.model, options);
   if (!simulator.ok()) return simulator.status();
@@ -112,7 +112,8 @@ Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& se
       spdlog::info("bench: sim {} {}/{} frames", run_dir.string(), done, total);
     }
   };
-  Result<io::Run> written = fleetctl::WriteSimulatedRun(**simulator, camera, run_dir, "bench", progress);
+  Result<io::Run> written =
+      fleetctl::WriteSimulatedRun(**simulator, camera, run_dir, "bench", progress);
   if (!written.ok()) return written.status();
   *summary = (*simulator)->summary();
   return io::ReadRun(run_dir);
@@ -219,9 +220,8 @@ Result<FloorBench> BenchFloor(const fs::path& image, const BenchSettings& settin
   WarmTileCache(view);
   for (const std::string& method : settings.methods) {
     const bool peer = method != "fleetloc";
-    Result<MethodReplay> replayed =
-        ReplayMethod(method, peer ? FirstFrames(*run, bench.peer_frames) : *run, &view,
-                     settings.tracker);
+    Result<MethodReplay> replayed = ReplayMethod(
+        method, peer ? FirstFrames(*run, bench.peer_frames) : *run, &view, settings.tracker);
     if (!replayed.ok()) return replayed.status();
     bench.methods.push_back(std::move(*replayed));
   }
