@@ -193,8 +193,8 @@ TEST_P(ForgedVehicle, ChangesNoMosaicPixelAndIsQuarantined) {
 
 INSTANTIATE_TEST_SUITE_P(BlendAndReplace, ForgedVehicle,
                          ::testing::Values(RemapMode::kBlend, RemapMode::kReplace),
-                         [](const auto& info) {
-                           return info.param == RemapMode::kBlend ? "Blend" : "Replace";
+                         [](const auto& param_info) {
+                           return param_info.param == RemapMode::kBlend ? "Blend" : "Replace";
                          });
 
 TEST_F(RemapJobTest, ARealChangeSeenBySeveralVehiclesIsFoldedBesideAForger) {

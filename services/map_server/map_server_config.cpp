@@ -60,12 +60,9 @@ Status ReadOwnedTiles(const io::JsonFields& fields, MapServerConfig* c) {
   return Status::Ok();
 }
 
-}  // namespace
-
-Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
-  Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
-  if (!json.ok()) return json.status();
-  const io::JsonFields fields(*json, path);
+// Every option a map server file may name; anything else is an error (a typo must not be
+// silently ignored).
+const std::set<std::string>& KnownOptions() {
   static const std::set<std::string> known = {"server_id",
                                               "mosaic",
                                               "domain",
@@ -83,34 +80,69 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
                                               "patch_intake",
                                               "retention",
                                               "metrics"};
-  for (const auto& [key, value] : json->items()) {
-    if (!known.contains(key)) return fields.Error(key, "unknown option");
-  }
-  MapServerConfig c;
-  if (fields.Has("server_id"))
-    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("server_id", &c.server_id));
-  if (fields.Has("mosaic"))
-    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("mosaic", &c.mosaic_path));
-  if (fields.Has("dds_config")) {
-    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("dds_config", &c.dds_config_path));
-  }
+  return known;
+}
+
+// The integer options (their ranges are checked by Validate()).
+Status ReadIntOptions(const io::JsonFields& fields, MapServerConfig* c) {
   struct IntField {
     const char* key;
     int* target;
-  };  // ranges: Validate()
+  };
   for (const IntField& f :
-       {IntField{"domain", &c.domain_id},
-        IntField{"max_tiles_per_request", &c.max_tiles_per_request},
-        IntField{"max_patch_bytes", &c.max_patch_bytes},
-        IntField{"max_patch_side_px", &c.max_patch_side_px},
-        IntField{"max_vehicles", &c.max_vehicles}, IntField{"tile_cache_mb", &c.tile_cache_mb},
-        IntField{"self_similarity_grid", &c.self_similarity_grid}}) {
+       {IntField{"domain", &c->domain_id},
+        IntField{"max_tiles_per_request", &c->max_tiles_per_request},
+        IntField{"max_patch_bytes", &c->max_patch_bytes},
+        IntField{"max_patch_side_px", &c->max_patch_side_px},
+        IntField{"max_vehicles", &c->max_vehicles}, IntField{"tile_cache_mb", &c->tile_cache_mb},
+        IntField{"self_similarity_grid", &c->self_similarity_grid}}) {
     if (!fields.Has(f.key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(f.key, &value));
     if (value != static_cast<int>(value)) return fields.Error(f.key, "must be an integer");
     *f.target = static_cast<int>(value);
   }
+  return Status::Ok();
+}
+
+// The nested objects: patch intake, retention and patch admission.
+Status ReadSections(const io::JsonFields& fields, const nlohmann::json& json, MapServerConfig* c) {
+  using SectionReader = std::function<Status(const io::JsonFields&, const nlohmann::json&)>;
+  const std::pair<const char*, SectionReader> sections[] = {
+      {"patch_intake",
+       [&](const auto& f, const auto& j) { return ReadPatchIntake(f, j, &c->intake); }},
+      {"retention",
+       [&](const auto& f, const auto& j) { return ReadRetention(f, j, &c->retention); }},
+      {"patch_admission",
+       [&](const auto& f, const auto& j) { return ReadRemapPolicy(f, j, &c->remap_policy); }}};
+  for (const auto& [key, read] : sections) {
+    if (!fields.Has(key)) continue;
+    Result<io::JsonFields> object = fields.Object(key);
+    if (!object.ok()) return object.status();
+    FLEETLOC_RETURN_IF_ERROR(read(*object, json[key]));
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
+  Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
+  if (!json.ok()) return json.status();
+  const io::JsonFields fields(*json, path);
+  for (const auto& [key, value] : json->items()) {
+    if (!KnownOptions().contains(key)) return fields.Error(key, "unknown option");
+  }
+  MapServerConfig c;
+  if (fields.Has("server_id")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("server_id", &c.server_id));
+  }
+  if (fields.Has("mosaic"))
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("mosaic", &c.mosaic_path));
+  if (fields.Has("dds_config")) {
+    FLEETLOC_RETURN_IF_ERROR(fields.NonEmptyString("dds_config", &c.dds_config_path));
+  }
+  FLEETLOC_RETURN_IF_ERROR(ReadIntOptions(fields, &c));
   if (fields.Has("health_period_s")) {
     FLEETLOC_RETURN_IF_ERROR(fields.PositiveNumber("health_period_s", &c.health_period_s));
   }
@@ -118,25 +150,10 @@ Result<MapServerConfig> LoadMapServerConfig(const std::string& path) {
   if (fields.Has("serve_place_index")) {
     FLEETLOC_RETURN_IF_ERROR(fields.Bool("serve_place_index", &c.serve_place_index));
   }
-  for (const auto& [key, read] :
-       {std::pair<const char*, std::function<Status(const io::JsonFields&, const nlohmann::json&)>>{
-            "patch_intake",
-            [&](const auto&f, const auto&j) { return ReadPatchIntake(f, j, &c.intake); }},
-        {"retention",
-         [&](const auto&f, const auto&j) { return ReadRetention(f, j, &c.retention); }}}) {
-    if (!fields.Has(key)) continue;
-    Result<io::JsonFields> object = fields.Object(key);
-    if (!object.ok()) return object.status();
-    FLEETLOC_RETURN_IF_ERROR(read(*object, (*json)[key]));
-  }
-  if (fields.Has("patch_admission")) {
-    Result<io::JsonFields> admission = fields.Object("patch_admission");
-    if (!admission.ok()) return admission.status();
-    FLEETLOC_RETURN_IF_ERROR(
-        ReadRemapPolicy(*admission, (*json)["patch_admission"], &c.remap_policy));
-  }
-  if (fields.Has("metrics"))
+  FLEETLOC_RETURN_IF_ERROR(ReadSections(fields, *json, &c));
+  if (fields.Has("metrics")) {
     FLEETLOC_RETURN_IF_ERROR(metrics::ReadMetricsOptions(fields, *json, &c.metrics));
+  }
   if (Status valid = Validate(c); !valid.ok()) return InvalidInput(path + ": " + valid.message());
   return c;
 }

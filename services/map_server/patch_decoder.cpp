@@ -2,6 +2,7 @@
 #include "map_server/patch_decoder.h"
 
 #include <cmath>
+#include <optional>
 
 #include "geometry/covariance_check.h"
 #include "mosaic/tile_codec.h"
@@ -21,6 +22,35 @@ bool AllFinite(const double* values, int n) {
     if (!std::isfinite(values[i])) return false;
   }
   return true;
+}
+
+// The image's encoding, byte size and PNG header (before anything decodes it); a rejection, or
+// nothing when the image may be decoded.
+std::optional<DecodedPatch> CheckImage(const fleetloc_PatchObservation& s, const std::string& what,
+                                       const PatchLimits& limits) {
+  if (GetBounded(s.encoding) != "png") {
+    return Reject("rejected_patch_malformed",
+                  what + ": encoding '" + GetBounded(s.encoding) + "' is not png");
+  }
+  const auto bytes = transport::OctetSpan(s.image);
+  if (bytes.size() > static_cast<size_t>(limits.max_bytes)) {
+    return Reject("rejected_patch_oversized", what + ": image of " + std::to_string(bytes.size()) +
+                                                  " bytes, more than " +
+                                                  std::to_string(limits.max_bytes));
+  }
+  const std::optional<cv::Size> size = mosaic::PngHeaderSize(bytes);
+  if (!size) return Reject("rejected_patch_image", what + ": image is not a PNG");
+  if (size->width < 16 || size->height < 16 || size->width > limits.max_side_px ||
+      size->height > limits.max_side_px) {
+    return Reject("rejected_patch_oversized", what + ": image " + std::to_string(size->width) +
+                                                  "x" + std::to_string(size->height) +
+                                                  " px out of [16, " +
+                                                  std::to_string(limits.max_side_px) + "]");
+  }
+  if (Status header = mosaic::CheckGrayPngHeader(bytes, limits.max_side_px); !header.ok()) {
+    return Reject("rejected_patch_image", what + ": " + header.message());
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -59,28 +89,7 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
   if (!(s.quality >= 0.0f && s.quality <= 1.0f)) {
     return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
   }
-  if (GetBounded(s.encoding) != "png") {
-    return Reject("rejected_patch_malformed",
-                  what + ": encoding '" + GetBounded(s.encoding) + "' is not png");
-  }
-  const auto bytes = transport::OctetSpan(s.image);
-  if (bytes.size() > static_cast<size_t>(limits.max_bytes)) {
-    return Reject("rejected_patch_oversized", what + ": image of " + std::to_string(bytes.size()) +
-                                                  " bytes, more than " +
-                                                  std::to_string(limits.max_bytes));
-  }
-  const std::optional<cv::Size> size = mosaic::PngHeaderSize(bytes);
-  if (!size) return Reject("rejected_patch_image", what + ": image is not a PNG");
-  if (size->width < 16 || size->height < 16 || size->width > limits.max_side_px ||
-      size->height > limits.max_side_px) {
-    return Reject("rejected_patch_oversized", what + ": image " + std::to_string(size->width) +
-                                                  "x" + std::to_string(size->height) +
-                                                  " px out of [16, " +
-                                                  std::to_string(limits.max_side_px) + "]");
-  }
-  if (Status header = mosaic::CheckGrayPngHeader(bytes, limits.max_side_px); !header.ok()) {
-    return Reject("rejected_patch_image", what + ": " + header.message());
-  }
+  if (std::optional<DecodedPatch> rejected = CheckImage(s, what, limits)) return *rejected;
   mosaic::PatchRecord record;
   record.vehicle_id = vehicle;
   record.sequence = static_cast<int64_t>(s.sequence_number);

@@ -2,7 +2,10 @@
 # Installs dependencies, builds, and runs every test (unit, integration, fault) with CTest.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-tools/scripts/setup.sh
+# Warnings are errors here, so no new warning lands.
+FLEETLOC_WERROR=ON tools/scripts/setup.sh
+# clang-format (.clang-format) over every tracked C++ file; a file it would change fails.
+tools/scripts/check_format.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)" --timeout 600
 # clang-tidy (.clang-tidy) over the C++ sources the last change touched; any finding fails.
 tools/scripts/check_tidy.sh
