@@ -4,6 +4,11 @@
 // issue names must be there and move. Also: silent clients on the supervisor's metrics port do not
 // stall it, and a metrics port already taken is logged and leaves the service running.
 // Eigen (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "map_server_fixture.h"
+#include "supervisor_fixture.h"
+// clang-format on
+
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -14,9 +19,7 @@
 #include <regex>
 
 #include "io/loopback_socket.h"
-#include "map_server_fixture.h"
 #include "metrics/exposition.h"
-#include "supervisor_fixture.h"
 
 namespace fleetloc {
 namespace {

@@ -3,6 +3,13 @@
 // 4xx JSON error, counted, never a crash) and across a restart (history and vehicles survive).
 // Eigen (through pose_messages.h) before httplib: <resolv.h> defines a macro `_res` that
 // breaks Eigen's headers when included first.
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "fake_vehicle.h"
+#include "supervisor_fixture.h"
+#include "transport/pose_messages.h"
+#include "transport/vehicle_streams.h"
+// clang-format on
+
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -11,11 +18,6 @@
 
 #include <future>
 #include <nlohmann/json.hpp>
-
-#include "fake_vehicle.h"
-#include "supervisor_fixture.h"
-#include "transport/pose_messages.h"
-#include "transport/vehicle_streams.h"
 
 namespace fleetloc {
 namespace {

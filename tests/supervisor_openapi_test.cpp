@@ -4,6 +4,12 @@
 // content type and a body that fits the documented schema; documented error cases answer as
 // described; and paths or methods the document does not list are refused (4xx).
 // Eigen (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "fake_vehicle.h"
+#include "map_server_fixture.h"
+#include "supervisor_fixture.h"
+// clang-format on
+
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -13,10 +19,6 @@
 
 #include <nlohmann/json.hpp>
 #include <regex>
-
-#include "fake_vehicle.h"
-#include "map_server_fixture.h"
-#include "supervisor_fixture.h"
 
 namespace fleetloc {
 namespace {

@@ -1,11 +1,13 @@
 // No silent port sharing (issue 22): a second supervisor started on the HTTP port of a running one
 // fails at start with exit status 1 and an error naming the address, instead of listening too
 // (httplib's default SO_REUSEPORT let both accept and split the requests between them).
-#include <gtest/gtest.h>
-#include <httplib.h>
-
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
 #include "cli_runner.h"
 #include "supervisor_fixture.h"
+// clang-format on
+
+#include <gtest/gtest.h>
+#include <httplib.h>
 
 namespace fleetloc {
 namespace {

@@ -2,15 +2,17 @@
 // supervisor's fleet summary (not counted as tracking), its health, its alerts and in
 // `fleetctl status --supervisor`; /healthz and /readyz answer while the supervisor runs.
 // Eigen (through pose_messages.h) before httplib: see supervisor_http_test.cpp.
-#include <gtest/gtest.h>
-#include <httplib.h>
-
-#include <nlohmann/json.hpp>
-
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
 #include "cli_runner.h"
 #include "fake_vehicle.h"
 #include "supervisor_fixture.h"
 #include "transport/pose_messages.h"
+// clang-format on
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <nlohmann/json.hpp>
 
 namespace fleetloc {
 namespace {

@@ -80,13 +80,12 @@ TEST_P(TrackerStress, HoldoutFloorTracksThroughTyreMarksDebrisAndShadow) {
   CheckCells(RunCells(GetParam().floor_class, "holdout", "marks"), GetParam().max_camera_rms_px);
 }
 
-INSTANTIATE_TEST_SUITE_P(FloorClasses, TrackerStress,
-                         ::testing::Values(ClassCase{"plain_concrete", 0.15},
-                                           ClassCase{"polished_concrete", 0.15},
-                                           ClassCase{"epoxy", 0.15},
-                                           ClassCase{"painted_lines", 0.1},
-                                           ClassCase{"worn_asphalt", 0.1}),
-                         [](const auto& info) { return std::string(info.param.floor_class); });
+INSTANTIATE_TEST_SUITE_P(
+    FloorClasses, TrackerStress,
+    ::testing::Values(ClassCase{"plain_concrete", 0.15}, ClassCase{"polished_concrete", 0.15},
+                      ClassCase{"epoxy", 0.15}, ClassCase{"painted_lines", 0.1},
+                      ClassCase{"worn_asphalt", 0.1}),
+    [](const auto& param_info) { return std::string(param_info.param.floor_class); });
 
 // Small frames under fast motion and dust at once (320×240, `all`): in the run's sharp turns the
 // right dense fit lies beyond the odometry model's χ² bound for a strong fit, and only its clear

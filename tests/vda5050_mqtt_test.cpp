@@ -6,6 +6,11 @@
 // (reconnect, counted, the named health issue meanwhile, the dashboard API unaffected); wrong
 // credentials refused and counted; the last will (CONNECTIONBROKEN) when the supervisor dies. Eigen
 // (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "fake_vehicle.h"
+#include "supervisor_fixture.h"
+// clang-format on
+
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -19,9 +24,7 @@
 #include <regex>
 #include <sstream>
 
-#include "fake_vehicle.h"
 #include "metrics/exposition.h"
-#include "supervisor_fixture.h"
 #include "transport/qos.h"
 
 namespace fleetloc {

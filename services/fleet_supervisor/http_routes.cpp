@@ -1,5 +1,9 @@
 // HttpApi's routes: one handler per route of the route table (api_routes.h), the checks of the
 // requests' input (vehicle ids, query parameters, the maintainer token) and the server's hooks.
+// clang-format off: these first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "fleet_supervisor/http_api.h"  // Eigen before httplib (see guarded_server.h)
+// clang-format on
+
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
@@ -12,7 +16,6 @@
 #include "fleet_link/fleet_view.h"
 #include "fleet_supervisor/api_routes.h"
 #include "fleet_supervisor/guarded_server.h"
-#include "fleet_supervisor/http_api.h"  // Eigen before httplib (see guarded_server.h)
 #include "fleet_supervisor/supervisor_view.h"
 #include "io/json_fields.h"
 #include "transport/wire_util.h"

@@ -125,7 +125,9 @@ TEST(PatchOutbox, AFullOutboxDropsTheOldestLowestQualityPatchesAndCountsThem) {
   EXPECT_EQ(*outbox->Size(), 20);
   EXPECT_EQ(*outbox->Dropped(), 3);
   std::vector<uint64_t> kept;
-  for (const auto& p : *outbox->Due({"boot-a", 0}, 1, 100)) kept.push_back(p.sequence);
+  const auto due = outbox->Due({"boot-a", 0}, 1, 100);  // a named Result: `*` of a temporary
+  ASSERT_TRUE(due.ok());                                // would dangle in the loop
+  for (const auto& p : *due) kept.push_back(p.sequence);
   EXPECT_EQ(kept.front(), 1u);  // the oldest, but of high quality: kept over 2, 3 and 4
   EXPECT_EQ(kept[1], 5u);
   EXPECT_EQ(kept.back(), 23u);

@@ -59,6 +59,9 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
       event.frame = std::move(image).value();
       break;
     }
+    case InputEvent::Kind::kIdle:  // a replay always has its next event: Peek gives neither
+    case InputEvent::Kind::kOdometryRestart:
+      break;
   }
   pacer_.WaitUntil(event.t);
   return std::optional<InputEvent>(std::move(event));

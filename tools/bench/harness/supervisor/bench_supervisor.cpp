@@ -4,7 +4,9 @@
 // publication to its first appearance in the live stream the dashboard reads (/api/events), and
 // the supervisor's CPU and resident memory from /proc. No assertions: numbers for
 // docs/benchmarks.md.
-#include "harness/supervisor/bench_supervisor.h"
+// clang-format off: first (Eigen before httplib, whose <resolv.h> defines `_res`).
+#include "transport/pose_messages.h"  // Eigen before httplib (<resolv.h> defines `_res`)
+// clang-format on
 
 #include <httplib.h>
 #include <spdlog/spdlog.h>
@@ -20,9 +22,9 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "harness/supervisor/bench_supervisor.h"
 #include "replay/replay.h"
 #include "runtime/child_process.h"
-#include "transport/pose_messages.h"  // Eigen before httplib (<resolv.h> defines `_res`)
 #include "transport/topic_names.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
