@@ -1,12 +1,12 @@
 // Pose voting: the vote of a single exact match, the rigid fit, and clustering with most matches
 // wrong.
-#include "mapmatch/pose_votes.h"
+#include "relocalization/pose_votes.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 // A match of the frame feature at `ground` seen by the camera at `camera` (exact, or moved to a
@@ -71,4 +71,4 @@ TEST(PoseVotes, BadOptionsAreRejected) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

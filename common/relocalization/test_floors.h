@@ -9,7 +9,7 @@
 #include "geometry/camera_model.h"
 #include "sim/run_simulator.h"
 
-namespace fleetloc::mapmatch::testing {
+namespace fleetloc::relocalization::testing {
 
 constexpr double kResolutionM = 0.0005;
 
@@ -24,4 +24,4 @@ inline geometry::CameraModel SmallCamera() {
   return sim::DefaultSimCameraModel(320, 240, kResolutionM);
 }
 
-}  // namespace fleetloc::mapmatch::testing
+}  // namespace fleetloc::relocalization::testing

@@ -1,6 +1,6 @@
 // Dense global place search: heading sweep at a coarse level, refinement one level finer (see
 // dense_place_search.h).
-#include "mapmatch/dense_place_search.h"
+#include "relocalization/dense_place_search.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -11,7 +11,7 @@
 
 #include "imaging/masked_correlator.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 // The whole mosaic at one pyramid level, normalized, with its geotransform.
 struct DensePlaceSearch::Level {
@@ -469,4 +469,4 @@ cv::Mat ShiftedScores(const cv::Mat& scores, const Eigen::Vector2d& d, double re
   return moved;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

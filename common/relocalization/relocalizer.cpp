@@ -1,5 +1,5 @@
 // Global relocalization: match, vote, cluster, verify (see relocalizer.h).
-#include "mapmatch/relocalizer.h"
+#include "relocalization/relocalizer.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <functional>
 #include <opencv2/imgproc.hpp>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 double MsSince(std::chrono::steady_clock::time_point start) {
@@ -436,4 +436,4 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
   return out;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization
