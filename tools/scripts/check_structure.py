@@ -71,12 +71,11 @@ LAYERS = [
 ALLOWED_UPWARD = [
 ]
 
-# Files over MAX_FILE_LINES in areas other engineers are changing now (issue 19: the tracker
-# agent split, MosaicTracker::Track as named steps, relocalization). Current length in lines; the
-# check fails if a file grows past it (and reports the entry stale once it is short enough).
+# Files over MAX_FILE_LINES in areas other engineers are changing now: none today (issue 19 split
+# the last ones, relocalization's dense place search and relocalizer). An entry is file → current
+# length in lines; the check fails if a file grows past it (and reports the entry stale once it is
+# short enough).
 ALLOWED_LONG_FILES = {
-    "common/relocalization/dense_place_search.cpp": 472,
-    "common/relocalization/relocalizer.cpp": 439,
 }
 
 # Functions over MAX_FUNCTION_LINES in the same areas: "file:function" → the current lengths
