@@ -72,6 +72,7 @@ DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
   FLEETLOC_CHECK(!frames.empty() && frames.size() == motions.size());
   const SweepLevel fine = SweepLevel::kRefine;
   std::vector<cv::Mat> normalized;
+  normalized.reserve(frames.size());
   for (const cv::Mat& frame : frames) normalized.push_back(NormalizedFrame(frame, fine));
   const Eigen::Vector2d centre_ground =
       camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
@@ -82,12 +83,13 @@ DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
   // The frames' mean map at each of the 5 headings, own place blanked, and its best place; the
   // headings on parallel stripes, chosen in heading order.
   constexpr int kHeadings = 5;
+  constexpr int kMiddle = kHeadings / 2;  // the slot of first.theta
   struct Place {
     double value = 0;
     cv::Point at;
   };
   std::vector<Place> places(kHeadings);
-  const auto theta_of = [&](int slot) { return first.theta + (slot - kHeadings / 2) * step; };
+  const auto theta_of = [&](int slot) { return first.theta + (slot - kMiddle) * step; };
   InParallel(kHeadings, options_.threads, [&](int slot) {
     const double theta = theta_of(slot);
     cv::Mat sum = cv::Mat::zeros(sweep_size(fine), CV_32F), scores;

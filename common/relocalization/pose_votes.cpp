@@ -32,6 +32,7 @@ std::vector<std::vector<int>> CellsByCount(const std::vector<Vote>& votes,
         .push_back(static_cast<int>(i));
   }
   std::vector<std::vector<int>> ordered;
+  ordered.reserve(cells.size());
   for (auto& [key, members] : cells) ordered.push_back(std::move(members));
   std::stable_sort(ordered.begin(), ordered.end(),
                    [](const auto& a, const auto& b) { return a.size() > b.size(); });

@@ -56,6 +56,7 @@ TEST(PoseVotes, RandomMatchesGiveNoCandidate) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> offset(-0.15, 0.15);
   std::vector<FeatureMatch> matches;
+  matches.reserve(300);
   for (int i = 0; i < 300; ++i)
     matches.push_back(MatchOf({}, i, {offset(rng), offset(rng)}, 0.0, rng, true));
   EXPECT_TRUE(ClusterVotes(matches, VoteClusterOptions{}).empty());

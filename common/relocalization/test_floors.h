@@ -14,8 +14,8 @@ namespace fleetloc::relocalization::testing {
 constexpr double kResolutionM = 0.0005;
 
 inline cv::Mat PlainConcrete() {
-  const cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
-                                   cv::IMREAD_GRAYSCALE);
+  cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
+                             cv::IMREAD_GRAYSCALE);
   EXPECT_FALSE(photo.empty());
   return photo;
 }

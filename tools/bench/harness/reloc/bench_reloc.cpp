@@ -97,7 +97,7 @@ RelocTrial::Refused RefusedTwin(const relocalization::Relocalization& r,
 
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
 // multi-frame relocalization the frames go on until the single-frame path has answered too.
-Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
+Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
                             const relocalization::PlaceIndex* index, sim::CameraRenderer& renderer,
                             const geometry::Pose2& start, int trial, const RelocTrialSettings& s) {
   const mosaic::MosaicLayout layout = store->layout();
@@ -277,7 +277,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
   return stats;
 }
 
-Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
+Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::TileStore>& store,
                                                const relocalization::PlaceIndex* index,
                                                const RelocTrialSettings& settings) {
   const mosaic::MosaicLayout layout = store->layout();

@@ -67,7 +67,7 @@ struct RelocTrial {
 // Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);
 // logs progress. Internal if the
 // relocalizer rejects a rendered frame (a bug).
-Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
+Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::TileStore>& store,
                                                const relocalization::PlaceIndex* index,
                                                const RelocTrialSettings& settings);
 
