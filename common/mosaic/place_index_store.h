@@ -1,5 +1,5 @@
 // The place-index cache in a mosaic file: a serialized place index (an opaque blob here; its
-// format belongs to mapmatch::PlaceIndex) kept in the table `place_index(mosaic_version, key,
+// format belongs to relocalization::PlaceIndex) kept in the table `place_index(mosaic_version, key,
 // data)`, so the map server and `fleetctl reloc` build it once per mosaic version and index
 // options (`key`) and then load it. Adapter: SQLite only, no algorithm.
 #pragma once

@@ -32,7 +32,7 @@ std::optional<LoadedPlaceIndex> LoadCached(const std::string& path, long long ve
     return std::nullopt;
   }
   if (!blob->has_value()) return std::nullopt;
-  Result<mapmatch::PlaceIndex> index = mapmatch::PlaceIndex::Deserialize(**blob);
+  Result<relocalization::PlaceIndex> index = relocalization::PlaceIndex::Deserialize(**blob);
   if (!index.ok()) {
     spdlog::warn("{}: cached place index unusable, rebuilding: {}", path, index.status().message());
     return std::nullopt;
@@ -42,8 +42,8 @@ std::optional<LoadedPlaceIndex> LoadCached(const std::string& path, long long ve
 
 }  // namespace
 
-std::string PlaceIndexKey(const mapmatch::PlaceIndexOptions& o) {
-  const mapmatch::FloorFeatureOptions& f = o.features;
+std::string PlaceIndexKey(const relocalization::PlaceIndexOptions& o) {
+  const relocalization::FloorFeatureOptions& f = o.features;
   return "orb level=" + std::to_string(f.level) + " cell=" + std::to_string(f.cell_px) +
          " per_cell=" + std::to_string(f.features_per_cell) +
          " fast=" + std::to_string(f.fast_threshold) + " patch=" + std::to_string(f.patch_size_px) +
@@ -52,7 +52,7 @@ std::string PlaceIndexKey(const mapmatch::PlaceIndexOptions& o) {
 }
 
 Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path, RasterSource& view,
-                                               const mapmatch::PlaceIndexOptions& options,
+                                               const relocalization::PlaceIndexOptions& options,
                                                IndexCache cache, const std::atomic<bool>* cancel) {
   const long long version = view.layout().version;
   const std::string key = PlaceIndexKey(options);
@@ -63,7 +63,7 @@ Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path, R
   }
   const auto start = std::chrono::steady_clock::now();
   runtime::PercentLog log("place index of " + mosaic_path, "strips");
-  Result<mapmatch::PlaceIndex> built = mapmatch::PlaceIndex::Build(
+  Result<relocalization::PlaceIndex> built = relocalization::PlaceIndex::Build(
       view, options, [&](int done, int total) { log(done, total); }, cancel);
   if (!built.ok()) return built.status();
   LoadedPlaceIndex loaded{std::move(built).value(), {}, false, SecondsSince(start)};

@@ -10,20 +10,20 @@
 #include <vector>
 
 #include "base/status.h"
-#include "mapmatch/place_index.h"
 #include "mosaic/raster_source.h"
+#include "relocalization/place_index.h"
 
 namespace fleetloc::mosaic_upkeep {
 
 struct LoadedPlaceIndex {
-  mapmatch::PlaceIndex index;
+  relocalization::PlaceIndex index;
   std::vector<std::uint8_t> blob;  // index.Serialize(), as cached
   bool from_cache = false;
   double seconds = 0.0;  // to load (deserialize + LSH tables) or to build
 };
 
 // The cache key of an index built with `options` (detector, grid and LSH settings).
-std::string PlaceIndexKey(const mapmatch::PlaceIndexOptions& options);
+std::string PlaceIndexKey(const relocalization::PlaceIndexOptions& options);
 
 enum class IndexCache {
   kUse,      // load the cached blob if there is a usable one, else build and store it
@@ -37,7 +37,7 @@ enum class IndexCache {
 // or "cancelled" once *cancel is set).
 Result<LoadedPlaceIndex> LoadOrBuildPlaceIndex(const std::string& mosaic_path,
                                                mosaic::RasterSource& view,
-                                               const mapmatch::PlaceIndexOptions& options,
+                                               const relocalization::PlaceIndexOptions& options,
                                                IndexCache cache,
                                                const std::atomic<bool>* cancel = nullptr);
 

@@ -49,7 +49,7 @@ struct GravelMosaic {
 TEST(PlaceIndexCache, BuildsOnceThenLoadsTheSameIndex) {
   ScratchDir dir;
   GravelMosaic mosaic(dir);
-  const mapmatch::PlaceIndexOptions options;
+  const relocalization::PlaceIndexOptions options;
   auto built = LoadOrBuildPlaceIndex(mosaic.path, *mosaic.view, options, IndexCache::kUse);
   ASSERT_TRUE(built.ok()) << built.status().message();
   EXPECT_FALSE(built->from_cache);
@@ -69,7 +69,7 @@ TEST(PlaceIndexCache, BuildsOnceThenLoadsTheSameIndex) {
 TEST(PlaceIndexCache, ACorruptCachedIndexIsRebuiltAndIgnoringTheCacheStoresNothing) {
   ScratchDir dir;
   GravelMosaic mosaic(dir);
-  const mapmatch::PlaceIndexOptions options;
+  const relocalization::PlaceIndexOptions options;
   auto ignored = LoadOrBuildPlaceIndex(mosaic.path, *mosaic.view, options, IndexCache::kIgnore);
   ASSERT_TRUE(ignored.ok());
   EXPECT_FALSE(ReadPlaceIndexBlob(mosaic.path, 1, PlaceIndexKey(options))->has_value());
@@ -83,7 +83,7 @@ TEST(PlaceIndexCache, ACorruptCachedIndexIsRebuiltAndIgnoringTheCacheStoresNothi
 }
 
 TEST(PlaceIndexCache, KeysDifferWithTheOptions) {
-  mapmatch::PlaceIndexOptions a, b;
+  relocalization::PlaceIndexOptions a, b;
   b.features.cell_px += 8;
   EXPECT_NE(PlaceIndexKey(a), PlaceIndexKey(b));
 }

@@ -2,7 +2,7 @@
 // index of the mosaic version it serves, cut into chunks, durably (PlaceIndexPublisher); a vehicle
 // takes the chunks as they come and reassembles whole indexes (PlaceIndexReceiver, whose logic is
 // PlaceIndexAssembler). Bytes only: what the blob means, and its checksum, are
-// mapmatch::PlaceIndex's business.
+// relocalization::PlaceIndex's business.
 #pragma once
 
 #include <cstdint>

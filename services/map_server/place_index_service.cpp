@@ -7,10 +7,10 @@
 #include <chrono>
 #include <cstdio>
 
-#include "mapmatch/self_similarity.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_upkeep/place_index_cache.h"
+#include "relocalization/self_similarity.h"
 
 namespace fleetloc::map_server {
 
@@ -81,7 +81,7 @@ std::optional<PlaceIndexService::Ready> PlaceIndexService::LoadOrBuild() {
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(kBuildCacheBytes));
   Result<mosaic_upkeep::LoadedPlaceIndex> index =
-      mosaic_upkeep::LoadOrBuildPlaceIndex(mosaic_path_, view, mapmatch::PlaceIndexOptions{},
+      mosaic_upkeep::LoadOrBuildPlaceIndex(mosaic_path_, view, relocalization::PlaceIndexOptions{},
                                            mosaic_upkeep::IndexCache::kUse, &stopping_);
   if (!index.ok()) {
     counters_->Add("place_index_failed");
@@ -107,13 +107,13 @@ geometry::CameraModel CheckCamera(double resolution_m) {
   return camera;
 }
 
-std::string Describe(const mapmatch::SelfSimilarityReport& report) {
+std::string Describe(const relocalization::SelfSimilarityReport& report) {
   std::string text = std::to_string(report.ambiguous.size()) + " of " +
                      std::to_string(report.sampled) + " places have a twin";
   char pair[128];
   constexpr std::size_t kNamed = 3;  // places named (the health message is bounded)
   for (std::size_t i = 0; i < std::min(kNamed, report.ambiguous.size()); ++i) {
-    const mapmatch::SimilarPlace& p = report.ambiguous[i];
+    const relocalization::SimilarPlace& p = report.ambiguous[i];
     std::snprintf(pair, sizeof(pair), "%s(%.3f, %.3f) ~ (%.3f, %.3f)", i == 0 ? ": " : "; ",
                   p.place.x, p.place.y, p.twin.x, p.twin.y);
     text += pair;
@@ -140,17 +140,17 @@ void PlaceIndexService::CheckSelfSimilarity() {
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(kBuildCacheBytes));
   const geometry::CameraModel camera = CheckCamera(store->layout().geo.resolution);
-  auto search = mapmatch::DensePlaceSearch::Create(view, camera, {});
+  auto search = relocalization::DensePlaceSearch::Create(view, camera, {});
   if (!search.ok()) {
     counters_->Add("self_similarity_skipped");
     spdlog::info("self-similarity of version {} not checked: {}", store->layout().version,
                  search.status().message());
     return;
   }
-  mapmatch::SelfSimilarityOptions options;
+  relocalization::SelfSimilarityOptions options;
   options.grid = self_similarity_grid_;
-  Result<mapmatch::SelfSimilarityReport> report =
-      mapmatch::FindSelfSimilarity(**search, view, camera, options, [&](int done, int total) {
+  Result<relocalization::SelfSimilarityReport> report =
+      relocalization::FindSelfSimilarity(**search, view, camera, options, [&](int done, int total) {
         spdlog::info("self-similarity: {} of {} places searched", done, total);
         return !stopping_.load();
       });

@@ -4,7 +4,7 @@
 // it in chunks (PlaceIndexChunk, durable). The previous version's index stays published while the
 // next one is built: it still relocalizes everywhere outside the re-mapped region, and the
 // relocalizer verifies every candidate against the current tiles. Once an index is ready, the
-// worker also checks the floor's self-similarity (mapmatch::FindSelfSimilarity: frame-sized
+// worker also checks the floor's self-similarity (relocalization::FindSelfSimilarity: frame-sized
 // places on a grid, each searched densely over the whole floor), logs every place with a twin
 // and keeps a warning for the health report.
 #pragma once

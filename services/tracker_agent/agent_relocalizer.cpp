@@ -10,7 +10,7 @@ namespace fleetloc::tracker_agent {
 AgentRelocalizer::AgentRelocalizer(std::unique_ptr<transport::PlaceIndexReceiver> receiver,
                                    std::string mosaic_id, mosaic::RasterSource* mosaic,
                                    const geometry::CameraModel& camera,
-                                   const mapmatch::RelocalizerOptions& options)
+                                   const relocalization::RelocalizerOptions& options)
     : receiver_(std::move(receiver)),
       mosaic_id_(std::move(mosaic_id)),
       mosaic_(mosaic),
@@ -23,8 +23,8 @@ AgentRelocalizer::~AgentRelocalizer() {
 
 Result<std::unique_ptr<AgentRelocalizer>> AgentRelocalizer::Create(
     const transport::Participant& participant, std::string mosaic_id, mosaic::RasterSource* mosaic,
-    const geometry::CameraModel& camera, const mapmatch::RelocalizerOptions& options) {
-  FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(options));
+    const geometry::CameraModel& camera, const relocalization::RelocalizerOptions& options) {
+  FLEETLOC_RETURN_IF_ERROR(relocalization::Validate(options));
   auto receiver = transport::PlaceIndexReceiver::Create(participant);
   if (!receiver.ok()) return receiver.status();
   return std::unique_ptr<AgentRelocalizer>(new AgentRelocalizer(
@@ -59,20 +59,20 @@ void AgentRelocalizer::StartLoading(transport::PlaceIndexBlob blob) {
                blob.mosaic_version, blob.server_id, blob.bytes.size());
   // Deserializing rebuilds the LSH tables (a second or so for a large mosaic): off the loop.
   loading_ = std::async(std::launch::async, [bytes = std::move(blob.bytes)] {
-    return mapmatch::PlaceIndex::Deserialize(bytes);
+    return relocalization::PlaceIndex::Deserialize(bytes);
   });
 }
 
 void AgentRelocalizer::FinishLoading() {
-  Result<mapmatch::PlaceIndex> loaded = loading_.get();
+  Result<relocalization::PlaceIndex> loaded = loading_.get();
   if (!loaded.ok()) {
     ++stats_.indexes_rejected;
     spdlog::warn("place index of version {} unusable: {}", loading_version_,
                  loaded.status().message());
     return;
   }
-  auto index = std::make_unique<mapmatch::PlaceIndex>(std::move(loaded).value());
-  auto relocalizer = mapmatch::Relocalizer::Create(index.get(), mosaic_, camera_, options_);
+  auto index = std::make_unique<relocalization::PlaceIndex>(std::move(loaded).value());
+  auto relocalizer = relocalization::Relocalizer::Create(index.get(), mosaic_, camera_, options_);
   if (!relocalizer.ok()) {
     ++stats_.indexes_rejected;
     spdlog::warn("place index of version {} unusable: {}", loading_version_,
@@ -91,11 +91,11 @@ void AgentRelocalizer::ResetTrajectory() {
   if (relocalizer_) relocalizer_->ResetTrajectory();
 }
 
-Result<mapmatch::Relocalization> AgentRelocalizer::Relocalize(const cv::Mat& frame,
-                                                              const geometry::Pose2& base_in_odom) {
+Result<relocalization::Relocalization> AgentRelocalizer::Relocalize(
+    const cv::Mat& frame, const geometry::Pose2& base_in_odom) {
   FLEETLOC_CHECK(ready());
   const auto start = std::chrono::steady_clock::now();
-  Result<mapmatch::Relocalization> result = relocalizer_->Relocalize(frame, base_in_odom);
+  Result<relocalization::Relocalization> result = relocalizer_->Relocalize(frame, base_in_odom);
   stats_.last_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats_.total_ms += stats_.last_ms;

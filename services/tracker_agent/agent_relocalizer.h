@@ -10,7 +10,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "mapmatch/relocalizer.h"
+#include "relocalization/relocalizer.h"
 #include "tracker_agent/localization_ports.h"
 #include "transport/place_index_channel.h"
 
@@ -33,7 +33,7 @@ class AgentRelocalizer : public GlobalRelocalization {
   static Result<std::unique_ptr<AgentRelocalizer>> Create(
       const transport::Participant& participant, std::string mosaic_id,
       mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
-      const mapmatch::RelocalizerOptions& options);
+      const relocalization::RelocalizerOptions& options);
   ~AgentRelocalizer() override;
 
   // Takes arrived index chunks; starts loading a newly completed index in the background and
@@ -43,8 +43,8 @@ class AgentRelocalizer : public GlobalRelocalization {
   long long index_version() const { return index_version_; }
   // Relocalizes `frame` (rectified, the camera's size) taken at `base_in_odom`; frames that find
   // nothing alone are combined with odometry (Relocalizer's multi-frame search). Requires ready().
-  Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame,
-                                              const geometry::Pose2& base_in_odom) override;
+  Result<relocalization::Relocalization> Relocalize(const cv::Mat& frame,
+                                                    const geometry::Pose2& base_in_odom) override;
   // Forgets the frames held for the multi-frame search (the vehicle tracks again).
   void ResetTrajectory() override;
   double last_ms() const override { return stats_.last_ms; }
@@ -54,7 +54,7 @@ class AgentRelocalizer : public GlobalRelocalization {
  private:
   AgentRelocalizer(std::unique_ptr<transport::PlaceIndexReceiver> receiver, std::string mosaic_id,
                    mosaic::RasterSource* mosaic, const geometry::CameraModel& camera,
-                   const mapmatch::RelocalizerOptions& options);
+                   const relocalization::RelocalizerOptions& options);
   void StartLoading(transport::PlaceIndexBlob blob);
   void FinishLoading();
 
@@ -62,12 +62,12 @@ class AgentRelocalizer : public GlobalRelocalization {
   std::string mosaic_id_;
   mosaic::RasterSource* mosaic_;
   geometry::CameraModel camera_;
-  mapmatch::RelocalizerOptions options_;
-  std::future<Result<mapmatch::PlaceIndex>> loading_;
+  relocalization::RelocalizerOptions options_;
+  std::future<Result<relocalization::PlaceIndex>> loading_;
   long long loading_version_ = -1;
   std::unique_ptr<transport::PlaceIndexBlob> queued_;  // arrived while another was loading
-  std::unique_ptr<mapmatch::PlaceIndex> index_;
-  std::unique_ptr<mapmatch::Relocalizer> relocalizer_;  // reads *index_
+  std::unique_ptr<relocalization::PlaceIndex> index_;
+  std::unique_ptr<relocalization::Relocalizer> relocalizer_;  // reads *index_
   long long index_version_ = -1;
   RelocalizationStats stats_;
 };

@@ -129,7 +129,7 @@ void DdsLink::WaitForTileCoverage(std::chrono::steady_clock::time_point deadline
 }
 
 Status DdsLink::OpenRelocalizer(const geometry::CameraModel& camera) {
-  mapmatch::RelocalizerOptions options;
+  relocalization::RelocalizerOptions options;
   options.trajectory_frames = config_.relocalize_trajectory_frames;
   return TakeInto(
       AgentRelocalizer::Create(*participant_, layout_.mosaic_id, view_.get(), camera, options),

@@ -166,7 +166,7 @@ bool LocalizationCore::TryRelocalize(double t, const cv::Mat& frame, const geome
   if (!relocalization.ready() || t - last_relocalize_t_ < options_.relocalize_interval_s)
     return false;
   last_relocalize_t_ = t;
-  Result<mapmatch::Relocalization> found = relocalization.Relocalize(frame, odom);
+  Result<relocalization::Relocalization> found = relocalization.Relocalize(frame, odom);
   if (!found.ok()) {
     health_.RecordError("relocalization: " + found.status().message());
     return false;

@@ -32,9 +32,10 @@ class FakeTiles : public TileSupply {
 class FakeRelocalization : public GlobalRelocalization {
  public:
   bool ready() const override { return answer.has_value(); }
-  Result<mapmatch::Relocalization> Relocalize(const cv::Mat&, const geometry::Pose2&) override {
+  Result<relocalization::Relocalization> Relocalize(const cv::Mat&,
+                                                    const geometry::Pose2&) override {
     ++attempts;
-    mapmatch::Relocalization found;
+    relocalization::Relocalization found;
     found.found = true;
     found.base_in_map = *answer;
     return found;

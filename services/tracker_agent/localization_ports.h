@@ -10,8 +10,8 @@
 
 #include "base/status.h"
 #include "geometry/pose2.h"
-#include "mapmatch/relocalizer.h"
 #include "mosaic/tile_key.h"
+#include "relocalization/relocalizer.h"
 #include "tracker_agent/capture_latency.h"
 #include "tracking/frame_localizer.h"
 
@@ -56,8 +56,8 @@ class GlobalRelocalization {
   virtual ~GlobalRelocalization() = default;
   virtual bool ready() const = 0;
   // Relocalizes `frame` (rectified) taken at `base_in_odom`. Requires ready().
-  virtual Result<mapmatch::Relocalization> Relocalize(const cv::Mat& frame,
-                                                      const geometry::Pose2& base_in_odom) = 0;
+  virtual Result<relocalization::Relocalization> Relocalize(
+      const cv::Mat& frame, const geometry::Pose2& base_in_odom) = 0;
   // Forgets the frames held for a multi-frame search (the vehicle tracks again).
   virtual void ResetTrajectory() = 0;
   virtual double last_ms() const = 0;  // how long the last attempt took

@@ -12,9 +12,9 @@
 
 #include "commands.h"
 #include "io/run.h"
-#include "mapmatch/self_similarity.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_upkeep/place_index_cache.h"
+#include "relocalization/self_similarity.h"
 #include "support/reloc_index.h"
 
 namespace fleetloc::fleetctl {
@@ -37,22 +37,22 @@ Result<cv::Mat> ReadRunFrame(const io::Run& run, int k) {
   return io::ReadFrame(run.frames[k], run.camera.model);
 }
 
-// Places where the floor repeats itself (mapmatch/self_similarity.h) as JSON, with a warning;
+// Places where the floor repeats itself (relocalization/self_similarity.h) as JSON, with a warning;
 // the relocalizer then refuses poses there (Relocalizer::SetTwinPlaces).
-Result<nlohmann::json> SelfSimilarityJson(mapmatch::Relocalizer& relocalizer,
+Result<nlohmann::json> SelfSimilarityJson(relocalization::Relocalizer& relocalizer,
                                           mosaic::RasterSource& mosaic,
                                           const geometry::CameraModel& camera) {
   if (relocalizer.dense_search() == nullptr)
     return InvalidInput("--self-similarity: the mosaic is too large for the dense place search");
   const auto start = std::chrono::steady_clock::now();
-  Result<mapmatch::SelfSimilarityReport> report = mapmatch::FindSelfSimilarity(
-      *relocalizer.dense_search(), mosaic, camera, mapmatch::SelfSimilarityOptions{});
+  Result<relocalization::SelfSimilarityReport> report = relocalization::FindSelfSimilarity(
+      *relocalizer.dense_search(), mosaic, camera, relocalization::SelfSimilarityOptions{});
   if (!report.ok()) return report.status();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   relocalizer.SetTwinPlaces(report->ambiguous);
   nlohmann::json places = nlohmann::json::array();
-  for (const mapmatch::SimilarPlace& p : report->ambiguous) {
+  for (const relocalization::SimilarPlace& p : report->ambiguous) {
     places.push_back({{"place", {p.place.x, p.place.y}},
                       {"twin", {p.twin.x, p.twin.y, p.twin.theta}},
                       {"correlation", p.own},
@@ -87,15 +87,15 @@ Status RunReloc(const RelocArgs& args) {
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(args.cache_mb << 20));
   Result<mosaic_upkeep::LoadedPlaceIndex> index = mosaic_upkeep::LoadOrBuildPlaceIndex(
-      args.mosaic, view, mapmatch::PlaceIndexOptions{},
+      args.mosaic, view, relocalization::PlaceIndexOptions{},
       args.no_cache ? mosaic_upkeep::IndexCache::kIgnore : mosaic_upkeep::IndexCache::kUse);
   // A mosaic the place index refuses (no distinctive features): the dense place search alone.
   if (!index.ok() && index.status().code() != StatusCode::kInvalidInput) return index.status();
   if (!index.ok())
     spdlog::warn("{}; relocalizing by the dense place search alone", index.status().message());
   auto relocalizer =
-      mapmatch::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view, run->camera.model,
-                                    mapmatch::RelocalizerOptions{});
+      relocalization::Relocalizer::Create(index.ok() ? &index->index : nullptr, &view,
+                                          run->camera.model, relocalization::RelocalizerOptions{});
   if (!relocalizer.ok()) {
     if (index.ok()) return relocalizer.status();
     return InvalidInput(index.status().message() + "; and " + relocalizer.status().message());
@@ -106,7 +106,7 @@ Status RunReloc(const RelocArgs& args) {
     if (!similar.ok()) return similar.status();
     similar_json = *similar;
   }
-  Result<mapmatch::Relocalization> result = (*relocalizer)->Relocalize(*frame);
+  Result<relocalization::Relocalization> result = (*relocalizer)->Relocalize(*frame);
   if (!result.ok()) return result.status();
   nlohmann::json json = RelocalizationJson(*result);
   if (args.self_similarity) json["self_similarity"] = similar_json;

@@ -2,9 +2,10 @@
 // the mosaic file) — PlaceIndex::Deserialize must reject anything malformed with an error.
 #include <span>
 
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  (void)fleetloc::mapmatch::PlaceIndex::Deserialize(std::span<const std::uint8_t>(data, size));
+  (void)fleetloc::relocalization::PlaceIndex::Deserialize(
+      std::span<const std::uint8_t>(data, size));
   return 0;
 }

@@ -48,13 +48,15 @@ LAYERS = [
     # calibration, the supervisor's pure fleet logic.
     ("primitives", ["common/imaging", "common/mosaic", "common/calibration", "common/fleet"]),
     ("tracking", ["common/tracking"]),
-    # Algorithms over the tracker: mosaic building and re-mapping, map matching and
-    # relocalization, the simulator (its corridor scenes use mapmatch's landmarks).
+    # Algorithms over the tracker: mosaic building and re-mapping, map matching, the simulator
+    # (its corridor scenes use mapmatch's landmarks).
     ("algorithms", ["common/mapping", "common/mapmatch", "common/sim"]),
+    # Global relocalization: over the tracker (verification) and mapmatch (mean shift).
+    ("relocalization", ["common/relocalization"]),
     # Adapters: process plumbing (logging, signals, sd_notify, child processes), files, the
     # rectifier camera.json asks for (replay's and the agent's), DDS, cameras, metrics, offline
     # replay, the stored mosaic's upkeep jobs (re-mapping, vehicle standing, the place-index
-    # cache: over mapping and mapmatch), the fleet on DDS.
+    # cache: over mapping and relocalization), the fleet on DDS.
     ("adapters", ["common/runtime", "common/io", "common/rectification", "common/transport",
                   "common/camera_io", "common/metrics", "common/replay", "common/mosaic_upkeep",
                   "common/fleet_link"]),
@@ -69,12 +71,11 @@ LAYERS = [
 ALLOWED_UPWARD = [
 ]
 
-# Files over MAX_FILE_LINES in areas other engineers are changing now (issue 19: the tracker
-# agent split, MosaicTracker::Track as named steps, mapmatch). Current length in lines; the
-# check fails if a file grows past it (and reports the entry stale once it is short enough).
+# Files over MAX_FILE_LINES in areas other engineers are changing now: none today (issue 19 split
+# the last ones, relocalization's dense place search and relocalizer). An entry is file → current
+# length in lines; the check fails if a file grows past it (and reports the entry stale once it is
+# short enough).
 ALLOWED_LONG_FILES = {
-    "common/mapmatch/dense_place_search.cpp": 472,
-    "common/mapmatch/relocalizer.cpp": 439,
 }
 
 # Functions over MAX_FUNCTION_LINES in the same areas: "file:function" → the current lengths

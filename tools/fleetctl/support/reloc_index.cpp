@@ -3,7 +3,7 @@
 
 namespace fleetloc::fleetctl {
 
-nlohmann::json RelocalizationJson(const mapmatch::Relocalization& r) {
+nlohmann::json RelocalizationJson(const relocalization::Relocalization& r) {
   nlohmann::json json{{"found", r.found},
                       {"frame_features", r.frame_features},
                       {"matches", r.matches},

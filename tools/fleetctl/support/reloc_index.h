@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mapmatch/relocalizer.h"
+#include "relocalization/relocalizer.h"
 
 namespace fleetloc::fleetctl {
 
 // found, pose, covariance (upper triangle as in poses.csv), reason, counts and stage times.
-nlohmann::json RelocalizationJson(const mapmatch::Relocalization& result);
+nlohmann::json RelocalizationJson(const relocalization::Relocalization& result);
 
 }  // namespace fleetloc::fleetctl

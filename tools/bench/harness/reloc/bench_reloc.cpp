@@ -60,7 +60,7 @@ Eigen::Vector2d ImageVelocity(const geometry::CameraModel& camera, double speed_
          kDt;
 }
 
-double Ms(const mapmatch::Relocalization& r) {
+double Ms(const relocalization::Relocalization& r) {
   return r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms + r.dense_ms;
 }
 
@@ -81,8 +81,8 @@ bool Correct(const geometry::Pose2& pose, const geometry::Pose2& truth, const Re
 
 // A pose the features found that the twin check or the self-similarity report refused, against
 // the truth.
-RelocTrial::Refused RefusedTwin(const mapmatch::Relocalization& r, const geometry::Pose2& truth,
-                                const RelocTrialSettings& s) {
+RelocTrial::Refused RefusedTwin(const relocalization::Relocalization& r,
+                                const geometry::Pose2& truth, const RelocTrialSettings& s) {
   RelocTrial scratch;
   RelocTrial::Refused refused;
   refused.correct = Correct(r.base_in_map.pose, truth, s, &scratch);
@@ -97,15 +97,15 @@ RelocTrial::Refused RefusedTwin(const mapmatch::Relocalization& r, const geometr
 
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
 // multi-frame relocalization the frames go on until the single-frame path has answered too.
-Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
-                            const mapmatch::PlaceIndex* index, sim::CameraRenderer& renderer,
+Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
+                            const relocalization::PlaceIndex* index, sim::CameraRenderer& renderer,
                             const geometry::Pose2& start, int trial, const RelocTrialSettings& s) {
   const mosaic::MosaicLayout layout = store->layout();
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(s.tile_cache_bytes));
-  mapmatch::RelocalizerOptions options = s.relocalizer;
+  relocalization::RelocalizerOptions options = s.relocalizer;
   options.dense.threads = options.dense_fine.threads = s.threads;
-  auto relocalizer = mapmatch::Relocalizer::Create(index, &view, renderer.camera(), options);
+  auto relocalizer = relocalization::Relocalizer::Create(index, &view, renderer.camera(), options);
   if (!relocalizer.ok()) return relocalizer.status();
   const bool multi = s.relocalizer.trajectory_frames > 1;
   RelocTrial out;
@@ -117,7 +117,7 @@ Result<RelocTrial> RunTrial(std::shared_ptr<mosaic::TileStore> store,
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
     cv::setNumThreads(s.threads);
-    Result<mapmatch::Relocalization> r =
+    Result<relocalization::Relocalization> r =
         multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth))
               : (*relocalizer)->Relocalize(frame);
     cv::setNumThreads(1);
@@ -149,7 +149,7 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
     const RelocTrial& t = trials[i];
     if (t.correct) continue;
     nlohmann::json runs = nlohmann::json::array();
-    for (const mapmatch::Relocalization& r : t.runs)
+    for (const relocalization::Relocalization& r : t.runs)
       runs.push_back(fleetctl::RelocalizationJson(r));
     failures.push_back({{"trial", i},
                         {"found", t.found},
@@ -168,7 +168,7 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
   nlohmann::json accepted = nlohmann::json::array();
   for (const RelocTrial& t : trials) {
     if (!t.found) continue;
-    const mapmatch::Relocalization& r = t.runs[t.accepted_run];
+    const relocalization::Relocalization& r = t.runs[t.accepted_run];
     accepted.push_back({t.correct, r.inliers, r.templates, r.candidate_inliers, r.from_trajectory,
                         r.from_trajectory ? r.trajectory_best
                         : r.dense_fine    ? r.dense_fine_best
@@ -204,7 +204,7 @@ struct AttemptTimes {
 AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
   AttemptTimes a;
   for (const RelocTrial& t : trials) {
-    for (const mapmatch::Relocalization& r : t.runs) {
+    for (const relocalization::Relocalization& r : t.runs) {
       a.attempt_ms.push_back(Ms(r) + r.trajectory_ms);
       a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms),
           a.verify.push_back(r.verify_ms);
@@ -264,7 +264,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                             {"dense_fine", replay::Percentile(dense_fine, 50)},
                             {"trajectory", replay::Percentile(trajectory, 50)}}}};
   if (!trials.empty()) {
-    const mapmatch::Relocalizer::DenseMemory& m = trials.front().memory;
+    const relocalization::Relocalizer::DenseMemory& m = trials.front().memory;
     stats["dense_memory_bytes"] = {
         {"dense", m.dense}, {"dense_fine", m.dense_fine}, {"trajectory", m.trajectory}};
   }
@@ -277,8 +277,8 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
   return stats;
 }
 
-Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
-                                               const mapmatch::PlaceIndex* index,
+Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::TileStore>& store,
+                                               const relocalization::PlaceIndex* index,
                                                const RelocTrialSettings& settings) {
   const mosaic::MosaicLayout layout = store->layout();
   // The renderer reads the same mosaic through its own view and cache, so it never warms the

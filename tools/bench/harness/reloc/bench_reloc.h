@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "base/status.h"
-#include "mapmatch/place_index.h"
-#include "mapmatch/relocalizer.h"
 #include "mosaic/tile_store.h"
+#include "relocalization/place_index.h"
+#include "relocalization/relocalizer.h"
 #include "sim/sim_options.h"
 
 namespace fleetloc::bench {
@@ -35,7 +35,7 @@ struct RelocTrialSettings {
   // (DensePlaceSearchOptions::threads); 1 otherwise, so the index builds fork with no worker
   // busy and the rendering stays on one core.
   int threads = 1;
-  mapmatch::RelocalizerOptions relocalizer;
+  relocalization::RelocalizerOptions relocalizer;
 };
 
 struct RelocTrial {
@@ -44,8 +44,8 @@ struct RelocTrial {
   int attempts = 0;      // frames used
   double error_m = 0, error_rad = 0;
   double time_to_pose_s = 0;  // relocalizer time of all attempts + waiting for later frames
-  std::vector<mapmatch::Relocalization> runs;  // one per attempt
-  int accepted_run = -1;                       // the run that returned the pose
+  std::vector<relocalization::Relocalization> runs;  // one per attempt
+  int accepted_run = -1;                             // the run that returned the pose
   // With multi-frame relocalization (relocalizer.trajectory_frames > 1; odometry 2 % long and
   // 0.5° per metre off): the single-frame outcome of the same frames — the first attempt whose
   // own frame was accepted — for side-by-side tables.
@@ -61,14 +61,14 @@ struct RelocTrial {
     bool by_report = false;  // refused by the self-similarity report, not the twin check
   };
   std::vector<Refused> refused;
-  mapmatch::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
+  relocalization::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
 };
 
 // Runs the trials on the mosaic of `store` with `index` (null: none, the dense search alone);
 // logs progress. Internal if the
 // relocalizer rejects a rendered frame (a bug).
-Result<std::vector<RelocTrial>> RunRelocTrials(std::shared_ptr<mosaic::TileStore> store,
-                                               const mapmatch::PlaceIndex* index,
+Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::TileStore>& store,
+                                               const relocalization::PlaceIndex* index,
                                                const RelocTrialSettings& settings);
 
 // The trials' counts (correct, within target_s, wrong, not found), time percentiles, every

@@ -65,7 +65,7 @@ struct Cell {
 };
 
 // The index of a cell's mosaic, built in this process: its numbers as JSON.
-nlohmann::json IndexJson(const mapmatch::PlaceIndex& index, double seconds,
+nlohmann::json IndexJson(const relocalization::PlaceIndex& index, double seconds,
                          const mosaic::MosaicLayout& layout) {
   const double mpx = layout.width_px * static_cast<double>(layout.height_px) / 1e6;
   return {{"features", index.size()},
@@ -115,7 +115,7 @@ Result<nlohmann::json> RunCell(const Cell& cell, const RelocStressArgs& args) {
   mosaic::MosaicView view(layout, mosaic::MakeTileLoader(*store),
                           std::make_shared<mosaic::TileCache>(64LL << 20));
   const auto start = std::chrono::steady_clock::now();
-  Result<mapmatch::PlaceIndex> index = mapmatch::PlaceIndex::Build(view, args.index);
+  Result<relocalization::PlaceIndex> index = relocalization::PlaceIndex::Build(view, args.index);
   const double build_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   Result<RelocTrialSettings> settings = CellSettings(args, cell.size, cell.condition);

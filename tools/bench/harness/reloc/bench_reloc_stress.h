@@ -11,7 +11,7 @@
 
 #include "base/status.h"
 #include "harness/reloc/bench_reloc.h"
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
 namespace fleetloc::bench {
 
@@ -24,7 +24,7 @@ struct RelocStressArgs {
   std::vector<std::string> layouts{"single"};  // "single" and/or "repeated"
   std::string work_dir;
   std::string json;
-  mapmatch::PlaceIndexOptions index;
+  relocalization::PlaceIndexOptions index;
   RelocTrialSettings trials;  // frame size, render options and step are set per cell
 };
 

@@ -11,21 +11,21 @@
 #include <opencv2/core/utility.hpp>
 
 #include "io/run.h"
-#include "mapmatch/dense_place_search.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "relocalization/dense_place_search.h"
 
 namespace fleetloc::bench {
 namespace {
 
 // One frame's line; true when the best peak is within 1 cm of the truth.
-Result<bool> ProbeFrame(const mapmatch::DensePlaceSearch& search, const io::Run& run,
+Result<bool> ProbeFrame(const relocalization::DensePlaceSearch& search, const io::Run& run,
                         std::size_t k) {
   Result<cv::Mat> frame = io::ReadFrame(run.frames[k], run.camera.model);
   if (!frame.ok()) return frame.status();
   const geometry::Pose2 truth = run.truth[k].pose * run.camera.model.mount;
-  const mapmatch::DensePeak at_truth = search.Refine(*frame, {truth, 0.0});
-  const std::vector<mapmatch::DensePeak> peaks = search.Search(*frame);
+  const relocalization::DensePeak at_truth = search.Refine(*frame, {truth, 0.0});
+  const std::vector<relocalization::DensePeak> peaks = search.Search(*frame);
   const double best = peaks.empty() ? 0.0 : peaks[0].correlation;
   const double second = peaks.size() < 2 ? 0.0 : peaks[1].correlation;
   const double error_m = peaks.empty() ? -1.0
@@ -52,7 +52,7 @@ Status RunDenseProbe(const DenseProbeArgs& args) {
   std::shared_ptr<mosaic::TileStore> store = std::move(*opened);
   mosaic::MosaicView view(store->layout(), mosaic::MakeTileLoader(store),
                           std::make_shared<mosaic::TileCache>(256LL << 20));
-  auto search = mapmatch::DensePlaceSearch::Create(view, run->camera.model, args.dense);
+  auto search = relocalization::DensePlaceSearch::Create(view, run->camera.model, args.dense);
   if (!search.ok()) return search.status();
   int right = 0, frames = 0;
   for (std::size_t k = 0; k < run->frames.size(); k += args.every, ++frames) {

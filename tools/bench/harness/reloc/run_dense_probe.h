@@ -5,14 +5,14 @@
 #include <vector>
 
 #include "base/status.h"
-#include "mapmatch/dense_place_search.h"
+#include "relocalization/dense_place_search.h"
 
 namespace fleetloc::bench {
 
 struct DenseProbeArgs {
   std::string mosaic, run;  // the mosaic and a run with truth over it
   int every = 6;            // every k-th frame
-  mapmatch::DensePlaceSearchOptions dense;
+  relocalization::DensePlaceSearchOptions dense;
 };
 
 // Prints one line per probed frame and the count at the truth. The run's or the mosaic's error

@@ -68,7 +68,8 @@ Result<std::shared_ptr<mosaic::TileStore>> OpenStore(const std::string& path) {
 }
 
 // Builds the index in a child process (so its peak RSS is its own) and stores it in the mosaic.
-Result<ChildRun> BuildIndexInChild(const std::string& db, const mapmatch::PlaceIndexOptions& o) {
+Result<ChildRun> BuildIndexInChild(const std::string& db,
+                                   const relocalization::PlaceIndexOptions& o) {
   return RunInChild([&]() -> Result<std::string> {
     Result<std::shared_ptr<mosaic::TileStore>> store = OpenStore(db);
     if (!store.ok()) return store.status();
@@ -106,8 +107,8 @@ void PrintSummary(const nlohmann::json& j) {
 
 Status RunRelocBench(const RelocBenchArgs& args) {
   cv::setNumThreads(1);  // one core; and no worker threads may exist when the build forks
-  FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.index));
-  FLEETLOC_RETURN_IF_ERROR(mapmatch::Validate(args.trials.relocalizer));
+  FLEETLOC_RETURN_IF_ERROR(relocalization::Validate(args.index));
+  FLEETLOC_RETURN_IF_ERROR(relocalization::Validate(args.trials.relocalizer));
   if (args.stress) {
     RelocStressArgs stressed = args.stressed;
     stressed.index = args.index;

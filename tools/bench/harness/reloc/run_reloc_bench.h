@@ -9,7 +9,7 @@
 #include "base/status.h"
 #include "harness/reloc/bench_reloc.h"
 #include "harness/reloc/bench_reloc_stress.h"
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
 namespace fleetloc::bench {
 
@@ -19,7 +19,7 @@ struct RelocBenchArgs {
   std::string floors_dir;
   std::string work_dir = (std::filesystem::temp_directory_path() / "fleetloc-bench-reloc").string();
   std::string json;
-  mapmatch::PlaceIndexOptions index;
+  relocalization::PlaceIndexOptions index;
   RelocTrialSettings trials;
   bool stress = false;       // the stress floors instead (bench_reloc_stress.h)
   RelocStressArgs stressed;  // its floors, sizes, conditions and layouts

@@ -1,6 +1,6 @@
 // Building and querying the place index (see place_index.h); the blob format is in
 // place_index_codec.cpp.
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
 #include <algorithm>
 #include <opencv2/flann.hpp>
@@ -8,7 +8,7 @@
 
 #include "geometry/pose2.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 constexpr int kDescriptorBytes = 32;
@@ -128,4 +128,4 @@ std::size_t PlaceIndex::MemoryBytes() const {
          descriptors_.total() * descriptors_.elemSize();
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -11,7 +11,7 @@
 #include "base/status.h"
 #include "geometry/pose2.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 // One match: a frame feature at `ground_m` (camera_ground) with orientation `ground_heading_rad`
 // and an index feature at `map_m` with `map_heading_rad`. `query` names the frame feature (one
@@ -54,4 +54,4 @@ geometry::Pose2 FitRigid(const std::vector<FeatureMatch>& matches);
 std::vector<PoseCandidate> ClusterVotes(const std::vector<FeatureMatch>& matches,
                                         const VoteClusterOptions& options);
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -1,12 +1,12 @@
 // Pose voting: the vote of a single exact match, the rigid fit, and clustering with most matches
 // wrong.
-#include "mapmatch/pose_votes.h"
+#include "relocalization/pose_votes.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 // A match of the frame feature at `ground` seen by the camera at `camera` (exact, or moved to a
@@ -56,6 +56,7 @@ TEST(PoseVotes, RandomMatchesGiveNoCandidate) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> offset(-0.15, 0.15);
   std::vector<FeatureMatch> matches;
+  matches.reserve(300);
   for (int i = 0; i < 300; ++i)
     matches.push_back(MatchOf({}, i, {offset(rng), offset(rng)}, 0.0, rng, true));
   EXPECT_TRUE(ClusterVotes(matches, VoteClusterOptions{}).empty());
@@ -71,4 +72,4 @@ TEST(PoseVotes, BadOptionsAreRejected) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

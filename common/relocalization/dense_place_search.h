@@ -20,7 +20,7 @@
 #include "geometry/pose2.h"
 #include "mosaic/raster_source.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 struct DensePlaceSearchOptions {
   // The refine level is the coarsest whose frame short side is >= this many pixels; the heading
@@ -153,4 +153,4 @@ class DensePlaceSearch {
 // is `d` (map metres) from another's lines up with it; pixels x right, y down (north-up raster).
 cv::Mat ShiftedScores(const cv::Mat& scores, const Eigen::Vector2d& d, double resolution_m);
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -2,7 +2,7 @@
 // random poses and headings are found within the search's resolution; a floor made of one photo
 // twice side by side gives two equally good distinct peaks; two stripes give exactly one's
 // results; bad input is refused.
-#include "mapmatch/dense_place_search.h"
+#include "relocalization/dense_place_search.h"
 
 #include <gtest/gtest.h>
 
@@ -12,11 +12,11 @@
 #include <utility>
 #include <vector>
 
-#include "mapmatch/test_floors.h"
+#include "relocalization/test_floors.h"
 #include "sim/camera_renderer.h"
 #include "sim/random_pose.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 using testing::kResolutionM;
@@ -218,4 +218,4 @@ TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

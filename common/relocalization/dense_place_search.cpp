@@ -1,6 +1,6 @@
-// Dense global place search: heading sweep at a coarse level, refinement one level finer (see
-// dense_place_search.h).
-#include "mapmatch/dense_place_search.h"
+// Dense global place search: the normalized levels and the heading sweep at a coarse level (see
+// dense_place_search.h); the refinement one level finer is in dense_place_search_refine.cpp.
+#include "relocalization/dense_place_search.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,36 +10,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "imaging/masked_correlator.h"
+#include "relocalization/dense_place_search_parts.h"
 
-namespace fleetloc::mapmatch {
-
-// The whole mosaic at one pyramid level, normalized, with its geotransform.
-struct DensePlaceSearch::Level {
-  int level = 0;
-  cv::Mat normalized;  // CV_32F
-  geometry::Geotransform geo;
-  double half_diagonal_px = 0;  // of a frame at this level
-  int pad_px = 0;               // zero border around the mosaic
-  double heading_step_rad = 0;
-  std::unique_ptr<imaging::MaskedCorrelator> correlator;  // of `normalized`: its spectra kept
-};
+namespace fleetloc::relocalization {
 
 namespace {
 
 constexpr double kEpsilonDn = 0.5;  // keeps flat areas from being amplified into noise
-
-// (I − μ) / (σ + ε) over a window, clipped to ±clip; CV_32F.
-cv::Mat NormalizeClipped(const cv::Mat& image, int window, double clip) {
-  cv::Mat f, mean, mean_sq, sigma;
-  image.convertTo(f, CV_32F);
-  cv::boxFilter(f, mean, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
-                cv::BORDER_REFLECT);
-  cv::boxFilter(f.mul(f), mean_sq, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
-                cv::BORDER_REFLECT);
-  cv::sqrt(cv::max(mean_sq - mean.mul(mean), 0.0), sigma);
-  cv::Mat out = (f - mean) / (sigma + kEpsilonDn);
-  return cv::min(cv::max(out, -clip), clip);
-}
 
 // The whole mosaic at `level` (resampled from the coarsest stored level when it has fewer).
 cv::Mat ReadWholeLevel(mosaic::RasterSource& mosaic, int level) {
@@ -54,7 +31,20 @@ cv::Mat ReadWholeLevel(mosaic::RasterSource& mosaic, int level) {
   return smaller;
 }
 
-// Frame pixel directions → mosaic pixel directions at the same level, for heading θ.
+}  // namespace
+
+cv::Mat NormalizeClipped(const cv::Mat& image, int window, double clip) {
+  cv::Mat f, mean, mean_sq, sigma;
+  image.convertTo(f, CV_32F);
+  cv::boxFilter(f, mean, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
+                cv::BORDER_REFLECT);
+  cv::boxFilter(f.mul(f), mean_sq, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true,
+                cv::BORDER_REFLECT);
+  cv::sqrt(cv::max(mean_sq - mean.mul(mean), 0.0), sigma);
+  cv::Mat out = (f - mean) / (sigma + kEpsilonDn);
+  return cv::min(cv::max(out, -clip), clip);
+}
+
 Eigen::Matrix2d FrameToMosaic(const geometry::CameraModel& camera,
                               const geometry::Geotransform& geo, double theta) {
   Eigen::Matrix2d to_ground, to_pixel;
@@ -66,13 +56,6 @@ Eigen::Matrix2d FrameToMosaic(const geometry::CameraModel& camera,
   const double scale = geo.resolution / camera.resolution_m;
   return scale * to_pixel * Eigen::Rotation2Dd(theta).toRotationMatrix() * to_ground;
 }
-
-// The normalized frame rotated into the mosaic's axes for heading θ: the template, its mask, and
-// the template's continuous coordinates of the frame centre.
-struct Template {
-  cv::Mat pixels, mask;
-  Eigen::Vector2d centre;
-};
 
 Template RotatedFrame(const cv::Mat& frame, const Eigen::Matrix2d& l) {
   const Eigen::Vector2d half(0.5 * frame.cols, 0.5 * frame.rows);
@@ -92,14 +75,11 @@ Template RotatedFrame(const cv::Mat& frame, const Eigen::Matrix2d& l) {
   return t;
 }
 
-// Places where the template meets only the zero border (0 / 0) score 0, not NaN or infinity.
 void FiniteScores(cv::Mat* scores) {
   cv::patchNaNs(*scores, 0.0);
   scores->setTo(0.0f, cv::abs(*scores) > 1.0f);
 }
 
-// body(i) for every i in [0, n), on up to `threads` stripes of OpenCV's pool; body(i) may write
-// only what belongs to i.
 void InParallel(int n, int threads, const std::function<void(int)>& body) {
   cv::parallel_for_(
       cv::Range(0, n),
@@ -109,25 +89,6 @@ void InParallel(int n, int threads, const std::function<void(int)>& body) {
       std::min(n, threads));
 }
 
-// Sub-pixel offset of a peak from three samples (quadratic), within ±0.5.
-double QuadraticOffset(double left, double centre, double right) {
-  const double denominator = left - 2 * centre + right;
-  if (denominator >= 0) return 0;
-  return std::clamp(0.5 * (left - right) / denominator, -0.5, 0.5);
-}
-
-// The refined sub-pixel position of the maximum of `scores` at integer `at`.
-Eigen::Vector2d SubPixel(const cv::Mat& scores, cv::Point at) {
-  Eigen::Vector2d p(at.x, at.y);
-  const auto s = [&](int x, int y) { return static_cast<double>(scores.at<float>(y, x)); };
-  if (at.x > 0 && at.x + 1 < scores.cols)
-    p.x() += QuadraticOffset(s(at.x - 1, at.y), s(at.x, at.y), s(at.x + 1, at.y));
-  if (at.y > 0 && at.y + 1 < scores.rows)
-    p.y() += QuadraticOffset(s(at.x, at.y - 1), s(at.x, at.y), s(at.x, at.y + 1));
-  return p;
-}
-
-// The camera pose whose frame centre lands at mosaic continuous coordinates `at` (of `level`).
 geometry::Pose2 PoseAt(const geometry::CameraModel& camera, const geometry::Geotransform& geo,
                        const Eigen::Vector2d& at, double theta) {
   const Eigen::Vector2d centre_ground =
@@ -135,8 +96,6 @@ geometry::Pose2 PoseAt(const geometry::CameraModel& camera, const geometry::Geot
   const Eigen::Vector2d xy = geo.PixelToMap(at) - Eigen::Rotation2Dd(theta) * centre_ground;
   return {xy.x(), xy.y(), geometry::WrapAngle(theta)};
 }
-
-}  // namespace
 
 Status Validate(const DensePlaceSearchOptions& o) {
   if (o.min_short_side_px < 16 || o.min_short_side_px > 512)
@@ -349,106 +308,6 @@ std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
   return peaks;
 }
 
-DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse) const {
-  const Level& f = *fine_;
-  cv::Mat small;
-  cv::resize(frame, small, cv::Size(frame.cols >> f.level, frame.rows >> f.level), 0, 0,
-             cv::INTER_AREA);
-  const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
-  const Eigen::Vector2d centre_ground =
-      camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
-  constexpr int kRadius = 4;  // fine pixels searched around the coarse peak
-  DensePeak best{coarse.camera_in_map, -2.0};
-  for (int j = -options_.refine_heading_steps; j <= options_.refine_heading_steps; ++j) {
-    const double theta = coarse.camera_in_map.theta + j * f.heading_step_rad;
-    const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, f.geo, theta));
-    const Eigen::Vector2d at = f.geo.MapToPixel(coarse.camera_in_map * centre_ground);
-    const cv::Point corner(static_cast<int>(std::lround(at.x() - t.centre.x())) - kRadius,
-                           static_cast<int>(std::lround(at.y() - t.centre.y())) - kRadius);
-    const cv::Rect area(corner, t.pixels.size() + cv::Size(2 * kRadius, 2 * kRadius));
-    if ((area & cv::Rect(0, 0, f.normalized.cols, f.normalized.rows)) != area) continue;
-    cv::Mat scores;
-    imaging::MatchAtFewPlacements(f.normalized(area), t.pixels, t.mask, &scores);
-    FiniteScores(&scores);
-    double value = 0;
-    cv::Point peak;
-    cv::minMaxLoc(scores, nullptr, &value, nullptr, &peak);
-    if (!(value > best.correlation)) continue;
-    const Eigen::Vector2d sub = SubPixel(scores, peak);
-    best = {PoseAt(camera_, f.geo, Eigen::Vector2d(corner.x, corner.y) + sub + t.centre, theta),
-            value};
-  }
-  return best;
-}
-
-DensePeak DensePlaceSearch::Alternative(const std::vector<cv::Mat>& frames,
-                                        const std::vector<geometry::Pose2>& motions,
-                                        const geometry::Pose2& first) const {
-  FLEETLOC_CHECK(!frames.empty() && frames.size() == motions.size());
-  const SweepLevel fine = SweepLevel::kRefine;
-  std::vector<cv::Mat> normalized;
-  for (const cv::Mat& frame : frames) normalized.push_back(NormalizedFrame(frame, fine));
-  const Eigen::Vector2d centre_ground =
-      camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
-  const double step = 2 * M_PI / heading_steps(fine);
-  const double resolution = sweep_resolution_m(fine);
-  const Eigen::Vector2d own = SweepPixel(first * centre_ground, fine);
-  const int radius_px = static_cast<int>(std::ceil(separation_m() / resolution));
-  // The frames' mean map at each of the 5 headings, own place blanked, and its best place; the
-  // headings on parallel stripes, chosen in heading order.
-  constexpr int kHeadings = 5;
-  struct Place {
-    double value = 0;
-    cv::Point at;
-  };
-  std::vector<Place> places(kHeadings);
-  const auto theta_of = [&](int slot) { return first.theta + (slot - kHeadings / 2) * step; };
-  InParallel(kHeadings, options_.threads, [&](int slot) {
-    const double theta = theta_of(slot);
-    cv::Mat sum = cv::Mat::zeros(sweep_size(fine), CV_32F), scores;
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      ScoresAt(normalized[i], theta + motions[i].theta, fine, &scores);
-      const Eigen::Vector2d offset = motions[i] * centre_ground - centre_ground;
-      sum += ShiftedScores(scores, Eigen::Rotation2Dd(theta) * offset, resolution);
-    }
-    sum /= static_cast<double>(frames.size());
-    cv::circle(
-        sum,
-        cv::Point(static_cast<int>(std::lround(own.x())), static_cast<int>(std::lround(own.y()))),
-        radius_px, cv::Scalar(-1), cv::FILLED);
-    cv::minMaxLoc(sum, nullptr, &places[slot].value, nullptr, &places[slot].at);
-  });
-  DensePeak best{first * motions.back(), 0.0};
-  for (int slot = 0; slot < kHeadings; ++slot) {
-    const Place& p = places[slot];
-    if (p.value <= best.correlation) continue;
-    best = {SweepPose(Eigen::Vector2d(p.at.x, p.at.y), theta_of(slot), fine) * motions.back(),
-            p.value};
-  }
-  return best;
-}
-
-bool DensePlaceSearch::Distinct(const DensePeak& a, const std::vector<DensePeak>& kept) const {
-  return std::none_of(kept.begin(), kept.end(), [&](const DensePeak& k) {
-    return std::hypot(a.camera_in_map.x - k.camera_in_map.x,
-                      a.camera_in_map.y - k.camera_in_map.y) < separation_m() &&
-           std::abs(geometry::WrapAngle(a.camera_in_map.theta - k.camera_in_map.theta)) <
-               heading_separation_rad();
-  });
-}
-
-std::vector<DensePeak> DensePlaceSearch::DistinctBest(std::vector<DensePeak> peaks, int n) const {
-  std::stable_sort(peaks.begin(), peaks.end(), [](const DensePeak& a, const DensePeak& b) {
-    return a.correlation > b.correlation;
-  });
-  std::vector<DensePeak> out;
-  for (const DensePeak& p : peaks) {
-    if (static_cast<int>(out.size()) >= n) break;
-    if (Distinct(p, out)) out.push_back(p);
-  }
-  return out;
-}
-
 std::vector<DensePeak> DensePlaceSearch::Search(
     const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
   FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
@@ -469,4 +328,4 @@ cv::Mat ShiftedScores(const cv::Mat& scores, const Eigen::Vector2d& d, double re
   return moved;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -1,13 +1,13 @@
 // FindSelfSimilarity on a real plain-concrete photograph: alone, no sampled place is ambiguous;
 // the same photograph twice side by side, every sampled place inside a copy is, its twin one copy
 // width away; bad options and a mosaic smaller than a frame are refused.
-#include "mapmatch/self_similarity.h"
+#include "relocalization/self_similarity.h"
 
 #include <gtest/gtest.h>
 
-#include "mapmatch/test_floors.h"
+#include "relocalization/test_floors.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 using testing::kResolutionM;
@@ -65,4 +65,4 @@ TEST(SelfSimilarity, RefusesBadOptionsAndAMosaicSmallerThanAFrame) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

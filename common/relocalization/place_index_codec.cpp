@@ -8,9 +8,9 @@
 #include <cstring>
 #include <string>
 
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'L', 'P', 'L', 'A', 'C', 'E', '\0'};
@@ -180,4 +180,4 @@ Result<PlaceIndex> PlaceIndex::Deserialize(std::span<const std::uint8_t> blob) {
   return PlaceIndexCodec::Decode(blob);
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -1,11 +1,11 @@
 // Self-similarity report: dense searches of frame-sized crops of the mosaic (see
 // self_similarity.h).
-#include "mapmatch/self_similarity.h"
+#include "relocalization/self_similarity.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 // The camera pose whose frame is exactly the mosaic crop at `rect` (level 0): heading π/2 puts
@@ -69,4 +69,4 @@ Result<SelfSimilarityReport> FindSelfSimilarity(
   return report;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

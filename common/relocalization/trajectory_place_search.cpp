@@ -1,11 +1,11 @@
 // Multi-frame dense place search: shifted, summed heading sweeps (see trajectory_place_search.h).
-#include "mapmatch/trajectory_place_search.h"
+#include "relocalization/trajectory_place_search.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 TrajectoryPlaceSearch::TrajectoryPlaceSearch(const DensePlaceSearch* dense,
                                              const geometry::CameraModel& camera, SweepLevel level)
     : dense_(dense),
@@ -97,4 +97,4 @@ std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {
   return dense_->DistinctBest(std::move(refined), dense_->options().max_peaks);
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -11,10 +11,10 @@
 
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
-#include "mapmatch/dense_place_search.h"
 #include "mosaic/raster_source.h"
+#include "relocalization/dense_place_search.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 struct SelfSimilarityOptions {
   int grid = 3;                  // crops per side (grid × grid), spread where a frame fits
@@ -40,4 +40,4 @@ Result<SelfSimilarityReport> FindSelfSimilarity(
     const geometry::CameraModel& camera, const SelfSimilarityOptions& options,
     const std::function<bool(int done, int total)>& progress = {});
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -6,7 +6,7 @@
 // Multi-frame relocalization with odometry: a drive whose single frames are all refused is found
 // from the frames combined; on a floor that repeats itself it stays ambiguous; travel beyond the
 // bound starts a new trajectory.
-#include "mapmatch/relocalizer.h"
+#include "relocalization/relocalizer.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 #include "sim/random_pose.h"
 #include "sim/stress_camera.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 constexpr double kResolutionM = 0.0005;
@@ -367,4 +367,4 @@ TEST(Relocalizer, NoIndexAndAMosaicTooLargeForTheDenseSearchIsRejected) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -12,7 +12,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 struct FloorFeatureOptions {
   int level = 1;               // pyramid level features are detected at (0: full resolution)
@@ -46,4 +46,4 @@ FloorFeatures DetectFloorFeatures(const cv::Mat& image, const cv::Mat& valid, co
 // image's: the descriptor patch's reach plus the blur's.
 int FeatureMarginPx(const FloorFeatureOptions& options);
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -1,5 +1,5 @@
 // ORB features bucketed on a grid (see floor_features.h).
-#include "mapmatch/floor_features.h"
+#include "relocalization/floor_features.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 // The usable pixels: `valid` shrunk by the descriptor's reach, and the image border removed.
@@ -92,4 +92,4 @@ FloorFeatures DetectFloorFeatures(const cv::Mat& image, const cv::Mat& valid, co
   return features;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

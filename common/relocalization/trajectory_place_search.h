@@ -13,9 +13,9 @@
 
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
-#include "mapmatch/dense_place_search.h"
+#include "relocalization/dense_place_search.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 class TrajectoryPlaceSearch {
  public:
@@ -64,4 +64,4 @@ class TrajectoryPlaceSearch {
   Eigen::Vector2d offset_{0, 0};  // its centre from the first's, in the first camera's axes
 };
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

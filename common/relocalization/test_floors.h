@@ -9,13 +9,13 @@
 #include "geometry/camera_model.h"
 #include "sim/run_simulator.h"
 
-namespace fleetloc::mapmatch::testing {
+namespace fleetloc::relocalization::testing {
 
 constexpr double kResolutionM = 0.0005;
 
 inline cv::Mat PlainConcrete() {
-  const cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
-                                   cv::IMREAD_GRAYSCALE);
+  cv::Mat photo = cv::imread(FLEETLOC_SOURCE_DIR "/data/stress_floors/plain_concrete_g4.jpg",
+                             cv::IMREAD_GRAYSCALE);
   EXPECT_FALSE(photo.empty());
   return photo;
 }
@@ -24,4 +24,4 @@ inline geometry::CameraModel SmallCamera() {
   return sim::DefaultSimCameraModel(320, 240, kResolutionM);
 }
 
-}  // namespace fleetloc::mapmatch::testing
+}  // namespace fleetloc::relocalization::testing

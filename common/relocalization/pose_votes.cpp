@@ -1,5 +1,5 @@
 // Pose votes, their clustering and the rigid fit of a cluster (see pose_votes.h).
-#include "mapmatch/pose_votes.h"
+#include "relocalization/pose_votes.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,7 +10,7 @@
 
 #include "mapmatch/mean_shift.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 struct Vote {
@@ -32,6 +32,7 @@ std::vector<std::vector<int>> CellsByCount(const std::vector<Vote>& votes,
         .push_back(static_cast<int>(i));
   }
   std::vector<std::vector<int>> ordered;
+  ordered.reserve(cells.size());
   for (auto& [key, members] : cells) ordered.push_back(std::move(members));
   std::stable_sort(ordered.begin(), ordered.end(),
                    [](const auto& a, const auto& b) { return a.size() > b.size(); });
@@ -91,8 +92,8 @@ std::optional<PoseCandidate> GrowCandidate(const std::vector<FeatureMatch>& matc
     consistent.push_back(static_cast<int>(i));
     positions.push_back(votes[i].position_m);
   }
-  const Result<MeanShiftResult> mode =
-      MeanShiftMode(positions, {}, start, MeanShiftOptions{.radius = options.radius_m});
+  const Result<mapmatch::MeanShiftResult> mode = mapmatch::MeanShiftMode(
+      positions, {}, start, mapmatch::MeanShiftOptions{.radius = options.radius_m});
   if (!mode.ok() || mode->support < options.min_support) return std::nullopt;
   std::vector<FeatureMatch> cluster;
   for (std::size_t j = 0; j < consistent.size(); ++j) {
@@ -174,4 +175,4 @@ std::vector<PoseCandidate> ClusterVotes(const std::vector<FeatureMatch>& matches
   return found;
 }
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "base/status.h"
-#include "mapmatch/floor_features.h"
 #include "mosaic/raster_source.h"
+#include "relocalization/floor_features.h"
 
 namespace cv::flann {
 class Index;
 }
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 struct PlaceIndexOptions {
   FloorFeatureOptions features;
@@ -95,4 +95,4 @@ class PlaceIndex {
   friend class PlaceIndexCodec;
 };
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -1,12 +1,12 @@
 // Place index: coverage of the floor, matching a feature's own descriptor, the blob round trip,
 // and clear errors for corrupt blobs and textureless floors.
-#include "mapmatch/place_index.h"
+#include "relocalization/place_index.h"
 
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 mosaic::ImageRasterSource GravelFloor() {
@@ -121,4 +121,4 @@ TEST(PlaceIndex, BadOptionsAreRejected) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -15,16 +15,16 @@
 #include "base/status.h"
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
-#include "mapmatch/dense_place_search.h"
-#include "mapmatch/place_index.h"
-#include "mapmatch/pose_votes.h"
-#include "mapmatch/self_similarity.h"
-#include "mapmatch/trajectory_place_search.h"
 #include "mosaic/raster_source.h"
+#include "relocalization/dense_place_search.h"
+#include "relocalization/place_index.h"
+#include "relocalization/pose_votes.h"
+#include "relocalization/self_similarity.h"
+#include "relocalization/trajectory_place_search.h"
 #include "tracking/mosaic_tracker.h"
 #include "tracking/tracker_options.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 
 struct RelocalizerOptions {
   int query_cell_px = 16;            // frame feature buckets (index level pixels)
@@ -220,4 +220,4 @@ class Relocalizer {
   std::vector<SimilarPlace> twin_places_;
 };
 
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization

@@ -2,7 +2,7 @@
 // short drive with drifting odometry put the newest frame within 2 mm and 1° of truth, the best
 // distinct alternative far below it; on the photograph twice side by side, the best's alternative
 // is its twin one copy away, as good as the best (the caller's gate refuses it as ambiguous).
-#include "mapmatch/trajectory_place_search.h"
+#include "relocalization/trajectory_place_search.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 
 #include "sim/camera_renderer.h"
 
-namespace fleetloc::mapmatch {
+namespace fleetloc::relocalization {
 namespace {
 
 constexpr double kResolutionM = 0.0005;
@@ -93,4 +93,4 @@ TEST(TrajectoryPlaceSearch, TheAlternativeOfAPlaceOnARepeatedFloorIsItsTwin) {
 }
 
 }  // namespace
-}  // namespace fleetloc::mapmatch
+}  // namespace fleetloc::relocalization
