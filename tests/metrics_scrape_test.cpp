@@ -4,6 +4,9 @@
 // issue names must be there and move. Also: silent clients on the supervisor's metrics port do not
 // stall it, and a metrics port already taken is logged and leaves the service running.
 // Eigen (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>

@@ -3,6 +3,9 @@
 // 4xx JSON error, counted, never a crash) and across a restart (history and vehicles survive).
 // Eigen (through pose_messages.h) before httplib: <resolv.h> defines a macro `_res` that
 // breaks Eigen's headers when included first.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>

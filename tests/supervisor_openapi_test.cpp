@@ -4,6 +4,9 @@
 // content type and a body that fits the documented schema; documented error cases answer as
 // described; and paths or methods the document does not list are refused (4xx).
 // Eigen (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>

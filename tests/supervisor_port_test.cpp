@@ -1,6 +1,9 @@
 // No silent port sharing (issue 22): a second supervisor started on the HTTP port of a running one
 // fails at start with exit status 1 and an error naming the address, instead of listening too
 // (httplib's default SO_REUSEPORT let both accept and split the requests between them).
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <gtest/gtest.h>
 #include <httplib.h>
 

@@ -2,6 +2,9 @@
 // supervisor's fleet summary (not counted as tracking), its health, its alerts and in
 // `fleetctl status --supervisor`; /healthz and /readyz answer while the supervisor runs.
 // Eigen (through pose_messages.h) before httplib: see supervisor_http_test.cpp.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <gtest/gtest.h>
 #include <httplib.h>
 

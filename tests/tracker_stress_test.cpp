@@ -86,7 +86,7 @@ INSTANTIATE_TEST_SUITE_P(FloorClasses, TrackerStress,
                                            ClassCase{"epoxy", 0.15},
                                            ClassCase{"painted_lines", 0.1},
                                            ClassCase{"worn_asphalt", 0.1}),
-                         [](const auto& info) { return std::string(info.param.floor_class); });
+                         [](const auto& test) { return std::string(test.param.floor_class); });
 
 // Small frames under fast motion and dust at once (320×240, `all`): in the run's sharp turns the
 // right dense fit lies beyond the odometry model's χ² bound for a strong fit, and only its clear

@@ -6,6 +6,9 @@
 // (reconnect, counted, the named health issue meanwhile, the dashboard API unaffected); wrong
 // credentials refused and counted; the last will (CONNECTIONBROKEN) when the supervisor dies. Eigen
 // (through the fixtures) before httplib: <resolv.h> defines a macro that breaks Eigen.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <httplib.h>

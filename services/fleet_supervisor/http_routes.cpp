@@ -1,5 +1,8 @@
 // HttpApi's routes: one handler per route of the route table (api_routes.h), the checks of the
 // requests' input (vehicle ids, query parameters, the maintainer token) and the server's hooks.
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 

@@ -24,7 +24,7 @@ std::string Iso8601(double unix_s) {
   if (millis >= 1000) millis -= 1000, ++shown;
   std::tm utc{};
   gmtime_r(&shown, &utc);
-  char text[40];
+  char text[96];  // room for any int in each field (GCC checks the worst case)
   std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900,
                 utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, millis);
   return text;

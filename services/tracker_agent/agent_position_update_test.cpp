@@ -151,9 +151,9 @@ TEST(AgentPositionUpdate, ABrokenLandmarkMapOrCameraIsRefused) {
   const mapmatch::ForwardCameraParams good = TestCamera();
   const std::vector<Eigen::Vector2d> landmarks = sim::BuildCorridorScene({}).landmarks;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto refused = [&](std::vector<Eigen::Vector2d> landmarks, const std::string& what,
+  auto refused = [&](std::vector<Eigen::Vector2d> map, const std::string& what,
                      mapmatch::ForwardCameraParams camera = TestCamera()) {
-    auto update = AgentPositionUpdate::Create(camera, std::move(landmarks), {});
+    auto update = AgentPositionUpdate::Create(camera, std::move(map), {});
     ASSERT_FALSE(update.ok()) << what;
     EXPECT_NE(update.status().message().find(what), std::string::npos) << update.status().message();
   };

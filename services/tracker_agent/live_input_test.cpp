@@ -33,7 +33,7 @@ struct Script {
 class ScriptedCamera : public camera_io::CameraSource {
  public:
   explicit ScriptedCamera(Script* script) : script_(script) {}
-  Result<std::optional<camera_io::CapturedFrame>> Grab(double timeout_s) override {
+  Result<std::optional<camera_io::CapturedFrame>> Grab(double /*timeout_s*/) override {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (script_->failing) return Internal("scripted: device gone");
     if (script_->silent) return std::optional<camera_io::CapturedFrame>();
@@ -134,8 +134,9 @@ TEST_F(LiveInputTest, FramesOfTheWrongSizeAreDroppedAndNamedUntilTheSizeIsRight)
   EXPECT_GT(input_->DroppedFrames(), 5);
   ASSERT_TRUE(HasIssue("camera_wrong_format"));
   for (const InputIssue& issue : input_->Issues()) {
-    if (issue.name == "camera_wrong_format")
+    if (issue.name == "camera_wrong_format") {
       EXPECT_EQ(issue.message, "frame 80x48, camera.json expects 64x48");
+    }
   }
   script_.width = 64;
   EXPECT_GT(Count(Pump(0.3), InputEvent::Kind::kFrame), 5);
@@ -251,7 +252,9 @@ TEST_F(LiveInputTest, BadOdometryIsDroppedAndNamedAndStaleOdometryIsNoticed) {
   events = Pump(0.1);
   ASSERT_EQ(Count(events, InputEvent::Kind::kOdometry), 1);
   for (const InputEvent& e : events) {
-    if (e.kind == InputEvent::Kind::kOdometry) EXPECT_EQ(e.odom.x, 2.1);
+    if (e.kind == InputEvent::Kind::kOdometry) {
+      EXPECT_EQ(e.odom.x, 2.1);
+    }
   }
   EXPECT_TRUE(HasIssue("odometry_back_in_time"));
   EXPECT_TRUE(HasIssue("odometry_not_finite"));

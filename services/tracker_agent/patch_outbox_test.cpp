@@ -23,7 +23,7 @@ transport::PatchToSend Patch(double x) {
 }
 
 std::string ScratchOutbox(const std::string& name) {
-  const std::string path =
+  std::string path =
       (std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".db"))
           .string();
   std::filesystem::remove(path);
@@ -125,7 +125,8 @@ TEST(PatchOutbox, AFullOutboxDropsTheOldestLowestQualityPatchesAndCountsThem) {
   EXPECT_EQ(*outbox->Size(), 20);
   EXPECT_EQ(*outbox->Dropped(), 3);
   std::vector<uint64_t> kept;
-  for (const auto& p : *outbox->Due({"boot-a", 0}, 1, 100)) kept.push_back(p.sequence);
+  const auto due = outbox->Due({"boot-a", 0}, 1, 100);  // kept alive: the loop ranges over it
+  for (const auto& p : *due) kept.push_back(p.sequence);
   EXPECT_EQ(kept.front(), 1u);  // the oldest, but of high quality: kept over 2, 3 and 4
   EXPECT_EQ(kept[1], 5u);
   EXPECT_EQ(kept.back(), 23u);

@@ -59,6 +59,9 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
       event.frame = std::move(image).value();
       break;
     }
+    case InputEvent::Kind::kIdle:
+    case InputEvent::Kind::kOdometryRestart:
+      break;  // live input only: a recorded run never yields them (Peek)
   }
   pacer_.WaitUntil(event.t);
   return std::optional<InputEvent>(std::move(event));

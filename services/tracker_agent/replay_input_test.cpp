@@ -61,7 +61,9 @@ TEST(ReplayInput, MergesForwardImagesByTimeAndGoesOnAfterAnUnreadableOne) {
     ASSERT_TRUE(event->has_value());
     EXPECT_EQ((*event)->kind, kind) << "t=" << t;
     EXPECT_NEAR((*event)->t, t, 1e-12);
-    if (kind == Kind::kForwardFrame) EXPECT_EQ((*event)->frame.size(), cv::Size(640, 480));
+    if (kind == Kind::kForwardFrame) {
+      EXPECT_EQ((*event)->frame.size(), cv::Size(640, 480));
+    }
   }
   Result<std::optional<InputEvent>> bad = input.Next();
   ASSERT_FALSE(bad.ok());

@@ -6,6 +6,9 @@
 // docs/benchmarks.md.
 #include "harness/supervisor/bench_supervisor.h"
 
+// clang-format off: Eigen before httplib (<resolv.h> defines `_res`, a name Eigen's headers use)
+#include <Eigen/Core>
+// clang-format on
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -22,7 +25,7 @@
 
 #include "replay/replay.h"
 #include "runtime/child_process.h"
-#include "transport/pose_messages.h"  // Eigen before httplib (<resolv.h> defines `_res`)
+#include "transport/pose_messages.h"
 #include "transport/topic_names.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
@@ -77,7 +80,8 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop,
     for (int i = 0; i < a.vehicles; ++i) {
       PoseReport report{"sim-" + std::to_string(i), now, {}, tracking::LockState::kTracking, 1};
       const double phase = now * 0.2 + i;
-      report.base_in_map.pose = {10 * (i % 25) + std::cos(phase), 10 * (i / 25) + std::sin(phase),
+      const int column = i % 25, row = i / 25;  // 25 circles a row, 10 m apart
+      report.base_in_map.pose = {10 * column + std::cos(phase), 10 * row + std::sin(phase),
                                  phase + M_PI / 2};
       report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
       if (poses[i].Write(ToIdl(report)).ok()) ++*published;
