@@ -43,19 +43,7 @@ Result<std::unique_ptr<PatchClient>> PatchClient::Create(const Participant& part
 }
 
 Status PatchClient::Send(const PatchToSend& p) {
-  fleetloc_PatchObservation sample{};
-  sample.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-  SetBounded(sample.vehicle_id, vehicle_id_);
-  sample.sequence_number = p.sequence;
-  sample.stamp = ToStamp(p.stamp_s);
-  SetBounded(sample.mosaic_id, p.mosaic_id);
-  sample.mosaic_version = p.mosaic_version;
-  sample.x = p.pose.x, sample.y = p.pose.y, sample.theta = p.pose.theta;
-  std::copy(p.covariance, p.covariance + 9, sample.covariance);
-  sample.quality = p.quality;
-  sample.resolution = p.resolution_m;
-  SetBounded(sample.encoding, "png");
-  sample.image = BorrowOctets(p.png);
+  const fleetloc_PatchObservation sample = ToIdl(p, vehicle_id_);
   return SendRaw(sample);
 }
 
@@ -69,9 +57,8 @@ Result<std::vector<ReceivedAck>> PatchClient::TakeAcks() {
   Result<int> taken =
       ack_reader_.TakeAll([&](const fleetloc_PatchAck& a, const dds_sample_info_t& info) {
         const WriterFacts* writer = ack_writers_.Find(info.publication_handle);
-        acks.push_back({a.sequence_number,
-                        writer ? topics::ServerIdFromUserData(writer->user_data) : std::string(),
-                        a.status, GetBounded(a.reason)});
+        acks.push_back(
+            FromIdl(a, writer ? topics::ServerIdFromUserData(writer->user_data) : std::string()));
       });
   if (!taken.ok()) return taken.status();
   return acks;

@@ -9,32 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "geometry/pose2.h"
 #include "transport/matched_writers.h"
+#include "transport/patch_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc::transport {
-
-// What a vehicle reports of one floor patch (see PatchObservation in idl/fleetloc.idl).
-struct PatchToSend {
-  uint64_t sequence = 0;
-  double stamp_s = 0;
-  std::string mosaic_id;
-  long long mosaic_version = 0;
-  geometry::Pose2 pose;       // camera_ground of the image centre in map
-  double covariance[9] = {};  // row-major (x, y, theta)
-  float quality = 0;
-  double resolution_m = 0;
-  std::vector<std::uint8_t> png;  // 8-bit gray PNG
-};
-
-struct ReceivedAck {
-  uint64_t sequence = 0;
-  std::string server_id;  // the acknowledging map server; empty when its writer does not say
-  fleetloc_PatchAckStatus status = fleetloc_PATCH_REJECTED;
-  std::string reason;
-};
 
 class PatchClient {
  public:

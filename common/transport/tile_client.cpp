@@ -1,7 +1,6 @@
 // Tile requests and partitioned tile replies, vehicle side.
 #include "transport/tile_client.h"
 
-#include "transport/mosaic_messages.h"
 #include "transport/topic_names.h"
 #include "transport/wire_util.h"
 
@@ -52,32 +51,15 @@ Status TileClient::Request(uint32_t request_id, const std::string& mosaic_id,
                            const std::vector<mosaic::TileKey>& tiles) {
   if (tiles.size() > 256) return InvalidInput("a tile request holds at most 256 tiles");
   std::vector<fleetloc_TileAddress> addresses;
-  for (const mosaic::TileKey& key : tiles) addresses.push_back(ToIdl(key));
-  fleetloc_TileRequest request{};
-  request.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-  SetBounded(request.vehicle_id, vehicle_id_);
-  request.request_id = request_id;
-  SetBounded(request.mosaic_id, mosaic_id);
-  request.tiles._buffer = addresses.data();
-  request.tiles._length = request.tiles._maximum = static_cast<uint32_t>(addresses.size());
-  request.tiles._release = false;
+  const fleetloc_TileRequest request =
+      ToIdl(TileAsk{vehicle_id_, request_id, mosaic_id, tiles}, &addresses);
   return requests_.Write(request);
 }
 
 Result<std::vector<ReceivedTile>> TileClient::TakeTiles() {
   std::vector<ReceivedTile> received;
-  Result<int> taken = tile_reader_.TakeAll([&](const fleetloc_Tile& t, const dds_sample_info_t&) {
-    ReceivedTile tile;
-    tile.key = {t.level, t.col, t.row};
-    tile.request_id = t.request_id;
-    tile.status = t.status;
-    tile.version = t.version;
-    tile.mosaic_id = GetBounded(t.mosaic_id);
-    tile.error = GetBounded(t.error);
-    const auto bytes = OctetSpan(t.data);
-    tile.data.assign(bytes.begin(), bytes.end());
-    received.push_back(std::move(tile));
-  });
+  Result<int> taken = tile_reader_.TakeAll(
+      [&](const fleetloc_Tile& t, const dds_sample_info_t&) { received.push_back(FromIdl(t)); });
   if (!taken.ok()) return taken.status();
   return received;
 }

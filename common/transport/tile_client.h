@@ -11,20 +11,11 @@
 #include <vector>
 
 #include "mosaic/tile_key.h"
+#include "transport/tile_messages.h"
 #include "transport/typed_io.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc::transport {
-
-struct ReceivedTile {
-  mosaic::TileKey key;
-  uint32_t request_id = 0;
-  fleetloc_TileStatus status = fleetloc_TILE_ERROR;
-  long long version = 0;
-  std::string mosaic_id;
-  std::string error;
-  std::vector<std::uint8_t> data;  // encoded tile when status is TILE_OK
-};
 
 class TileClient {
  public:

@@ -31,7 +31,7 @@ inline constexpr const char* kAnyVehiclePartition = "fleetloc.vehicle.*";
 
 // The USER_DATA of a map server's PatchAck writers names the server, so a vehicle knows which
 // replica of a split mosaic stored its patch (a PatchAck sample does not say, and the type is
-// @final: see DDS_NOTES on interoperability).
+// @final: docs/topics.md, "Interoperability with a second vendor").
 inline constexpr const char* kServerIdUserDataPrefix = "fleetloc.server_id=";
 inline std::string ServerIdUserData(const std::string& server_id) {
   return kServerIdUserDataPrefix + server_id;

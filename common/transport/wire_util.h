@@ -30,7 +30,8 @@ std::string GetBounded(const char (&src)[N]) {
 }
 
 // Vehicle, server and service ids: 1–11 characters of [A-Za-z0-9_-] (they name DDS partitions,
-// where '*' and '?' would be wildcards, and keys bounded for other vendors: shared/DDS_NOTES.md).
+// where '*' and '?' would be wildcards, and keys bounded for other vendors: docs/topics.md,
+// "Interoperability with a second vendor").
 bool IsValidEntityId(std::string_view id);
 
 fleetloc_TimeStamp NowStamp();

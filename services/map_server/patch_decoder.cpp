@@ -6,6 +6,7 @@
 
 #include "geometry/covariance_check.h"
 #include "mosaic/tile_codec.h"
+#include "transport/patch_messages.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::map_server {
@@ -80,9 +81,8 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
   }
   const double pose[3] = {s.x, s.y, s.theta};
   if (!AllFinite(pose, 3)) return Reject("rejected_patch_malformed", what + ": pose not finite");
-  const Eigen::Matrix3d covariance =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(s.covariance);
-  if (const std::string problem = geometry::CovarianceProblem(covariance); !problem.empty()) {
+  if (const std::string problem = geometry::CovarianceProblem(transport::CovarianceFromIdl(s));
+      !problem.empty()) {
     // A zero or negative covariance claims a certainty no vehicle has: malformed, counted apart.
     return Reject("rejected_patch_covariance", what + ": " + problem);
   }
@@ -90,19 +90,7 @@ DecodedPatch CheckPatch(const fleetloc_PatchObservation& s, const mosaic::Mosaic
     return Reject("rejected_patch_malformed", what + ": quality not in [0, 1]");
   }
   if (std::optional<DecodedPatch> rejected = CheckImage(s, what, limits)) return *rejected;
-  mosaic::PatchRecord record;
-  record.vehicle_id = vehicle;
-  record.sequence = static_cast<int64_t>(s.sequence_number);
-  record.stamp_s = transport::ToSeconds(s.stamp);
-  record.pose = {s.x, s.y, s.theta};
-  record.covariance = covariance;
-  record.quality = s.quality;
-  return {std::move(record), ""};
-}
-
-void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* record) {
-  const auto bytes = transport::OctetSpan(sample.image);
-  record->png.assign(bytes.begin(), bytes.end());
+  return {transport::RecordFromIdl(s), ""};
 }
 
 Status DecodePatchImage(mosaic::PatchRecord* record, const PatchLimits& limits) {
@@ -119,7 +107,7 @@ DecodedPatch DecodePatch(const fleetloc_PatchObservation& sample,
                          const mosaic::MosaicLayout& layout, const PatchLimits& limits) {
   DecodedPatch checked = CheckPatch(sample, layout, limits);
   if (!checked.record.ok()) return checked;
-  CopyPng(sample, &*checked.record);
+  transport::CopyPng(sample, &*checked.record);
   if (Status decoded = DecodePatchImage(&*checked.record, limits); !decoded.ok()) {
     return Reject("rejected_patch_image", decoded.message());
   }

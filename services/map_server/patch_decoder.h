@@ -24,13 +24,10 @@ struct DecodedPatch {
 };
 
 // Every check that needs no decoding (fields, sizes, the PNG's header). The record has neither
-// image nor PNG bytes yet (CopyPng copies them, once the patch is to be kept). `layout`: the
-// mosaic served (its id and level-0 resolution must match the patch's).
+// image nor PNG bytes yet (transport::CopyPng copies them, once the patch is to be kept). `layout`:
+// the mosaic served (its id and level-0 resolution must match the patch's).
 DecodedPatch CheckPatch(const fleetloc_PatchObservation& sample, const mosaic::MosaicLayout& layout,
                         const PatchLimits& limits);
-
-// Copies the sample's PNG bytes into the record.
-void CopyPng(const fleetloc_PatchObservation& sample, mosaic::PatchRecord* record);
 
 // Decodes a checked record's PNG into its image (so a corrupt image is refused before it is
 // stored). InvalidInput naming the patch when it does not decode.

@@ -104,7 +104,7 @@ void PatchService::Receive(const fleetloc_PatchObservation& sample) {
     const size_t max_bytes = static_cast<size_t>(intake_.max_queued_mb) << 20;
     if (queue_.size() < static_cast<size_t>(intake_.queue) &&
         queued_bytes_ + static_cast<size_t>(bytes) <= max_bytes) {
-      CopyPng(sample, &record);
+      transport::CopyPng(sample, &record);
       queued_bytes_ += record.png.size();
       queue_.push_back(std::move(record));
       wake_.notify_one();
@@ -170,14 +170,8 @@ void PatchService::FlushAcks(std::chrono::steady_clock::duration match_timeout) 
         return channel.ok() && (*channel)->acks.MatchedReaders() > 0;
       },
       [&](const std::string& vehicle, const Ack& ack) {
-        fleetloc_PatchAck message{};
-        message.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-        transport::SetBounded(message.vehicle_id, vehicle);
-        message.sequence_number = ack.sequence;
-        message.status = ack.status;
-        transport::SetBounded(message.reason, ack.reason);
         Result<VehicleChannel*> channel = channels_->Get(vehicle);
-        if (Status sent = (*channel)->acks.Write(message); !sent.ok()) {
+        if (Status sent = (*channel)->acks.Write(transport::ToIdl(ack, vehicle)); !sent.ok()) {
           counters_->Reject("patch_store_errors", sent.message());
         }
       },

@@ -26,6 +26,7 @@
 #include "mosaic/patch_store.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_upkeep/vehicle_standing_store.h"
+#include "transport/patch_messages.h"
 
 namespace fleetloc::map_server {
 
@@ -56,11 +57,7 @@ class PatchService {
   size_t queued() const;
 
  private:
-  struct Ack {
-    uint64_t sequence = 0;
-    fleetloc_PatchAckStatus status = fleetloc_PATCH_REJECTED;
-    std::string reason;
-  };
+  using Ack = transport::PatchAckReply;
   void Work();
   void Store(mosaic::PatchRecord& record);
   // Counts a rejection and queues its acknowledgement (when the id can be answered at all).

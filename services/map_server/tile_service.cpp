@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "transport/mosaic_messages.h"
+#include "transport/tile_messages.h"
 #include "transport/wire_util.h"
 
 namespace fleetloc::map_server {
@@ -48,14 +49,9 @@ void TileService::Receive(const fleetloc_TileRequest& sample) {
                                                    std::to_string(max_tiles_per_request_));
     return;
   }
-  Request request{vehicle_id,
-                  sample.request_id,
-                  GetBounded(sample.mosaic_id),
-                  {},
+  transport::TileAsk ask = transport::FromIdl(sample);
+  Request request{vehicle_id, ask.request_id, std::move(ask.mosaic_id), std::move(ask.tiles),
                   std::chrono::steady_clock::now()};
-  for (uint32_t i = 0; i < sample.tiles._length; ++i) {
-    request.tiles.push_back(transport::FromIdl(sample.tiles._buffer[i]));
-  }
   pending_.Push(vehicle_id, std::move(request));
 }
 
@@ -116,13 +112,8 @@ Result<mosaic::TilePtr> TileService::EncodedTile(const mosaic::TileKey& key) {
 fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& key,
                                  mosaic::TilePtr* bytes) {
   const mosaic::MosaicLayout layout = store_->layout();
-  fleetloc_Tile tile{};
-  tile.wire_version = fleetloc_CURRENT_WIRE_VERSION;
-  tile.level = static_cast<uint16_t>(key.level), tile.col = key.col, tile.row = key.row;
-  transport::SetBounded(tile.vehicle_id, request.vehicle_id);
-  tile.request_id = request.request_id;
-  transport::SetBounded(tile.mosaic_id, layout.mosaic_id);
-  tile.version = layout.version;
+  transport::TileAnswer tile{request.vehicle_id, request.request_id, key, layout.mosaic_id,
+                             layout.version};
   const std::string what = "tile " + mosaic::ToString(key) + " for '" + request.vehicle_id + "'";
   if (!request.mosaic_id.empty() && request.mosaic_id != layout.mosaic_id) {
     tile.status = fleetloc_TILE_UNKNOWN_MOSAIC;
@@ -134,7 +125,7 @@ fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& 
   } else if (Result<mosaic::TilePtr> read = EncodedTile(key); read.ok()) {
     *bytes = std::move(read).value();
     tile.status = fleetloc_TILE_OK;
-    tile.data = transport::BorrowOctets({(*bytes)->data, (*bytes)->total()});
+    tile.data = {(*bytes)->data, (*bytes)->total()};
   } else if (read.status().code() == StatusCode::kNotFound) {
     tile.status = fleetloc_TILE_NOT_FOUND;  // a tile never written: blank floor, not an error
     counters_->Add("tiles_not_found");
@@ -143,9 +134,9 @@ fleetloc_Tile TileService::Reply(const Request& request, const mosaic::TileKey& 
     counters_->Reject("tile_read_errors", what + ": " + read.status().message());
   }
   if (tile.status != fleetloc_TILE_OK && tile.status != fleetloc_TILE_NOT_FOUND) {
-    transport::SetBounded(tile.error, counters_->last_error());
+    tile.error = counters_->last_error();
   }
-  return tile;
+  return transport::ToIdl(tile);
 }
 
 }  // namespace fleetloc::map_server
