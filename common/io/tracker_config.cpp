@@ -58,6 +58,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"max_points", &d.max_points},
           {"polish_iterations", &d.polish_iterations},
           {"max_polish_shift_px", &d.max_polish_shift_px},
+          {"max_polish_next_step_px", &d.max_polish_next_step_px},
           {"min_significant_peak_z", &d.min_significant_peak_z},
           {"min_significant_correlation", &d.min_significant_correlation},
           {"min_polish_correlation", &d.min_polish_correlation},

@@ -90,6 +90,11 @@ class DirectAligner {
                               const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
                               double tolerance_px, int* iterations, Linearization* final_fit,
                               bool fit_gain) const;
+  // The maximum a posteriori step (level-0 px, px, rad) from `lin` at `pose` under `prior`, with
+  // `lin.sigma` as the residual scale, and how far it moves the level's pixels at most.
+  Eigen::Vector3d MapStep(const Linearization& lin, const geometry::Pose2& pose,
+                          const geometry::PoseWithCovariance& prior) const;
+  double StepPx(const Eigen::Vector3d& q, int level) const;
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;

@@ -258,10 +258,6 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
 Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                                  const PoseWithCovariance& prior, Pose2 pose, double tolerance_px,
                                  int* iterations, Linearization* final_fit, bool fit_gain) const {
-  const double res = camera_.resolution_m;
-  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
-  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
-  const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
   double sigma = 0.0;  // estimated at the first iteration, then kept
   // The frame's contrast against the view: estimated at the first iteration, then re-fitted with
   // each iteration's robust weights (see kMinGain in dense_linearization.h); 1 when not fitted.
@@ -272,20 +268,32 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
     if (lin.points < 3) break;
     sigma = lin.sigma;
     if (fit_gain) gain = lin.next_gain;
-    // Maximum a posteriori step: image term (its information scaled by the residual variance and
-    // the correlation factor) and the prior, whose map delta is ≈ −B·S·q.
-    const double inv_var = 1.0 / (sigma * sigma * options_.correlation_factor);
-    const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
-    const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
-    const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
-    const Eigen::Vector3d q = (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
+    const Eigen::Vector3d q = MapStep(lin, pose, prior);
     if (!q.allFinite()) break;
-    pose = ApplyStep(pose, q, res);
-    const double moved_px = (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level);
-    if (moved_px < tolerance_px) break;
+    pose = ApplyStep(pose, q, camera_.resolution_m);
+    if (StepPx(q, level) < tolerance_px) break;
   }
   if (final_fit != nullptr) *final_fit = linearize(pose, sigma, gain);
   return pose;
+}
+
+// Image term (its information scaled by the residual variance and the correlation factor) and
+// the prior, whose map delta is ≈ −B·S·q.
+Eigen::Vector3d DirectAligner::MapStep(const Linearization& lin, const Pose2& pose,
+                                       const PoseWithCovariance& prior) const {
+  const double res = camera_.resolution_m;
+  const Eigen::Matrix3d prior_information = prior.covariance.inverse();
+  const Eigen::Matrix3d to_px = Eigen::Vector3d(res, res, 1.0).asDiagonal();
+  const double inv_var = 1.0 / (lin.sigma * lin.sigma * options_.correlation_factor);
+  const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
+  const Eigen::Matrix3d hp = bs.transpose() * prior_information * bs;
+  const Eigen::Vector3d gp = bs.transpose() * prior_information * Difference(pose, prior.pose);
+  return (lin.h * inv_var + hp).ldlt().solve(-lin.g * inv_var + gp);
+}
+
+double DirectAligner::StepPx(const Eigen::Vector3d& q, int level) const {
+  const double frame_radius_px = 0.5 * std::hypot(camera_.width_px, camera_.height_px);
+  return (q.head<2>().norm() + std::abs(q.z()) * frame_radius_px) / (1 << level);
 }
 
 }  // namespace fleetloc::tracking

@@ -86,6 +86,8 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
   if (out.reason[0] == '\0') {
     if (moved_px > options_.max_polish_shift_px) {
       out.reason = "polish moved too far";
+    } else if (StepPx(MapStep(fit, pose, prior), 0) > options_.max_polish_next_step_px) {
+      out.reason = "polish has not converged";
     } else if (fit.correlation < options_.min_polish_correlation) {
       out.reason = "polish does not correlate";
     } else if (out.sigma_px > options_.max_sigma_px) {
