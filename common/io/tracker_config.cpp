@@ -114,20 +114,20 @@ Status ReadFields(const nlohmann::json& object, const FieldTable& table, const s
     if (prefix.empty() && (key == "odometry" || key == "direct")) continue;
     const auto it = std::find_if(table.begin(), table.end(),
                                  [&key = key](const auto& f) { return key == f.first; });
-    const std::string name = prefix + key;
-    if (it == table.end()) return InvalidInput(where + ": field '" + name + "': unknown option");
+    std::string field = where;  // "<where>: field '<prefix><key>': " before each problem
+    field.append(": field '").append(prefix).append(key).append("': ");
+    if (it == table.end()) return InvalidInput(field + "unknown option");
     if (const auto* b = std::get_if<bool*>(&it->second)) {
-      if (!value.is_boolean())
-        return InvalidInput(where + ": field '" + name + "': must be true or false");
+      if (!value.is_boolean()) return InvalidInput(field + "must be true or false");
       **b = value.get<bool>();
     } else if (const auto* i = std::get_if<int*>(&it->second)) {
       if (!value.is_number_integer()) {
-        return InvalidInput(where + ": field '" + name + "': must be an integer");
+        return InvalidInput(field + "must be an integer");
       }
       **i = value.get<int>();
     } else {
       if (!value.is_number() || !std::isfinite(value.get<double>())) {
-        return InvalidInput(where + ": field '" + name + "': must be a finite number");
+        return InvalidInput(field + "must be a finite number");
       }
       *std::get<double*>(it->second) = value.get<double>();
     }

@@ -340,8 +340,8 @@ TEST(DirectAligner, PolishRefusesAStartItWouldHaveToMoveFar) {
   // 2 px off: a template fit that far is wrong, and the polish must not be the one to say so.
   const DirectAlignment fit =
       f.aligner.Polish(frame, prior, {truth.x + 0.001, truth.y, truth.theta});
-  EXPECT_FALSE(fit.valid) << "ended at x " << (fit.posterior.pose.x - truth.x) / 0.0005
-                          << " px, y " << (fit.posterior.pose.y - truth.y) / 0.0005 << " px";
+  EXPECT_FALSE(fit.valid) << "ended at x " << (fit.posterior.pose.x - truth.x) / 0.0005 << " px, y "
+                          << (fit.posterior.pose.y - truth.y) / 0.0005 << " px";
 }
 
 TEST(DirectAligner, PolishRefusesAFrameOfAnotherFloor) {
