@@ -43,9 +43,11 @@ if ! command -v npm >/dev/null 2>&1; then
 fi
 
 BUILD_TYPE="${FLEETLOC_BUILD_TYPE:-Release}"
-# FLEETLOC_WERROR=ON (CI, through run_tests.sh) makes every compiler warning an error.
-cmake --preset release -DCMAKE_BUILD_TYPE="$BUILD_TYPE" \
-  -DFLEETLOC_WERROR="${FLEETLOC_WERROR:-OFF}" >/dev/null  # CMakePresets.json
+# FLEETLOC_WERROR=ON (CI, through run_tests.sh) makes every compiler warning an error. Unset, the
+# build keeps its cached choice: the fleet command after the tests does not rebuild everything.
+WERROR_ARG=()
+[[ -n "${FLEETLOC_WERROR:-}" ]] && WERROR_ARG=(-DFLEETLOC_WERROR="$FLEETLOC_WERROR")
+cmake --preset release -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "${WERROR_ARG[@]}" >/dev/null  # CMakePresets.json
 cmake --build --preset release -j "$(nproc)"
 # The browser test's Node packages (playwright-core, pinned by tests/browser/package-lock.json).
 tests/browser/install_deps.sh build/browser
