@@ -46,6 +46,8 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"normalized_cache_mb", &o.normalized_cache_mb},
           {"direct_refine", &o.direct_refine},
           {"polish_max_frame_pixels", &o.polish_max_frame_pixels},
+          {"polish_dense_max_frame_pixels", &o.polish_dense_max_frame_pixels},
+          {"polish_dense_below_correlation", &o.polish_dense_below_correlation},
           {"retry_templates_frames", &o.retry_templates_frames},
           {"direct_first_after_failures", &o.direct_first_after_failures},
           {"max_disagreement_chi2", &o.max_disagreement_chi2}};
@@ -59,6 +61,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"polish_iterations", &d.polish_iterations},
           {"max_polish_shift_px", &d.max_polish_shift_px},
           {"max_polish_next_step_px", &d.max_polish_next_step_px},
+          {"polish_single_pass_px", &d.polish_single_pass_px},
           {"min_significant_peak_z", &d.min_significant_peak_z},
           {"min_significant_correlation", &d.min_significant_correlation},
           {"min_polish_correlation", &d.min_polish_correlation},

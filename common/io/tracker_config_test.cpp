@@ -35,5 +35,19 @@ TEST(TrackerConfig, RejectsUnknownWrongTypeAndOutOfRange) {
   EXPECT_NE(bad.status().message().find("template_size_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergenceGate) {
+  const auto options = TrackerOptionsFromJson(
+      {{"polish_dense_max_frame_pixels", 0}, {"direct", {{"polish_single_pass_px", 0.2}}}},
+      "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->polish_dense_max_frame_pixels, 0);
+  EXPECT_DOUBLE_EQ(options->direct.polish_single_pass_px, 0.2);
+  // A single pass that may move further than a converged polish's next step would contradict it.
+  const auto bad = TrackerOptionsFromJson(
+      {{"direct", {{"polish_single_pass_px", 0.5}, {"max_polish_next_step_px", 0.35}}}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.polish_single_pass_px"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::io

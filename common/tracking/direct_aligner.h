@@ -89,7 +89,7 @@ class DirectAligner {
   geometry::Pose2 GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                               const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
                               double tolerance_px, int* iterations, Linearization* final_fit,
-                              bool fit_gain) const;
+                              bool fit_gain, double final_at_start_px = -1.0) const;
   // The maximum a posteriori step (level-0 px, px, rad) from `lin` at `pose` under `prior`, with
   // `lin.sigma` as the residual scale, and how far it moves the level's pixels at most.
   Eigen::Vector3d MapStep(const Linearization& lin, const geometry::Pose2& pose,

@@ -331,6 +331,34 @@ TEST(DirectAligner, PolishTakesANearFitOfANoisyFrameCloserWithAnHonestCovariance
   EXPECT_LT(nees_sum / trials, 6.0);
 }
 
+// From a template-like fit (0.02–0.05 px off), the linearization at the start is final: one render
+// of the view, and the same pose as two linearizations give.
+TEST(DirectAligner, PolishFromANearFitTakesOnePassToTheSamePose) {
+  Fixture f;
+  DirectAlignOptions single_pass = SmallCameraOptions();
+  single_pass.polish_single_pass_px = 0.1;
+  const DirectAligner aligner(single_pass, f.scene.camera, &f.normalized);
+  const DirectAligner& reference = f.aligner;  // the default: two passes
+  cv::RNG rng(11);
+  for (int k = 0; k < 6; ++k) {
+    const Pose2 base = Pose2{0.1 + 0.003 * k, 0.12, 0.5 * k} * Pose2{0.1, 0, 0}.Inverse();
+    const cv::Mat frame = Noisy(f.scene.Render(base, 1.0, 0.0), rng);
+    const Pose2 truth = base * f.scene.camera.mount;
+    const double off = rng.uniform(0.02, 0.05) * kRes;
+    const Pose2 start{truth.x + off, truth.y - 0.5 * off, truth.theta};
+    const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+    const DirectAlignment one = aligner.Polish(frame, prior, start);
+    const DirectAlignment two = reference.Polish(frame, prior, start);
+    ASSERT_TRUE(one.valid) << "trial " << k << ": " << one.reason;
+    ASSERT_TRUE(two.valid) << "trial " << k << ": " << two.reason;
+    EXPECT_LT(CentreErrorPx(f.scene, one.posterior.pose, base), 0.03) << "trial " << k;
+    const double apart = std::hypot(one.posterior.pose.x - two.posterior.pose.x,
+                                    one.posterior.pose.y - two.posterior.pose.y) /
+                         kRes;
+    EXPECT_LT(apart, 0.005) << "trial " << k;
+  }
+}
+
 TEST(DirectAligner, PolishRefusesAStartItWouldHaveToMoveFar) {
   Fixture f;
   const Pose2 base = TrueBase();

@@ -254,10 +254,13 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
 // Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the
 // current pose (the residual scale estimated at the first, then kept); stops once a step moves no
 // pixel of the level more than `tolerance_px`. The final linearization in `final_fit` (when
-// not null).
+// not null). When the first step would move no pixel more than `final_at_start_px`, the start is
+// already at the minimum: the linearization there is the final one and the pose is not moved (the
+// caller's Combine takes that step), which saves a linearization.
 Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int max_iterations,
                                  const PoseWithCovariance& prior, Pose2 pose, double tolerance_px,
-                                 int* iterations, Linearization* final_fit, bool fit_gain) const {
+                                 int* iterations, Linearization* final_fit, bool fit_gain,
+                                 double final_at_start_px) const {
   double sigma = 0.0;  // estimated at the first iteration, then kept
   // The frame's contrast against the view: estimated at the first iteration, then re-fitted with
   // each iteration's robust weights (see kMinGain in dense_linearization.h); 1 when not fitted.
@@ -270,6 +273,10 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
     if (fit_gain) gain = lin.next_gain;
     const Eigen::Vector3d q = MapStep(lin, pose, prior);
     if (!q.allFinite()) break;
+    if (it == 0 && StepPx(q, level) <= final_at_start_px) {
+      if (final_fit != nullptr) *final_fit = lin;
+      return pose;
+    }
     pose = ApplyStep(pose, q, camera_.resolution_m);
     if (StepPx(q, level) < tolerance_px) break;
   }

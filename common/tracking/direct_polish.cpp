@@ -76,7 +76,7 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
   Linearization fit;
   const Pose2 pose =
       GaussNewton(linearize, 0, options_.polish_iterations, prior, start, options_.converged_px,
-                  &out.iterations, &fit, options_.fit_contrast);
+                  &out.iterations, &fit, options_.fit_contrast, options_.polish_single_pass_px);
   out.points = fit.points;
   out.correlation = out.coarse_correlation = fit.correlation;
   out.inlier_fraction = fit.inlier_fraction;

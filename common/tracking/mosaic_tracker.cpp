@@ -43,7 +43,9 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
       direct_(options.direct, camera, &normalized_),
       estimate_(camera.mount, options.odometry),
       polish_(static_cast<long long>(camera.width_px) * camera.height_px <=
-              options.polish_max_frame_pixels) {}
+              options.polish_max_frame_pixels),
+      polish_dense_(static_cast<long long>(camera.width_px) * camera.height_px <=
+                    options.polish_dense_max_frame_pixels) {}
 
 void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& odom) {
   estimate_.Reset(base_in_map, odom);
@@ -124,7 +126,10 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   bool templates_locked = false;
   std::optional<PoseWithCovariance> posterior =
       Measure(frame, prior, result.search_radius_px, &templates_locked, &result);
-  if (posterior && polish_) posterior = Polished(frame, prior, *posterior, &result);
+  // The fit taken over every pixel at full resolution (docs/architecture.md, step 7c).
+  if (posterior && (polish_ || (!templates_locked && WeakDenseFitToPolish(result)))) {
+    posterior = Polished(frame, prior, *posterior, &result);
+  }
   // Step 5: the estimate corrected, and the lock state.
   const LockState state = UpdateLock(posterior, beyond_search);
   const FrameResult report = Finish(t, state);
@@ -197,6 +202,14 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
     return std::nullopt;
   }
   return dense;
+}
+
+// A frame the dense alignment located with a weak correlation at its finest level (level 1 or
+// coarser): there the fit is least precise, and the polish over every full-resolution pixel gains
+// most (docs/benchmarks.md, "The dense fits polished at 640×480").
+bool MosaicTracker::WeakDenseFitToPolish(const FrameResult& stats) const {
+  return polish_dense_ && stats.direct == DirectUse::kUsed &&
+         stats.direct_correlation < options_.polish_dense_below_correlation;
 }
 
 // Two fits of the same frame agree when their difference is within max_disagreement_chi2 of

@@ -106,6 +106,7 @@ class MosaicTracker : public FrameLocalizer {
                                                           const geometry::Pose2& start,
                                                           bool refine_only,
                                                           FrameResult* stats) const;
+  bool WeakDenseFitToPolish(const FrameResult& stats) const;
   bool Agree(const geometry::PoseWithCovariance& a, const geometry::PoseWithCovariance& b) const;
   geometry::PoseWithCovariance Polished(const cv::Mat& frame,
                                         const geometry::PoseWithCovariance& prior,
@@ -131,6 +132,7 @@ class MosaicTracker : public FrameLocalizer {
   DirectAligner direct_;
   InternalEstimate estimate_;  // camera_ground in map: the tracker's own estimate
   bool polish_ = false;        // this camera's frames are polished (polish_max_frame_pixels)
+  bool polish_dense_ = false;  // and those the dense alignment located (…dense_max_frame_pixels)
   int coasting_frames_ = 0;
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
   int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran

@@ -29,6 +29,11 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
       Check(d.max_polish_shift_px > 0, "direct.max_polish_shift_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_polish_correlation >= 0 && d.min_polish_correlation < 1,
                                  "direct.min_polish_correlation", "must be in [0, 1)"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.max_polish_next_step_px > 0, "direct.max_polish_next_step_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.polish_single_pass_px >= 0 && d.polish_single_pass_px <= d.max_polish_next_step_px,
+            "direct.polish_single_pass_px", "must be in [0, direct.max_polish_next_step_px]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_view_blur_px >= 0 && d.max_view_blur_px <= 5,
                                  "direct.max_view_blur_px", "must be in [0, 5]"));
@@ -161,6 +166,11 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
       Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_max_frame_pixels >= 0, "polish_max_frame_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polish_dense_max_frame_pixels >= 0, "polish_dense_max_frame_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polish_dense_below_correlation >= 0 && o.polish_dense_below_correlation <= 1,
+            "polish_dense_below_correlation", "must be in [0, 1]"));
   return Status::Ok();
 }
 

@@ -55,6 +55,13 @@ struct DirectAlignOptions {
   // from the truth, within max_polish_shift_px; the next step it would take refuses it. 0.25
   // refused right polishes on painted pavement 001 under `all` at 320×240 (0.085 → 0.132 px).
   double max_polish_next_step_px = 0.35;
+  // A polish whose first step would move no pixel more than this (level-0 px) starts at its
+  // minimum (a template fit): the linearization at the start is the final one, one render of the
+  // view instead of two (0: always two). Off by default: at 0.1 it saved about a third of the
+  // polish on template-located frames (640×480 fast epoxy: 49.8 → 44.0 M instructions per frame
+  // with every frame polished) and left the 320×240 stress cells' camera RMS within +0.0008 px,
+  // but it buys no time target (only 640×480 is judged, where template fits are not polished).
+  double polish_single_pass_px = 0.0;
   int max_points = 12000;      // pixels used per level: the strongest gradient of each cell
   int max_iterations = 10;     // Gauss–Newton iterations per level
   double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
@@ -223,6 +230,15 @@ struct TrackerOptions {
   // 640×480 one, beyond that size's 2 ms budget on textured floors: so by default 320×240 only
   // (docs/benchmarks.md, "Full-resolution polish"); 307200 turns it on at 640×480.
   int polish_max_frame_pixels = 100000;
+  // On cameras of at most this many pixels the frames the dense alignment located with a finest-
+  // level correlation below polish_dense_below_correlation are polished too: that fit ends at
+  // level 1 or coarser (the templates' at full resolution), and is least precise where it
+  // correlates weakly. At 640×480 under `all`: polished concrete 024 (dense fits correlating
+  // 0.24–0.30) camera RMS 0.189 → 0.078 px; the textured floors' dense fits (0.34–0.51, within
+  // their targets) stay unpolished, which keeps their time (docs/benchmarks.md, "The dense fits
+  // polished at 640×480").
+  int polish_dense_max_frame_pixels = 307200;
+  double polish_dense_below_correlation = 0.33;
   // After direct_first_after_failures frames in a row that the templates failed on, the last of
   // them locked by the dense alignment (a weak floor, not a one-off bad prediction), the next
   // frames start with the dense alignment; the templates are tried again after
