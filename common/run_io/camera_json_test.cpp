@@ -4,10 +4,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using testing::HasError;
@@ -192,4 +192,4 @@ TEST_F(CameraJsonTest, WriterRefusesAnInvalidModel) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io
