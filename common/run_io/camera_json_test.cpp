@@ -107,7 +107,7 @@ TEST_F(CameraJsonTest, SyntaxErrorNamesTheLine) {
 
 TEST_F(CameraJsonTest, ANumberTooLargeForADoubleIsAnErrorNotAnException) {
   // Found by fuzz_run_files: nlohmann throws out_of_range (not parse_error) for it.
-  WriteText(path_, "{\"format\": \"fleetloc-camera/1\", \"width\": -0.15E8704140835}");
+  WriteText(path_, R"({"format": "fleetloc-camera/1", "width": -0.15E8704140835})");
   const Status status = ReadCameraJson(path_).status();
   EXPECT_TRUE(HasError(status, StatusCode::kInvalidInput, path_, 0, "")) << status.message();
   EXPECT_NE(status.message().find("invalid JSON"), std::string::npos) << status.message();
