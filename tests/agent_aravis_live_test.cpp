@@ -14,9 +14,9 @@
 #include <optional>
 #include <set>
 
-#include "io/run.h"
 #include "live_vehicle.h"
 #include "map_server_fixture.h"
+#include "run_io/run.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc {
@@ -67,7 +67,7 @@ LiveRun DriveLive(
   live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir() / name;
   fs::create_directories(dir);
-  EXPECT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
+  EXPECT_TRUE(run_io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   nlohmann::json config = testing::AravisAgentConfig("agv-20", kDomain, dir);
   config["live"] = {{"camera_reopen_s", 1.0}};
   if (faults.no_start_pose) config["start_pose"] = "relocalize";

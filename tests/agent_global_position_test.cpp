@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "transport/vehicle_streams.h"
 
 namespace fleetloc {
@@ -26,7 +26,7 @@ double PositionError(const geometry::Pose2& a, const geometry::Pose2& b) {
 }
 
 // The odometry sample at time t (the forward images are taken at odometry sample times).
-const geometry::Pose2* OdometryAt(const io::Run& run, double t) {
+const geometry::Pose2* OdometryAt(const run_io::Run& run, double t) {
   for (const geometry::StampedPose& sample : run.odometry) {
     if (std::abs(sample.t - t) < 1e-9) return &sample.pose;
   }
@@ -61,7 +61,7 @@ int RunAgentExpectingRefusal(const std::string& run_dir, const std::string& log)
 TEST(AgentGlobalPosition, CorridorDriveStaysWithinCentimetresWhileOdometryDrifts) {
   testing::MapServerFixture server("agent_global_position", SomeFloor(), kDomain);
   const std::string run_dir = WriteForwardRun(server.dir());
-  Result<io::Run> run = io::ReadRun(run_dir);
+  Result<run_io::Run> run = run_io::ReadRun(run_dir);
   ASSERT_TRUE(run.ok()) << run.status().message();
   ASSERT_TRUE(run->frames.empty()) << "a drive without downward frames";
   ASSERT_TRUE(run->forward.has_value());

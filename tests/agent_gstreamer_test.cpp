@@ -9,9 +9,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "io/run.h"
 #include "live_vehicle.h"
 #include "map_server_fixture.h"
+#include "run_io/run.h"
 
 namespace fleetloc {
 namespace {
@@ -31,7 +31,7 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   const fs::path dir = server.dir(), run_dir = dir / "run", live = dir / "live";
   fs::create_directories(run_dir / "frames");
   fs::create_directories(live);
-  io::Run run;
+  run_io::Run run;
   run.dir = run_dir;
   run.vehicle_id = "agv-22";
   run.camera = drive.camera();
@@ -44,13 +44,13 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
     ASSERT_TRUE(cv::imwrite((run_dir / name).string(), drive.image(i)));
     run.frames.push_back({drive.frame_t(i), run_dir / name});
   }
-  ASSERT_TRUE(io::WriteRun(run).ok());
+  ASSERT_TRUE(run_io::WriteRun(run).ok());
   const fs::path offline = dir / "poses.csv";
   ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
                                  run_dir.string() + " --out " + offline.string())
                 .exit_code,
             0);
-  auto expected = io::ReadPosesCsv(offline);
+  auto expected = run_io::ReadPosesCsv(offline);
   ASSERT_TRUE(expected.ok());
 
   const std::string pipeline = "multifilesrc location=" + (live / "frame_%05d.png").string() +
@@ -87,7 +87,7 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
       drive.frame_t(0), "map", {run.initial_pose, sigma.cwiseProduct(sigma).asDiagonal()});
   ASSERT_TRUE(init_writer->Write(initial.get()).ok());
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  for (const io::FrameRef& frame : run.frames)
+  for (const run_io::FrameRef& frame : run.frames)
     fs::copy_file(frame.file, live / frame.file.filename());
 
   std::map<double, geometry::Pose2> poses;
@@ -102,7 +102,7 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   EXPECT_EQ(agent.Stop(SIGTERM), 0);
   const double px = 0.0005;
   int matched = 0;
-  for (const io::PoseRecord& row : *expected) {
+  for (const run_io::PoseRecord& row : *expected) {
     const auto it = poses.lower_bound(row.t - 1e-6);
     ASSERT_TRUE(it != poses.end() && std::abs(it->first - row.t) < 1e-6)
         << "no pose at t=" << row.t << ", have " << ::testing::PrintToString(poses);

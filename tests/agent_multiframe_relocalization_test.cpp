@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "sim/camera_renderer.h"
 #include "sim/run_simulator.h"
 #include "transport/place_index_channel.h"
@@ -44,8 +44,8 @@ cv::Mat RepeatedFloor() {
 // copy (x 0.45: its frame spans x 0.33–0.57), the second 0.4 m on inside the right copy
 // (0.85: 0.73–0.97), then 5 cm a frame to x 1.2 (still inside the right copy and the strip).
 // Odometry 2 % long. Frames at 5 Hz, odometry at 50 Hz.
-io::Run WriteDrive(const std::filesystem::path& dir, const cv::Mat& floor_image) {
-  io::Run run;
+run_io::Run WriteDrive(const std::filesystem::path& dir, const cv::Mat& floor_image) {
+  run_io::Run run;
   run.dir = dir;
   run.vehicle_id = "agv-6";
   run.camera.model = sim::DefaultSimCameraModel(640, 480, kResolutionM);
@@ -80,14 +80,14 @@ io::Run WriteDrive(const std::filesystem::path& dir, const cv::Mat& floor_image)
   run.truth = truth;
   run.initial_pose = truth[0].pose;
   run.initial_sigma = {0.01, 0.01, 0.01};
-  EXPECT_TRUE(io::WriteRun(run).ok());
+  EXPECT_TRUE(run_io::WriteRun(run).ok());
   return run;
 }
 
 TEST(AgentMultiFrameRelocalization, FindsThePoseFromTwoFramesWhenEachAloneIsAmbiguous) {
   const cv::Mat floor = RepeatedFloor();
   testing::MapServerFixture server("agent_multiframe_relocalization", floor, kDomain);
-  const io::Run run = WriteDrive(server.dir() / "run", floor);
+  const run_io::Run run = WriteDrive(server.dir() / "run", floor);
 
   transport::Participant& p = server.participant();
   auto index = transport::PlaceIndexReceiver::Create(p);

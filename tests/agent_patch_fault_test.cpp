@@ -8,9 +8,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "mosaic/patch_store.h"
+#include "run_io/run.h"
 #include "sqlite_value.h"
 #include "transport/pose_messages.h"
 #include "transport/vehicle_streams.h"

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "transport/pose_messages.h"
 #include "transport/vehicle_streams.h"
 
@@ -29,10 +29,10 @@ cv::Matx33d RectToRaw() { return {0.82, 0.02, 14, -0.02, 0.82, 18, 2e-5, -1e-5, 
 
 // Rewrites `run`'s frames as the raw camera sees them and adds the `raw` block to camera.json.
 void MakeRaw(const fs::path& run) {
-  auto parsed = io::ReadRun(run);
+  auto parsed = run_io::ReadRun(run);
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   const geometry::CameraModel& model = parsed->camera.model;
-  for (const io::FrameRef& frame : parsed->frames) {
+  for (const run_io::FrameRef& frame : parsed->frames) {
     const cv::Mat rect = cv::imread(frame.file.string(), cv::IMREAD_GRAYSCALE);
     cv::Mat raw;
     cv::warpPerspective(rect, raw, cv::Mat(RectToRaw()), kRawSize, cv::INTER_CUBIC);
@@ -67,13 +67,13 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
                                  top_view.string() + " --out " + poses)
                 .exit_code,
             0);
-  auto expected = io::ReadPosesCsv(poses);
+  auto expected = run_io::ReadPosesCsv(poses);
   ASSERT_TRUE(expected.ok());
   const std::string raw_poses = (server.dir() / "raw_poses.csv").string();
   const testing::CommandResult raw_track = testing::RunFleetctl(
       "track --mosaic " + server.mosaic_path() + " --run " + raw.string() + " --out " + raw_poses);
   ASSERT_EQ(raw_track.exit_code, 0) << raw_track.err;
-  auto offline_raw = io::ReadPosesCsv(raw_poses);
+  auto offline_raw = run_io::ReadPosesCsv(raw_poses);
   ASSERT_TRUE(offline_raw.ok());
   ASSERT_EQ(offline_raw->size(), expected->size());
 
@@ -100,8 +100,8 @@ TEST(AgentRawCamera, RectifiedRawFramesTrackLikeTheTopViewOnes) {
   const double px = 0.0005;
   size_t matched = 0;
   for (size_t i = 0; i < expected->size(); ++i) {
-    const io::PoseRecord& row = (*expected)[i];
-    const io::PoseRecord& same_raw = (*offline_raw)[i];
+    const run_io::PoseRecord& row = (*expected)[i];
+    const run_io::PoseRecord& same_raw = (*offline_raw)[i];
     const transport::PoseReport* it = testing::PoseAt(published, row.t);
     ASSERT_NE(it, nullptr) << "no published pose at frame time " << row.t;
     EXPECT_NEAR(it->base_in_map.pose.x, same_raw.pose.x, 1e-9);

@@ -9,9 +9,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "transport/place_index_channel.h"
 #include "transport/vehicle_streams.h"
 
@@ -43,7 +43,7 @@ TEST(AgentRelocalization, StartsWithoutAPoseAndRecoversFromAKidnap) {
                            " --frames 60 --seed 3 --kidnap-at 4 --kidnap-jump 0.4 --out " + run_dir)
           .exit_code,
       0);
-  Result<io::Run> run = io::ReadRun(run_dir);
+  Result<run_io::Run> run = run_io::ReadRun(run_dir);
   ASSERT_TRUE(run.ok()) << run.status().message();
 
   // The map server publishes the index once built (a fraction of a second for this floor).

@@ -6,9 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "transport/pose_messages.h"
 #include "transport/vehicle_streams.h"
 
@@ -31,7 +31,7 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   const testing::CommandResult offline = testing::RunFleetctl(
       "track --mosaic " + server.mosaic_path() + " --run " + run + " --out " + poses);
   ASSERT_EQ(offline.exit_code, 0) << offline.err;
-  auto expected = io::ReadPosesCsv(poses);
+  auto expected = run_io::ReadPosesCsv(poses);
   ASSERT_TRUE(expected.ok());
 
   transport::Participant& p = server.participant();
@@ -66,7 +66,7 @@ TEST(AgentReplayDds, PublishedPosesEqualTheOfflineTrackerAndHealthIsReported) {
   testing::TakePoses(*pose_reader, &published);
   // Every frame's pose, at the frame's time, equal to the offline tracker's.
   size_t matched = 0;
-  for (const io::PoseRecord& row : *expected) {
+  for (const run_io::PoseRecord& row : *expected) {
     const transport::PoseReport* it = testing::PoseAt(published, row.t);
     ASSERT_NE(it, nullptr) << "no published pose at frame time " << row.t;
     EXPECT_NEAR(it->base_in_map.pose.x, row.pose.x, 1e-9);

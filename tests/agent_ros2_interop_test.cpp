@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "io/csv.h"
-#include "io/run.h"
 #include "live_vehicle.h"
 #include "map_server_fixture.h"
+#include "run_io/run.h"
 #include "tracking/odometry_history.h"
 
 namespace fleetloc {
@@ -45,7 +45,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   auto drive_ptr = testing::PlanDrive(floor, 0.0005, 40, 10.0, start, 2.0, 1000.0, 21);
   live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path dir = server.dir();
-  ASSERT_TRUE(io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
+  ASSERT_TRUE(run_io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   {
     std::ofstream odometry(dir / "odometry.csv");
     odometry.precision(17);

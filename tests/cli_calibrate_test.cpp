@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
 namespace fleetloc {
 namespace {
@@ -32,7 +32,7 @@ TEST(CliCalibrate, WritesARawBlockTheReadersAccept) {
   const auto summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary["views"], 13);
   EXPECT_LT(summary["rms_px"].get<double>(), 0.5);
-  auto camera = io::ReadCameraJson(out);
+  auto camera = run_io::ReadCameraJson(out);
   ASSERT_TRUE(camera.ok()) << camera.status().message();
   ASSERT_TRUE(camera->raw.has_value());
   EXPECT_NEAR(camera->raw->K[0], 535.9, 0.02 * 535.9);

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "io/run.h"
 #include "map_server_fixture.h"
 #include "published_poses.h"
+#include "run_io/run.h"
 #include "sqlite_value.h"
 #include "transport/mosaic_messages.h"
 #include "transport/vehicle_streams.h"
@@ -101,7 +101,7 @@ TEST(MapServerSplit, AVehicleCrossingTheBoundaryTracksOnTilesFromBothServers) {
                                  " --frames 60 --seed 3 --out " + run_dir)
                 .exit_code,
             0);
-  Result<io::Run> run = io::ReadRun(run_dir);
+  Result<run_io::Run> run = run_io::ReadRun(run_dir);
   ASSERT_TRUE(run.ok()) << run.status().message();
   // The drive crosses the boundary (x = 0.64 m, tile column 5) more than once.
   int crossings = 0;

@@ -1,5 +1,6 @@
-// Test helpers for the io tests: a temporary directory per test, small files, a valid run, and
-// checks of the one-line "<file>:<line>: field '<name>': ..." error format.
+// Test helpers for the io tests (and, through run_io/run_io_test_util.h, the run_io tests): a
+// temporary directory per test, small files, and checks of the one-line
+// "<file>:<line>: field '<name>': ..." error format.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,7 +9,6 @@
 #include <string>
 
 #include "base/status.h"
-#include "io/run.h"
 
 namespace fleetloc::io::testing {
 
@@ -28,13 +28,6 @@ class TempDir {
 // Writes `text` to `path` (creating parent directories).
 void WriteText(const std::filesystem::path& path, const std::string& text);
 std::string ReadText(const std::filesystem::path& path);
-
-// Writes a width×height 8-bit gray PNG with a deterministic pattern.
-void WriteGrayPng(const std::filesystem::path& path, int width, int height);
-
-// A valid run of 3 frames (t = 0, 0.1, 0.2; 16×12 px images img/f<i>.png), 5 odometry samples
-// (t = 0 … 0.2 every 0.05) and truth, written into `dir` with WriteRun and returned.
-Run WriteValidRun(const std::filesystem::path& dir);
 
 // Asserts `status` has `code` and a one-line message starting "<file>:<line>: field '<field>': ".
 // line <= 0 means the message has no line; an empty field means it names no field.

@@ -3,7 +3,7 @@
 
 namespace fleetloc::rectification {
 
-std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera) {
+std::optional<calibration::Rectifier> RectifierFor(const run_io::CameraFile& camera) {
   if (!camera.raw) return std::nullopt;
   return calibration::Rectifier(cv::Matx33d(camera.raw->K.data()), camera.raw->dist,
                                 cv::Matx33d(camera.raw->H_ground.data()), camera.model);

@@ -6,12 +6,12 @@
 #include <optional>
 
 #include "calibration/rectifier.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
 namespace fleetloc::rectification {
 
 // The rectifier of a raw camera (camera.json's `raw` block) into `camera.model`; none for a
 // top-view camera. Needs a `raw` block that io's camera reader accepted.
-std::optional<calibration::Rectifier> RectifierFor(const io::CameraFile& camera);
+std::optional<calibration::Rectifier> RectifierFor(const run_io::CameraFile& camera);
 
 }  // namespace fleetloc::rectification

@@ -19,13 +19,13 @@ geometry::CameraModel SmallTopView() {
 }
 
 TEST(CameraRectifier, TopViewCameraNeedsNoRectifier) {
-  EXPECT_FALSE(RectifierFor(io::CameraFile{SmallTopView(), std::nullopt}).has_value());
+  EXPECT_FALSE(RectifierFor(run_io::CameraFile{SmallTopView(), std::nullopt}).has_value());
 }
 
 TEST(CameraRectifier, IdealRawCameraOverTheTopViewRectifiesToTheSameImage) {
   const geometry::CameraModel model = SmallTopView();
   const double res = model.resolution_m;
-  io::RawCamera raw;
+  run_io::RawCamera raw;
   raw.K = {500, 0, model.cx_px, 0, 500, model.cy_px, 0, 0, 1};
   raw.dist = {0, 0, 0, 0, 0};
   // (u, v) → (a, b) = (-(v - cy)·res, -(u - cx)·res): the top view's own PixelToGround.

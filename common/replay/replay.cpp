@@ -14,17 +14,17 @@ using geometry::Pose2;
 
 namespace {
 
-Result<cv::Mat> ReadRunFrame(const io::FrameRef& ref, const io::Run& run,
+Result<cv::Mat> ReadRunFrame(const run_io::FrameRef& ref, const run_io::Run& run,
                              const std::optional<calibration::Rectifier>& rectifier) {
-  if (!rectifier) return io::ReadFrame(ref, run.camera.model);
-  Result<cv::Mat> raw = io::ReadGrayImage(ref.file);
+  if (!rectifier) return run_io::ReadFrame(ref, run.camera.model);
+  Result<cv::Mat> raw = run_io::ReadGrayImage(ref.file);
   if (!raw.ok()) return raw.status();
   return rectifier->Rectify(*raw);
 }
 
 }  // namespace
 
-Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
+Result<ReplayResult> ReplayRun(const run_io::Run& run, tracking::FrameLocalizer& localizer,
                                const Progress& progress) {
   tracking::OdometryHistory odometry(1e12, 0.0);
   for (const auto& sample : run.odometry) FLEETLOC_RETURN_IF_ERROR(odometry.Add(sample));
@@ -32,7 +32,7 @@ Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& loc
   const std::optional<calibration::Rectifier> rectifier = rectification::RectifierFor(run.camera);
   const Eigen::Vector3d sigma = run.initial_sigma;
   for (size_t i = 0; i < run.frames.size(); ++i) {
-    const io::FrameRef& ref = run.frames[i];
+    const run_io::FrameRef& ref = run.frames[i];
     Result<Pose2> odom = odometry.At(ref.t);
     if (!odom.ok())
       return InvalidInput(run.dir.string() + "/odometry.csv: " + odom.status().message());
@@ -65,7 +65,7 @@ bool Locked(const std::string& status) { return status == "tracking" || status =
 
 }  // namespace
 
-Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
+Accuracy Evaluate(const std::vector<run_io::PoseRecord>& poses,
                   const std::vector<geometry::StampedPose>& truth,
                   const geometry::CameraModel& camera) {
   Accuracy a;

@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "base/percentile.h"
-#include "io/run.h"
+#include "run_io/run.h"
 #include "tracking/frame_localizer.h"
 
 namespace fleetloc::replay {
 
 struct ReplayResult {
-  std::vector<io::PoseRecord> poses;          // one per frame, in frame order
+  std::vector<run_io::PoseRecord> poses;      // one per frame, in frame order
   std::vector<double> cycle_ms;               // time inside the localizer per frame
   std::vector<tracking::FrameResult> frames;  // the localizer's own account of each frame
 };
@@ -24,7 +24,7 @@ using Progress = std::function<void(size_t done, size_t total)>;
 // Replays every frame (rectified first when the camera is raw: rectification::RectifierFor). A
 // frame image that cannot be read or has the wrong size is bad input: the run is rejected with that
 // file's error (exit status 2), nothing is half-reported.
-Result<ReplayResult> ReplayRun(const io::Run& run, tracking::FrameLocalizer& localizer,
+Result<ReplayResult> ReplayRun(const run_io::Run& run, tracking::FrameLocalizer& localizer,
                                const Progress& progress = {});
 
 // Accuracy of base_link (and of the camera, which the tracker measures directly) against truth.
@@ -46,7 +46,7 @@ inline constexpr double kFalseLockPx = 1.0;
 
 // Requires truth with one row per pose (same order). Errors are taken over the locked frames
 // (tracking/relocalized); the lock rate and unlocked runs say how many those are.
-Accuracy Evaluate(const std::vector<io::PoseRecord>& poses,
+Accuracy Evaluate(const std::vector<run_io::PoseRecord>& poses,
                   const std::vector<geometry::StampedPose>& truth,
                   const geometry::CameraModel& camera);
 

@@ -13,7 +13,8 @@ namespace fleetloc::tracker_agent {
 using camera_io::HostNow;
 using timing::SampleVerdict;
 
-LiveInput::LiveInput(const AgentConfig& config, const io::CameraFile& camera, CameraOpener opener)
+LiveInput::LiveInput(const AgentConfig& config, const run_io::CameraFile& camera,
+                     CameraOpener opener)
     : options_(config.live),
       vehicle_id_(config.vehicle_id),
       expected_size_(camera.raw ? cv::Size()
@@ -38,7 +39,7 @@ LiveInput::CameraOpener LiveInput::OpenerFor(const AgentConfig& config) {
 }
 
 Result<std::unique_ptr<LiveInput>> LiveInput::Create(const AgentConfig& config,
-                                                     const io::CameraFile& camera,
+                                                     const run_io::CameraFile& camera,
                                                      CameraOpener opener) {
   std::unique_ptr<LiveInput> input(new LiveInput(config, camera, std::move(opener)));
   FLEETLOC_RETURN_IF_ERROR(

@@ -15,7 +15,7 @@
 #include <thread>
 
 #include "camera_io/camera_source.h"
-#include "io/run.h"
+#include "run_io/run.h"
 #include "timing/stream_watch.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/ros_bridge.h"
@@ -30,7 +30,7 @@ class LiveInput : public VehicleInput {
   // Joins the DDS domain for the odometry and starts the camera thread (the first open may fail:
   // it is retried). `camera`: the camera.json the frames must fit (its size unless it is raw).
   static Result<std::unique_ptr<LiveInput>> Create(const AgentConfig& config,
-                                                   const io::CameraFile& camera,
+                                                   const run_io::CameraFile& camera,
                                                    CameraOpener opener);
   // The opener of the configured source (aravis or gstreamer).
   static CameraOpener OpenerFor(const AgentConfig& config);
@@ -45,7 +45,7 @@ class LiveInput : public VehicleInput {
   }
 
  private:
-  LiveInput(const AgentConfig& config, const io::CameraFile& camera, CameraOpener opener);
+  LiveInput(const AgentConfig& config, const run_io::CameraFile& camera, CameraOpener opener);
   void CameraLoop();
   // One frame from the camera thread: checked, queued (the oldest dropped when full).
   void Accept(camera_io::CapturedFrame frame);

@@ -118,7 +118,7 @@ class LiveInputTest : public ::testing::Test {
   }
 
   AgentConfig config_;
-  io::CameraFile camera_;
+  run_io::CameraFile camera_;
   Script script_;
   std::unique_ptr<LiveInput> input_;
   std::unique_ptr<transport::Participant> participant_;

@@ -15,8 +15,8 @@ namespace fleetloc::tracker_agent {
 
 LocalizationCore::LocalizationCore(const LocalizationOptions& options,
                                    const tracking::TrackerOptions& tracker,
-                                   const io::CameraFile& camera, const mosaic::MosaicLayout& layout,
-                                   mosaic::RasterSource* mosaic,
+                                   const run_io::CameraFile& camera,
+                                   const mosaic::MosaicLayout& layout, mosaic::RasterSource* mosaic,
                                    const std::optional<geometry::PoseWithCovariance>& initial,
                                    const LocalizationPorts& ports,
                                    std::unique_ptr<AgentPositionUpdate> position_update)

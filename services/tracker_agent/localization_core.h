@@ -14,9 +14,9 @@
 #include <utility>
 
 #include "calibration/rectifier.h"
-#include "io/run.h"
 #include "metrics/histogram.h"
 #include "mosaic/raster_source.h"
+#include "run_io/run.h"
 #include "tracker_agent/agent_position_update.h"
 #include "tracker_agent/health_counters.h"
 #include "tracker_agent/localization_ports.h"
@@ -62,7 +62,7 @@ class LocalizationCore {
   // map at the first frame) or, without one, from the first frame relocalized. `position_update`
   // (may be null: none) takes the forward camera's images.
   LocalizationCore(const LocalizationOptions& options, const tracking::TrackerOptions& tracker,
-                   const io::CameraFile& camera, const mosaic::MosaicLayout& layout,
+                   const run_io::CameraFile& camera, const mosaic::MosaicLayout& layout,
                    mosaic::RasterSource* mosaic,
                    const std::optional<geometry::PoseWithCovariance>& initial,
                    const LocalizationPorts& ports,
@@ -148,7 +148,7 @@ class LocalizationCore {
   void PublishMapToOdom(double t, const geometry::Pose2& base);
 
   LocalizationOptions options_;
-  io::CameraFile camera_;
+  run_io::CameraFile camera_;
   mosaic::MosaicLayout layout_;
   std::optional<geometry::PoseWithCovariance> initial_;
   LocalizationPorts ports_;

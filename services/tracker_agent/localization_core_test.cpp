@@ -129,7 +129,7 @@ class LocalizationCoreTest : public ::testing::Test {
 
   cv::Mat floor_;
   std::unique_ptr<mosaic::ImageRasterSource> source_;
-  io::CameraFile camera_;
+  run_io::CameraFile camera_;
   std::unique_ptr<sim::RunSimulator> simulator_;
   FakeTiles tiles_;
   FakeRelocalization relocalization_;

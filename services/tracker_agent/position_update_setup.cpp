@@ -3,7 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "io/mapmatch_files.h"
+#include "run_io/mapmatch_files.h"
 
 namespace fleetloc::tracker_agent {
 
@@ -18,7 +18,7 @@ PositionUpdateOptions PositionUpdateOptionsFrom(const AgentConfig& config) {
 }
 
 Result<std::unique_ptr<AgentPositionUpdate>> PositionUpdateForRun(const AgentConfig& config,
-                                                                  const io::Run& run) {
+                                                                  const run_io::Run& run) {
   fs::path landmarks_csv = config.landmarks_path;
   std::error_code ec;
   if (landmarks_csv.empty() && fs::exists(run.dir / "landmarks.csv", ec)) {
@@ -35,7 +35,7 @@ Result<std::unique_ptr<AgentPositionUpdate>> PositionUpdateForRun(const AgentCon
         run.dir.string());
     return std::unique_ptr<AgentPositionUpdate>();
   }
-  Result<io::LandmarkMap> map = io::ReadLandmarksCsv(landmarks_csv);
+  Result<run_io::LandmarkMap> map = run_io::ReadLandmarksCsv(landmarks_csv);
   if (!map.ok()) return map.status();
   auto update = AgentPositionUpdate::Create(run.forward->camera, map->positions,
                                             PositionUpdateOptionsFrom(config));

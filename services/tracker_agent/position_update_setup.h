@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "base/status.h"
-#include "io/run.h"
+#include "run_io/run.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/agent_position_update.h"
 
@@ -20,6 +20,6 @@ PositionUpdateOptions PositionUpdateOptionsFrom(const AgentConfig& config);
 // configured or in the run; NotFound for a configured landmark file that is missing, and the
 // reader's InvalidInput "<file>:<line>: field '<name>': ..." for a broken one.
 Result<std::unique_ptr<AgentPositionUpdate>> PositionUpdateForRun(const AgentConfig& config,
-                                                                  const io::Run& run);
+                                                                  const run_io::Run& run);
 
 }  // namespace fleetloc::tracker_agent

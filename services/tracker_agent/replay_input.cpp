@@ -14,7 +14,7 @@ void Pacer::WaitUntil(double t) {
                                     std::chrono::duration<double>(t - t_start_)));
 }
 
-ReplayInput::ReplayInput(io::Run run, bool paced) : run_(std::move(run)), pacer_(paced) {}
+ReplayInput::ReplayInput(run_io::Run run, bool paced) : run_(std::move(run)), pacer_(paced) {}
 
 std::optional<std::pair<InputEvent::Kind, double>> ReplayInput::Peek() const {
   using Kind = InputEvent::Kind;
@@ -26,14 +26,15 @@ std::optional<std::pair<InputEvent::Kind, double>> ReplayInput::Peek() const {
            [&] { return run_.odometry[next_odometry_].t; });
   consider(Kind::kFrame, next_frame_ < run_.frames.size(),
            [&] { return run_.frames[next_frame_].t; });
-  const std::vector<io::FrameRef>* forward = run_.forward ? &run_.forward->frames : nullptr;
+  const std::vector<run_io::FrameRef>* forward = run_.forward ? &run_.forward->frames : nullptr;
   consider(Kind::kForwardFrame, forward && next_forward_ < forward->size(),
            [&] { return (*forward)[next_forward_].t; });
   return next;
 }
 
-Result<cv::Mat> ReplayInput::ReadFrame(const io::FrameRef& ref) const {
-  return run_.camera.raw ? io::ReadGrayImage(ref.file) : io::ReadFrame(ref, run_.camera.model);
+Result<cv::Mat> ReplayInput::ReadFrame(const run_io::FrameRef& ref) const {
+  return run_.camera.raw ? run_io::ReadGrayImage(ref.file)
+                         : run_io::ReadFrame(ref, run_.camera.model);
 }
 
 Result<std::optional<InputEvent>> ReplayInput::Next() {
@@ -52,7 +53,7 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
       break;
     }
     case InputEvent::Kind::kForwardFrame: {
-      Result<cv::Mat> image = io::ReadGrayImage(run_.forward->frames[next_forward_++].file);
+      Result<cv::Mat> image = run_io::ReadGrayImage(run_.forward->frames[next_forward_++].file);
       if (!image.ok()) {
         return Status(image.status().code(), "forward camera: " + image.status().message());
       }

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "io/forward_camera_json.h"
-#include "io/run_tables.h"
+#include "run_io/forward_camera_json.h"
+#include "run_io/run_tables.h"
 
 namespace fleetloc::tracker_agent {
 namespace {
@@ -21,10 +21,10 @@ using Kind = InputEvent::Kind;
 
 // Frames at t = 0, 0.2; odometry at 0, 0.1, 0.2; forward images at 0.1 and 0.2, the second one
 // not a PNG.
-io::Run WriteRunWithForwardImages(const fs::path& dir) {
+run_io::Run WriteRunWithForwardImages(const fs::path& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir / "forward");
-  io::Run run;
+  run_io::Run run;
   run.dir = dir;
   run.vehicle_id = "agv-2";
   run.camera.model.width_px = 16, run.camera.model.height_px = 12;
@@ -35,16 +35,16 @@ io::Run WriteRunWithForwardImages(const fs::path& dir) {
     run.frames.push_back({0.2 * i, file});
   }
   for (int i = 0; i < 3; ++i) run.odometry.push_back({0.1 * i, {0.1 * i, 0, 0}});
-  EXPECT_TRUE(io::WriteRun(run).ok());
-  EXPECT_TRUE(io::WriteForwardCameraJson(dir / "forward" / "forward_camera.json", {}).ok());
+  EXPECT_TRUE(run_io::WriteRun(run).ok());
+  EXPECT_TRUE(run_io::WriteForwardCameraJson(dir / "forward" / "forward_camera.json", {}).ok());
   EXPECT_TRUE(cv::imwrite((dir / "forward" / "a.png").string(), cv::Mat(480, 640, CV_8UC1)));
   std::ofstream(dir / "forward" / "b.png") << "not an image";
   EXPECT_TRUE(
-      io::WriteFramesCsv(dir / "forward" / "forward.csv",
-                         {{0.1, dir / "forward" / "a.png"}, {0.2, dir / "forward" / "b.png"}},
-                         dir / "forward")
+      run_io::WriteFramesCsv(dir / "forward" / "forward.csv",
+                             {{0.1, dir / "forward" / "a.png"}, {0.2, dir / "forward" / "b.png"}},
+                             dir / "forward")
           .ok());
-  Result<io::Run> read = io::ReadRun(dir);
+  Result<run_io::Run> read = run_io::ReadRun(dir);
   EXPECT_TRUE(read.ok()) << read.status().message();
   return std::move(read).value();
 }

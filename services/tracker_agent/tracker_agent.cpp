@@ -28,7 +28,7 @@ LocalizationOptions LocalizationOptionsFor(const AgentConfig& config) {
 }
 
 Result<std::unique_ptr<TrackerAgent>> TrackerAgent::Create(
-    const AgentConfig& config, const io::CameraFile& camera,
+    const AgentConfig& config, const run_io::CameraFile& camera,
     const std::optional<geometry::PoseWithCovariance>& initial,
     const tracking::TrackerOptions& options, std::unique_ptr<AgentPositionUpdate> position_update) {
   FLEETLOC_RETURN_IF_ERROR(Validate(config));

@@ -20,8 +20,8 @@
 #include <memory>
 #include <optional>
 
-#include "io/run.h"
 #include "metrics/metrics_exporter.h"
+#include "run_io/run.h"
 #include "tracker_agent/agent_config.h"
 #include "tracker_agent/agent_health.h"
 #include "tracker_agent/agent_position_update.h"
@@ -43,7 +43,7 @@ class TrackerAgent {
   // without one, from the first frame the place index relocalizes. `position_update` (may be
   // null: none) takes the forward camera's images.
   static Result<std::unique_ptr<TrackerAgent>> Create(
-      const AgentConfig& config, const io::CameraFile& camera,
+      const AgentConfig& config, const run_io::CameraFile& camera,
       const std::optional<geometry::PoseWithCovariance>& initial,
       const tracking::TrackerOptions& options,
       std::unique_ptr<AgentPositionUpdate> position_update = nullptr);

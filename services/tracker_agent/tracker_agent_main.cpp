@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/command_line.h"
-#include "io/tracker_config.h"
+#include "run_io/tracker_config.h"
 #include "runtime/logging.h"
 #include "runtime/stop_signal.h"
 #include "tracker_agent/live_input.h"
@@ -28,7 +28,7 @@ std::optional<geometry::PoseWithCovariance> StartPose(const tracker_agent::Agent
 // A live simulated vehicle driving forever over the configured floor image.
 Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
                            const tracking::TrackerOptions& options, const std::atomic<bool>& stop) {
-  Result<cv::Mat> floor = io::ReadGrayImage(config.sim_floor);
+  Result<cv::Mat> floor = run_io::ReadGrayImage(config.sim_floor);
   if (!floor.ok()) return floor.status();
   const double res = config.sim_resolution_m;
   mosaic::ImageRasterSource source(*floor, {0.0, floor->rows * res, res});
@@ -38,7 +38,7 @@ Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
   sim.route.speed_px_s = config.sim_speed_px_s;
   sim.route.start_fraction = config.sim_start_fraction;
   sim.seed = static_cast<std::uint64_t>(config.sim_seed);
-  io::CameraFile camera;
+  run_io::CameraFile camera;
   camera.model = sim::DefaultSimCameraModel(640, 480, res);
   auto input = tracker_agent::SimInput::Create(&source, camera.model, sim, config.paced);
   if (!input.ok()) return input.status();
@@ -52,7 +52,7 @@ Status RunSimulatedVehicle(const tracker_agent::AgentConfig& config,
 // (initialpose) or, with start_pose "relocalize", from the place index.
 Status RunLiveVehicle(const tracker_agent::AgentConfig& config,
                       const tracking::TrackerOptions& options, const std::atomic<bool>& stop) {
-  Result<io::CameraFile> camera = io::ReadCameraJson(config.live.camera_path);
+  Result<run_io::CameraFile> camera = run_io::ReadCameraJson(config.live.camera_path);
   if (!camera.ok()) return camera.status();
   auto agent = tracker_agent::TrackerAgent::Create(config, *camera, std::nullopt, options);
   if (!agent.ok()) return agent.status();
@@ -66,13 +66,13 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   FLEETLOC_RETURN_IF_ERROR(tracker_agent::Validate(config));
   tracking::TrackerOptions options;
   if (!config.tracker_options_path.empty()) {
-    Result<tracking::TrackerOptions> read = io::ReadTrackerOptions(config.tracker_options_path);
+    Result<tracking::TrackerOptions> read = run_io::ReadTrackerOptions(config.tracker_options_path);
     if (!read.ok()) return read.status();
     options = *read;
   }
   if (config.source == "sim") return RunSimulatedVehicle(config, options, stop);
   if (tracker_agent::IsLiveSource(config.source)) return RunLiveVehicle(config, options, stop);
-  Result<io::Run> run = io::ReadRun(config.run_path);
+  Result<run_io::Run> run = run_io::ReadRun(config.run_path);
   if (!run.ok()) return run.status();
   const Eigen::Vector3d sigma = run->initial_sigma;
   const geometry::PoseWithCovariance initial{run->initial_pose,

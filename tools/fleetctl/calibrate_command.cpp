@@ -7,7 +7,7 @@
 
 #include "calibration/camera_calibration.h"
 #include "commands.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -37,11 +37,11 @@ Status RunCalibrate(const CalibrateArgs& a) {
   const calibration::ChessboardSpec board{*inner, a.square_m};
   std::vector<cv::Mat> views;
   for (const std::string& path : a.images) {
-    Result<cv::Mat> image = io::ReadGrayImage(path);
+    Result<cv::Mat> image = run_io::ReadGrayImage(path);
     if (!image.ok()) return image.status();
     views.push_back(*image);
   }
-  Result<cv::Mat> floor = io::ReadGrayImage(a.floor_view);
+  Result<cv::Mat> floor = run_io::ReadGrayImage(a.floor_view);
   if (!floor.ok()) return floor.status();
   spdlog::info("calibrate: {} views, board {} inner corners of {} m", views.size(), a.board,
                a.square_m);
@@ -49,17 +49,17 @@ Status RunCalibrate(const CalibrateArgs& a) {
   if (!intrinsics.ok()) return InvalidInput("--images: " + intrinsics.status().message());
   Result<cv::Matx33d> H = calibration::GroundHomography(*floor, *intrinsics, board);
   if (!H.ok()) return InvalidInput(a.floor_view + ": " + H.status().message());
-  io::CameraFile camera;
+  run_io::CameraFile camera;
   if (!a.camera.empty()) {
-    Result<io::CameraFile> base = io::ReadCameraJson(a.camera);
+    Result<run_io::CameraFile> base = run_io::ReadCameraJson(a.camera);
     if (!base.ok()) return base.status();
     camera = *base;
   }
-  io::RawCamera raw;
+  run_io::RawCamera raw;
   for (int i = 0; i < 9; ++i) raw.K[i] = intrinsics->K.val[i], raw.H_ground[i] = H->val[i];
   raw.dist = intrinsics->dist;
   camera.raw = raw;
-  FLEETLOC_RETURN_IF_ERROR(io::WriteCameraJson(a.out, camera));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WriteCameraJson(a.out, camera));
   nlohmann::json summary{{"out", a.out},
                          {"views", intrinsics->views},
                          {"images", a.images.size()},

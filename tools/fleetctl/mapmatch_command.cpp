@@ -9,8 +9,8 @@
 #include <string>
 
 #include "commands.h"
-#include "io/mapmatch_files.h"
 #include "mapmatch/robust_map_fit.h"
+#include "run_io/mapmatch_files.h"
 #include "support/parse_numbers.h"
 
 namespace fleetloc::fleetctl {
@@ -76,9 +76,9 @@ Status RunMapmatch(const MapmatchArgs& args) {
   if (!options.ok()) return options.status();
   Result<std::vector<double>> init = ParseNumbers(args.init, 3, "--init", "DX,DY,DTHETA");
   if (!init.ok()) return init.status();
-  Result<io::LandmarkMap> landmarks = io::ReadLandmarksCsv(args.landmarks);
+  Result<run_io::LandmarkMap> landmarks = run_io::ReadLandmarksCsv(args.landmarks);
   if (!landmarks.ok()) return landmarks.status();
-  Result<std::vector<Eigen::Vector2d>> points = io::ReadPointsCsv(args.points);
+  Result<std::vector<Eigen::Vector2d>> points = run_io::ReadPointsCsv(args.points);
   if (!points.ok()) return points.status();
   if (landmarks->positions.empty()) return InvalidInput(args.landmarks + ": no landmarks");
   if (points->empty()) return InvalidInput(args.points + ": no points");

@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "io/run.h"
 #include "mosaic/importer.h"
+#include "run_io/run.h"
 #include "tracking/odometry_history.h"
 
 namespace fleetloc::fleetctl {
@@ -39,7 +39,7 @@ class BlendedRowReader : public mosaic::GrayRowReader {
 };
 
 // base_link's odometry pose at each frame's time, interpolated as the tracker does.
-Result<mapping::MapperInput> MapperInputOf(const io::Run& run) {
+Result<mapping::MapperInput> MapperInputOf(const run_io::Run& run) {
   tracking::OdometryHistory odometry(1e12, 0.0);
   const std::string odometry_csv = (run.dir / "odometry.csv").string();
   for (const geometry::StampedPose& sample : run.odometry) {
@@ -49,7 +49,7 @@ Result<mapping::MapperInput> MapperInputOf(const io::Run& run) {
   mapping::MapperInput input;
   input.camera = run.camera.model;
   input.initial_base_in_map = run.initial_pose;
-  for (const io::FrameRef& frame : run.frames) {
+  for (const run_io::FrameRef& frame : run.frames) {
     Result<geometry::Pose2> odom = odometry.At(frame.t);
     if (!odom.ok()) return InvalidInput(odometry_csv + ": " + odom.status().message());
     input.frame_times_s.push_back(frame.t);
@@ -58,7 +58,7 @@ Result<mapping::MapperInput> MapperInputOf(const io::Run& run) {
   return input;
 }
 
-MappedAccuracy Accuracy(const io::Run& run, const std::vector<geometry::Pose2>& cameras) {
+MappedAccuracy Accuracy(const run_io::Run& run, const std::vector<geometry::Pose2>& cameras) {
   MappedAccuracy a;
   double sum_sq = 0.0, heading_sq = 0.0;
   for (size_t k = 0; k < cameras.size(); ++k) {
@@ -74,11 +74,11 @@ MappedAccuracy Accuracy(const io::Run& run, const std::vector<geometry::Pose2>& 
   return a;
 }
 
-Status Blend(const io::Run& run, const std::vector<geometry::Pose2>& cameras,
+Status Blend(const run_io::Run& run, const std::vector<geometry::Pose2>& cameras,
              mapping::MosaicBlender* blender) {
   const int frames = static_cast<int>(run.frames.size());
   for (int k = 0; k < frames; ++k) {
-    Result<cv::Mat> frame = io::ReadFrame(run.frames[k], run.camera.model);
+    Result<cv::Mat> frame = run_io::ReadFrame(run.frames[k], run.camera.model);
     if (!frame.ok()) return frame.status();
     blender->Add(*frame, cameras[k]);
     if ((k + 1) % std::max(1, frames / 10) == 0 || k + 1 == frames) {
@@ -111,7 +111,7 @@ Result<MosaicBuildSummary> BuildMosaicFromRun(const fs::path& run_dir, const std
   FLEETLOC_RETURN_IF_ERROR(mapping::Validate(options.mapper));
   FLEETLOC_RETURN_IF_ERROR(mapping::Validate(options.blend));
   FLEETLOC_RETURN_IF_ERROR(mosaic::CheckNewMosaicPath(out_db));
-  Result<io::Run> run = io::ReadRun(run_dir);
+  Result<run_io::Run> run = run_io::ReadRun(run_dir);
   if (!run.ok()) return run.status();
   Result<mapping::MapperInput> input = MapperInputOf(*run);
   if (!input.ok()) return input.status();
@@ -119,7 +119,7 @@ Result<MosaicBuildSummary> BuildMosaicFromRun(const fs::path& run_dir, const std
   summary.frames = static_cast<int>(run->frames.size());
   auto start = Clock::now();
   const mapping::FrameLoader load = [&run](int k) {
-    return io::ReadFrame(run->frames.at(k), run->camera.model);
+    return run_io::ReadFrame(run->frames.at(k), run->camera.model);
   };
   Result<mapping::MappedRun> mapped = mapping::MapRun(
       *input, load, options.mapper, [](const std::string& line) { spdlog::info("{}", line); });

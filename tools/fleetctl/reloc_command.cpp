@@ -11,10 +11,10 @@
 #include <opencv2/core/utility.hpp>
 
 #include "commands.h"
-#include "io/run.h"
 #include "mosaic/tile_store.h"
 #include "mosaic_upkeep/place_index_cache.h"
 #include "relocalization/self_similarity.h"
+#include "run_io/run.h"
 #include "support/reloc_index.h"
 
 namespace fleetloc::fleetctl {
@@ -29,12 +29,12 @@ struct RelocArgs {
   long long cache_mb = 256;
 };
 
-Result<cv::Mat> ReadRunFrame(const io::Run& run, int k) {
+Result<cv::Mat> ReadRunFrame(const run_io::Run& run, int k) {
   if (k >= static_cast<int>(run.frames.size())) {
     return InvalidInput("--frame " + std::to_string(k) + ": the run has " +
                         std::to_string(run.frames.size()) + " frames");
   }
-  return io::ReadFrame(run.frames[k], run.camera.model);
+  return run_io::ReadFrame(run.frames[k], run.camera.model);
 }
 
 // Places where the floor repeats itself (relocalization/self_similarity.h) as JSON, with a warning;
@@ -68,7 +68,7 @@ Result<nlohmann::json> SelfSimilarityJson(relocalization::Relocalizer& relocaliz
 }
 
 // Position and heading error against truth.csv's row of frame k.
-nlohmann::json TruthError(const io::Run& run, int k, const geometry::Pose2& pose) {
+nlohmann::json TruthError(const run_io::Run& run, int k, const geometry::Pose2& pose) {
   const geometry::Pose2& truth = run.truth[k].pose;
   return {{"position_m", std::hypot(pose.x - truth.x, pose.y - truth.y)},
           {"heading_rad", std::abs(geometry::WrapAngle(pose.theta - truth.theta))}};
@@ -76,7 +76,7 @@ nlohmann::json TruthError(const io::Run& run, int k, const geometry::Pose2& pose
 
 Status RunReloc(const RelocArgs& args) {
   cv::setNumThreads(1);
-  Result<io::Run> run = io::ReadRun(args.run);
+  Result<run_io::Run> run = run_io::ReadRun(args.run);
   if (!run.ok()) return run.status();
   Result<cv::Mat> frame = ReadRunFrame(*run, args.frame);
   if (!frame.ok()) return frame.status();

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "commands.h"
-#include "io/run.h"
 #include "mosaic/tile_store.h"
+#include "run_io/run.h"
 #include "sim/run_simulator.h"
 #include "support/parse_numbers.h"
 #include "support/sim_run_writer.h"
@@ -64,7 +64,7 @@ Result<Floor> OpenImageFloor(const SimArgs& args) {
   if (!(args.resolution_m > 0)) {
     return InvalidInput("--resolution must be a positive number of metres per pixel");
   }
-  Result<cv::Mat> image = io::ReadGrayImage(args.image);
+  Result<cv::Mat> image = run_io::ReadGrayImage(args.image);
   if (!image.ok()) return image.status();
   geometry::Geotransform geo{0.0, image->rows * args.resolution_m, args.resolution_m};
   if (!args.origin.empty()) {
@@ -99,8 +99,8 @@ Result<Floor> OpenFloor(const SimArgs& args) {
 
 // camera.json when given, else the default camera (principal point at the centre, mounted 0.40 m
 // ahead of base_link) at the floor's resolution.
-Result<io::CameraFile> LoadCamera(const SimArgs& args, double floor_resolution_m) {
-  if (!args.camera.empty()) return io::ReadCameraJson(args.camera);
+Result<run_io::CameraFile> LoadCamera(const SimArgs& args, double floor_resolution_m) {
+  if (!args.camera.empty()) return run_io::ReadCameraJson(args.camera);
   return DefaultSimCamera(args.width_px, args.height_px, floor_resolution_m);
 }
 
@@ -164,7 +164,7 @@ Status RunSim(SimArgs& args) {
   Result<Floor> floor = OpenFloor(args);
   if (!floor.ok()) return floor.status();
   const double floor_resolution_m = floor->source->layout().geo.resolution;
-  Result<io::CameraFile> camera = LoadCamera(args, floor_resolution_m);
+  Result<run_io::CameraFile> camera = LoadCamera(args, floor_resolution_m);
   if (!camera.ok()) return camera.status();
   FLEETLOC_RETURN_IF_ERROR(ResolveOptions(&args, floor_resolution_m));
   Result<std::unique_ptr<sim::RunSimulator>> simulator =
@@ -176,7 +176,7 @@ Status RunSim(SimArgs& args) {
   const auto progress = [](int done, int total) {
     if (done % kProgressEvery == 0 || done == total) spdlog::info("sim: {}/{} frames", done, total);
   };
-  Result<io::Run> run =
+  Result<run_io::Run> run =
       WriteSimulatedRun(**simulator, *camera, dir, args.vehicle_id, progress, &times);
   if (!run.ok()) return run.status();
   std::cout << SummaryJson((*simulator)->summary(), args, times).dump(2) << "\n";

@@ -12,9 +12,9 @@
 
 #include "commands.h"
 #include "io/file_util.h"
-#include "io/forward_camera_json.h"
 #include "io/messages.h"
-#include "io/run_tables.h"
+#include "run_io/forward_camera_json.h"
+#include "run_io/run_tables.h"
 #include "sim/forward_renderer.h"
 #include "sim/forward_run.h"
 #include "sim/random.h"
@@ -61,14 +61,14 @@ Status PrepareForwardDir(const fs::path& dir, bool overwrite) {
 // as the initial pose (camera.json describes the simulator's downward camera, which saw nothing).
 Status WriteForwardOnlyRun(const fs::path& dir, const std::string& vehicle_id,
                            const sim::ForwardRunPlan& plan) {
-  io::Run run;
+  run_io::Run run;
   run.dir = dir;
   run.vehicle_id = vehicle_id;
   run.camera = DefaultSimCamera(640, 480, 0.0005);
   run.initial_pose = plan.frame_truth.front().pose;
   run.initial_sigma = {0.01, 0.01, 0.005};
   run.odometry = plan.odometry;
-  return io::WriteRun(run);
+  return run_io::WriteRun(run);
 }
 
 Status WriteImage(const fs::path& path, const cv::Mat& image) {
@@ -93,7 +93,7 @@ Status WriteLandmarksCsv(const fs::path& path, const std::vector<Eigen::Vector2d
 
 Result<mapmatch::ForwardCameraParams> CameraParams(const SimForwardArgs& a) {
   if (a.camera.empty()) return DefaultForwardCamera();
-  return io::ReadForwardCameraJson(a.camera);
+  return run_io::ReadForwardCameraJson(a.camera);
 }
 
 Status RunSimForward(const SimForwardArgs& a) {
@@ -108,7 +108,7 @@ Status RunSimForward(const SimForwardArgs& a) {
   const sim::CorridorScene scene = sim::BuildCorridorScene(a.run.scene);
   const sim::ForwardRunPlan plan = sim::PlanForwardRun(a.run);
   const sim::ForwardRenderer renderer(*camera, {});
-  std::vector<io::FrameRef> frames;
+  std::vector<run_io::FrameRef> frames;
   for (std::size_t i = 0; i < plan.frame_truth.size(); ++i) {
     char name[32];
     std::snprintf(name, sizeof(name), "img/f%05zu.png", i);
@@ -119,9 +119,10 @@ Status RunSimForward(const SimForwardArgs& a) {
     if ((i + 1) % 10 == 0)
       spdlog::info("sim-forward: {} of {} frames", i + 1, plan.frame_truth.size());
   }
-  FLEETLOC_RETURN_IF_ERROR(io::WriteForwardCameraJson(forward / "forward_camera.json", *params));
-  FLEETLOC_RETURN_IF_ERROR(io::WriteFramesCsv(forward / "forward.csv", frames, forward));
-  FLEETLOC_RETURN_IF_ERROR(io::WriteStampedPosesCsv(forward / "truth.csv", plan.frame_truth));
+  FLEETLOC_RETURN_IF_ERROR(
+      run_io::WriteForwardCameraJson(forward / "forward_camera.json", *params));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WriteFramesCsv(forward / "forward.csv", frames, forward));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WriteStampedPosesCsv(forward / "truth.csv", plan.frame_truth));
   FLEETLOC_RETURN_IF_ERROR(WriteLandmarksCsv(dir / "landmarks.csv", scene.landmarks));
   FLEETLOC_RETURN_IF_ERROR(WriteForwardOnlyRun(dir, a.vehicle_id, plan));
   std::cout << "{\"frames\": " << frames.size() << ", \"landmarks\": " << scene.landmarks.size()

@@ -8,9 +8,9 @@
 
 #include "commands.h"
 #include "io/file_util.h"
-#include "io/tracker_config.h"
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
+#include "run_io/tracker_config.h"
 #include "support/tracker_summary.h"
 #include "tracking/camera_scale_check.h"
 #include "tracking/mosaic_tracker.h"
@@ -29,7 +29,7 @@ struct TrackArgs {
 
 }  // namespace
 
-Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const io::Run& run,
+Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const run_io::Run& run,
                                           const tracking::TrackerOptions& options,
                                           long long cache_mb) {
   Result<std::unique_ptr<mosaic::TileStore>> opened =
@@ -76,17 +76,17 @@ std::string FramesCsv(const replay::ReplayResult& replayed) {
 }
 
 Status RunTrack(const TrackArgs& args) {
-  Result<io::Run> run = io::ReadRun(args.run);
+  Result<run_io::Run> run = run_io::ReadRun(args.run);
   if (!run.ok()) return run.status();
   tracking::TrackerOptions options;
   if (!args.config.empty()) {
-    Result<tracking::TrackerOptions> configured = io::ReadTrackerOptions(args.config);
+    Result<tracking::TrackerOptions> configured = run_io::ReadTrackerOptions(args.config);
     if (!configured.ok()) return configured.status();
     options = *configured;
   }
   Result<replay::ReplayResult> replayed = TrackOffline(args.mosaic, *run, options, args.cache_mb);
   if (!replayed.ok()) return replayed.status();
-  FLEETLOC_RETURN_IF_ERROR(io::WritePosesCsv(args.out, replayed->poses));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WritePosesCsv(args.out, replayed->poses));
   if (!args.frames_out.empty()) {
     FLEETLOC_RETURN_IF_ERROR(io::WriteFileAtomically(args.frames_out, FramesCsv(*replayed)));
   }

@@ -12,8 +12,8 @@
 #include <thread>
 #include <vector>
 
-#include "io/run.h"
 #include "mosaic/raster_source.h"
+#include "run_io/run.h"
 #include "sim/run_simulator.h"
 #include "transport/ros_types.h"
 #include "transport/typed_io.h"
@@ -35,7 +35,7 @@ class PlannedDrive {
                                                       int frames, double rate_hz, double start_t,
                                                       double lead_s, double speed_px_s,
                                                       uint64_t seed);
-  const io::CameraFile& camera() const { return camera_; }
+  const run_io::CameraFile& camera() const { return camera_; }
   // base_link in odom from start_t: standing still, then the simulator's wheel odometry.
   const std::vector<geometry::StampedPose>& odometry() const { return odometry_; }
   // base_link in map at host time t (where it stands before the drive).
@@ -54,7 +54,7 @@ class PlannedDrive {
       : floor_(floor, {0.0, floor.rows * resolution_m, resolution_m}), rate_hz_(rate_hz) {}
   mosaic::ImageRasterSource floor_;
   double rate_hz_;
-  io::CameraFile camera_;
+  run_io::CameraFile camera_;
   std::unique_ptr<sim::RunSimulator> sim_;
   std::vector<cv::Mat> images_;
   std::vector<geometry::StampedPose> odometry_;

@@ -53,13 +53,14 @@ LAYERS = [
     ("algorithms", ["common/mapping", "common/mapmatch", "common/sim"]),
     # Global relocalization: over the tracker (verification) and mapmatch (mean shift).
     ("relocalization", ["common/relocalization"]),
-    # Adapters: process plumbing (logging, signals, sd_notify, child processes), files, the
-    # rectifier camera.json asks for (replay's and the agent's), DDS, cameras, metrics, offline
-    # replay, the stored mosaic's upkeep jobs (re-mapping, vehicle standing, the place-index
-    # cache: over mapping and relocalization), the fleet on DDS.
-    ("adapters", ["common/runtime", "common/io", "common/rectification", "common/transport",
-                  "common/camera_io", "common/metrics", "common/replay", "common/mosaic_upkeep",
-                  "common/fleet_link"]),
+    # Adapters: process plumbing (logging, signals, sd_notify, child processes), generic files
+    # (io), the project's own files (run_io: over tracking and mapmatch), the rectifier
+    # camera.json asks for (replay's and the agent's), DDS, cameras, metrics, offline replay, the
+    # stored mosaic's upkeep jobs (re-mapping, vehicle standing, the place-index cache: over
+    # mapping and relocalization), the fleet on DDS.
+    ("adapters", ["common/runtime", "common/io", "common/run_io", "common/rectification",
+                  "common/transport", "common/camera_io", "common/metrics", "common/replay",
+                  "common/mosaic_upkeep", "common/fleet_link"]),
     ("services", ["services/map_server", "services/tracker_agent",
                   "services/fleet_supervisor"]),
     ("tools", ["tools/peers", "tools/live_sim", "tools/fleetctl", "tools/bench", "tools/fuzz"]),

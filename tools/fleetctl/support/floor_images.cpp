@@ -5,7 +5,7 @@
 #include <cctype>
 #include <set>
 
-#include "io/run.h"
+#include "run_io/run.h"
 
 namespace fleetloc::fleetctl {
 namespace {
@@ -48,7 +48,7 @@ Result<std::vector<fs::path>> ListFloorImages(const fs::path& dir, const std::st
 Result<std::vector<cv::Mat>> LoadGrayImages(const std::vector<std::string>& paths) {
   std::vector<cv::Mat> images;
   for (const auto& path : paths) {
-    Result<cv::Mat> image = io::ReadGrayImage(path);
+    Result<cv::Mat> image = run_io::ReadGrayImage(path);
     if (!image.ok()) return image.status();
     images.push_back(*image);
   }

@@ -23,7 +23,7 @@ std::filesystem::path DefaultFloorsDir();
 Result<std::vector<std::filesystem::path>> ListFloorImages(const std::filesystem::path& dir,
                                                            const std::string& option);
 
-// The images as 8-bit gray (io::ReadGrayImage), in order. The first failure's status otherwise.
+// The images as 8-bit gray (run_io::ReadGrayImage), in order. The first failure's status otherwise.
 Result<std::vector<cv::Mat>> LoadGrayImages(const std::vector<std::string>& paths);
 
 }  // namespace fleetloc::fleetctl

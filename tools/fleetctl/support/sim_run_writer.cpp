@@ -29,9 +29,10 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
 
 // Renders and writes every frame; returns their references for frames.csv. PNG encoding takes
 // about as long as rendering, so frame i is written on a second thread while frame i + 1 renders.
-Result<std::vector<io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, const fs::path& dir,
-                                              const FrameProgress& progress, FrameTimes* times) {
-  std::vector<io::FrameRef> frames;
+Result<std::vector<run_io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, const fs::path& dir,
+                                                  const FrameProgress& progress,
+                                                  FrameTimes* times) {
+  std::vector<run_io::FrameRef> frames;
   std::future<Status> writing;
   auto wait_for_write = [&]() -> Status {
     if (!writing.valid()) return Status::Ok();
@@ -59,8 +60,8 @@ Result<std::vector<io::FrameRef>> WriteFrames(sim::RunSimulator& simulator, cons
 
 }  // namespace
 
-io::CameraFile DefaultSimCamera(int width_px, int height_px, double resolution_m) {
-  io::CameraFile camera;
+run_io::CameraFile DefaultSimCamera(int width_px, int height_px, double resolution_m) {
+  run_io::CameraFile camera;
   camera.model = sim::DefaultSimCameraModel(width_px, height_px, resolution_m);
   return camera;
 }
@@ -82,14 +83,15 @@ Status PrepareRunDir(const fs::path& dir, bool overwrite) {
   return Status::Ok();
 }
 
-Result<io::Run> WriteSimulatedRun(sim::RunSimulator& simulator, const io::CameraFile& camera,
-                                  const fs::path& dir, const std::string& vehicle_id,
-                                  const FrameProgress& progress, FrameTimes* times) {
+Result<run_io::Run> WriteSimulatedRun(sim::RunSimulator& simulator,
+                                      const run_io::CameraFile& camera, const fs::path& dir,
+                                      const std::string& vehicle_id, const FrameProgress& progress,
+                                      FrameTimes* times) {
   FrameTimes ignored;
-  Result<std::vector<io::FrameRef>> frames =
+  Result<std::vector<run_io::FrameRef>> frames =
       WriteFrames(simulator, dir, progress, times ? times : &ignored);
   if (!frames.ok()) return frames.status();
-  io::Run run;
+  run_io::Run run;
   run.dir = dir;
   run.vehicle_id = vehicle_id;
   run.camera = camera;
@@ -98,7 +100,7 @@ Result<io::Run> WriteSimulatedRun(sim::RunSimulator& simulator, const io::Camera
   run.frames = std::move(*frames);
   run.odometry = simulator.odometry();
   run.truth = simulator.truth();
-  FLEETLOC_RETURN_IF_ERROR(io::WriteRun(run));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WriteRun(run));
   return run;
 }
 

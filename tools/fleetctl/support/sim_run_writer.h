@@ -8,14 +8,14 @@
 #include <string>
 
 #include "base/status.h"
-#include "io/run.h"
+#include "run_io/run.h"
 #include "sim/run_simulator.h"
 
 namespace fleetloc::fleetctl {
 
 // The default camera of simulated runs: width × height pixels at the floor's resolution, principal
 // point at the image centre, mounted 0.40 m ahead of base_link.
-io::CameraFile DefaultSimCamera(int width_px, int height_px, double resolution_m);
+run_io::CameraFile DefaultSimCamera(int width_px, int height_px, double resolution_m);
 
 // Makes `dir` ready for a new run: created if missing; an existing non-empty directory only when
 // `overwrite` (InvalidInput otherwise), and then only the run's own files are removed.
@@ -36,8 +36,11 @@ using FrameProgress = std::function<void(int done, int total)>;
 // absolute). `dir` must have been prepared with PrepareRunDir. Adds the time spent to *times
 // when given. Internal when a file cannot be written; InvalidInput if the io library refuses
 // the run's content.
-Result<io::Run> WriteSimulatedRun(sim::RunSimulator& simulator, const io::CameraFile& camera,
-                                  const std::filesystem::path& dir, const std::string& vehicle_id,
-                                  const FrameProgress& progress = {}, FrameTimes* times = nullptr);
+Result<run_io::Run> WriteSimulatedRun(sim::RunSimulator& simulator,
+                                      const run_io::CameraFile& camera,
+                                      const std::filesystem::path& dir,
+                                      const std::string& vehicle_id,
+                                      const FrameProgress& progress = {},
+                                      FrameTimes* times = nullptr);
 
 }  // namespace fleetloc::fleetctl

@@ -7,7 +7,7 @@
 
 namespace fleetloc::fleetctl {
 
-nlohmann::json TrackSummary(const io::Run& run, const replay::ReplayResult& replayed) {
+nlohmann::json TrackSummary(const run_io::Run& run, const replay::ReplayResult& replayed) {
   const std::vector<double>& ms = replayed.cycle_ms;
   std::map<std::string, int> counts;
   for (const auto& p : replayed.poses) ++counts[p.status];

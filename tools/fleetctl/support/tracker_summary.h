@@ -9,11 +9,11 @@
 
 namespace fleetloc::fleetctl {
 
-nlohmann::json TrackSummary(const io::Run& run, const replay::ReplayResult& replayed);
+nlohmann::json TrackSummary(const run_io::Run& run, const replay::ReplayResult& replayed);
 
 // `fleetctl track`'s replay: the mosaic tracker over `run` against the stored mosaic through a
 // MosaicView with a `cache_mb` tile cache (defined in track_command.cpp).
-Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const io::Run& run,
+Result<replay::ReplayResult> TrackOffline(const std::string& mosaic_path, const run_io::Run& run,
                                           const tracking::TrackerOptions& options,
                                           long long cache_mb);
 

@@ -44,7 +44,7 @@ Status RunAgentBench(const AgentBenchSettings& s) {
                                       {"sim", "--mosaic", *mosaic, "--frames",
                                        std::to_string(s.frames), "--out", run_dir, "--overwrite"},
                                       work + "/sim.log", std::chrono::seconds(1800)));
-  Result<io::Run> run = io::ReadRun(run_dir);
+  Result<run_io::Run> run = run_io::ReadRun(run_dir);
   if (!run.ok()) return run.status();
   spdlog::info("bench agent: offline tracker");
   Result<replay::ReplayResult> offline = fleetctl::TrackOffline(*mosaic, *run, {}, 256);

@@ -33,8 +33,8 @@ namespace fs = std::filesystem;
 using PoseMsg = geometry_msgs_msg_dds__PoseWithCovarianceStamped_;
 
 // The drive as a run directory (frames at their planned times) for the offline tracker.
-Result<io::Run> WriteDriveRun(live_sim::PlannedDrive& drive, const std::string& dir) {
-  io::Run run;
+Result<run_io::Run> WriteDriveRun(live_sim::PlannedDrive& drive, const std::string& dir) {
+  run_io::Run run;
   run.dir = dir;
   run.vehicle_id = "bench";
   run.camera = drive.camera();
@@ -50,7 +50,7 @@ Result<io::Run> WriteDriveRun(live_sim::PlannedDrive& drive, const std::string& 
       return Internal("cannot write " + std::string(name));
     run.frames.push_back({drive.frame_t(i), fs::path(dir) / name});
   }
-  FLEETLOC_RETURN_IF_ERROR(io::WriteRun(run));
+  FLEETLOC_RETURN_IF_ERROR(run_io::WriteRun(run));
   return run;
 }
 
@@ -96,7 +96,7 @@ double Rms(const std::vector<double>& errors) {
 struct PreparedDrive {
   std::string mosaic;
   std::unique_ptr<live_sim::PlannedDrive> drive;
-  io::Run run;
+  run_io::Run run;
   double start = 0;  // host time of the drive's first frame
 };
 
@@ -105,7 +105,8 @@ Result<PreparedDrive> PrepareDrive(const LiveAgentBenchSettings& s, const std::s
       EnsureDemoMosaic(work, "rock_dirt_2048.png", "agent_bench_mosaic.db");
   if (!mosaic.ok()) return mosaic.status();
   // The floor the mosaic was imported from: the demo image itself.
-  Result<cv::Mat> floor = io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
+  Result<cv::Mat> floor =
+      run_io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
   if (!floor.ok()) return floor.status();
   const double warmup_s = 3.0 + s.frames * 0.02;  // rendering ahead
   const double start = std::ceil(camera_io::HostNow() + warmup_s);
@@ -116,7 +117,7 @@ Result<PreparedDrive> PrepareDrive(const LiveAgentBenchSettings& s, const std::s
   live_sim::PlannedDrive& d = **drive;
   if (camera_io::HostNow() > start)
     return Internal("rendering took longer than planned; use fewer --frames");
-  Result<io::Run> run = WriteDriveRun(d, work + "/live_run");
+  Result<run_io::Run> run = WriteDriveRun(d, work + "/live_run");
   if (!run.ok()) return run.status();
   return PreparedDrive{*mosaic, std::move(drive).value(), std::move(run).value(), start};
 }
@@ -356,7 +357,7 @@ Status RunLiveAgentBench(const LiveAgentBenchSettings& s) {
   if (!prepared.ok()) return prepared.status();
   live_sim::PlannedDrive& d = *prepared->drive;
   const std::string& mosaic = prepared->mosaic;
-  const io::Run& run = prepared->run;
+  const run_io::Run& run = prepared->run;
   auto server = runtime::ChildProcess::Start(
       runtime::ExecutableDir() + "/map_server",
       {"--mosaic", mosaic, "--domain", std::to_string(s.domain)}, work + "/map_server.log");

@@ -17,8 +17,8 @@
 
 #include "harness/common/bench_paths.h"
 #include "harness/common/forked_step.h"
-#include "io/run.h"
 #include "mosaic_upkeep/remap_job.h"
+#include "run_io/run.h"
 #include "support/floor_images.h"
 
 namespace fleetloc::bench {
@@ -37,7 +37,8 @@ Result<std::string> MosaicWithPatches(const RemapBenchArgs& a) {
   const std::string path = a.work_dir + "/remap_bench.db";
   fs::remove(path), fs::remove(path + "-wal"), fs::remove(path + "-shm");
   fs::copy_file(*demo, path);
-  Result<cv::Mat> floor = io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
+  Result<cv::Mat> floor =
+      run_io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");
   if (!floor.ok()) return floor.status();
   auto store = mosaic::PatchStore::Open(path);
   if (!store.ok()) return store.status();

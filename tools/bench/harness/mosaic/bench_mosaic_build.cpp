@@ -16,9 +16,9 @@
 #include "harness/mosaic/bench_mosaic_distortion.h"
 #include "harness/tracker/bench_tracker.h"
 #include "io/file_util.h"
-#include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "run_io/run.h"
 #include "support/floor_images.h"
 
 namespace fleetloc::bench {

@@ -6,9 +6,9 @@
 #include <memory>
 #include <string>
 
-#include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
+#include "run_io/run.h"
 
 namespace fleetloc::bench {
 
@@ -29,7 +29,7 @@ nlohmann::json DistortionJson(const mapping::DistortionReport& d) {
 Result<mapping::DistortionReport> MeasureBuiltMosaicDistortion(const fs::path& built_db,
                                                                const fs::path& truth_image,
                                                                double resolution_m) {
-  Result<cv::Mat> truth = io::ReadGrayImage(truth_image);
+  Result<cv::Mat> truth = run_io::ReadGrayImage(truth_image);
   if (!truth.ok()) return truth.status();
   Result<std::unique_ptr<mosaic::TileStore>> opened =
       mosaic::TileStore::Open(built_db.string(), mosaic::OpenMode::kReadOnly);

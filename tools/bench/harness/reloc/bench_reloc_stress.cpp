@@ -12,8 +12,8 @@
 #include "harness/stress/bench_stress.h"
 #include "harness/tracker/bench_tracker.h"
 #include "io/file_util.h"
-#include "io/run.h"
 #include "mosaic/mosaic_view.h"
+#include "run_io/run.h"
 
 namespace fleetloc::bench {
 namespace {
@@ -31,7 +31,7 @@ Result<fs::path> LayoutImage(const fs::path& scaled, const std::string& layout,
   std::error_code ec;
   if (fs::is_regular_file(twice, ec)) return twice;
   fs::create_directories(dir, ec);
-  Result<cv::Mat> image = io::ReadGrayImage(scaled);
+  Result<cv::Mat> image = run_io::ReadGrayImage(scaled);
   if (!image.ok()) return image.status();
   cv::Mat both;
   cv::hconcat(*image, *image, both);

@@ -10,18 +10,18 @@
 #include <cstdio>
 #include <opencv2/core/utility.hpp>
 
-#include "io/run.h"
 #include "mosaic/mosaic_view.h"
 #include "mosaic/tile_store.h"
 #include "relocalization/dense_place_search.h"
+#include "run_io/run.h"
 
 namespace fleetloc::bench {
 namespace {
 
 // One frame's line; true when the best peak is within 1 cm of the truth.
-Result<bool> ProbeFrame(const relocalization::DensePlaceSearch& search, const io::Run& run,
+Result<bool> ProbeFrame(const relocalization::DensePlaceSearch& search, const run_io::Run& run,
                         std::size_t k) {
-  Result<cv::Mat> frame = io::ReadFrame(run.frames[k], run.camera.model);
+  Result<cv::Mat> frame = run_io::ReadFrame(run.frames[k], run.camera.model);
   if (!frame.ok()) return frame.status();
   const geometry::Pose2 truth = run.truth[k].pose * run.camera.model.mount;
   const relocalization::DensePeak at_truth = search.Refine(*frame, {truth, 0.0});
@@ -42,7 +42,7 @@ Result<bool> ProbeFrame(const relocalization::DensePlaceSearch& search, const io
 
 Status RunDenseProbe(const DenseProbeArgs& args) {
   cv::setNumThreads(1);
-  Result<io::Run> run = io::ReadRun(args.run);
+  Result<run_io::Run> run = run_io::ReadRun(args.run);
   if (!run.ok()) return run.status();
   if (run->truth.size() != run->frames.size())
     return InvalidInput(args.run + ": needs one truth row per frame");

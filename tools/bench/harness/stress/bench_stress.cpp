@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "io/file_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
 #include "sim/stress_camera.h"
 
 namespace fleetloc::bench {
@@ -111,7 +111,7 @@ Status ApplyStressCondition(const std::string& name, BenchSettings* s) {
 
 Result<fs::path> FloorForFrame(const StressFloor& floor, int width_px, int height_px,
                                const fs::path& dir) {
-  Result<cv::Mat> image = io::ReadGrayImage(floor.image);
+  Result<cv::Mat> image = run_io::ReadGrayImage(floor.image);
   if (!image.ok()) return image.status();
   const double need =
       std::max(kFloorOverFrame * width_px / image->cols, kFloorOverFrame * height_px / image->rows);

@@ -47,14 +47,14 @@ double RmsPx(const BenchRow& row) {
   return row.summary["error"]["position_rms_px"];
 }
 
-bool Locked(const io::PoseRecord& pose) {
+bool Locked(const run_io::PoseRecord& pose) {
   return pose.status == "tracking" || pose.status == "relocalized";
 }
 
 // base_link RMS (px) of `m` over the frames where both `m` and `other` are locked, infinite when
 // there is none; *common gets their number. Requires both to be replays of the same frames.
 double CommonRmsPx(const MethodReplay& m, const MethodReplay& other, std::size_t* common) {
-  std::vector<io::PoseRecord> poses;
+  std::vector<run_io::PoseRecord> poses;
   std::vector<geometry::StampedPose> truth;
   for (std::size_t i = 0; i < m.replayed.poses.size() && i < m.run.truth.size(); ++i) {
     if (!Locked(m.replayed.poses[i]) || !Locked(other.replayed.poses[i])) continue;

@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "io/file_util.h"
-#include "io/tracker_config.h"
 #include "mosaic/importer.h"
 #include "mosaic/tile_store.h"
 #include "peers/make_peer.h"
+#include "run_io/tracker_config.h"
 #include "support/sim_run_writer.h"
 #include "tracking/mosaic_tracker.h"
 
@@ -97,12 +97,12 @@ sim::SimOptions SimOptionsFor(const BenchSettings& settings) {
 }
 
 // Writes the simulated run into run_dir with `fleetctl sim`'s code and reads it back.
-Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& settings,
-                            const fs::path& run_dir, sim::SimSummary* summary) {
+Result<run_io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& settings,
+                                const fs::path& run_dir, sim::SimSummary* summary) {
   const sim::SimOptions options = SimOptionsFor(settings);
   FLEETLOC_RETURN_IF_ERROR(sim::Validate(options));
-  const io::CameraFile camera = fleetctl::DefaultSimCamera(settings.width_px, settings.height_px,
-                                                           floor->layout().geo.resolution);
+  const run_io::CameraFile camera = fleetctl::DefaultSimCamera(
+      settings.width_px, settings.height_px, floor->layout().geo.resolution);
   Result<std::unique_ptr<sim::RunSimulator>> simulator =
       sim::RunSimulator::Create(floor, camera.model, options);
   if (!simulator.ok()) return simulator.status();
@@ -112,11 +112,11 @@ Result<io::Run> SimulateRun(mosaic::RasterSource* floor, const BenchSettings& se
       spdlog::info("bench: sim {} {}/{} frames", run_dir.string(), done, total);
     }
   };
-  Result<io::Run> written =
+  Result<run_io::Run> written =
       fleetctl::WriteSimulatedRun(**simulator, camera, run_dir, "bench", progress);
   if (!written.ok()) return written.status();
   *summary = (*simulator)->summary();
-  return io::ReadRun(run_dir);
+  return run_io::ReadRun(run_dir);
 }
 
 // "rock_dirt_2048.png" → "rock_dirt_2048_png": one work directory per image file.
@@ -157,7 +157,7 @@ std::unique_ptr<tracking::FrameLocalizer> MakeLocalizer(const std::string& metho
   return peers::MakePeer(method, camera, view);
 }
 
-Result<MethodReplay> ReplayMethod(const std::string& method, io::Run run,
+Result<MethodReplay> ReplayMethod(const std::string& method, run_io::Run run,
                                   mosaic::RasterSource* view,
                                   const tracking::TrackerOptions& options) {
   std::unique_ptr<tracking::FrameLocalizer> localizer =
@@ -177,7 +177,7 @@ Result<MethodReplay> ReplayMethod(const std::string& method, io::Run run,
 
 Status LoadBenchTrackerOptions(const std::string& path, BenchSettings* settings) {
   if (path.empty()) return Status::Ok();
-  Result<tracking::TrackerOptions> options = io::ReadTrackerOptions(path);
+  Result<tracking::TrackerOptions> options = run_io::ReadTrackerOptions(path);
   if (!options.ok()) return options.status();
   settings->tracker = *options;
   return Status::Ok();
@@ -189,8 +189,8 @@ std::vector<std::string> BenchMethodNames() {
   return names;
 }
 
-io::Run FirstFrames(const io::Run& run, std::size_t count) {
-  io::Run first = run;
+run_io::Run FirstFrames(const run_io::Run& run, std::size_t count) {
+  run_io::Run first = run;
   first.frames.resize(std::min(count, run.frames.size()));
   first.truth.resize(std::min(count, run.truth.size()));
   return first;
@@ -212,7 +212,7 @@ Result<FloorBench> BenchFloor(const fs::path& image, const BenchSettings& settin
       layout, mosaic::MakeTileLoader(*store),
       std::make_shared<mosaic::TileCache>(std::max(kMinTileCacheBytes, PyramidBytes(layout) * 2)));
   bench.run_dir = floor_dir / "run";
-  Result<io::Run> run = SimulateRun(&view, settings, bench.run_dir, &bench.sim);
+  Result<run_io::Run> run = SimulateRun(&view, settings, bench.run_dir, &bench.sim);
   if (!run.ok()) return run.status();
   bench.frames = static_cast<int>(run->frames.size());
   bench.peer_frames =

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "base/status.h"
-#include "io/run.h"
 #include "mosaic/tile_store.h"
 #include "replay/replay.h"
+#include "run_io/run.h"
 #include "sim/run_simulator.h"
 #include "tracking/tracker_options.h"
 
@@ -49,7 +49,7 @@ Result<std::shared_ptr<mosaic::TileStore>> OpenFloorMosaic(const std::filesystem
 // rows that were replayed, so it scores the replay as `fleetctl track` would.
 struct MethodReplay {
   std::string label;  // the method's name, or "fleetloc@N" for fleetloc's first N frames
-  io::Run run;
+  run_io::Run run;
   replay::ReplayResult replayed;
 };
 
@@ -65,7 +65,7 @@ struct FloorBench {
 };
 
 // The first `count` frames of a run (and their truth rows); odometry is kept whole.
-io::Run FirstFrames(const io::Run& run, std::size_t count);
+run_io::Run FirstFrames(const run_io::Run& run, std::size_t count);
 
 // Benchmarks every method on one floor image. NotFound / InvalidInput (exit status 2) for a
 // missing or undecodable image or settings the simulator rejects (e.g. a floor too small for the

@@ -7,7 +7,7 @@
 #include "base/status.h"
 #include "mapmatch/forward_camera.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 // NotFound "<file>: not found"; InvalidInput "<file>: field '<name>': <what>" for a missing,
 // mistyped or out-of-range member ("mount.height", "K", ...). Unknown members are ignored;
@@ -18,4 +18,4 @@ Result<mapmatch::ForwardCameraParams> ReadForwardCameraJson(const std::filesyste
 Status WriteForwardCameraJson(const std::filesystem::path& path,
                               const mapmatch::ForwardCameraParams& params);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

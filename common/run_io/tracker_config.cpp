@@ -1,5 +1,5 @@
 // Tracker options <-> JSON through one table of fields, so reading and writing cannot drift apart.
-#include "io/tracker_config.h"
+#include "run_io/tracker_config.h"
 
 #include <cmath>
 #include <functional>
@@ -7,7 +7,7 @@
 
 #include "io/json_fields.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using Field = std::variant<int*, double*, bool*>;
@@ -166,7 +166,7 @@ Result<tracking::TrackerOptions> TrackerOptionsFromJson(const nlohmann::json& ob
 }
 
 Result<tracking::TrackerOptions> ReadTrackerOptions(const std::filesystem::path& path) {
-  Result<nlohmann::json> json = ReadJsonObjectFile(path);
+  Result<nlohmann::json> json = io::ReadJsonObjectFile(path);
   if (!json.ok()) return json.status();
   return TrackerOptionsFromJson(*json, path.string());
 }
@@ -179,4 +179,4 @@ nlohmann::json TrackerOptionsToJson(const tracking::TrackerOptions& options) {
   return j;
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -8,7 +8,7 @@
 #include "base/status.h"
 #include "tracking/tracker_options.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 // `where` names the source in messages (a file path). The odometry noise model is the nested
 // object "odometry".
@@ -17,4 +17,4 @@ Result<tracking::TrackerOptions> TrackerOptionsFromJson(const nlohmann::json& ob
 Result<tracking::TrackerOptions> ReadTrackerOptions(const std::filesystem::path& path);
 nlohmann::json TrackerOptionsToJson(const tracking::TrackerOptions& options);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -3,13 +3,13 @@
 #include <cmath>
 
 #include "io/file_util.h"
-#include "io/forward_camera_json.h"
 #include "io/messages.h"
-#include "io/run.h"
-#include "io/run_json.h"
-#include "io/run_tables.h"
+#include "run_io/forward_camera_json.h"
+#include "run_io/run.h"
+#include "run_io/run_json.h"
+#include "run_io/run_tables.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -20,7 +20,7 @@ constexpr double kTruthTimeTolerance_s = 1e-9;
 int DataLine(std::size_t row) { return static_cast<int>(row) + 2; }
 
 std::string FrameLocation(const fs::path& frames_csv, std::size_t row, double t) {
-  return "frame t=" + FormatDouble(t) + " (" + frames_csv.filename().string() + ":" +
+  return "frame t=" + io::FormatDouble(t) + " (" + frames_csv.filename().string() + ":" +
          std::to_string(DataLine(row)) + ")";
 }
 
@@ -31,23 +31,25 @@ Status CheckOdometryCoversFrames(const std::vector<geometry::StampedPose>& odome
   if (frames.empty()) return Status::Ok();
   const std::size_t n = odometry.size();
   if (n < frames.size()) {
-    return BadField(odometry_csv, 0, "t",
-                    std::to_string(n) + " samples for " + std::to_string(frames.size()) +
-                        " frames of " + frames_csv.filename().string() +
-                        "; odometry must be sampled at least as often as frames");
+    return io::BadField(odometry_csv, 0, "t",
+                        std::to_string(n) + " samples for " + std::to_string(frames.size()) +
+                            " frames of " + frames_csv.filename().string() +
+                            "; odometry must be sampled at least as often as frames");
   }
   if (odometry.front().t > frames.front().t) {
-    return BadField(odometry_csv, DataLine(0), "t",
-                    "first odometry sample t=" + FormatDouble(odometry.front().t) +
-                        " is after the first " + FrameLocation(frames_csv, 0, frames.front().t) +
-                        "; odometry must cover the frames' time span");
+    return io::BadField(odometry_csv, DataLine(0), "t",
+                        "first odometry sample t=" + io::FormatDouble(odometry.front().t) +
+                            " is after the first " +
+                            FrameLocation(frames_csv, 0, frames.front().t) +
+                            "; odometry must cover the frames' time span");
   }
   if (odometry.back().t < frames.back().t) {
     const std::size_t last = frames.size() - 1;
-    return BadField(odometry_csv, DataLine(n - 1), "t",
-                    "last odometry sample t=" + FormatDouble(odometry.back().t) +
-                        " is before the last " + FrameLocation(frames_csv, last, frames.back().t) +
-                        "; odometry must cover the frames' time span");
+    return io::BadField(odometry_csv, DataLine(n - 1), "t",
+                        "last odometry sample t=" + io::FormatDouble(odometry.back().t) +
+                            " is before the last " +
+                            FrameLocation(frames_csv, last, frames.back().t) +
+                            "; odometry must cover the frames' time span");
   }
   return Status::Ok();
 }
@@ -61,15 +63,15 @@ Status ReadTruthOfFrames(const fs::path& truth_csv, const std::vector<FrameRef>&
   if (!read.ok()) return read.status();
   *truth = std::move(*read);
   if (truth->size() != frames.size()) {
-    return BadField(truth_csv, 0, "t",
-                    std::to_string(truth->size()) + " rows for " + std::to_string(frames.size()) +
-                        " frames; it needs one row per frame");
+    return io::BadField(truth_csv, 0, "t",
+                        std::to_string(truth->size()) + " rows for " +
+                            std::to_string(frames.size()) + " frames; it needs one row per frame");
   }
   for (std::size_t i = 0; i < truth->size(); ++i) {
     if (std::abs((*truth)[i].t - frames[i].t) > kTruthTimeTolerance_s) {
-      return BadField(truth_csv, DataLine(i), "t",
-                      FormatDouble((*truth)[i].t) + " differs from " +
-                          FrameLocation(frames_csv, i, frames[i].t));
+      return io::BadField(truth_csv, DataLine(i), "t",
+                          io::FormatDouble((*truth)[i].t) + " differs from " +
+                              FrameLocation(frames_csv, i, frames[i].t));
     }
   }
   return Status::Ok();
@@ -101,8 +103,8 @@ Status ReadTables(Run* run) {
   Result<std::vector<FrameRef>> frames = ReadFramesCsv(frames_csv, run->dir);
   if (!frames.ok()) return frames.status();
   if (frames->empty() && (!run->forward || run->forward->frames.empty())) {
-    return BadField(frames_csv, 0, "",
-                    "no frames; a run needs at least one (here or in forward/forward.csv)");
+    return io::BadField(frames_csv, 0, "",
+                        "no frames; a run needs at least one (here or in forward/forward.csv)");
   }
   run->frames = std::move(*frames);
 
@@ -125,7 +127,7 @@ Result<Run> ReadRun(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return NotFound(dir.string() + ": not found (run directory)");
   Run run;
-  run.dir = AbsoluteDir(dir);
+  run.dir = io::AbsoluteDir(dir);
   Result<RunJson> run_json = ReadRunJson(run.dir / "run.json");
   if (!run_json.ok()) return run_json.status();
   run.vehicle_id = run_json->vehicle_id;
@@ -138,4 +140,4 @@ Result<Run> ReadRun(const fs::path& dir) {
   return run;
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

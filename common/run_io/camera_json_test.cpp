@@ -4,10 +4,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using testing::HasError;
@@ -107,7 +107,7 @@ TEST_F(CameraJsonTest, SyntaxErrorNamesTheLine) {
 
 TEST_F(CameraJsonTest, ANumberTooLargeForADoubleIsAnErrorNotAnException) {
   // Found by fuzz_run_files: nlohmann throws out_of_range (not parse_error) for it.
-  WriteText(path_, "{\"format\": \"fleetloc-camera/1\", \"width\": -0.15E8704140835}");
+  WriteText(path_, R"({"format": "fleetloc-camera/1", "width": -0.15E8704140835})");
   const Status status = ReadCameraJson(path_).status();
   EXPECT_TRUE(HasError(status, StatusCode::kInvalidInput, path_, 0, "")) << status.message();
   EXPECT_NE(status.message().find("invalid JSON"), std::string::npos) << status.message();
@@ -192,4 +192,4 @@ TEST_F(CameraJsonTest, WriterRefusesAnInvalidModel) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

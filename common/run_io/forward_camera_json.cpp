@@ -1,13 +1,13 @@
 // forward_camera.json reader and writer (see forward_camera_json.h). Unknown keys are rejected,
 // naming the key (issue 22).
-#include "io/forward_camera_json.h"
+#include "run_io/forward_camera_json.h"
 
 #include <algorithm>
 
 #include "geometry/pose2.h"
 #include "io/json_fields.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using mapmatch::ForwardCameraParams;
@@ -17,15 +17,15 @@ constexpr char kForwardCameraFormat[] = "fleetloc-forward-camera/1";
 
 // Reads `key` as exactly N numbers into `out`.
 template <std::size_t N>
-Status ReadArray(const JsonFields& fields, std::string_view key, std::array<double, N>* out) {
+Status ReadArray(const io::JsonFields& fields, std::string_view key, std::array<double, N>* out) {
   std::vector<double> values;
   FLEETLOC_RETURN_IF_ERROR(fields.Numbers(key, {N}, &values));
   std::copy_n(values.begin(), N, out->begin());
   return Status::Ok();
 }
 
-Status ReadMount(const JsonFields& root, mapmatch::ForwardMount* mount) {
-  Result<JsonFields> fields = root.Object("mount");
+Status ReadMount(const io::JsonFields& root, mapmatch::ForwardMount* mount) {
+  Result<io::JsonFields> fields = root.Object("mount");
   if (!fields.ok()) return fields.status();
   FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"x", "y", "yaw", "height", "pitch", "roll"}));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("x", &mount->x_m));
@@ -40,7 +40,7 @@ Status ReadMount(const JsonFields& root, mapmatch::ForwardMount* mount) {
 }
 
 Result<ForwardCameraParams> Parse(const json& document, const std::filesystem::path& path) {
-  const JsonFields root(document, path);
+  const io::JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kForwardCameraFormat));
   FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown({"format", "width", "height", "K", "dist", "mount"}));
   ForwardCameraParams params;
@@ -74,7 +74,7 @@ json ToJson(const ForwardCameraParams& p) {
 }  // namespace
 
 Result<ForwardCameraParams> ReadForwardCameraJson(const std::filesystem::path& path) {
-  Result<json> document = ReadJsonObjectFile(path);
+  Result<json> document = io::ReadJsonObjectFile(path);
   if (!document.ok()) return document.status();
   return Parse(*document, path);
 }
@@ -84,7 +84,7 @@ Status WriteForwardCameraJson(const std::filesystem::path& path,
   const json document = ToJson(params);
   Result<ForwardCameraParams> check = Parse(document, path);
   if (!check.ok()) return check.status();
-  return WriteJsonFile(path, document);
+  return io::WriteJsonFile(path, document);
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -99,4 +99,4 @@ TEST_F(PosesCsvTest, WriterRefusesUnknownStatusAndNonFiniteValues) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "io/forward_camera_json.h"
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/forward_camera_json.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -38,11 +38,11 @@ class ReadRunTest : public ::testing::Test {
 
   TempDir dir_;
   fs::path run_dir_ = dir_.path() / "run";
-  io::Run written_;
+  run_io::Run written_;
 };
 
 TEST_F(ReadRunTest, ReadsAValidRun) {
-  Result<io::Run> run = ReadRun(run_dir_);
+  Result<run_io::Run> run = ReadRun(run_dir_);
   ASSERT_TRUE(run.ok()) << run.status().message();
   EXPECT_EQ(run->dir, run_dir_);
   EXPECT_EQ(run->vehicle_id, "agv-7");
@@ -61,7 +61,7 @@ TEST_F(ReadRunTest, ReadsAValidRun) {
 
 TEST_F(ReadRunTest, TruthIsOptional) {
   fs::remove(File("truth.csv"));
-  Result<io::Run> run = ReadRun(run_dir_);
+  Result<run_io::Run> run = ReadRun(run_dir_);
   ASSERT_TRUE(run.ok()) << run.status().message();
   EXPECT_TRUE(run->truth.empty());
 }
@@ -71,7 +71,7 @@ TEST_F(ReadRunTest, AnglesAreWrappedAndTrailingEmptyLinesAccepted) {
                        "t,x,y,theta\n0,0,0,4.0\n0.1,0,0,-3.5\n0.2,0,0,3.14\n"
                        "0.3,0,0,0\n\n\n")
                   .ok());
-  Result<io::Run> run = ReadRun(run_dir_);
+  Result<run_io::Run> run = ReadRun(run_dir_);
   ASSERT_TRUE(run.ok());
   EXPECT_NEAR(run->odometry[0].pose.theta, 4.0 - 2 * M_PI, 1e-15);
   EXPECT_NEAR(run->odometry[1].pose.theta, -3.5 + 2 * M_PI, 1e-15);
@@ -210,7 +210,7 @@ void WriteForwardDir(const fs::path& run_dir) {
 TEST_F(ReadRunTest, ReadsTheForwardDirectory) {
   WriteForwardDir(run_dir_);
   WriteText(File("forward/truth.csv"), "t,x,y,theta\n0.05,1,2,0\n0.15,1.1,2,0\n");
-  const Result<io::Run> run = ReadRun(run_dir_);
+  const Result<run_io::Run> run = ReadRun(run_dir_);
   ASSERT_TRUE(run.ok()) << run.status().message();
   ASSERT_TRUE(run->forward.has_value());
   EXPECT_EQ(run->forward->camera.width_px, 640);
@@ -226,7 +226,7 @@ TEST_F(ReadRunTest, ARunMayHaveForwardFramesOnly) {
   WriteForwardDir(run_dir_);
   WriteText(File("frames.csv"), "t,file\n");
   fs::remove(File("truth.csv"));
-  const Result<io::Run> run = ReadRun(run_dir_);
+  const Result<run_io::Run> run = ReadRun(run_dir_);
   ASSERT_TRUE(run.ok()) << run.status().message();
   EXPECT_TRUE(run->frames.empty());
   EXPECT_EQ(run->forward->frames.size(), 2u);
@@ -252,4 +252,4 @@ TEST_F(ReadRunTest, ForwardDirectoryErrorsNameTheFileAndField) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

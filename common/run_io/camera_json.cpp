@@ -6,17 +6,17 @@
 
 #include "geometry/pose2.h"
 #include "io/json_fields.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using nlohmann::json;
 
 constexpr char kCameraFormat[] = "fleetloc-camera/1";
 
-Status ReadMount(const JsonFields& root, geometry::Pose2* mount) {
-  Result<JsonFields> fields = root.Object("mount");
+Status ReadMount(const io::JsonFields& root, geometry::Pose2* mount) {
+  Result<io::JsonFields> fields = root.Object("mount");
   if (!fields.ok()) return fields.status();
   FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"x", "y", "yaw"}));
   FLEETLOC_RETURN_IF_ERROR(fields->Number("x", &mount->x));
@@ -33,10 +33,10 @@ std::array<double, 9> ToArray9(const std::vector<double>& values) {
   return out;
 }
 
-Status ReadRaw(const JsonFields& root, std::optional<RawCamera>* raw) {
+Status ReadRaw(const io::JsonFields& root, std::optional<RawCamera>* raw) {
   raw->reset();
   if (!root.Has("raw")) return Status::Ok();
-  Result<JsonFields> fields = root.Object("raw");
+  Result<io::JsonFields> fields = root.Object("raw");
   if (!fields.ok()) return fields.status();
   FLEETLOC_RETURN_IF_ERROR(fields->RejectUnknown({"K", "dist", "H_ground"}));
   RawCamera camera;
@@ -55,7 +55,7 @@ Status ReadRaw(const JsonFields& root, std::optional<RawCamera>* raw) {
 }
 
 Result<CameraFile> ParseCamera(const json& document, const std::filesystem::path& path) {
-  const JsonFields root(document, path);
+  const io::JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kCameraFormat));
   FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown(
       {"format", "width", "height", "resolution", "principal_point", "mount", "raw"}));
@@ -94,7 +94,7 @@ json CameraToJson(const CameraFile& camera) {
 }  // namespace
 
 Result<CameraFile> ReadCameraJson(const std::filesystem::path& path) {
-  Result<json> document = ReadJsonObjectFile(path);
+  Result<json> document = io::ReadJsonObjectFile(path);
   if (!document.ok()) return document.status();
   return ParseCamera(*document, path);
 }
@@ -104,7 +104,7 @@ Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& came
   // Never write a file that ReadCameraJson would reject (zero width, NaN resolution, ...).
   Result<CameraFile> check = ParseCamera(document, path);
   if (!check.ok()) return check.status();
-  return WriteJsonFile(path, document);
+  return io::WriteJsonFile(path, document);
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

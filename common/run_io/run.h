@@ -17,7 +17,7 @@
 #include "geometry/pose2.h"
 #include "mapmatch/forward_camera.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 // The `raw` block of camera.json: an uncalibrated physical camera.
 struct RawCamera {
@@ -69,10 +69,10 @@ struct PoseRecord {
 // "<file>[:<line>]: field '<name>': <what>" for a file that breaks the contract; writers write
 // atomically (temporary file, then rename) and refuse, with InvalidInput and without writing,
 // content their reader would reject (NaN, an unknown status, ...). Angles are wrapped to
-// (-pi, pi] on read and on write. The per-table readers are in io/run_tables.h.
+// (-pi, pi] on read and on write. The per-table readers are in run_io/run_tables.h.
 
 // camera.json: unknown members are ignored, known ones are checked (forward_camera.json has its
-// own reader, io/forward_camera_json.h).
+// own reader, run_io/forward_camera_json.h).
 Result<CameraFile> ReadCameraJson(const std::filesystem::path& path);
 Status WriteCameraJson(const std::filesystem::path& path, const CameraFile& camera);
 
@@ -102,4 +102,4 @@ Result<cv::Mat> ReadGrayImage(const std::filesystem::path& path,
 Result<std::vector<PoseRecord>> ReadPosesCsv(const std::filesystem::path& path);
 Status WritePosesCsv(const std::filesystem::path& path, const std::vector<PoseRecord>& poses);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

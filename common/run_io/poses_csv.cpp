@@ -6,9 +6,9 @@
 #include "geometry/pose2.h"
 #include "io/csv.h"
 #include "io/messages.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -28,7 +28,8 @@ bool IsStatus(std::string_view status) {
   return std::find(kStatuses.begin(), kStatuses.end(), status) != kStatuses.end();
 }
 
-Status ReadCovariance(const CsvTable& table, const CsvRow& row, Eigen::Matrix3d* covariance) {
+Status ReadCovariance(const io::CsvTable& table, const io::CsvRow& row,
+                      Eigen::Matrix3d* covariance) {
   for (std::size_t k = 0; k < kUpperTriangle.size(); ++k) {
     const auto [r, c] = kUpperTriangle[k];
     const std::size_t column = kCovarianceColumn + k;
@@ -41,7 +42,7 @@ Status ReadCovariance(const CsvTable& table, const CsvRow& row, Eigen::Matrix3d*
   return Status::Ok();
 }
 
-Status ReadRecord(const CsvTable& table, const CsvRow& row, PoseRecord* record) {
+Status ReadRecord(const io::CsvTable& table, const io::CsvRow& row, PoseRecord* record) {
   FLEETLOC_RETURN_IF_ERROR(table.Double(row, 0, &record->t));
   FLEETLOC_RETURN_IF_ERROR(table.Double(row, 1, &record->pose.x));
   FLEETLOC_RETURN_IF_ERROR(table.Double(row, 2, &record->pose.y));
@@ -63,11 +64,11 @@ Status ReadRecord(const CsvTable& table, const CsvRow& row, PoseRecord* record) 
 }  // namespace
 
 Result<std::vector<PoseRecord>> ReadPosesCsv(const fs::path& path) {
-  Result<CsvTable> table = CsvTable::Read(path, kHeader);
+  Result<io::CsvTable> table = io::CsvTable::Read(path, kHeader);
   if (!table.ok()) return table.status();
   std::vector<PoseRecord> records(table->rows().size());
   for (std::size_t i = 0; i < records.size(); ++i) {
-    const CsvRow& row = table->rows()[i];
+    const io::CsvRow& row = table->rows()[i];
     FLEETLOC_RETURN_IF_ERROR(ReadRecord(*table, row, &records[i]));
     if (i > 0) {
       FLEETLOC_RETURN_IF_ERROR(table->CheckAscending(row, 0, records[i - 1].t, records[i].t));
@@ -77,12 +78,12 @@ Result<std::vector<PoseRecord>> ReadPosesCsv(const fs::path& path) {
 }
 
 Status WritePosesCsv(const fs::path& path, const std::vector<PoseRecord>& poses) {
-  CsvWriter writer(path, kHeader);
+  io::CsvWriter writer(path, kHeader);
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const PoseRecord& p = poses[i];
     if (!IsStatus(p.status)) {
-      return BadField(path, static_cast<int>(i) + 2, "status",
-                      "refusing to write the unknown status '" + p.status + "'");
+      return io::BadField(path, static_cast<int>(i) + 2, "status",
+                          "refusing to write the unknown status '" + p.status + "'");
     }
     writer.Number(p.t);
     writer.Number(p.pose.x);
@@ -96,4 +97,4 @@ Status WritePosesCsv(const fs::path& path, const std::vector<PoseRecord>& poses)
   return writer.Commit();
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

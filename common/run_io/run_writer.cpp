@@ -1,16 +1,16 @@
 // WriteRun: a run directory in the layout of docs/formats.md
 #include "io/file_util.h"
-#include "io/run.h"
-#include "io/run_json.h"
-#include "io/run_tables.h"
+#include "run_io/run.h"
+#include "run_io/run_json.h"
+#include "run_io/run_tables.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 namespace fs = std::filesystem;
 
 Status WriteRun(const Run& run) {
   if (run.dir.empty()) return InvalidInput("WriteRun: the run has no directory");
-  const fs::path dir = AbsoluteDir(run.dir);
+  const fs::path dir = io::AbsoluteDir(run.dir);
   FLEETLOC_RETURN_IF_ERROR(WriteCameraJson(dir / "camera.json", run.camera));
   FLEETLOC_RETURN_IF_ERROR(WriteFramesCsv(dir / "frames.csv", run.frames, dir));
   FLEETLOC_RETURN_IF_ERROR(WriteStampedPosesCsv(dir / "odometry.csv", run.odometry));
@@ -31,4 +31,4 @@ Status WriteRun(const Run& run) {
   return WriteRunJson(dir / "run.json", run_json);
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

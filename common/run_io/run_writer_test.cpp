@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,7 +27,7 @@ void ExpectSamePoses(const std::vector<geometry::StampedPose>& a,
 
 // A run with awkward numbers (not short decimals) and a raw camera block.
 Run MakeAwkwardRun(const fs::path& dir) {
-  io::Run run = testing::WriteValidRun(dir);
+  run_io::Run run = testing::WriteValidRun(dir);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-M_PI, M_PI);
   for (auto* poses : {&run.odometry, &run.truth}) {
@@ -51,9 +51,9 @@ Run MakeAwkwardRun(const fs::path& dir) {
 
 TEST(WriteRun, RoundTripIsExact) {
   TempDir dir;
-  const io::Run written = MakeAwkwardRun(dir.path());
+  const run_io::Run written = MakeAwkwardRun(dir.path());
   ASSERT_TRUE(WriteRun(written).ok());
-  Result<io::Run> read = ReadRun(dir.path());
+  Result<run_io::Run> read = ReadRun(dir.path());
   ASSERT_TRUE(read.ok()) << read.status().message();
   EXPECT_EQ(read->vehicle_id, written.vehicle_id);
   EXPECT_EQ(read->initial_pose.x, written.initial_pose.x);
@@ -80,19 +80,19 @@ TEST(WriteRun, FramePathsAreRelativeToTheRun) {
             "t,file\n0,img/f0.png\n0.1,img/f1.png\n0.2,img/f2.png\n");
   // The run moved elsewhere still reads: nothing absolute was written.
   fs::rename(dir.path() / "run", dir.path() / "moved");
-  Result<io::Run> read = ReadRun(dir.path() / "moved");
+  Result<run_io::Run> read = ReadRun(dir.path() / "moved");
   ASSERT_TRUE(read.ok()) << read.status().message();
   EXPECT_EQ(read->frames[0].file, dir.path() / "moved" / "img" / "f0.png");
 }
 
 TEST(WriteRun, RewritingWithoutTruthRemovesTheOldTruth) {
   TempDir dir;
-  io::Run run = testing::WriteValidRun(dir.path());
+  run_io::Run run = testing::WriteValidRun(dir.path());
   ASSERT_TRUE(fs::exists(dir.path() / "truth.csv"));
   run.truth.clear();
   ASSERT_TRUE(WriteRun(run).ok());
   EXPECT_FALSE(fs::exists(dir.path() / "truth.csv"));
-  Result<io::Run> read = ReadRun(dir.path());
+  Result<run_io::Run> read = ReadRun(dir.path());
   ASSERT_TRUE(read.ok()) << read.status().message();
   EXPECT_TRUE(read->truth.empty());
 }
@@ -111,7 +111,7 @@ TEST(WriteRun, LeavesNoTemporaryFiles) {
 
 TEST(WriteRun, RefusesNonFiniteOdometryNamingLineAndField) {
   TempDir dir;
-  io::Run run = testing::WriteValidRun(dir.path() / "run");
+  run_io::Run run = testing::WriteValidRun(dir.path() / "run");
   run.odometry[1].pose.y = INFINITY;
   EXPECT_TRUE(HasError(WriteRun(run), StatusCode::kInvalidInput,
                        dir.path() / "run" / "odometry.csv", 3, "y"));
@@ -121,11 +121,11 @@ TEST(WriteRun, RefusesNonFiniteOdometryNamingLineAndField) {
 
 TEST(WriteRun, RefusesAnEmptyVehicleId) {
   TempDir dir;
-  io::Run run = testing::WriteValidRun(dir.path());
+  run_io::Run run = testing::WriteValidRun(dir.path());
   run.vehicle_id.clear();
   EXPECT_TRUE(
       HasError(WriteRun(run), StatusCode::kInvalidInput, dir.path() / "run.json", 0, "vehicle_id"));
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

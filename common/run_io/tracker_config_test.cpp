@@ -1,9 +1,9 @@
 // Tests for tracker options from JSON: defaults, overrides, unknown keys, types, ranges.
-#include "io/tracker_config.h"
+#include "run_io/tracker_config.h"
 
 #include <gtest/gtest.h>
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 TEST(TrackerConfig, EmptyObjectGivesDefaultsAndRoundTrips) {
@@ -50,4 +50,4 @@ TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergen
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -7,9 +7,9 @@
 
 #include "base/status.h"
 #include "geometry/camera_model.h"
-#include "io/run.h"
+#include "run_io/run.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 // Reads a `t,file` table: t finite and strictly ascending, each file resolved against `base_dir`
 // (FrameRef::file is absolute and normalised) and required to exist. NotFound for a missing table
@@ -28,4 +28,4 @@ Result<std::vector<geometry::StampedPose>> ReadStampedPosesCsv(const std::filesy
 Status WriteStampedPosesCsv(const std::filesystem::path& path,
                             const std::vector<geometry::StampedPose>& poses);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

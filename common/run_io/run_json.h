@@ -8,7 +8,7 @@
 #include "base/status.h"
 #include "geometry/pose2.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 struct RunJson {
   std::string vehicle_id;
@@ -25,4 +25,4 @@ Result<RunJson> ReadRunJson(const std::filesystem::path& path);
 // Writes run.json atomically; InvalidInput (nothing written) for content ReadRunJson would reject.
 Status WriteRunJson(const std::filesystem::path& path, const RunJson& run);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

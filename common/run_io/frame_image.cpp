@@ -3,10 +3,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
-#include "io/run.h"
 #include "mosaic/image_header.h"
+#include "run_io/run.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 namespace {
 
@@ -76,4 +76,4 @@ Result<cv::Mat> ReadFrame(const FrameRef& frame, const geometry::CameraModel& ca
   return image;
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -5,10 +5,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
-#include "io/io_test_util.h"
-#include "io/run.h"
+#include "run_io/run.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -107,4 +107,4 @@ TEST(ReadFrame, WrongSizeNamesFileAndBothSizes) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -1,15 +1,15 @@
 // Tests for forward_camera.json: the documented example, exact round trips, and one error per bad
 // field (docs/forward_camera.md).
-#include "io/forward_camera_json.h"
+#include "run_io/forward_camera_json.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "io/io_test_util.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using testing::HasError;
@@ -148,4 +148,4 @@ TEST_F(ForwardCameraJsonTest, WriterRefusesNanParameters) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

@@ -1,18 +1,18 @@
 // run.json reading and writing. Unknown keys are rejected, naming the key (issue 22).
-#include "io/run_json.h"
+#include "run_io/run_json.h"
 
 #include "io/json_fields.h"
 #include "io/messages.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using nlohmann::json;
 
 constexpr char kRunFormat[] = "fleetloc-run/1";
 
-Status ReadInitialPose(const JsonFields& root, RunJson* run) {
-  Result<JsonFields> pose = root.Object("initial_pose");
+Status ReadInitialPose(const io::JsonFields& root, RunJson* run) {
+  Result<io::JsonFields> pose = root.Object("initial_pose");
   if (!pose.ok()) return pose.status();
   FLEETLOC_RETURN_IF_ERROR(pose->RejectUnknown({"x", "y", "theta", "sigma"}));
   FLEETLOC_RETURN_IF_ERROR(pose->Number("x", &run->initial_pose.x));
@@ -24,7 +24,7 @@ Status ReadInitialPose(const JsonFields& root, RunJson* run) {
   for (int i = 0; i < 3; ++i) {
     if (sigma[i] < 0) {
       return pose->Error("sigma[" + std::to_string(i) + "]",
-                         "must not be negative, got " + FormatDouble(sigma[i]));
+                         "must not be negative, got " + io::FormatDouble(sigma[i]));
     }
     run->initial_sigma[i] = sigma[i];
   }
@@ -32,7 +32,7 @@ Status ReadInitialPose(const JsonFields& root, RunJson* run) {
 }
 
 Result<RunJson> ParseRun(const json& document, const std::filesystem::path& path) {
-  const JsonFields root(document, path);
+  const io::JsonFields root(document, path);
   FLEETLOC_RETURN_IF_ERROR(root.CheckFormat(kRunFormat));
   FLEETLOC_RETURN_IF_ERROR(root.RejectUnknown({"format", "vehicle_id", "camera", "initial_pose"}));
   RunJson run;
@@ -59,7 +59,7 @@ json RunToJson(const RunJson& run) {
 }  // namespace
 
 Result<RunJson> ReadRunJson(const std::filesystem::path& path) {
-  Result<json> document = ReadJsonObjectFile(path);
+  Result<json> document = io::ReadJsonObjectFile(path);
   if (!document.ok()) return document.status();
   return ParseRun(*document, path);
 }
@@ -68,7 +68,7 @@ Status WriteRunJson(const std::filesystem::path& path, const RunJson& run) {
   const json document = RunToJson(run);
   Result<RunJson> check = ParseRun(document, path);
   if (!check.ok()) return check.status();
-  return WriteJsonFile(path, document);
+  return io::WriteJsonFile(path, document);
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

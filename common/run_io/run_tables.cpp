@@ -1,11 +1,11 @@
 // frames.csv, odometry.csv and truth.csv: reading with validation, writing round-trip exact.
-#include "io/run_tables.h"
+#include "run_io/run_tables.h"
 
 #include "io/csv.h"
 #include "io/file_util.h"
 #include "io/messages.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -14,24 +14,24 @@ const std::vector<std::string> kFramesHeader = {"t", "file"};
 const std::vector<std::string> kPosesHeader = {"t", "x", "y", "theta"};
 
 // Parses field 0 of every row as the time stamp and checks it is strictly ascending.
-Status ReadTimes(const CsvTable& table, std::vector<double>* times) {
+Status ReadTimes(const io::CsvTable& table, std::vector<double>* times) {
   times->resize(table.rows().size());
   for (std::size_t i = 0; i < table.rows().size(); ++i) {
-    const CsvRow& row = table.rows()[i];
+    const io::CsvRow& row = table.rows()[i];
     FLEETLOC_RETURN_IF_ERROR(table.Double(row, 0, &(*times)[i]));
     if (i > 0) FLEETLOC_RETURN_IF_ERROR(table.CheckAscending(row, 0, (*times)[i - 1], (*times)[i]));
   }
   return Status::Ok();
 }
 
-Status ResolveFrameFile(const CsvTable& table, const CsvRow& row, const fs::path& base_dir,
+Status ResolveFrameFile(const io::CsvTable& table, const io::CsvRow& row, const fs::path& base_dir,
                         fs::path* file) {
   const std::string& name = row.fields[1];
   if (name.empty()) return table.Error(row, 1, "empty, expected an image file name");
-  *file = (AbsoluteDir(base_dir) / name).lexically_normal();
+  *file = (io::AbsoluteDir(base_dir) / name).lexically_normal();
   std::error_code ec;
   if (!fs::is_regular_file(*file, ec)) {
-    return NotFound(Where(table.path(), row.line, "file") + "'" + name + "' not found (" +
+    return NotFound(io::Where(table.path(), row.line, "file") + "'" + name + "' not found (" +
                     file->string() + ")");
   }
   return Status::Ok();
@@ -40,7 +40,7 @@ Status ResolveFrameFile(const CsvTable& table, const CsvRow& row, const fs::path
 }  // namespace
 
 Result<std::vector<FrameRef>> ReadFramesCsv(const fs::path& path, const fs::path& base_dir) {
-  Result<CsvTable> table = CsvTable::Read(path, kFramesHeader);
+  Result<io::CsvTable> table = io::CsvTable::Read(path, kFramesHeader);
   if (!table.ok()) return table.status();
   std::vector<double> times;
   FLEETLOC_RETURN_IF_ERROR(ReadTimes(*table, &times));
@@ -54,8 +54,8 @@ Result<std::vector<FrameRef>> ReadFramesCsv(const fs::path& path, const fs::path
 
 Status WriteFramesCsv(const fs::path& path, const std::vector<FrameRef>& frames,
                       const fs::path& base_dir) {
-  const fs::path base = AbsoluteDir(base_dir);
-  CsvWriter writer(path, kFramesHeader);
+  const fs::path base = io::AbsoluteDir(base_dir);
+  io::CsvWriter writer(path, kFramesHeader);
   for (const FrameRef& frame : frames) {
     const fs::path file = frame.file.is_absolute()
                               ? frame.file.lexically_normal().lexically_relative(base)
@@ -72,13 +72,13 @@ Status WriteFramesCsv(const fs::path& path, const std::vector<FrameRef>& frames,
 }
 
 Result<std::vector<geometry::StampedPose>> ReadStampedPosesCsv(const fs::path& path) {
-  Result<CsvTable> table = CsvTable::Read(path, kPosesHeader);
+  Result<io::CsvTable> table = io::CsvTable::Read(path, kPosesHeader);
   if (!table.ok()) return table.status();
   std::vector<double> times;
   FLEETLOC_RETURN_IF_ERROR(ReadTimes(*table, &times));
   std::vector<geometry::StampedPose> poses(times.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    const CsvRow& row = table->rows()[i];
+    const io::CsvRow& row = table->rows()[i];
     geometry::StampedPose& p = poses[i];
     p.t = times[i];
     FLEETLOC_RETURN_IF_ERROR(table->Double(row, 1, &p.pose.x));
@@ -90,7 +90,7 @@ Result<std::vector<geometry::StampedPose>> ReadStampedPosesCsv(const fs::path& p
 }
 
 Status WriteStampedPosesCsv(const fs::path& path, const std::vector<geometry::StampedPose>& poses) {
-  CsvWriter writer(path, kPosesHeader);
+  io::CsvWriter writer(path, kPosesHeader);
   for (const geometry::StampedPose& p : poses) {
     writer.Number(p.t);
     writer.Number(p.pose.x);
@@ -101,4 +101,4 @@ Status WriteStampedPosesCsv(const fs::path& path, const std::vector<geometry::St
   return writer.Commit();
 }
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

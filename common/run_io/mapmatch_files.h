@@ -10,7 +10,7 @@
 
 #include "base/status.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 
 struct LandmarkMap {
   std::vector<std::string> ids;            // as written; unique and non-empty
@@ -25,4 +25,4 @@ Result<LandmarkMap> ReadLandmarksCsv(const std::filesystem::path& path);
 // Reads points.csv (any number of rows, repeats allowed). Errors as ReadLandmarksCsv.
 Result<std::vector<Eigen::Vector2d>> ReadPointsCsv(const std::filesystem::path& path);
 
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io

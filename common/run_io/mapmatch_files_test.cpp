@@ -1,11 +1,11 @@
 // landmarks.csv and points.csv: values read exactly, and one file:line:field error per broken rule.
-#include "io/mapmatch_files.h"
+#include "run_io/mapmatch_files.h"
 
 #include <gtest/gtest.h>
 
-#include "io/io_test_util.h"
+#include "run_io/run_io_test_util.h"
 
-namespace fleetloc::io {
+namespace fleetloc::run_io {
 namespace {
 
 using testing::HasError;
@@ -62,4 +62,4 @@ TEST_F(MapmatchFilesTest, AMissingFileIsNotFound) {
 }
 
 }  // namespace
-}  // namespace fleetloc::io
+}  // namespace fleetloc::run_io
