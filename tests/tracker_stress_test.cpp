@@ -192,13 +192,13 @@ TEST(TrackerStressBadInput, MissingOrMalformedManifestIsRejected) {
   const CommandResult missing =
       RunFleetctl("bench tracker-stress --manifest " + Quote((dir / "none.json").string()));
   EXPECT_EQ(missing.exit_code, 2) << missing.err;
-  std::ofstream(dir / "bad.json") << "[{\"file\": \"x.png\", \"class\": \"a\"}]";
+  std::ofstream(dir / "bad.json") << R"([{"file": "x.png", "class": "a"}])";
   const CommandResult no_split =
       RunFleetctl("bench tracker-stress --manifest " + Quote((dir / "bad.json").string()));
   EXPECT_EQ(no_split.exit_code, 2);
   EXPECT_NE(no_split.err.find("split"), std::string::npos) << no_split.err;
   std::ofstream(dir / "escape.json")
-      << "[{\"file\": \"../etc/passwd\", \"class\": \"a\", \"split\": \"tuning\"}]";
+      << R"([{"file": "../etc/passwd", "class": "a", "split": "tuning"}])";
   const CommandResult escape =
       RunFleetctl("bench tracker-stress --manifest " + Quote((dir / "escape.json").string()));
   EXPECT_EQ(escape.exit_code, 2);
