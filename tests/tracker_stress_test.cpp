@@ -122,6 +122,15 @@ std::vector<std::string> CsvColumn(const std::string& csv, const std::string& na
   return column;
 }
 
+// `fleetctl track` over a stress cell's mosaic and run, its poses and per-frame diagnostics
+// written to `work`/poses.csv and `work`/frames.csv.
+CommandResult TrackWithFramesOut(const fs::path& cell, const fs::path& work) {
+  return RunFleetctl("track --mosaic " + Quote((cell / "mosaic.db").string()) + " --run " +
+                     Quote((cell / "run").string()) + " --out " +
+                     Quote((work / "poses.csv").string()) + " --frames-out " +
+                     Quote((work / "frames.csv").string()));
+}
+
 // Dark plain concrete under fast motion and dust (640×480, `all`): the standard templates fail
 // there and the larger weak-floor templates lock (before them the dense alignment ran on nearly
 // every frame, at 5.5 ms against 1.6).
@@ -129,10 +138,7 @@ TEST(TrackerStressWeakFloor, DarkPlainConcreteLocksWithTheLargerTemplates) {
   const fs::path work = fs::temp_directory_path() / "stress_test_weak_floor_templates";
   const nlohmann::json cells = RunCellsIn(work, "plain_concrete", "tuning", "all", "640x480");
   const fs::path cell = work / "640x480" / "all" / "plain_concrete_b1_jpg";
-  const CommandResult r = RunFleetctl("track --mosaic " + Quote((cell / "mosaic.db").string()) +
-                                      " --run " + Quote((cell / "run").string()) + " --out " +
-                                      Quote((work / "poses.csv").string()) + " --frames-out " +
-                                      Quote((work / "frames.csv").string()));
+  const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string frames = ReadWhole(work / "frames.csv");
   const std::vector<std::string> sizes = CsvColumn(frames, "template_size_px");
@@ -166,10 +172,7 @@ TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
   EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
   EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.15);
   const fs::path cell = work / "640x480" / "all" / "polished_concrete_024_x2_png";
-  const CommandResult r = RunFleetctl("track --mosaic " + Quote((cell / "mosaic.db").string()) +
-                                      " --run " + Quote((cell / "run").string()) + " --out " +
-                                      Quote((work / "poses.csv").string()) + " --frames-out " +
-                                      Quote((work / "frames.csv").string()));
+  const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string frames = ReadWhole(work / "frames.csv");
   const std::vector<std::string> direct = CsvColumn(frames, "direct");
