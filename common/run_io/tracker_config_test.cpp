@@ -49,5 +49,23 @@ TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergen
   EXPECT_NE(bad.status().message().find("direct.polish_single_pass_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsTheConfirmingPolishAndRefusesAWeakFitFloorAboveTheSignificantOne) {
+  const auto options = TrackerOptionsFromJson(
+      {{"direct",
+        {{"min_polished_significant_correlation", 0.2}, {"confirm_polish_iterations", 3}}}},
+      "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_DOUBLE_EQ(options->direct.min_polished_significant_correlation, 0.2);
+  EXPECT_EQ(options->direct.confirm_polish_iterations, 3);
+  // Above min_significant_correlation it would ask the polish to confirm fits valid without it.
+  auto bad = TrackerOptionsFromJson({{"direct", {{"min_polished_significant_correlation", 0.4}}}},
+                                    "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.min_polished_significant_correlation"),
+            std::string::npos);
+  bad = TrackerOptionsFromJson({{"direct", {{"confirm_polish_iterations", -1}}}}, "t.json");
+  EXPECT_NE(bad.status().message().find("direct.confirm_polish_iterations"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::run_io

@@ -41,6 +41,9 @@ struct DirectAlignment {
   int iterations = 0;         // Gauss–Newton iterations over all levels
   bool searched = false;      // the coarse exhaustive search ran
   int searches = 0;           // how many times (one per heading tried)
+  // Valid only once the full-resolution polish confirms it (a significant peak whose aligned
+  // frame correlates below min_significant_correlation; see DirectAlignOptions).
+  bool needs_polish = false;
 };
 
 class DirectAligner {
@@ -65,9 +68,11 @@ class DirectAligner {
   // Valid when it moved at most max_polish_shift_px, still correlates and pins the position; the
   // validation of the pose itself stays the caller's (the fit it starts from). The view is blurred
   // by `view_blur_px`, or (< 0) by the frame's blur estimated here when max_view_blur_px > 0; the
-  // blur used is in the result's view_blur_px.
+  // blur used is in the result's view_blur_px. `confirming`: the fit is valid only once polished
+  // (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps.
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-                         const geometry::Pose2& start, double view_blur_px = -1.0) const;
+                         const geometry::Pose2& start, double view_blur_px = -1.0,
+                         bool confirming = false) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
@@ -103,18 +108,23 @@ class DirectAligner {
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
   int SearchLevel(double sigma_px) const;
-  const char* Verdict(const DirectAlignment& fit, bool prediction_confirms) const;
-  // The search's best peak, and the best outside its exclusion radius (the rival).
+  const char* Verdict(const DirectAlignment& fit, bool prediction_confirms,
+                      double min_significant_correlation) const;
+  const char* PolishRefusal(const DirectAlignment& polished, const Linearization& fit,
+                            const geometry::Pose2& pose, const geometry::PoseWithCovariance& prior,
+                            const geometry::Pose2& start) const;
+  // The search's best peak, and the best outside its exclusion radius (the rival); the best
+  // outside both exclusion radii, as a share of the best peak (third_ratio).
   struct SearchHit {
     geometry::Pose2 pose, rival_pose;
-    double correlation = 0.0, peak_ratio = 1.0, peak_z = 0.0;
+    double correlation = 0.0, peak_ratio = 1.0, peak_z = 0.0, third_ratio = 1.0;
   };
   SearchHit CoarseSearch(const Level& level, const geometry::PoseWithCovariance& prior,
                          const geometry::Pose2& start, DirectAlignment* out) const;
   void CompareWithRival(const std::vector<Level>& levels, int search_level,
-                        const geometry::PoseWithCovariance& prior,
-                        const geometry::Pose2& rival_start, geometry::Pose2* pose,
-                        DirectAlignment* out, Linearization* final_fit) const;
+                        const geometry::PoseWithCovariance& prior, const SearchHit& hit,
+                        geometry::Pose2* pose, DirectAlignment* out,
+                        Linearization* final_fit) const;
   geometry::Pose2 AlignLevels(const std::vector<Level>& levels, int coarsest,
                               const geometry::PoseWithCovariance& prior, geometry::Pose2 pose,
                               DirectAlignment* out, Linearization* final_fit) const;

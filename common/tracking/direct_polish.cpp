@@ -39,7 +39,8 @@ std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose,
 // Every pixel of the frame at full resolution, from a pose already within a fraction of a pixel
 // (see DirectAligner::Polish).
 DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
-                                      const Pose2& start, double view_blur_px) const {
+                                      const Pose2& start, double view_blur_px,
+                                      bool confirming) const {
   DirectAlignment out;
   const int b = mosaic_->MarginAt(0);
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
@@ -74,28 +75,34 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
                                gain);
   };
   Linearization fit;
-  const Pose2 pose =
-      GaussNewton(linearize, 0, options_.polish_iterations, prior, start, options_.converged_px,
-                  &out.iterations, &fit, options_.fit_contrast, options_.polish_single_pass_px);
+  const Pose2 pose = GaussNewton(
+      linearize, 0, confirming ? options_.confirm_polish_iterations : options_.polish_iterations,
+      prior, start, options_.converged_px, &out.iterations, &fit, options_.fit_contrast,
+      options_.polish_single_pass_px);
   out.points = fit.points;
   out.correlation = out.coarse_correlation = fit.correlation;
   out.inlier_fraction = fit.inlier_fraction;
   Combine(fit, prior, pose, &out);
-  const double moved_px =
-      Difference(out.posterior.pose, start).head<2>().norm() / camera_.resolution_m;
-  if (out.reason[0] == '\0') {
-    if (moved_px > options_.max_polish_shift_px) {
-      out.reason = "polish moved too far";
-    } else if (StepPx(MapStep(fit, pose, prior), 0) > options_.max_polish_next_step_px) {
-      out.reason = "polish has not converged";
-    } else if (fit.correlation < options_.min_polish_correlation) {
-      out.reason = "polish does not correlate";
-    } else if (out.sigma_px > options_.max_sigma_px) {
-      out.reason = "weakly constrained";
-    }
-  }
+  out.reason = PolishRefusal(out, fit, pose, prior, start);
   out.valid = out.reason[0] == '\0';
   return out;
+}
+
+// Why a polish from `start` that ended at `pose` (`fit`: its final linearization, `polished`: its
+// combination with the prior) is not taken, or "".
+const char* DirectAligner::PolishRefusal(const DirectAlignment& polished, const Linearization& fit,
+                                         const Pose2& pose, const PoseWithCovariance& prior,
+                                         const Pose2& start) const {
+  if (polished.reason[0] != '\0') return polished.reason;
+  const double moved_px =
+      Difference(polished.posterior.pose, start).head<2>().norm() / camera_.resolution_m;
+  if (moved_px > options_.max_polish_shift_px) return "polish moved too far";
+  if (StepPx(MapStep(fit, pose, prior), 0) > options_.max_polish_next_step_px) {
+    return "polish has not converged";
+  }
+  if (fit.correlation < options_.min_polish_correlation) return "polish does not correlate";
+  if (polished.sigma_px > options_.max_sigma_px) return "weakly constrained";
+  return "";
 }
 
 }  // namespace fleetloc::tracking

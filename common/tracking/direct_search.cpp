@@ -54,6 +54,10 @@ DirectAligner::SearchHit DirectAligner::SearchAt(const Level& level,
   hit.peak_ratio = hit.correlation > 0.0 ? std::max(0.0, second) / hit.correlation : 1.0;
   cv::Scalar mean, spread;
   cv::meanStdDev(surface, mean, spread, off_peak);
+  cv::circle(off_peak, second_at, options_.peak_exclusion_px, cv::Scalar(0), cv::FILLED);
+  double third = 0.0;
+  cv::minMaxLoc(surface, nullptr, &third, nullptr, nullptr, off_peak);
+  hit.third_ratio = hit.correlation > 0.0 ? std::max(0.0, third) / hit.correlation : 1.0;
   hit.peak_z = spread[0] > 0.0 ? (hit.correlation - mean[0]) / spread[0] : 0.0;
   // The frame's content sits at +shift in the view: the camera moved by shift (level px), which
   // is −shift_y, −shift_x in camera_ground axes.

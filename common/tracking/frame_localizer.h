@@ -45,6 +45,8 @@ struct FrameResult {
   int direct_iterations = 0;   // Gauss–Newton iterations over all levels
   double direct_sigma_px = 0;  // the fit's image-only 1-sigma position, worst direction
   double direct_chi2 = 0;
+  // The dense fit was valid only once the polish confirmed it (DirectAlignment::needs_polish).
+  bool direct_needs_polish = false;
 };
 
 class FrameLocalizer {

@@ -105,6 +105,7 @@ std::optional<PoseWithCovariance> MosaicTracker::AlignDirect(const cv::Mat& fram
   stats->direct_iterations = dense.iterations;
   stats->direct_sigma_px = dense.sigma_px;
   stats->direct_chi2 = dense.prior_chi2;
+  stats->direct_needs_polish = dense.valid && dense.needs_polish;
   if (!dense.valid) return std::nullopt;
   return dense.posterior;
 }
@@ -129,6 +130,11 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   // The fit taken over every pixel at full resolution (docs/architecture.md, step 7c).
   if (posterior && (polish_ || (!templates_locked && WeakDenseFitToPolish(result)))) {
     posterior = Polished(frame, prior, *posterior, &result);
+  }
+  if (posterior && result.direct_needs_polish && !result.polished) {
+    result.direct = DirectUse::kRefused;
+    result.direct_reason = "weak fit the polish did not confirm";
+    posterior.reset();
   }
   // Step 5: the estimate corrected, and the lock state.
   const LockState state = UpdateLock(posterior, beyond_search);
@@ -206,10 +212,12 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
 
 // A frame the dense alignment located with a weak correlation at its finest level (level 1 or
 // coarser): there the fit is least precise, and the polish over every full-resolution pixel gains
-// most (docs/benchmarks.md, "The dense fits polished at 640×480").
+// most (docs/benchmarks.md, "The dense fits polished at 640×480"); or one valid only once
+// polished. On larger cameras neither is polished, and the second is refused.
 bool MosaicTracker::WeakDenseFitToPolish(const FrameResult& stats) const {
   return polish_dense_ && stats.direct == DirectUse::kUsed &&
-         stats.direct_correlation < options_.polish_dense_below_correlation;
+         (stats.direct_needs_polish ||
+          stats.direct_correlation < options_.polish_dense_below_correlation);
 }
 
 // Two fits of the same frame agree when their difference is within max_disagreement_chi2 of
@@ -232,8 +240,8 @@ PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithC
   const auto t_polish = std::chrono::steady_clock::now();
   const bool estimate_blur =
       view_blur_px_ < 0 || ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
-  const DirectAlignment polished =
-      direct_.Polish(frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_);
+  const DirectAlignment polished = direct_.Polish(
+      frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_, stats->direct_needs_polish);
   stats->polish_ms += MsSince(t_polish);
   stats->view_blur_px = polished.view_blur_px;
   if (!polished.valid) return fit;

@@ -26,6 +26,9 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(Check(d.polish_iterations >= 0 && d.polish_iterations <= 10,
                                  "direct.polish_iterations", "must be in [0, 10]"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(d.confirm_polish_iterations >= 0 && d.confirm_polish_iterations <= 10,
+            "direct.confirm_polish_iterations", "must be in [0, 10]"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(d.max_polish_shift_px > 0, "direct.max_polish_shift_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.min_polish_correlation >= 0 && d.min_polish_correlation < 1,
                                  "direct.min_polish_correlation", "must be in [0, 1)"));
@@ -82,6 +85,11 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
   }
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(d.min_polished_significant_correlation > -1 &&
+                d.min_polished_significant_correlation <= d.min_significant_correlation,
+            "direct.min_polished_significant_correlation",
+            "must be in (-1, min_significant_correlation]"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.rival_same_place_px >= 0, "direct.rival_same_place_px", "must be >= 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_prior_chi2 > 0 && d.max_weak_prior_chi2 > 0,
