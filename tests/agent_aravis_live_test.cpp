@@ -33,8 +33,8 @@ struct FramePose {
   double error_rad;
 };
 
-// NOLINTNEXTLINE(bugprone-exception-escape): only the JSON member's allocation can throw, as
-// anywhere
+// Only the JSON member's allocation can throw, as anywhere.
+// NOLINTNEXTLINE(bugprone-exception-escape)
 struct LiveRun {
   std::map<double, geometry::PoseWithCovariance> ros_poses;  // by time of validity
   std::vector<FramePose> frame_poses;                        // those at a frame's time

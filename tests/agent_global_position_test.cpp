@@ -42,7 +42,7 @@ cv::Mat SomeFloor() {
 }
 
 std::string WriteForwardRun(const std::filesystem::path& dir) {
-  const std::string run_dir = (dir / "run").string();
+  std::string run_dir = (dir / "run").string();
   const testing::CommandResult sim =
       testing::RunFleetctl("sim-forward --frames 66 --seed 4 --out " + testing::Quote(run_dir));
   EXPECT_EQ(sim.exit_code, 0) << sim.err;

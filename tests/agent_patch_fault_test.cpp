@@ -3,8 +3,8 @@
 // restarted; the agent keeps tracking from its tile cache meanwhile, and at the end every patch it
 // queued is stored by the server exactly once and its outbox is empty — nothing lost.
 #include <gtest/gtest.h>
-#include <signal.h>
 
+#include <csignal>
 #include <fstream>
 #include <nlohmann/json.hpp>
 

@@ -44,7 +44,7 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   const double start = std::ceil(camera_io::HostNow() + 4.0);
   auto drive_ptr = testing::PlanDrive(floor, 0.0005, 40, 10.0, start, 2.0, 1000.0, 21);
   live_sim::PlannedDrive& drive = *drive_ptr;
-  const fs::path dir = server.dir();
+  const fs::path& dir = server.dir();
   ASSERT_TRUE(run_io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
   {
     std::ofstream odometry(dir / "odometry.csv");
@@ -66,9 +66,9 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   const double until = drive.last_frame_t() + 0.6;
   runtime::ChildProcess node = testing::StartDaemon(
       "ros2_nav_stack_node",
-      {"--profile", FLEETLOC_SOURCE_DIR "/tests/ros2_fastdds_profile.xml", "--domain",
-       std::to_string(kDomain), "--odometry", (dir / "odometry.csv").string(), "--initial",
-       initial.str(), "--until", std::to_string(until), "--out", dir.string()},
+      {"--profile", std::string(FLEETLOC_SOURCE_DIR) + "/tests/ros2_fastdds_profile.xml",
+       "--domain", std::to_string(kDomain), "--odometry", (dir / "odometry.csv").string(),
+       "--initial", initial.str(), "--until", std::to_string(until), "--out", dir.string()},
       (dir / "node.log").string());
   {
     testing::SleepUntilHost(start + 0.2);

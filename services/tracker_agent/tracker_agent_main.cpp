@@ -62,7 +62,7 @@ Status RunLiveVehicle(const tracker_agent::AgentConfig& config,
   return (*agent)->Run(**input, stop);
 }
 
-Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop) {
+Status RunAgent(const tracker_agent::AgentConfig& config, const std::atomic<bool>& stop) {
   FLEETLOC_RETURN_IF_ERROR(tracker_agent::Validate(config));
   tracking::TrackerOptions options;
   if (!config.tracker_options_path.empty()) {
@@ -86,9 +86,7 @@ Status RunAgent(tracker_agent::AgentConfig config, const std::atomic<bool>& stop
   return (*agent)->Run(input, stop);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int AgentMain(int argc, char** argv) {
   CLI::App app{"fleetloc tracker agent: one vehicle's pose over the shared mosaic, live over DDS"};
   std::string config_path, vehicle_id, run, dds_config, outbox, summary;
   int domain = -1, metrics_port = -1;
@@ -142,4 +140,16 @@ int main(int argc, char** argv) {
   const Status ran = RunAgent(config, runtime::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());
   return ran.ExitCode();
+}
+
+}  // namespace
+
+// An exception nothing below caught (an allocation failure) ends the agent with its message.
+int main(int argc, char** argv) {
+  try {
+    return AgentMain(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tracker_agent: %s\n", e.what());
+    return 1;
+  }
 }

@@ -125,8 +125,8 @@ Status RunSimForward(const SimForwardArgs& a) {
   FLEETLOC_RETURN_IF_ERROR(run_io::WriteStampedPosesCsv(forward / "truth.csv", plan.frame_truth));
   FLEETLOC_RETURN_IF_ERROR(WriteLandmarksCsv(dir / "landmarks.csv", scene.landmarks));
   FLEETLOC_RETURN_IF_ERROR(WriteForwardOnlyRun(dir, a.vehicle_id, plan));
-  std::cout << "{\"frames\": " << frames.size() << ", \"landmarks\": " << scene.landmarks.size()
-            << ", \"forward\": \"" << forward.string() << "\"}\n";
+  std::cout << R"({"frames": )" << frames.size() << R"(, "landmarks": )" << scene.landmarks.size()
+            << R"(, "forward": ")" << forward.string() << "\"}\n";
   return Status::Ok();
 }
 

@@ -18,8 +18,11 @@
 #include "transport/ros_types.h"
 #include "transport/typed_io.h"
 
+// Aravis's own forward declarations, spelled as its headers spell them.
+// NOLINTBEGIN(modernize-use-using,bugprone-reserved-identifier)
 typedef struct _ArvGvFakeCamera ArvGvFakeCamera;
 typedef struct _ArvBuffer ArvBuffer;
+// NOLINTEND(modernize-use-using,bugprone-reserved-identifier)
 
 namespace fleetloc::live_sim {
 

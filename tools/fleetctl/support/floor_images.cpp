@@ -26,7 +26,7 @@ bool IsImageFile(const fs::path& path) {
 fs::path DefaultFloorsDir() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
+  fs::path beside = exe.parent_path().parent_path().parent_path() / kFloorsSubdir;
   if (!ec && fs::is_directory(beside, ec)) return beside;
   return fs::path(FLEETLOC_SOURCE_DIR) / kFloorsSubdir;
 }

@@ -1,9 +1,9 @@
 // Live agent vs offline tracker, same run, side by side.
 #include "harness/agent/bench_agent.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>

@@ -1,11 +1,11 @@
 // The live-camera agent benchmark: drive, serve, track, compare.
 #include "harness/agent/bench_agent_live.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>

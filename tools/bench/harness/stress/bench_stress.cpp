@@ -38,7 +38,7 @@ Result<StressFloor> ParseEntry(const nlohmann::json& entry, const fs::path& mani
   floor.floor_class = entry["class"].get<std::string>();
   floor.split = entry["split"].get<std::string>();
   if (!kSplits.count(floor.split)) {
-    return BadEntry(manifest, index, "'split' must be \"tuning\" or \"holdout\"");
+    return BadEntry(manifest, index, R"('split' must be "tuning" or "holdout")");
   }
   if (fs::path(floor.file).filename() != fs::path(floor.file)) {
     return BadEntry(manifest, index, "'file' must name a file beside the manifest");
@@ -83,7 +83,7 @@ Result<FrameSize> ParseFrameSize(const std::string& text) {
 fs::path DefaultStressManifest() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path beside =
+  fs::path beside =
       exe.parent_path().parent_path().parent_path() / "data/stress_floors/floors.json";
   if (!ec && fs::is_regular_file(beside, ec)) return beside;
   return fs::path(FLEETLOC_SOURCE_DIR) / "data/stress_floors/floors.json";
