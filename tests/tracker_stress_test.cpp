@@ -66,6 +66,16 @@ void CheckCells(const nlohmann::json& cells, double max_camera_rms_px) {
   }
 }
 
+// The one cell of a run: lock rate at least `min_lock_rate`, no false lock, camera RMS at most
+// `max_camera_rms_px`.
+void CheckOnlyCell(const nlohmann::json& cells, double min_lock_rate, double max_camera_rms_px) {
+  ASSERT_EQ(cells.size(), 1u);
+  const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
+  EXPECT_GE(f["lock_rate"].get<double>(), min_lock_rate);
+  EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
+  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), max_camera_rms_px);
+}
+
 TEST_P(TrackerStress, TuningFloorsTrackThroughDustAndThroughFastMotion) {
   CheckCells(RunCells(GetParam().floor_class, "tuning", "dusty,fast"),
              GetParam().max_camera_rms_px);
@@ -94,11 +104,7 @@ INSTANTIATE_TEST_SUITE_P(
 // over these frames, 0.088 without either (direct.fit_contrast, direct.max_view_blur_px).
 TEST(TrackerStressSmallFrames, EpoxyAt320x240TracksThroughFastMotionAndDustAtOnce) {
   const nlohmann::json cells = RunCells("epoxy", "tuning", "all", "320x240");
-  ASSERT_EQ(cells.size(), 1u);
-  const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
-  EXPECT_GE(f["lock_rate"].get<double>(), 0.95);
-  EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
-  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.075);
+  CheckOnlyCell(cells, 0.95, 0.075);
 }
 
 // One column of `fleetctl track --frames-out`, by its header name.
@@ -172,11 +178,7 @@ TEST(TrackerStressWeakFloor, DarkPlainConcreteLocksWithTheLargerTemplates) {
 TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
   const fs::path work = fs::temp_directory_path() / "stress_test_dense_polish_640";
   const nlohmann::json cells = RunCellsIn(work, "polished_concrete", "tuning", "all", "640x480");
-  ASSERT_EQ(cells.size(), 1u);
-  const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
-  EXPECT_GE(f["lock_rate"].get<double>(), 0.95);
-  EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
-  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.15);
+  CheckOnlyCell(cells, 0.95, 0.15);
   const fs::path cell = work / "640x480" / "all" / "polished_concrete_024_x2_png";
   const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -203,11 +205,7 @@ TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
 TEST(TrackerStressWeakFloor, PlainestFloorAt320x240LocksWhereThePolishConfirmsTheFit) {
   const fs::path work = fs::temp_directory_path() / "stress_test_confirming_polish_320";
   const nlohmann::json cells = RunCellsIn(work, "polished_concrete", "tuning", "all", "320x240");
-  ASSERT_EQ(cells.size(), 1u);
-  const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
-  EXPECT_GE(f["lock_rate"].get<double>(), 0.95);
-  EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
-  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.25);
+  CheckOnlyCell(cells, 0.95, 0.25);
   const fs::path cell = work / "320x240" / "all" / "polished_concrete_024_png";
   CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -235,11 +233,7 @@ TEST(TrackerStressWeakFloor, PlainestFloorAt320x240LocksWhereThePolishConfirmsTh
 TEST(TrackerStressSmallFrames, ARivalThatConvergesOntoTheBestFitIsTheSamePlace) {
   const fs::path work = fs::temp_directory_path() / "stress_test_rival_same_place_320";
   const nlohmann::json cells = RunCellsIn(work, "painted_lines", "tuning", "marks", "320x240");
-  ASSERT_EQ(cells.size(), 1u);
-  const nlohmann::json& f = cells[0]["methods"]["fleetloc"];
-  EXPECT_EQ(f["lock_rate"].get<double>(), 1.0);
-  EXPECT_EQ(f["error"]["false_locks"].get<int>(), 0);
-  EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), 0.05);
+  CheckOnlyCell(cells, 1.0, 0.05);
   fs::remove_all(work);
 }
 
