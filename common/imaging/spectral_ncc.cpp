@@ -19,7 +19,8 @@ SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
   // Padding to at least the view's size keeps the circular correlation exact wherever the
   // template lies wholly inside the view, which is every position of the surface.
   cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F);
-  cv::subtract(templ, mean, padded(cv::Rect({0, 0}, templ_size_)));
+  zero_mean_ = padded(cv::Rect({0, 0}, templ_size_));
+  cv::subtract(templ, mean, zero_mean_);
   cv::dft(padded, spectrum_, 0, templ.rows);
 }
 
@@ -31,8 +32,30 @@ cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
   cv::dft(padded, spectrum, 0, view.rows);
   cv::mulSpectrums(spectrum, spectrum_, spectrum, 0, /*conjB=*/true);
   cv::idft(spectrum, correlation, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, out.height);
-  // Σ(t − t̄)·v over each window is the numerator; the window's own spread the denominator,
-  // from integral images in double as OpenCV's; near-degenerate windows as OpenCV treats them.
+  return Normalized(view, correlation(cv::Rect({0, 0}, out)));
+}
+
+cv::Mat SpectralNcc::SurfaceNear(const cv::Mat& view) const {
+  CV_Assert(view.type() == CV_32F && view.cols >= templ_size_.width &&
+            view.rows >= templ_size_.height);
+  // Each position's Σ(t − t̄)·v directly (cv::Mat::dot, vectorized): a handful of positions costs
+  // a fraction of the two transforms of a view.
+  cv::Mat correlation(view.rows - templ_size_.height + 1, view.cols - templ_size_.width + 1,
+                      CV_32F);
+  for (int y = 0; y < correlation.rows; ++y) {
+    for (int x = 0; x < correlation.cols; ++x) {
+      correlation.at<float>(y, x) =
+          static_cast<float>(zero_mean_.dot(view(cv::Rect({x, y}, templ_size_))));
+    }
+  }
+  return Normalized(view, correlation);
+}
+
+// Σ(t − t̄)·v over each window (`correlation`) is the numerator; the window's own spread the
+// denominator, from integral images in double as OpenCV's; near-degenerate windows as OpenCV
+// treats them.
+cv::Mat SpectralNcc::Normalized(const cv::Mat& view, const cv::Mat& correlation) const {
+  const cv::Size out = correlation.size();
   cv::Mat sum, square_sum;
   cv::integral(view, sum, square_sum, CV_64F, CV_64F);
   const double n = static_cast<double>(templ_size_.area());

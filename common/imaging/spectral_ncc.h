@@ -19,9 +19,17 @@ class SpectralNcc {
   // (view − template + 1) in each axis, as cv::matchTemplate(view, templ, TM_CCOEFF_NORMED).
   cv::Mat Surface(const cv::Mat& view) const;
 
+  // The same surface over a view of any size ≥ the template's, summed directly instead of through
+  // the spectrum: for views a few pixels larger than the template (a peak's neighbourhood), where
+  // it costs a fraction of Surface's two transforms.
+  cv::Mat SurfaceNear(const cv::Mat& view) const;
+
  private:
+  cv::Mat Normalized(const cv::Mat& view, const cv::Mat& correlation) const;
+
   cv::Size templ_size_, view_size_, dft_size_;
   cv::Mat spectrum_;         // of the zero-mean template, padded to dft_size_ (CCS packed)
+  cv::Mat zero_mean_;        // the zero-mean template
   double templ_norm_ = 0.0;  // √Σ(t − t̄)²
 };
 

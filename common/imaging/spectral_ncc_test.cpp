@@ -43,6 +43,22 @@ TEST(SpectralNcc, EqualsOpenCvsMatchTemplateOnEveryView) {
   EXPECT_NEAR(best, 1.0, 1e-4);
 }
 
+TEST(SpectralNcc, SurfaceNearEqualsTheSpectralSurfaceOverAPeaksNeighbourhood) {
+  const cv::Mat photo = Photo();
+  const cv::Mat templ = photo(cv::Rect(100, 80, 152, 112)).clone();
+  const SpectralNcc ncc(templ, cv::Size(152 + 2 * 17, 112 + 2 * 17));
+  // ±2 px around the template's place, and a 7×5 neighbourhood of another place.
+  for (const cv::Rect& near : {cv::Rect(98, 78, 156, 116), cv::Rect(40, 30, 158, 116)}) {
+    const cv::Mat view = photo(near);
+    cv::Mat expected;
+    cv::matchTemplate(view, templ, expected, cv::TM_CCOEFF_NORMED);
+    const cv::Mat surface = ncc.SurfaceNear(view);
+    ASSERT_EQ(surface.size(), expected.size());
+    EXPECT_LT(cv::norm(surface, expected, cv::NORM_INF), 2e-4);
+  }
+  EXPECT_NEAR(ncc.SurfaceNear(photo(cv::Rect(98, 78, 156, 116))).at<float>(2, 2), 1.0, 1e-4);
+}
+
 TEST(SpectralNcc, AFlatViewGivesZeroNotNaN) {
   const cv::Mat templ = Photo()(cv::Rect(100, 80, 64, 48)).clone();
   cv::Mat flat(cv::Size(80, 60), CV_32F, cv::Scalar(0.5));
@@ -51,6 +67,8 @@ TEST(SpectralNcc, AFlatViewGivesZeroNotNaN) {
   EXPECT_TRUE(cv::checkRange(surface, true, nullptr, -1.0, 1.0 + 1e-6));
   ASSERT_EQ(surface.size(), cv::Size(17, 13));
   EXPECT_EQ(surface.at<float>(12, 16), 0.0f);  // a window with no spread at all
+  const cv::Mat near = SpectralNcc(templ, flat.size()).SurfaceNear(flat(cv::Rect(10, 10, 66, 50)));
+  EXPECT_TRUE(cv::checkRange(near, true, nullptr, -1.0, 1.0 + 1e-6));
 }
 
 }  // namespace

@@ -82,6 +82,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"search_sigma_multiple", &d.search_sigma_multiple},
           {"peak_exclusion_px", &d.peak_exclusion_px},
           {"max_heading_steps", &d.max_heading_steps},
+          {"heading_probe_px", &d.heading_probe_px},
           {"significant_peak_ends_search", &d.significant_peak_ends_search},
           {"verify_rival_peak", &d.verify_rival_peak},
           {"rival_same_place_px", &d.rival_same_place_px},

@@ -67,5 +67,15 @@ TEST(TrackerConfig, ReadsTheConfirmingPolishAndRefusesAWeakFitFloorAboveTheSigni
   EXPECT_NE(bad.status().message().find("direct.confirm_polish_iterations"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsTheHeadingProbesWindowAndRefusesANegativeOne) {
+  const auto options = TrackerOptionsFromJson({{"direct", {{"heading_probe_px", 0}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->direct.heading_probe_px, 0);
+  EXPECT_EQ(tracking::TrackerOptions{}.direct.heading_probe_px, 2);
+  const auto bad = TrackerOptionsFromJson({{"direct", {{"heading_probe_px", -1}}}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.heading_probe_px"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::run_io

@@ -130,6 +130,9 @@ class DirectAligner {
                               DirectAlignment* out, Linearization* final_fit) const;
   SearchHit SearchAt(const Level& level, const imaging::SpectralNcc& frame_ncc,
                      const geometry::Pose2& pose, int r) const;
+  SearchHit ClimbHeadings(const Level& level, const imaging::SpectralNcc& frame_ncc,
+                          const geometry::Pose2& start, int r, double step, int steps,
+                          const SearchHit& at_start, int* searches) const;
   static cv::Rect InnerRect(const Level& level);
 
   DirectAlignOptions options_;

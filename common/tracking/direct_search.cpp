@@ -106,26 +106,71 @@ DirectAligner::SearchHit DirectAligner::CoarseSearch(const Level& level,
   const int steps = std::min(options_.max_heading_steps,
                              static_cast<int>(std::floor(heading_3sigma * half_diagonal)));
   if (!clear && steps >= 1) {
-    // The correlation rises towards the true heading: one step each side, then onwards in the
-    // better direction while it keeps rising (measured under fast turns: the best heading is
-    // almost always one step off the prediction, so this costs 2–3 searches instead of 2·steps).
-    const auto at = [&](int k) {
-      ++searches;
-      return SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, k * heading_3sigma / steps}, r);
-    };
-    const SearchHit minus = at(-1), plus = at(1);
-    const int direction = plus.correlation >= minus.correlation ? 1 : -1;
-    SearchHit next = direction > 0 ? plus : minus;
-    for (int k = direction; next.correlation > best.correlation; k += direction) {
-      best = next;
-      if (std::abs(k) >= steps) break;
-      next = at(k + direction);
+    const double step = heading_3sigma / steps;
+    if (options_.heading_probe_px > 0) {
+      best = ClimbHeadings(level, frame_ncc, start, r, step, steps, best, &searches);
+    } else {
+      // The correlation rises towards the true heading: one step each side, then onwards in the
+      // better direction while it keeps rising (measured under fast turns: the best heading is
+      // almost always one step off the prediction, so this costs 2–3 searches instead of
+      // 2·steps).
+      const auto at = [&](int k) {
+        ++searches;
+        return SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, k * step}, r);
+      };
+      const SearchHit minus = at(-1), plus = at(1);
+      const int direction = plus.correlation >= minus.correlation ? 1 : -1;
+      SearchHit next = direction > 0 ? plus : minus;
+      for (int k = direction; next.correlation > best.correlation; k += direction) {
+        best = next;
+        if (std::abs(k) >= steps) break;
+        next = at(k + direction);
+      }
     }
   }
   out->peak_ratio = best.peak_ratio;
   out->peak_z = best.peak_z;
   out->searches = searches;
   return best;
+}
+
+// The heading climb of CoarseSearch with each heading probed only near the predicted heading's
+// peak (`at_start`): the view turned about that peak's place, which stays put as the heading
+// turns (the pose's origin is the principal point), searched ±heading_probe_px directly
+// (SpectralNcc::SurfaceNear, ~0.3 M instructions at 640×480's search level against 7.8 M for a
+// whole window's two transforms). The climb is the same: one step each side, then onwards in the
+// better direction while the correlation rises. Only the heading it ends at, if not the
+// predicted one, is searched over the whole window, for the peak's place, ratio and rival there.
+DirectAligner::SearchHit DirectAligner::ClimbHeadings(const Level& level,
+                                                      const imaging::SpectralNcc& frame_ncc,
+                                                      const Pose2& start, int r, double step,
+                                                      int steps, const SearchHit& at_start,
+                                                      int* searches) const {
+  const cv::Rect near = GrownBy(InnerRect(level), options_.heading_probe_px);
+  const geometry::Geotransform& geo = mosaic_->layout().geo;
+  const auto probe = [&](int k) {
+    const FrameMosaicWarp warp =
+        FrameMosaicWarp::For(at_start.pose * Pose2{0.0, 0.0, k * step}, camera_, geo)
+            .AtLevel(level.level);
+    double correlation = 0.0;
+    cv::minMaxLoc(frame_ncc.SurfaceNear(RenderNormalizedView(mosaic_, near, warp, level.level)),
+                  nullptr, &correlation);
+    return correlation;
+  };
+  const double minus = probe(-1), plus = probe(1);
+  const int direction = plus >= minus ? 1 : -1;
+  double next = std::max(minus, plus), best = at_start.correlation;
+  int best_k = 0;
+  for (int k = direction; next > best; k += direction) {
+    best = next;
+    best_k = k;
+    if (std::abs(k) >= steps) break;
+    next = probe(k + direction);
+  }
+  if (best_k == 0) return at_start;
+  ++*searches;
+  const SearchHit turned = SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, best_k * step}, r);
+  return turned.correlation > at_start.correlation ? turned : at_start;
 }
 
 }  // namespace fleetloc::tracking

@@ -65,6 +65,8 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
       Check(d.peak_exclusion_px >= 1, "direct.peak_exclusion_px", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_heading_steps >= 0 && d.max_heading_steps <= 10,
                                  "direct.max_heading_steps", "must be in [0, 10]"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.heading_probe_px >= 0 && d.heading_probe_px <= 8,
+                                 "direct.heading_probe_px", "must be in [0, 8]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.max_sigma_px > 0, "direct.max_sigma_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.full_resolution_below_pixels >= 0,
                                  "direct.full_resolution_below_pixels", "must be ≥ 0"));
