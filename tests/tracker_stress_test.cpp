@@ -108,6 +108,15 @@ TEST(TrackerStressSmallFrames, EpoxyAt320x240TracksThroughFastMotionAndDustAtOnc
   CheckOnlyCell(cells, 0.95, 0.075);
 }
 
+// Polished concrete 024 under fast motion and dust at 1280×1024 (`all`): the heading climb probes
+// headings near the predicted heading's peak only when that peak is significant. Probing around
+// any peak, 4 of these 30 frames climbed around a chance peak (z ≈ 4) and coasted or were lost
+// (lock 0.867), where the whole window one heading step away held the frame's place at z 15.
+TEST(TrackerStressLargeFrames, PlainestFloorAt1280x1024ProbesHeadingsOnlyAroundASignificantPeak) {
+  const nlohmann::json cells = RunCells("polished_concrete", "tuning", "all", "1280x1024");
+  CheckOnlyCell(cells, 0.95, 0.15);
+}
+
 // One column of `fleetctl track --frames-out`, by its header name.
 std::vector<std::string> CsvColumn(const std::string& csv, const std::string& name) {
   std::istringstream lines(csv);
@@ -175,7 +184,7 @@ TEST(TrackerStressWeakFloor, DarkPlainConcreteLocksWithTheLargerTemplates) {
 // The heading climb probing each heading near the predicted heading's peak (the default) against
 // searching every heading over the whole window (`direct.heading_probe_px` 0), on the same cell:
 // the same frames tracked at the same poses, with far fewer whole-window searches (measured on
-// 60 frames of 024 at 640×480 under `all`: 213 → 108 searches, poses within 0.001 px).
+// 60 frames of 024 at 640×480 under `all`: 213 → 140 searches, poses within 0.001 px).
 void ExpectHeadingProbesClimbLikeWholeWindows(const fs::path& cell, const fs::path& work,
                                               const std::string& probed_frames) {
   const std::string probed_poses = ReadWhole(work / "poses.csv");
@@ -199,7 +208,7 @@ void ExpectHeadingProbesClimbLikeWholeWindows(const fs::path& cell, const fs::pa
     return total;
   };
   const int probed = searches(probed_frames), whole = searches(ReadWhole(work / "frames.csv"));
-  EXPECT_LE(probed, whole * 6 / 10) << probed << " whole-window searches against " << whole;
+  EXPECT_LE(probed, whole * 7 / 10) << probed << " whole-window searches against " << whole;
 }
 
 // Polished concrete 024 under fast motion and dust (640×480, `all`): only the dense alignment

@@ -133,6 +133,10 @@ class DirectAligner {
   SearchHit ClimbHeadings(const Level& level, const imaging::SpectralNcc& frame_ncc,
                           const geometry::Pose2& start, int r, double step, int steps,
                           const SearchHit& at_start, int* searches) const;
+  SearchHit ClimbHeadingsOverWholeWindows(const Level& level, const imaging::SpectralNcc& frame_ncc,
+                                          const geometry::Pose2& start, int r, double step,
+                                          int steps, const SearchHit& at_start,
+                                          int* searches) const;
   static cv::Rect InnerRect(const Level& level);
 
   DirectAlignOptions options_;

@@ -109,9 +109,10 @@ struct DirectAlignOptions {
   // headings each side, spread over the prediction's ±3 sigma (one per level pixel of turn at the
   // frame's corners).
   int max_heading_steps = 3;
-  // Each heading of that climb is probed only within ±heading_probe_px level pixels of the
-  // predicted heading's peak, turned about it, and only the heading it ends at is searched over
-  // the whole window (DirectAligner::ClimbHeadings); 0: every heading over the whole window.
+  // When the predicted heading's peak is significant (min_significant_peak_z), each heading of
+  // that climb is probed only within ±heading_probe_px level pixels of it, turned about it, and
+  // only the heading it ends at is searched over the whole window (DirectAligner::ClimbHeadings);
+  // 0: every heading over the whole window.
   int heading_probe_px = 2;
   // A peak at the predicted heading that is significant (min_significant_peak_z) and distinct
   // (second peak ≤ max_distinct_peak_ratio of it) ends the search there: the alignment fits the
