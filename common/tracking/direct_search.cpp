@@ -3,6 +3,8 @@
 // (see direct_aligner.h).
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "imaging/spectral_ncc.h"
@@ -17,6 +19,28 @@ using direct_detail::CornerSigmaPx;
 using direct_detail::GrownBy;
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
+
+namespace {
+
+// The heading step (of ±steps) a climb from the predicted heading (`start_correlation`) ends at:
+// the correlation rises towards the true heading, so one step each side, then onwards in the
+// better direction while it keeps rising; 0 when neither side beats the start.
+int ClimbToBestHeading(double start_correlation, int steps,
+                       const std::function<double(int)>& correlation_at) {
+  const double minus = correlation_at(-1), plus = correlation_at(1);
+  const int direction = plus >= minus ? 1 : -1;
+  double next = std::max(minus, plus), best = start_correlation;
+  int best_k = 0;
+  for (int k = direction; next > best; k += direction) {
+    best = next;
+    best_k = k;
+    if (std::abs(k) >= steps) break;
+    next = correlation_at(k + direction);
+  }
+  return best_k;
+}
+
+}  // namespace
 
 // The level the search starts at: at least one above the finest (a wider window at a finer level
 // holds more chance peaks: measured at 320×240 on a plain dusty floor, searching at 160×120 left
@@ -122,27 +146,19 @@ DirectAligner::SearchHit DirectAligner::CoarseSearch(const Level& level,
   return best;
 }
 
-// The heading climb of CoarseSearch over whole windows: the correlation rises towards the true
-// heading, so one step each side, then onwards in the better direction while it keeps rising
-// (measured under fast turns: the best heading is almost always one step off the prediction, so
-// this costs 2–3 searches instead of 2·steps).
+// The heading climb of CoarseSearch over whole windows (measured under fast turns: the best
+// heading is almost always one step off the prediction, so this costs 2–3 searches instead of
+// 2·steps).
 DirectAligner::SearchHit DirectAligner::ClimbHeadingsOverWholeWindows(
     const Level& level, const imaging::SpectralNcc& frame_ncc, const Pose2& start, int r,
     double step, int steps, const SearchHit& at_start, int* searches) const {
-  const auto at = [&](int k) {
+  std::map<int, SearchHit> hits;
+  const int best_k = ClimbToBestHeading(at_start.correlation, steps, [&](int k) {
     ++*searches;
-    return SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, k * step}, r);
-  };
-  SearchHit best = at_start;
-  const SearchHit minus = at(-1), plus = at(1);
-  const int direction = plus.correlation >= minus.correlation ? 1 : -1;
-  SearchHit next = direction > 0 ? plus : minus;
-  for (int k = direction; next.correlation > best.correlation; k += direction) {
-    best = next;
-    if (std::abs(k) >= steps) break;
-    next = at(k + direction);
-  }
-  return best;
+    hits[k] = SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, k * step}, r);
+    return hits[k].correlation;
+  });
+  return best_k == 0 ? at_start : hits[best_k];
 }
 
 // The heading climb of CoarseSearch with each heading probed only near the predicted heading's
@@ -168,16 +184,7 @@ DirectAligner::SearchHit DirectAligner::ClimbHeadings(const Level& level,
                   nullptr, &correlation);
     return correlation;
   };
-  const double minus = probe(-1), plus = probe(1);
-  const int direction = plus >= minus ? 1 : -1;
-  double next = std::max(minus, plus), best = at_start.correlation;
-  int best_k = 0;
-  for (int k = direction; next > best; k += direction) {
-    best = next;
-    best_k = k;
-    if (std::abs(k) >= steps) break;
-    next = probe(k + direction);
-  }
+  const int best_k = ClimbToBestHeading(at_start.correlation, steps, probe);
   if (best_k == 0) return at_start;
   ++*searches;
   const SearchHit turned = SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, best_k * step}, r);
