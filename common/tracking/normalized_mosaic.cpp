@@ -2,9 +2,9 @@
 #include "tracking/normalized_mosaic.h"
 
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
 #include "imaging/fast_patch.h"
+#include "imaging/gaussian_blur.h"
 #include "mosaic/mosaic_view.h"
 
 namespace fleetloc::tracking {
@@ -26,8 +26,13 @@ cv::Mat NormalizedMosaic::Normalize(const cv::Mat& image, int level,
                                     cv::Mat* local_variance) const {
   cv::Mat normalized = imaging::NormalizePatch(image, WindowAt(level), 2.0f, local_variance);
   if (level == 0 && level0_sigma_px_ > 0) {
-    const int k = 2 * SmoothingRadius(level0_sigma_px_) + 1;
-    cv::GaussianBlur(normalized, normalized, {k, k}, level0_sigma_px_);
+    // Only the pixels the whole kernel covers are smoothed: the others lie within MarginAt(0),
+    // which no caller uses.
+    const int r = SmoothingRadius(level0_sigma_px_);
+    if (normalized.cols > 2 * r && normalized.rows > 2 * r) {
+      imaging::GaussianBlurInterior(normalized, level0_sigma_px_, r)
+          .copyTo(normalized(cv::Rect(r, r, normalized.cols - 2 * r, normalized.rows - 2 * r)));
+    }
   }
   return normalized;
 }

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
+#include "imaging/gaussian_blur.h"
 #include "tracking/dense_linearization.h"
 
 namespace fleetloc::tracking {
@@ -16,10 +16,10 @@ int BlurMarginPx(double max_sigma_px) {
 cv::Mat BlurredView(const cv::Mat& view, double sigma_px, int margin_px) {
   const cv::Rect kept(margin_px, margin_px, view.cols - 2 * margin_px, view.rows - 2 * margin_px);
   if (sigma_px <= 0) return view(kept).clone();
-  const int k = 2 * BlurMarginPx(sigma_px) + 1;
-  cv::Mat blurred;
-  cv::GaussianBlur(view, blurred, {k, k}, sigma_px, sigma_px, cv::BORDER_REPLICATE);
-  return blurred(kept).clone();
+  const int r = BlurMarginPx(sigma_px);
+  CV_Assert(r <= margin_px);
+  return imaging::GaussianBlurInterior(
+      view(cv::Rect(kept.x - r, kept.y - r, kept.width + 2 * r, kept.height + 2 * r)), sigma_px, r);
 }
 
 double BestViewBlur(const cv::Mat& frame, const cv::Mat& view, int margin_px, const cv::Rect& inner,
