@@ -30,15 +30,22 @@ struct ClassCase {
 class TrackerStress : public ::testing::TestWithParam<ClassCase> {};
 
 // Runs `bench tracker-stress` into `work` (kept: each cell's mosaic and run stay there).
+// `tracker_config`: tracker options (JSON) for fleetloc, or "" for the defaults.
 nlohmann::json RunCellsIn(const fs::path& work, const std::string& floor_class,
                           const std::string& split, const std::string& conditions,
-                          const std::string& size) {
+                          const std::string& size, const std::string& tracker_config = "") {
   const fs::path json = work / "cells.json";
   fs::create_directories(work);
-  const CommandResult r = RunFleetctl("bench tracker-stress --classes " + floor_class +
-                                      " --split " + split + " --sizes " + size + " --conditions " +
-                                      conditions + " --frames 30 --methods fleetloc --work-dir " +
-                                      Quote(work.string()) + " --json " + Quote(json.string()));
+  std::string config;
+  if (!tracker_config.empty()) {
+    const fs::path file = work / "tracker_config.json";
+    std::ofstream(file) << tracker_config;
+    config = " --tracker-config " + Quote(file.string());
+  }
+  const CommandResult r = RunFleetctl(
+      "bench tracker-stress --classes " + floor_class + " --split " + split + " --sizes " + size +
+      " --conditions " + conditions + " --frames 30 --methods fleetloc --work-dir " +
+      Quote(work.string()) + " --json " + Quote(json.string()) + config);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   nlohmann::json cells = nlohmann::json::parse(ReadWhole(json), nullptr, false);
   return cells.is_discarded() ? nlohmann::json() : cells["cells"];
@@ -117,6 +124,24 @@ TEST(TrackerStressLargeFrames, PlainestFloorAt1280x1024ProbesHeadingsOnlyAroundA
   CheckOnlyCell(cells, 0.95, 0.15);
 }
 
+// Painted pavement 001 under fast motion and dust at 1280×1024 (`all`): every located frame is
+// polished, at level 1 (640×512: polish_min_frame_pixels, direct.polish_max_level_pixels), where
+// the templates' fit uses a small share of the frame's pixels. Camera RMS over these 30 frames
+// 0.023 px, 0.117 px with the templates' fit alone (polish_min_frame_pixels 0).
+TEST(TrackerStressLargeFrames, EveryFrameIsPolishedAtLevel1At1280x1024) {
+  const fs::path work = fs::temp_directory_path() / "stress_test_polish_1280";
+  const nlohmann::json polished = RunCellsIn(work, "painted_lines", "tuning", "all", "1280x1024");
+  CheckOnlyCell(polished, 0.95, 0.05);
+  const nlohmann::json unpolished = RunCellsIn(work, "painted_lines", "tuning", "all", "1280x1024",
+                                               R"({"polish_min_frame_pixels": 0})");
+  ASSERT_EQ(unpolished.size(), 1u);
+  const auto rms = [](const nlohmann::json& cells) {
+    return cells[0]["methods"]["fleetloc"]["error"]["camera_position_rms_px"].get<double>();
+  };
+  EXPECT_GE(rms(unpolished), 2.0 * rms(polished));
+  fs::remove_all(work);
+}
+
 // One column of `fleetctl track --frames-out`, by its header name.
 std::vector<std::string> CsvColumn(const std::string& csv, const std::string& name) {
   std::istringstream lines(csv);
@@ -184,7 +209,8 @@ TEST(TrackerStressWeakFloor, DarkPlainConcreteLocksWithTheLargerTemplates) {
 // The heading climb probing each heading near the predicted heading's peak (the default) against
 // searching every heading over the whole window (`direct.heading_probe_px` 0), on the same cell:
 // the same frames tracked at the same poses, with far fewer whole-window searches (measured on
-// 60 frames of 024 at 640×480 under `all`: 213 → 140 searches, poses within 0.001 px).
+// 60 frames of 024 at 640×480 under `all`: 213 → 110 searches, poses within 0.006 px; 140 while
+// the heading a probe climb ended at was still searched over the whole window).
 void ExpectHeadingProbesClimbLikeWholeWindows(const fs::path& cell, const fs::path& work,
                                               const std::string& probed_frames) {
   const std::string probed_poses = ReadWhole(work / "poses.csv");
@@ -208,7 +234,7 @@ void ExpectHeadingProbesClimbLikeWholeWindows(const fs::path& cell, const fs::pa
     return total;
   };
   const int probed = searches(probed_frames), whole = searches(ReadWhole(work / "frames.csv"));
-  EXPECT_LE(probed, whole * 7 / 10) << probed << " whole-window searches against " << whole;
+  EXPECT_LE(probed, whole * 6 / 10) << probed << " whole-window searches against " << whole;
 }
 
 // Polished concrete 024 under fast motion and dust (640×480, `all`): only the dense alignment

@@ -16,9 +16,8 @@ namespace {
 const bool kHasAvx2Fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 
 // Lanes x .. x + 7 of out[x] = Σ_k w[k]·in[k][x], the lanes at or beyond n masked off.
-__attribute__((target("avx2,fma"))) inline __m256 MaskedSum(const float* const* in,
-                                                             const float* w, int taps, int x,
-                                                             __m256i mask) {
+__attribute__((target("avx2,fma"))) inline __m256 MaskedSum(const float* const* in, const float* w,
+                                                            int taps, int x, __m256i mask) {
   __m256 sum = _mm256_setzero_ps();
   for (int k = 0; k < taps; ++k) {
     sum = _mm256_fmadd_ps(_mm256_broadcast_ss(w + k), _mm256_maskload_ps(in[k] + x, mask), sum);

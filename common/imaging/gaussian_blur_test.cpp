@@ -1,4 +1,5 @@
-// The interior Gaussian blur equals OpenCV's away from the border, for the kernels the tracker uses.
+// The interior Gaussian blur equals OpenCV's away from the border, for the kernels the tracker
+// uses.
 #include "imaging/gaussian_blur.h"
 
 #include <gtest/gtest.h>

@@ -77,5 +77,22 @@ TEST(TrackerConfig, ReadsTheHeadingProbesWindowAndRefusesANegativeOne) {
   EXPECT_NE(bad.status().message().find("direct.heading_probe_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOnes) {
+  const auto options = TrackerOptionsFromJson(
+      {{"polish_min_frame_pixels", 0}, {"direct", {{"polish_max_level_pixels", 0}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->polish_min_frame_pixels, 0);
+  EXPECT_EQ(options->direct.polish_max_level_pixels, 0);
+  const tracking::TrackerOptions defaults;
+  EXPECT_EQ(defaults.polish_min_frame_pixels, 1000000);
+  EXPECT_EQ(defaults.direct.polish_max_level_pixels, 330000);
+  auto bad = TrackerOptionsFromJson({{"polish_min_frame_pixels", -1}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("polish_min_frame_pixels"), std::string::npos);
+  bad = TrackerOptionsFromJson({{"direct", {{"polish_max_level_pixels", -5}}}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.polish_max_level_pixels"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace fleetloc::run_io

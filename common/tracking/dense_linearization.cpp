@@ -29,6 +29,14 @@ void FinishLinearization(const CorrelationSums& c, double inliers,
   lin->score_spread = ScoreSpread(block_scores, block_counts, lin->g);
 }
 
+void InLevel0Pixels(int level, Linearization* lin) {
+  if (level == 0) return;
+  const Eigen::DiagonalMatrix<double, 3> s(1.0 / (1 << level), 1.0 / (1 << level), 1.0);
+  lin->h = s * lin->h * s;
+  lin->g = s * lin->g;
+  lin->score_spread = s * lin->score_spread * s;
+}
+
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total) {
   int pixels = 0, used_blocks = 0;

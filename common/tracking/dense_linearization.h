@@ -60,6 +60,11 @@ void FinishLinearization(const CorrelationSums& c, double inliers,
 
 // Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
 // n/(n − 1) over the n blocks that have pixels.
+// A linearization over the pixels of pyramid level `level` (its Jacobian's translation columns per
+// level pixel) re-expressed per level-0 pixel, the unit of the pose steps: those columns divided
+// by 2^level.
+void InLevel0Pixels(int level, Linearization* lin);
+
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total);
 

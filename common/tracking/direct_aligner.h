@@ -100,7 +100,9 @@ class DirectAligner {
   Eigen::Vector3d MapStep(const Linearization& lin, const geometry::Pose2& pose,
                           const geometry::PoseWithCovariance& prior) const;
   double StepPx(const Eigen::Vector3d& q, int level) const;
-  std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner) const;
+  std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner,
+                                       int level) const;
+  int PolishLevel() const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
@@ -137,6 +139,10 @@ class DirectAligner {
                                           const geometry::Pose2& start, int r, double step,
                                           int steps, const SearchHit& at_start,
                                           int* searches) const;
+  static SearchHit TurnedHit(const SearchHit& at_start, const geometry::Pose2& pose,
+                             double correlation);
+  geometry::Pose2 PoseAtShift(const Level& level, const geometry::Pose2& pose,
+                              const cv::Point& shift) const;
   static cv::Rect InnerRect(const Level& level);
 
   DirectAlignOptions options_;

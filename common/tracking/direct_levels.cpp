@@ -185,7 +185,7 @@ std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& fram
   std::vector<Level> levels(coarsest + 1);
   cv::Mat image = frame;
   for (int l = 0; l <= coarsest; ++l) {
-    if (l > 0) cv::resize(image, image, {image.cols / 2, image.rows / 2}, 0, 0, cv::INTER_AREA);
+    if (l > 0) image = direct_detail::Halved(image);
     Level& level = levels[l];
     level.level = l;
     if (l < finest) continue;

@@ -18,14 +18,16 @@ using geometry::Difference;
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
-// Per row of `inner`, the columns (relative to inner.x) whose pixel and its gradient neighbours
-// fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
-std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose,
-                                                    const cv::Rect& inner) const {
+// Per row of `inner` (pixels of `level`), the columns (relative to inner.x) whose pixel and its
+// gradient neighbours fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
+std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner,
+                                                    int level) const {
   const mosaic::MosaicLayout& layout = mosaic_->layout();
   constexpr double kSpare = 3.0;
-  const geometry::ConvexPolygon mosaic_in_frame = MosaicInFrame(
-      FrameMosaicWarp::For(pose, camera_, layout.geo), layout.width_px, layout.height_px, kSpare);
+  const double scale = 1.0 / (1 << level);
+  const geometry::ConvexPolygon mosaic_in_frame =
+      MosaicInFrame(FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(level),
+                    layout.width_px * scale, layout.height_px * scale, kSpare);
   std::vector<cv::Range> spans(inner.height);
   for (int y = 0; y < inner.height; ++y) {
     const auto [lo, hi] = geometry::SpanAtY(mosaic_in_frame, inner.y + y + 0.5);
@@ -36,49 +38,67 @@ std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose,
   return spans;
 }
 
-// Every pixel of the frame at full resolution, from a pose already within a fraction of a pixel
-// (see DirectAligner::Polish).
-DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
+// The level the polish works at: the finest whose frame has at most polish_max_level_pixels.
+int DirectAligner::PolishLevel() const {
+  const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
+  int level = 0;
+  while (options_.polish_max_level_pixels > 0 && level + 1 < levels_ &&
+         (pixels >> (2 * level)) > options_.polish_max_level_pixels) {
+    ++level;
+  }
+  return level;
+}
+
+// Every pixel of the frame at the polish level (full resolution up to 640×480), from a pose
+// already within a fraction of a pixel (see DirectAligner::Polish).
+DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithCovariance& prior,
                                       const Pose2& start, double view_blur_px,
                                       bool confirming) const {
   DirectAlignment out;
-  const int b = mosaic_->MarginAt(0);
+  const int level = PolishLevel();
+  cv::Mat frame = full_frame;
+  for (int l = 0; l < level; ++l) frame = direct_detail::Halved(frame);
+  const int b = mosaic_->MarginAt(level);
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
   const mosaic::MosaicLayout& layout = mosaic_->layout();
-  const std::vector<cv::Range> spans = SpansInMosaic(start, inner);
+  const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
   int points = 0;
   for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
   if (points < inner.area() / 4) {
     out.reason = "frame mostly outside the mosaic";
     return out;
   }
-  const cv::Mat normalized = mosaic_->Normalize(frame, 0);
+  const cv::Mat normalized = mosaic_->Normalize(frame, level);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
-  const Eigen::Vector2d principal(camera_.cx_px, camera_.cy_px);
+  const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
+  const auto warp_at = [&](const Pose2& pose) {
+    return FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(level);
+  };
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
   double blur = std::max(0.0, view_blur_px);
   if (view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
-    const cv::Mat wide = RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
-                                              FrameMosaicWarp::For(start, camera_, layout.geo), 0);
+    const cv::Mat wide =
+        RenderNormalizedView(mosaic_, GrownBy(view_rect, m), warp_at(start), level);
     blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
                         options_.view_blur_step_px, options_.tukey_c);
   }
   out.view_blur_px = blur;
   const int m = BlurMarginPx(blur);
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
-    const cv::Mat view =
-        BlurredView(RenderNormalizedView(mosaic_, GrownBy(view_rect, m),
-                                         FrameMosaicWarp::For(pose, camera_, layout.geo), 0),
-                    blur, m);
-    return LinearizeWholeFrame(normalized, view, inner, spans, principal, options_.tukey_c, sigma,
-                               gain);
+    const cv::Mat view = BlurredView(
+        RenderNormalizedView(mosaic_, GrownBy(view_rect, m), warp_at(pose), level), blur, m);
+    Linearization lin = LinearizeWholeFrame(normalized, view, inner, spans, principal,
+                                            options_.tukey_c, sigma, gain);
+    InLevel0Pixels(level, &lin);
+    return lin;
   };
   Linearization fit;
-  const Pose2 pose = GaussNewton(
-      linearize, 0, confirming ? options_.confirm_polish_iterations : options_.polish_iterations,
-      prior, start, options_.converged_px, &out.iterations, &fit, options_.fit_contrast,
-      options_.polish_single_pass_px);
+  const Pose2 pose =
+      GaussNewton(linearize, level,
+                  confirming ? options_.confirm_polish_iterations : options_.polish_iterations,
+                  prior, start, options_.converged_px, &out.iterations, &fit, options_.fit_contrast,
+                  options_.polish_single_pass_px);
   out.points = fit.points;
   out.correlation = out.coarse_correlation = fit.correlation;
   out.inlier_fraction = fit.inlier_fraction;

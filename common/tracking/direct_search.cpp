@@ -83,15 +83,17 @@ DirectAligner::SearchHit DirectAligner::SearchAt(const Level& level,
   cv::minMaxLoc(surface, nullptr, &third, nullptr, nullptr, off_peak);
   hit.third_ratio = hit.correlation > 0.0 ? std::max(0.0, third) / hit.correlation : 1.0;
   hit.peak_z = spread[0] > 0.0 ? (hit.correlation - mean[0]) / spread[0] : 0.0;
-  // The frame's content sits at +shift in the view: the camera moved by shift (level px), which
-  // is −shift_y, −shift_x in camera_ground axes.
-  const double step_m = camera_.resolution_m * (1 << level.level);
-  const auto pose_at = [&](const cv::Point& at) {
-    return pose * Pose2{-(at.y - r) * step_m, -(at.x - r) * step_m, 0.0};
-  };
-  hit.pose = pose_at(best_at);
-  hit.rival_pose = pose_at(second_at);
+  hit.pose = PoseAtShift(level, pose, best_at - cv::Point(r, r));
+  hit.rival_pose = PoseAtShift(level, pose, second_at - cv::Point(r, r));
   return hit;
+}
+
+// The frame's content sits at +shift (level px) in a view rendered at `pose`: the camera moved by
+// shift, which is −shift_y, −shift_x in camera_ground axes.
+Pose2 DirectAligner::PoseAtShift(const Level& level, const Pose2& pose,
+                                 const cv::Point& shift) const {
+  const double step_m = camera_.resolution_m * (1 << level.level);
+  return pose * Pose2{-shift.y * step_m, -shift.x * step_m, 0.0};
 }
 
 // The coarse search over the prediction's window: at the predicted heading, and when that finds
@@ -165,30 +167,56 @@ DirectAligner::SearchHit DirectAligner::ClimbHeadingsOverWholeWindows(
 // significant peak (`at_start`): the view turned about that peak's place, which stays put as the
 // heading turns (the pose's origin is the principal point), searched ±heading_probe_px directly
 // (SpectralNcc::SurfaceNear, ~0.3 M instructions at 640×480's search level against 7.8 M for a
-// whole window's two transforms). The climb is the same as over whole windows. Only the heading it
-// ends at, if not the predicted one, is searched over the whole window, for the peak's place, ratio
-// and rival there.
+// whole window's two transforms). The climb is the same as over whole windows. The heading it ends
+// at keeps its probe's peak when that lies inside the probed neighbourhood, with the predicted
+// heading's second and third peaks, z and rival: a whole window at that heading (two more
+// transforms) would find the same peak, and the other places' peaks do not rise with it (see
+// TurnedHit). A peak on the neighbourhood's edge may lie beyond it: that heading is searched over
+// the whole window.
 DirectAligner::SearchHit DirectAligner::ClimbHeadings(const Level& level,
                                                       const imaging::SpectralNcc& frame_ncc,
                                                       const Pose2& start, int r, double step,
                                                       int steps, const SearchHit& at_start,
                                                       int* searches) const {
-  const cv::Rect near = GrownBy(InnerRect(level), options_.heading_probe_px);
+  const int p = options_.heading_probe_px;
+  const cv::Rect near = GrownBy(InnerRect(level), p);
   const geometry::Geotransform& geo = mosaic_->layout().geo;
+  std::map<int, std::pair<double, cv::Point>> peaks;  // heading step → probe peak, its place
   const auto probe = [&](int k) {
     const FrameMosaicWarp warp =
         FrameMosaicWarp::For(at_start.pose * Pose2{0.0, 0.0, k * step}, camera_, geo)
             .AtLevel(level.level);
-    double correlation = 0.0;
+    auto& [correlation, at] = peaks[k];
     cv::minMaxLoc(frame_ncc.SurfaceNear(RenderNormalizedView(mosaic_, near, warp, level.level)),
-                  nullptr, &correlation);
+                  nullptr, &correlation, nullptr, &at);
     return correlation;
   };
   const int best_k = ClimbToBestHeading(at_start.correlation, steps, probe);
   if (best_k == 0) return at_start;
+  const auto& [correlation, at] = peaks[best_k];
+  if (at.x > 0 && at.y > 0 && at.x < 2 * p && at.y < 2 * p) {
+    const Pose2 turned = at_start.pose * Pose2{0.0, 0.0, best_k * step};
+    return TurnedHit(at_start, PoseAtShift(level, turned, at - cv::Point(p, p)), correlation);
+  }
   ++*searches;
   const SearchHit turned = SearchAt(level, frame_ncc, start * Pose2{0.0, 0.0, best_k * step}, r);
   return turned.correlation > at_start.correlation ? turned : at_start;
+}
+
+// The predicted heading's hit moved to a better heading's peak (`pose`, `correlation`) found by a
+// probe: the second and third peaks are other places, whose correlation does not rise as the
+// heading turns towards the frame's own, so their ratios are taken against the new peak; the
+// predicted heading's z and rival are kept (the z, a lower bound, only has to pass
+// min_significant_peak_z, which the predicted heading's already did).
+DirectAligner::SearchHit DirectAligner::TurnedHit(const SearchHit& at_start, const Pose2& pose,
+                                                  double correlation) {
+  SearchHit hit = at_start;
+  hit.pose = pose;
+  hit.correlation = correlation;
+  const double scale = correlation > 0.0 ? at_start.correlation / correlation : 1.0;
+  hit.peak_ratio = std::min(1.0, at_start.peak_ratio * scale);
+  hit.third_ratio = std::min(1.0, at_start.third_ratio * scale);
+  return hit;
 }
 
 }  // namespace fleetloc::tracking

@@ -42,8 +42,7 @@ MosaicTracker::MosaicTracker(const TrackerOptions& options, const geometry::Came
       matcher_(options, &normalized_),
       direct_(options.direct, camera, &normalized_),
       estimate_(camera.mount, options.odometry),
-      polish_(static_cast<long long>(camera.width_px) * camera.height_px <=
-              options.polish_max_frame_pixels),
+      polish_(PolishesEveryFrame(options, camera)),
       polish_dense_(static_cast<long long>(camera.width_px) * camera.height_px <=
                     options.polish_dense_max_frame_pixels) {}
 
@@ -208,6 +207,15 @@ std::optional<PoseWithCovariance> MosaicTracker::Decide(
     return std::nullopt;
   }
   return dense;
+}
+
+// Every located frame is polished on small cameras (polish_max_frame_pixels) and on large ones
+// (polish_min_frame_pixels).
+bool MosaicTracker::PolishesEveryFrame(const TrackerOptions& options,
+                                       const geometry::CameraModel& camera) {
+  const long long pixels = static_cast<long long>(camera.width_px) * camera.height_px;
+  return pixels <= options.polish_max_frame_pixels ||
+         (options.polish_min_frame_pixels > 0 && pixels >= options.polish_min_frame_pixels);
 }
 
 // A frame the dense alignment located with a weak correlation at its finest level (level 1 or

@@ -107,6 +107,8 @@ class MosaicTracker : public FrameLocalizer {
                                                           bool refine_only,
                                                           FrameResult* stats) const;
   bool WeakDenseFitToPolish(const FrameResult& stats) const;
+  static bool PolishesEveryFrame(const TrackerOptions& options,
+                                 const geometry::CameraModel& camera);
   bool Agree(const geometry::PoseWithCovariance& a, const geometry::PoseWithCovariance& b) const;
   geometry::PoseWithCovariance Polished(const cv::Mat& frame,
                                         const geometry::PoseWithCovariance& prior,
@@ -131,7 +133,7 @@ class MosaicTracker : public FrameLocalizer {
   TemplateMatcher matcher_;
   DirectAligner direct_;
   InternalEstimate estimate_;  // camera_ground in map: the tracker's own estimate
-  bool polish_ = false;        // this camera's frames are polished (polish_max_frame_pixels)
+  bool polish_ = false;        // this camera's frames are all polished (PolishesEveryFrame)
   bool polish_dense_ = false;  // and those the dense alignment located (…dense_max_frame_pixels)
   int coasting_frames_ = 0;
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates

@@ -35,6 +35,8 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.max_polish_next_step_px > 0, "direct.max_polish_next_step_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(d.polish_max_level_pixels >= 0, "direct.polish_max_level_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(d.polish_single_pass_px >= 0 && d.polish_single_pass_px <= d.max_polish_next_step_px,
             "direct.polish_single_pass_px", "must be in [0, direct.max_polish_next_step_px]"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.converged_px > 0, "direct.converged_px", "must be > 0"));
@@ -176,6 +178,8 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
       Check(o.max_disagreement_chi2 > 0, "max_disagreement_chi2", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_max_frame_pixels >= 0, "polish_max_frame_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polish_min_frame_pixels >= 0, "polish_min_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_dense_max_frame_pixels >= 0, "polish_dense_max_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(

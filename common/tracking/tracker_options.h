@@ -67,10 +67,19 @@ struct DirectAlignOptions {
   // with every frame polished) and left the 320×240 stress cells' camera RMS within +0.0008 px,
   // but it buys no time target (only 640×480 is judged, where template fits are not polished).
   double polish_single_pass_px = 0.0;
-  int max_points = 12000;      // pixels used per level: the strongest gradient of each cell
-  int max_iterations = 10;     // Gauss–Newton iterations per level
-  double converged_px = 0.01;  // a level stops when its step moves no pixel more (level px)
-  double tukey_c = 4.685;      // Tukey biweight cut-off in robust sigmas (MAD)
+  // The polish works at the finest pyramid level whose frame has at most this many pixels (0:
+  // always level 0): level 0 up to 640×480; level 1 (640×512) at 1280×1024, where level 0 would
+  // cost four times a 640×480 polish.
+  int polish_max_level_pixels = 330000;
+  int max_points = 12000;   // pixels used per level: the strongest gradient of each cell
+  int max_iterations = 10;  // Gauss–Newton iterations per level
+  // A level (and the polish) stops when its step moves no pixel more than this (level px; the
+  // coarser levels 5×). 0.01 → 0.03 took 12.5 → 8.4 Gauss–Newton steps a frame on polished
+  // concrete 024 at 640×480 under `all` with the camera RMS unchanged (0.0779 px); with the
+  // session's other changes no 320×240 or 640×480 stress cell's lock moved, nor its RMS by more
+  // than 0.002 px (docs/benchmarks.md, session 39).
+  double converged_px = 0.03;
+  double tukey_c = 4.685;  // Tukey biweight cut-off in robust sigmas (MAD)
   // The final refinements (the polish, and the full-resolution refinement of small frames) fit
   // the frame's contrast against the view (residuals t − gain·v) instead of taking it as 1 (see
   // kMinGain in tracking/dense_linearization.h for why noisy frames need it), and the polish
@@ -160,7 +169,8 @@ struct DirectAlignOptions {
   // right basin but up to 0.8 px off, and the polish over every pixel takes them to the truth
   // (polished concrete 024 at 320×240 under `all`: fits correlating 0.16–0.27 at z 9–16, no
   // frame locked with 0.3; with this rule every frame, camera RMS 0.18 px, none 0.5 px off).
-  // Cameras too large to be polished (polish_dense_max_frame_pixels) keep refusing them.
+  // Cameras whose frames are not polished (neither polish_dense_max_frame_pixels nor
+  // polish_min_frame_pixels) keep refusing them; at 1280×1024 the level-1 polish confirms them.
   double min_polished_significant_correlation = 0.15;
   double max_distinct_prior_chi2 = 400.0;
   // The weak rule was 0.2 / 0.65 when tuned on proxy floors; the first holdout run of the stress
@@ -247,6 +257,12 @@ struct TrackerOptions {
   // 640×480 one, beyond that size's 2 ms budget on textured floors: so by default 320×240 only
   // (docs/benchmarks.md, "Full-resolution polish"); 307200 turns it on at 640×480.
   int polish_max_frame_pixels = 100000;
+  // On cameras of at least this many pixels (0: none) every located frame is polished too, at
+  // level 1 (direct.polish_max_level_pixels): there the templates use a smaller share of the
+  // frame's pixels, and the polish has as many pixels as a 640×480 frame's. Measured on the
+  // painted floor 016 (holdout) at 1280×1024 under `all`: camera RMS 0.108 → 0.017 px, the
+  // polish 9 ms a frame on a loaded host (docs/benchmarks.md, session 39).
+  int polish_min_frame_pixels = 1000000;
   // On cameras of at most this many pixels the frames the dense alignment located with a finest-
   // level correlation below polish_dense_below_correlation are polished too: that fit ends at
   // level 1 or coarser (the templates' at full resolution), and is least precise where it
