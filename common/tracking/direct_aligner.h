@@ -76,6 +76,8 @@ class DirectAligner {
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
+  // The pyramid level the polish works at (direct.polish_max_level_pixels).
+  int PolishLevel() const;
 
  private:
   struct Level;
@@ -102,7 +104,6 @@ class DirectAligner {
   double StepPx(const Eigen::Vector3d& q, int level) const;
   std::vector<cv::Range> SpansInMosaic(const geometry::Pose2& pose, const cv::Rect& inner,
                                        int level) const;
-  int PolishLevel() const;
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
