@@ -413,5 +413,44 @@ TEST(DirectAligner, PolishRefusesAFrameOfAnotherFloor) {
   EXPECT_FALSE(fit.valid) << "correlation " << fit.correlation;
 }
 
+// Camera-centre RMS (px) of polishes of frames whose grid runs parallel to the mosaic's (headings
+// 0 and 90°), at 16 sub-pixel positions, each started 0.07 px off.
+double ParallelGridPolishRmsPx(Fixture& f, const DirectAligner& aligner) {
+  double sq = 0.0;
+  int n = 0;
+  for (const double theta : {0.0, M_PI / 2}) {
+    cv::RNG rng(3);
+    for (int k = 0; k < 16; ++k) {
+      const Pose2 base =
+          Pose2{0.1 + kRes * 0.37 * k, 0.12 + kRes * 0.61 * k, theta} * Pose2{0.1, 0, 0}.Inverse();
+      const cv::Mat frame = Noisy(f.scene.Render(base, 1.0, 0.0), rng);
+      const Pose2 truth = base * f.scene.camera.mount;
+      const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+      const DirectAlignment fit =
+          aligner.Polish(frame, prior, {truth.x + 3e-5, truth.y - 2e-5, truth.theta});
+      EXPECT_TRUE(fit.valid) << "heading " << theta << ", position " << k << ": " << fit.reason;
+      sq += std::pow(CentreErrorPx(f.scene, fit.posterior.pose, base), 2);
+      ++n;
+    }
+  }
+  return std::sqrt(sq / n);
+}
+
+// A vehicle driving along the mosaic's axes: the level-1 polish must not be pulled towards the
+// mosaic's level-1 pixels. Its view is rendered at level 0 and averaged down as the frame is;
+// measured 0.045 px RMS at level 1, 0.046 at level 0; rendered from the mosaic's own level 1,
+// 0.081 at level 1.
+TEST(DirectAligner, PolishAtLevel1OfAFrameParallelToTheMosaicGridIsAsCloseAsAtLevel0) {
+  Fixture f;
+  DirectAlignOptions at_level_1 = SmallCameraOptions();
+  at_level_1.polish_max_level_pixels = f.scene.camera.width_px * f.scene.camera.height_px / 4;
+  const DirectAligner level_1(at_level_1, f.scene.camera, &f.normalized);
+  ASSERT_EQ(level_1.PolishLevel(), 1);
+  const double at_0 = ParallelGridPolishRmsPx(f, f.aligner);
+  const double at_1 = ParallelGridPolishRmsPx(f, level_1);
+  EXPECT_LT(at_1, 0.06);
+  EXPECT_LT(at_1, 1.25 * at_0) << "level 0: " << at_0;
+}
+
 }  // namespace
 }  // namespace fleetloc::tracking

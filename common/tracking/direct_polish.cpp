@@ -18,6 +18,26 @@ using geometry::Difference;
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
 
+namespace {
+
+// The normalized mosaic view of `rect` (pixels of `level`) from `pose`, rendered at level 0 and
+// averaged down exactly as the frame is (direct_detail::Halved per level). The mosaic's own coarser
+// levels were averaged on the mosaic's pixel grid: when the frame's grid runs parallel to it (a
+// vehicle driving along the mosaic's axes), their aliasing differs from the frame's by an amount
+// that depends on the sub-pixel phase between the grids, and the fit is pulled towards the
+// mosaic's pixels (0.08 px at 1280×1024 measured, against 0.002 at other headings).
+cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera,
+                   const cv::Rect& rect, const Pose2& pose, int level) {
+  const int k = 1 << level;
+  cv::Mat view = RenderNormalizedView(
+      mosaic, cv::Rect(rect.x * k, rect.y * k, rect.width * k, rect.height * k),
+      FrameMosaicWarp::For(pose, camera, mosaic->layout().geo), 0);
+  for (int l = 0; l < level; ++l) view = direct_detail::Halved(view);
+  return view;
+}
+
+}  // namespace
+
 // Per row of `inner` (pixels of `level`), the columns (relative to inner.x) whose pixel and its
 // gradient neighbours fall inside the mosaic, with a pixel to spare, when the camera is at `pose`.
 std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv::Rect& inner,
@@ -60,7 +80,6 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
   for (int l = 0; l < level; ++l) frame = direct_detail::Halved(frame);
   const int b = mosaic_->MarginAt(level);
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
-  const mosaic::MosaicLayout& layout = mosaic_->layout();
   const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
   int points = 0;
   for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
@@ -71,23 +90,19 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
   const cv::Mat normalized = mosaic_->Normalize(frame, level);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
-  const auto warp_at = [&](const Pose2& pose) {
-    return FrameMosaicWarp::For(pose, camera_, layout.geo).AtLevel(level);
-  };
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
   double blur = std::max(0.0, view_blur_px);
   if (view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
-    const cv::Mat wide =
-        RenderNormalizedView(mosaic_, GrownBy(view_rect, m), warp_at(start), level);
+    const cv::Mat wide = PolishView(mosaic_, camera_, GrownBy(view_rect, m), start, level);
     blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
                         options_.view_blur_step_px, options_.tukey_c);
   }
   out.view_blur_px = blur;
   const int m = BlurMarginPx(blur);
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
-    const cv::Mat view = BlurredView(
-        RenderNormalizedView(mosaic_, GrownBy(view_rect, m), warp_at(pose), level), blur, m);
+    const cv::Mat view =
+        BlurredView(PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level), blur, m);
     Linearization lin = LinearizeWholeFrame(normalized, view, inner, spans, principal,
                                             options_.tukey_c, sigma, gain);
     InLevel0Pixels(level, &lin);
