@@ -27,8 +27,13 @@ bool StressConditionIsFast(const std::string& condition) {
   return condition == "fast" || condition == "all";
 }
 
+RouteShape StressConditionRoute(const std::string& condition) {
+  return condition == "aisles" ? RouteShape::kRoundedRectangle : RouteShape::kFigureEight;
+}
+
 std::optional<RenderOptions> StressCameraEffects(const std::string& condition) {
   if (condition == "marks") return MarksEffects();
+  if (condition == "aisles") return StressCameraEffects("clean");
   if (condition != "clean" && !StressConditionIsFast(condition) && condition != "dusty")
     return std::nullopt;
   const bool fast = StressConditionIsFast(condition);

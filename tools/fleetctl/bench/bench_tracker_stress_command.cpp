@@ -25,7 +25,9 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
   stress->add_option("--classes", args->classes, "Floor classes to run (default: all)")
       ->delimiter(',');
   stress->add_option("--sizes", args->sizes, "Frame sizes WIDTHxHEIGHT")->delimiter(',');
-  stress->add_option("--conditions", args->conditions, "clean, fast, dusty, all, marks")
+  stress
+      ->add_option("--conditions", args->conditions,
+                   "clean, fast, dusty, all, marks (default: these five); aisles")
       ->delimiter(',');
   stress->add_option("--frames", s.frames, "Frames per cell")->check(CLI::Range(1, 1000000));
   stress

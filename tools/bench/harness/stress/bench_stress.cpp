@@ -98,12 +98,13 @@ Status ApplyStressCondition(const std::string& name, BenchSettings* s) {
   const std::optional<sim::RenderOptions> effects = sim::StressCameraEffects(name);
   if (!effects) {
     return InvalidInput("--conditions: unknown condition '" + name +
-                        "' (known: clean, fast, dusty, all, marks)");
+                        "' (known: clean, fast, dusty, all, marks, aisles)");
   }
   const bool fast = sim::StressConditionIsFast(name);
   // Frames 1/3 of a width apart, or 1.25 widths (no overlap in any direction of travel).
   s->speed_px_s = s->rate_hz * s->width_px * (fast ? 1.25 : 1.0 / 3.0);
   s->render = *effects;
+  s->route = sim::StressConditionRoute(name);
   // A short exposure: the floor moves about 1 px during it.
   s->render.exposure_s = fast ? 1.0 / s->speed_px_s : 0.0;
   return Status::Ok();

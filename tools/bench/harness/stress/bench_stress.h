@@ -33,7 +33,7 @@ Result<std::vector<StressFloor>> ReadStressManifest(const std::filesystem::path&
 // data/stress_floors/floors.json of the source tree (beside the build, else the compiled-in one).
 std::filesystem::path DefaultStressManifest();
 
-// "clean", "fast", "dusty", "all", "marks".
+// The default conditions: "clean", "fast", "dusty", "all", "marks". "aisles" is asked for by name.
 const std::vector<std::string>& StressConditionNames();
 
 // The run settings of a condition for frames of width × height (speed scales with the frame):

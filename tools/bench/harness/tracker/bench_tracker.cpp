@@ -91,6 +91,7 @@ sim::SimOptions SimOptionsFor(const BenchSettings& settings) {
   options.timing.frames = settings.frames;
   options.timing.frame_rate_hz = settings.rate_hz;
   options.route.speed_px_s = settings.speed_px_s;
+  options.route.shape = settings.route;
   options.seed = settings.seed;
   options.render = settings.render;
   return options;

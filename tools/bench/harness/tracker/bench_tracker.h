@@ -31,6 +31,7 @@ struct BenchSettings {
   int peer_frames = 0;                  // peers replay only the first peer_frames frames; 0: all
   int width_px = 640, height_px = 480;  // the simulated camera's frames
   sim::RenderOptions render;            // camera effects (default: `fleetctl sim`'s)
+  sim::RouteShape route = sim::RouteShape::kFigureEight;
   tracking::TrackerOptions tracker;  // fleetloc's options (`--tracker-config`; default: defaults)
 };
 
