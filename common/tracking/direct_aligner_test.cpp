@@ -357,8 +357,8 @@ TEST(DirectAligner, PolishAtLevel1TakesANearFitCloserWithAnHonestCovariance) {
   at_level_1.polish_max_level_pixels = f.scene.camera.width_px * f.scene.camera.height_px / 4;
   const DirectAligner aligner(at_level_1, f.scene.camera, &f.normalized);
   ASSERT_EQ(aligner.PolishLevel(), 1);
-  // Measured: from 0.16 px RMS, 0.014 px and NEES 0.9; confirming from 0.32 px, 0.021 px and NEES
-  // 1.4. With the Jacobian's translation columns left per level-1 pixel, NEES 8.1 from 0.16 px.
+  // Measured: from 0.16 px RMS, 0.008 px and NEES 0.7; confirming from 0.32 px, 0.010 px and NEES
+  // 0.8. With the Jacobian's translation columns left per level-1 pixel, NEES 24 and 7.5.
   for (const PolishTrials& r : {RunPolishTrials(f, aligner, 7, 1e-4),
                                 RunPolishTrials(f, aligner, 7, 2e-4, /*confirming=*/true)}) {
     EXPECT_LT(r.polished_rms_px, 0.04) << r.start_rms_px;
@@ -441,7 +441,7 @@ double ParallelGridPolishRmsPx(Fixture& f, const DirectAligner& aligner) {
 
 // A vehicle driving along the mosaic's axes: the level-1 polish must not be pulled towards the
 // mosaic's level-1 pixels. Its view is rendered at level 0 and averaged down as the frame is;
-// measured 0.042 px RMS at level 1, 0.046 at level 0; rendered from the mosaic's own level 1,
+// measured 0.045 px RMS at level 1, 0.046 at level 0; rendered from the mosaic's own level 1,
 // 0.081 at level 1.
 TEST(DirectAligner, PolishAtLevel1OfAFrameParallelToTheMosaicGridIsAsCloseAsAtLevel0) {
   Fixture f;

@@ -20,20 +20,25 @@ using geometry::PoseWithCovariance;
 
 namespace {
 
-// The normalized mosaic view of `rect` (pixels of `level`) from `pose`, rendered at level 0 and
-// averaged down as the normalized frame is (direct_detail::Halved per level). The mosaic's own
-// coarser levels were averaged on the mosaic's pixel grid: when the frame's grid runs parallel to
-// it (a vehicle driving along the mosaic's axes), their aliasing differs from the frame's by an
-// amount that depends on the sub-pixel phase between the grids, and the fit is pulled towards the
-// mosaic's pixels (0.08 px at 1280×1024 measured, against 0.002 at other headings).
+// The normalized mosaic view of `rect` (pixels of `level`) from `pose`. Above level 0 it is the
+// frame's own steps: the mosaic's pixels rendered at level 0, averaged down (direct_detail::Halved
+// per level), then normalized at `level`. The mosaic's own coarser levels were averaged on the
+// mosaic's pixel grid: when the frame's grid runs parallel to it (a vehicle driving along the
+// mosaic's axes), their aliasing differs from the frame's by an amount that depends on the
+// sub-pixel phase between the grids, and the fit is pulled towards the mosaic's pixels (0.08 px at
+// 1280×1024 measured, against 0.002 at other headings). Normalized at level 0 before averaging,
+// the view's local contrast differed from the frame's (clean worn asphalt g8 at 1280×1024, 0.0035
+// px RMS against 0.0012).
 cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera,
                    const cv::Rect& rect, const Pose2& pose, int level) {
-  const int k = 1 << level;
-  cv::Mat view = RenderNormalizedView(
-      mosaic, cv::Rect(rect.x * k, rect.y * k, rect.width * k, rect.height * k),
-      FrameMosaicWarp::For(pose, camera, mosaic->layout().geo), 0);
+  const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera, mosaic->layout().geo);
+  if (level == 0) return RenderNormalizedView(mosaic, rect, warp, 0);
+  const int k = 1 << level, n = mosaic->MarginAt(level);
+  const cv::Rect wide = GrownBy(rect, n);
+  cv::Mat view = RenderPredictedViewFloat(
+      mosaic->source(), cv::Rect(wide.x * k, wide.y * k, wide.width * k, wide.height * k), warp, 0);
   for (int l = 0; l < level; ++l) view = direct_detail::Halved(view);
-  return view;
+  return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height)).clone();
 }
 
 }  // namespace
@@ -76,10 +81,10 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
                                       bool confirming) const {
   DirectAlignment out;
   const int level = PolishLevel();
-  const int scale = 1 << level;
-  // Pixels within the level-0 normalization's margin, once averaged down, see only part of theirs.
-  const int b = std::max(mosaic_->MarginAt(level), (mosaic_->MarginAt(0) + scale - 1) / scale);
-  const cv::Rect inner(b, b, full_frame.cols / scale - 2 * b, full_frame.rows / scale - 2 * b);
+  cv::Mat frame = full_frame;
+  for (int l = 0; l < level; ++l) frame = direct_detail::Halved(frame);
+  const int b = mosaic_->MarginAt(level);
+  const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
   const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
   int points = 0;
   for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
@@ -87,12 +92,7 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
     out.reason = "frame mostly outside the mosaic";
     return out;
   }
-  // The frame normalized at level 0 and averaged down to the polish level: the same steps in the
-  // same order as its view (PolishView). Averaged first and normalized at the polish level, its
-  // local contrast differed from the view's (the level-0 deviation holds pixel noise that the
-  // averaging removes): clean worn asphalt g8 at 1280×1024, 0.0035 px RMS against 0.0012.
-  cv::Mat normalized = mosaic_->Normalize(full_frame, 0);
-  for (int l = 0; l < level; ++l) normalized = direct_detail::Halved(normalized);
+  const cv::Mat normalized = mosaic_->Normalize(frame, level);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).

@@ -32,6 +32,7 @@ class NormalizedMosaic {
   bool Prepare(const mosaic::TileKey& key);
   int WindowAt(int level) const { return std::max(5, (window_level0_px_ >> level) | 1); }
   const mosaic::MosaicLayout& layout() const { return mosaic_->layout(); }
+  mosaic::RasterSource* source() const { return mosaic_; }  // the mosaic's own pixels
   mosaic::TileCache& cache() { return *cache_; }
 
  private:

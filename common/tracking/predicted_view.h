@@ -18,6 +18,11 @@ namespace fleetloc::tracking {
 cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                             const FrameMosaicWarp& warp, int level = 0);
 
+// The same view as CV_32F, resampled by the tracker's own small-patch kernel
+// (imaging/fast_patch.h).
+cv::Mat RenderPredictedViewFloat(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
+                                 const FrameMosaicWarp& warp, int level);
+
 // The same view of the locally normalized mosaic, as CV_32F, resampled by the tracker's own
 // small-patch kernel (fast on the template-sized views of the hot loop; see imaging/fast_patch.h).
 cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,
