@@ -48,19 +48,19 @@ std::string Judge(const std::vector<BenchRow>& rows, const std::string& floor_cl
   if (!fleetloc) return "n/a";
   const nlohmann::json& f = fleetloc->summary;
   std::vector<std::string> misses;
-  if (Number(f, nullptr, "lock_rate") < 0.995) misses.push_back("lock");
-  if (Number(f, "error", "false_locks") > 0) misses.push_back("false lock");
+  if (Number(f, nullptr, "lock_rate") < 0.995) misses.emplace_back("lock");
+  if (Number(f, "error", "false_locks") > 0) misses.emplace_back("false lock");
   const double rms = Number(f, "error", "camera_position_rms_px");
-  if (!(rms <= (PlainClass(floor_class) ? 0.15 : 0.1))) misses.push_back("rms");
+  if (!(rms <= (PlainClass(floor_class) ? 0.15 : 0.1))) misses.emplace_back("rms");
   // Against ECC on the same frames: fleetloc's first N when ECC replayed only N.
   const BenchRow* same_frames = on_peer_frames ? on_peer_frames : fleetloc;
   if (ecc && Number(ecc->summary, "error", "camera_position_rms_px") <=
                  Number(same_frames->summary, "error", "camera_position_rms_px")) {
-    misses.push_back("rms vs ecc");
+    misses.emplace_back("rms vs ecc");
   }
   if (size.width == 640 && size.height == 480 &&
       Number(f, "ms_per_frame", "median") > (PlainClass(floor_class) ? 4.0 : 2.0)) {
-    misses.push_back("time");
+    misses.emplace_back("time");
   }
   if (misses.empty()) return "PASS";
   std::string text = "MISS:";
