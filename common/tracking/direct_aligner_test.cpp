@@ -26,6 +26,13 @@ DirectAlignOptions SmallCameraOptions() {
   return options;
 }
 
+// Options whose polish works at level 1 on the scene's camera, as on a 1280×1024 camera.
+DirectAlignOptions PolishAtLevel1Options(const TestScene& scene) {
+  DirectAlignOptions options = SmallCameraOptions();
+  options.polish_max_level_pixels = scene.camera.width_px * scene.camera.height_px / 4;
+  return options;
+}
+
 struct Fixture {
   TestScene scene;
   mosaic::ImageRasterSource source{scene.floor, scene.geo};
@@ -353,8 +360,7 @@ TEST(DirectAligner, PolishTakesANearFitOfANoisyFrameCloserWithAnHonestCovariance
 // only once polished (farther off; confirm_polish_iterations steps).
 TEST(DirectAligner, PolishAtLevel1TakesANearFitCloserWithAnHonestCovariance) {
   Fixture f;
-  DirectAlignOptions at_level_1 = SmallCameraOptions();
-  at_level_1.polish_max_level_pixels = f.scene.camera.width_px * f.scene.camera.height_px / 4;
+  const DirectAlignOptions at_level_1 = PolishAtLevel1Options(f.scene);
   const DirectAligner aligner(at_level_1, f.scene.camera, &f.normalized);
   ASSERT_EQ(aligner.PolishLevel(), 1);
   // Measured: from 0.16 px RMS, 0.008 px and NEES 0.7; confirming from 0.32 px, 0.010 px and NEES
@@ -445,8 +451,7 @@ double ParallelGridPolishRmsPx(Fixture& f, const DirectAligner& aligner) {
 // 0.081 at level 1.
 TEST(DirectAligner, PolishAtLevel1OfAFrameParallelToTheMosaicGridIsAsCloseAsAtLevel0) {
   Fixture f;
-  DirectAlignOptions at_level_1 = SmallCameraOptions();
-  at_level_1.polish_max_level_pixels = f.scene.camera.width_px * f.scene.camera.height_px / 4;
+  const DirectAlignOptions at_level_1 = PolishAtLevel1Options(f.scene);
   const DirectAligner level_1(at_level_1, f.scene.camera, &f.normalized);
   ASSERT_EQ(level_1.PolishLevel(), 1);
   const double at_0 = ParallelGridPolishRmsPx(f, f.aligner);

@@ -43,13 +43,18 @@ ViewSource CoveringBlock(const BlockReader& read, const cv::Rect& frame_rect,
                                                warp.linear(1, 0), warp.linear(1, 1), origin.y())};
 }
 
+// The covering block of the mosaic's own pixels.
+ViewSource RawCoveringBlock(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
+                            const FrameMosaicWarp& warp, int level) {
+  return CoveringBlock([mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); },
+                       frame_rect, warp, level);
+}
+
 }  // namespace
 
 cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                             const FrameMosaicWarp& warp, int level) {
-  const ViewSource source =
-      CoveringBlock([mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); },
-                    frame_rect, warp, level);
+  const ViewSource source = RawCoveringBlock(mosaic, frame_rect, warp, level);
   cv::Mat view;
   cv::warpAffine(source.block, view, source.view_to_block, frame_rect.size(),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT);
@@ -58,9 +63,7 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
 
 cv::Mat RenderPredictedViewFloat(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                                  const FrameMosaicWarp& warp, int level) {
-  const ViewSource source =
-      CoveringBlock([mosaic](int l, const cv::Rect& r) { return mosaic->ReadBlock(l, r); },
-                    frame_rect, warp, level);
+  const ViewSource source = RawCoveringBlock(mosaic, frame_rect, warp, level);
   // ResampleAffine's vectorized path reads floats: converting the block first is 30 times cheaper
   // than its per-pixel path over 8-bit pixels.
   cv::Mat block;
