@@ -292,10 +292,12 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_aravis_faults", floor, kDomain);
   Faults faults;
-  // Unplugged for 4 s: the stall is seen after camera_stall_s (1 s), and the reopening must fail
-  // while the camera is still gone (with 1.5 s, at times with 2 s, and with 3 s when the suite ran
-  // it beside the CPU-bound corridor drive on two cores, the first reopening came after the
-  // camera was back).
+  // Unplugged for 4 s: the stall is seen after camera_stall_s (1 s) and named unavailable at once;
+  // the camera is closed on a thread of its own (closing a GigE Vision camera that is gone waits
+  // out Aravis's control-channel timeouts, 3-12 s measured) while the reopening, which fails after
+  // 2.5 s without an answer, starts at once. Whether that failure ("camera unavailable: aravis:
+  // camera ...") comes before the camera is back depends on the machine's timing: either reason
+  // is accepted.
   faults.camera_gone_at = 3.0;
   faults.camera_back_at = 7.0;
   // Odometry 1.0-1.1 s after the first frame carries NaN; 2.0-2.05 s it is stamped 1 s back.
@@ -323,8 +325,7 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   }
   for (const char* line :
        {"odometry sample dropped (not_finite)", "odometry sample dropped (back_in_time)",
-        "camera stalled: no frame for", "camera unavailable: aravis: camera '127.0.0.1'",
-        "camera available again"}) {
+        "camera stalled: no frame for", "camera unavailable: ", "camera available again"}) {
     EXPECT_NE(run.log.find(line), std::string::npos) << line << "\n" << run.log;
   }
   // Back on the truth within a second of the camera's return.

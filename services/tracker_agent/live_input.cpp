@@ -58,6 +58,7 @@ Result<std::unique_ptr<LiveInput>> LiveInput::Create(const AgentConfig& config,
 LiveInput::~LiveInput() {
   stop_.store(true);
   if (camera_thread_.joinable()) camera_thread_.join();
+  if (closer_.joinable()) closer_.join();
 }
 
 void LiveInput::SetCameraError(const std::string& error) {
@@ -75,6 +76,7 @@ void LiveInput::CameraLoop() {
   std::unique_ptr<camera_io::CameraSource> camera;
   double last_frame_host = HostNow();
   auto close = [&](const std::string& why) {
+    SetCameraError(why);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       const camera_io::CameraStats s = camera->stats();
@@ -83,8 +85,11 @@ void LiveInput::CameraLoop() {
           closed_stats_.resent_packets += s.resent_packets;
       camera_stats_ = {};
     }
-    camera.reset();
-    SetCameraError(why);
+    // Closed on a thread of its own: closing a GigE Vision camera that is gone waits out its
+    // control channel's timeouts (Aravis: 5 tries of 500 ms a command, 3-12 s measured, or until
+    // the camera answers again), and the reopening must not wait for that.
+    if (closer_.joinable()) closer_.join();
+    closer_ = std::thread([old = std::move(camera)]() mutable { old.reset(); });
   };
   while (!stop_.load()) {
     if (!camera) {

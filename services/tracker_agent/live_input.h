@@ -78,6 +78,7 @@ class LiveInput : public VehicleInput {
   camera_io::CameraStats closed_stats_;
   std::atomic<bool> stop_{false};
   std::thread camera_thread_;
+  std::thread closer_;  // closes a camera the camera thread gave up on (one at a time)
 };
 
 }  // namespace fleetloc::tracker_agent

@@ -28,11 +28,15 @@ struct Script {
   std::atomic<int> width{64};
   std::atomic<bool> repeat_time{false};  // frames carry the previous frame's time again
   std::atomic<int> opens{0};
+  std::atomic<double> close_s{0.0};  // closing takes this long (a GigE Vision camera that is gone)
 };
 
 class ScriptedCamera : public camera_io::CameraSource {
  public:
   explicit ScriptedCamera(Script* script) : script_(script) {}
+  ~ScriptedCamera() override {
+    std::this_thread::sleep_for(std::chrono::duration<double>(script_->close_s.load()));
+  }
   Result<std::optional<camera_io::CapturedFrame>> Grab(double /*timeout_s*/) override {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (script_->failing) return Internal("scripted: device gone");
@@ -177,6 +181,21 @@ TEST_F(LiveInputTest, ACameraThatGoesAwayIsUnavailableThenReopened) {
   EXPECT_FALSE(HasIssue("camera_stalled"));
   EXPECT_GE(script_.opens, 2);
   EXPECT_GT(Count(Pump(0.2), InputEvent::Kind::kFrame), 3);
+}
+
+// Closing a camera that is gone can take seconds (Aravis waits out its control channel's
+// timeouts): the camera is named unavailable at once and reopened without waiting for the close.
+TEST_F(LiveInputTest, ACameraWhoseCloseHangsIsNamedAndReopenedWithoutWaitingForTheClose) {
+  Pump(0.2);
+  script_.close_s = 3.0;
+  script_.present = false, script_.failing = true;
+  Pump(0.3);
+  EXPECT_TRUE(HasIssue("camera_unavailable"));
+  script_.present = true, script_.failing = false, script_.close_s = 0.0;
+  Pump(1.2);  // the reopening, 1.2 s into a 3-s close
+  EXPECT_GE(script_.opens, 2);
+  EXPECT_GT(Count(Pump(0.2), InputEvent::Kind::kFrame), 3);
+  EXPECT_FALSE(HasIssue("camera_unavailable"));
 }
 
 TEST_F(LiveInputTest, ASilentCameraIsStalledThenReopened) {
