@@ -33,6 +33,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"min_search_radius_px", &o.min_search_radius_px},
           {"max_search_radius_px", &o.max_search_radius_px},
           {"refine_search_radius_px", &o.refine_search_radius_px},
+          {"refine_pass_radius_px", &o.refine_pass_radius_px},
           {"refine_passes", &o.refine_passes},
           {"coarse_above_radius_px", &o.coarse_above_radius_px},
           {"coarse_levels", &o.coarse_levels},

@@ -67,6 +67,16 @@ TEST(TrackerConfig, ReadsTheConfirmingPolishAndRefusesAWeakFitFloorAboveTheSigni
   EXPECT_NE(bad.status().message().find("direct.confirm_polish_iterations"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsTheRefinePassWindowAndRefusesOneWiderThanTheFinePasses) {
+  const auto options = TrackerOptionsFromJson({{"refine_pass_radius_px", 2}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->refine_pass_radius_px, 2);
+  EXPECT_EQ(tracking::TrackerOptions{}.refine_pass_radius_px, 1);
+  const auto bad = TrackerOptionsFromJson({{"refine_pass_radius_px", 3}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("refine_pass_radius_px"), std::string::npos);
+}
+
 TEST(TrackerConfig, ReadsTheHeadingProbesWindowAndRefusesANegativeOne) {
   const auto options = TrackerOptionsFromJson({{"direct", {{"heading_probe_px", 0}}}}, "t.json");
   ASSERT_TRUE(options.ok());

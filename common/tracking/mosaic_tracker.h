@@ -83,10 +83,11 @@ class MosaicTracker : public FrameLocalizer {
                                     const std::vector<TemplateSite>& sites, int size_px,
                                     int level) const;
   // Matches sites at a pyramid level around `camera`; each site searches its own 3-sigma
-  // radius, or fixed_radius_px (level pixels) when > 0.
+  // radius, or fixed_radius_px (level pixels) when > 0, and a site not found there searches
+  // retry_radius_px when that is larger.
   Measured MatchSites(const std::vector<PreparedSite>& sites,
-                      const geometry::PoseWithCovariance& camera, int fixed_radius_px,
-                      int level) const;
+                      const geometry::PoseWithCovariance& camera, int fixed_radius_px, int level,
+                      int retry_radius_px = 0) const;
   PoseUpdate Update(const geometry::PoseWithCovariance& prior, const Measured& measured,
                     int level) const;
   // Keeps the sites the update kept.

@@ -89,7 +89,8 @@ std::vector<MosaicTracker::PreparedSite> MosaicTracker::Prepare(
 // Step 6: each site matched within its own radius (or a fixed one), as map correspondences.
 MosaicTracker::Measured MosaicTracker::MatchSites(const std::vector<PreparedSite>& sites,
                                                   const PoseWithCovariance& camera,
-                                                  int fixed_radius_px, int level) const {
+                                                  int fixed_radius_px, int level,
+                                                  int retry_radius_px) const {
   const geometry::Geotransform& geo = mosaic_->layout().geo;
   const FrameMosaicWarp warp = FrameMosaicWarp::For(camera.pose, camera_, geo);
   const double sigma_m = options_.measurement_sigma_px * (1 << level) * camera_.resolution_m;
@@ -98,8 +99,10 @@ MosaicTracker::Measured MosaicTracker::MatchSites(const std::vector<PreparedSite
     const Eigen::Vector2d& center = prepared.site.center_px;
     const int full_radius = std::min(SearchRadius(camera, center), options_.max_search_radius_px);
     const int radius = fixed_radius_px > 0 ? fixed_radius_px : (full_radius >> level) + 1;
-    const std::optional<SiteMatch> match =
-        matcher_.Match(prepared.templ, center, radius, warp, level);
+    std::optional<SiteMatch> match = matcher_.Match(prepared.templ, center, radius, warp, level);
+    if (!match && retry_radius_px > radius) {  // e.g. the peak on a small window's border
+      match = matcher_.Match(prepared.templ, center, retry_radius_px, warp, level);
+    }
     if (!match) continue;
     const Eigen::Vector2d observed = geo.PixelToMap(warp(center + match->shift_px));
     measured.sites.push_back(prepared);
@@ -205,13 +208,13 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
   stats->templates = std::max(stats->templates, static_cast<int>(measured.matches.size()));
   PoseUpdate update = Update(prior, measured, 0);
   // Further passes: resample the mosaic at the refined pose and re-match the inliers in a small
-  // window, so the sub-pixel fit works near zero shift where its bias vanishes. Not when the fit
-  // will be polished: the polish ends at the same pose with or without them (camera RMS within
-  // 0.0002 px on the stress cells) and they cost 0.3 ms.
+  // window (±refine_pass_radius_px), so the sub-pixel fit works near zero shift where its bias
+  // vanishes. Not when the fit will be polished: the polish ends at the same pose with or without
+  // them (camera RMS within 0.0002 px on the stress cells) and they cost 0.3 ms.
   const int refine_passes = polish_ ? 0 : options_.refine_passes;
   for (int pass = 0; pass < refine_passes && update.inliers >= options_.min_inliers; ++pass) {
     measured = MatchSites(Inliers(measured, update), update.posterior,
-                          options_.refine_search_radius_px, 0);
+                          options_.refine_pass_radius_px, 0, options_.refine_search_radius_px);
     update = Update(prior, measured, 0);
   }
   stats->fine_ms += MsSince(t_fine);

@@ -155,6 +155,9 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.refine_passes >= 0 && o.refine_passes <= 5, "refine_passes", "must be in [0, 5]"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(o.refine_pass_radius_px >= 1 && o.refine_pass_radius_px <= o.refine_search_radius_px,
+            "refine_pass_radius_px", "must be in [1, refine_search_radius_px]"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(o.coarse_search_radius_px >= 1, "coarse_search_radius_px", "must be ≥ 1"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.coarse_above_radius_px >= o.refine_search_radius_px,
                                  "coarse_above_radius_px", "must be ≥ refine_search_radius_px"));

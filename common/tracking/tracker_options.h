@@ -233,6 +233,13 @@ struct TrackerOptions {
   // (below ECC's 0.005–0.009), demo floors base_link 0.051 → 0.041 px, +0.45 ms per frame.
   // Skipped on frames that are polished (polish_max_frame_pixels), which end at the same pose.
   int refine_passes = 1;
+  // The extra passes' window (±px): they start at a pose good to a small fraction of a pixel, so
+  // the peak is the window's centre and a 3×3 surface holds the quadratic fit's whole
+  // neighbourhood (the same fit as in a 5×5 one, whose second peak lies within the centre's
+  // exclusion radius anyway); a template whose peak is off the centre is matched again within
+  // ±refine_search_radius_px. 7 % fewer instructions per 640×480 frame (worn asphalt b1, clean
+  // and fast), the stress cells' poses unchanged (docs/benchmarks.md, session 41).
+  int refine_pass_radius_px = 1;
   // Coarse-to-fine: when the search radius exceeds coarse_above_radius_px, the first search runs
   // at pyramid level coarse_levels (each level halves the resolution and the radius) on the first
   // coarse_templates sites, each finer level refines ±refine radius, and the full-resolution
