@@ -85,7 +85,8 @@ class MapServerFixture {
           (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
             for (uint32_t i = 0; i < h.counters._length; ++i) {
               if (transport::GetBounded(h.counters._buffer[i].name) == name) {
-                value = h.counters._buffer[i].value, seen = true;
+                value = h.counters._buffer[i].value;
+                seen = true;
               }
             }
           });

@@ -243,7 +243,8 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
   std::atomic<bool> driving{true};
   std::thread drive([&] {
     for (double x = 0; driving; x += 0.01) {
-      vehicle.Publish(x), other.Publish(-x);
+      vehicle.Publish(x);
+      other.Publish(-x);
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });

@@ -27,7 +27,10 @@ int BruteNearestWithin(const std::vector<Eigen::Vector2d>& landmarks, const Eige
   int best = -1;
   double best_d = reach;
   for (std::size_t m = 0; m < landmarks.size(); ++m) {
-    if ((landmarks[m] - xy).norm() <= best_d) best_d = (landmarks[m] - xy).norm(), best = int(m);
+    if ((landmarks[m] - xy).norm() <= best_d) {
+      best_d = (landmarks[m] - xy).norm();
+      best = int(m);
+    }
   }
   return best;
 }

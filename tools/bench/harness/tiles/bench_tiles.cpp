@@ -82,14 +82,19 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   Clock::time_point measuring;
   bool warm = false;
   while (SecondsSince(start) < 1.0 + s.seconds) {
-    if (!warm && SecondsSince(start) >= 1.0)
-      warm = true, measuring = Clock::now(), t.tiles = 0, bytes = 0;
+    if (!warm && SecondsSince(start) >= 1.0) {
+      warm = true;
+      measuring = Clock::now();
+      t.tiles = 0;
+      bytes = 0;
+    }
     while (static_cast<int>(outstanding.size()) < s.pipeline) FLEETLOC_RETURN_IF_ERROR(send());
     (void)waitset->Wait(0.01);
     auto tiles = (*client)->TakeTiles();
     if (!tiles.ok()) return tiles.status();
     for (const auto& tile : *tiles) {
-      ++t.tiles, bytes += static_cast<long long>(tile.data.size());
+      ++t.tiles;
+      bytes += static_cast<long long>(tile.data.size());
       if (--outstanding[tile.request_id] == 0) outstanding.erase(tile.request_id);
     }
   }
