@@ -17,7 +17,8 @@ std::vector<Eigen::Vector2d> Landmarks(std::mt19937& rng) {
   std::vector<Eigen::Vector2d> landmarks;
   for (int k = 0; k < 20; ++k) {
     landmarks.emplace_back(x(rng), y(rng));
-    landmarks.push_back(landmarks.back() + Eigen::Vector2d(near(rng), near(rng)));
+    const Eigen::Vector2d twin = landmarks.back() + Eigen::Vector2d(near(rng), near(rng));
+    landmarks.push_back(twin);  // not emplace_back: the argument reads landmarks.back()
   }
   return landmarks;
 }

@@ -6,10 +6,10 @@
 // docs/benchmarks.md.
 #include "harness/map_server/bench_patch_flood.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>

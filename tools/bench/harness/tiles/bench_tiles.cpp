@@ -1,9 +1,9 @@
 // Tile streaming benchmark against a real map_server process (see bench_tiles.h).
 #include "harness/tiles/bench_tiles.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -72,6 +72,7 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   size_t next_key = 0;
   auto send = [&]() -> Status {
     std::vector<mosaic::TileKey> batch;
+    batch.reserve(s.batch_tiles);
     for (int i = 0; i < s.batch_tiles; ++i) batch.push_back(keys[next_key++ % keys.size()]);
     outstanding[next_id] = s.batch_tiles;
     return (*client)->Request(next_id++, "", batch);
