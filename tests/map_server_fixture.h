@@ -3,9 +3,9 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <signal.h>
 
 #include <chrono>
+#include <csignal>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -42,7 +42,7 @@ class MapServerFixture {
     if (imported.ok()) layout_ = *imported;
     if (!config_members.empty()) {
       config_path_ = (scratch_.path() / "map_server.json").string();
-      std::ofstream(config_path_) << "{\"mosaic\": \"" << mosaic_path_ << "\", " << config_members
+      std::ofstream(config_path_) << R"({"mosaic": ")" << mosaic_path_ << R"(", )" << config_members
                                   << "}";
     }
     StartServer();

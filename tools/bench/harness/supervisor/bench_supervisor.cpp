@@ -79,8 +79,8 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop,
     for (int i = 0; i < a.vehicles; ++i) {
       PoseReport report{"sim-" + std::to_string(i), now, {}, tracking::LockState::kTracking, 1};
       const double phase = now * 0.2 + i;
-      report.base_in_map.pose = {10 * (i % 25) + std::cos(phase),
-                                 10 * static_cast<double>(i / 25) + std::sin(phase),
+      const int row = i / 25;  // 25 vehicles a row, 10 m apart
+      report.base_in_map.pose = {10 * (i % 25) + std::cos(phase), 10 * row + std::sin(phase),
                                  phase + M_PI / 2};
       report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
       if (poses[i].Write(ToIdl(report)).ok()) ++*published;
