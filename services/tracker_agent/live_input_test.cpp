@@ -191,10 +191,13 @@ TEST_F(LiveInputTest, ACameraThatGoesAwayIsUnavailableThenReopened) {
 TEST_F(LiveInputTest, ACameraWhoseCloseHangsIsNamedAndReopenedWithoutWaitingForTheClose) {
   Pump(0.2);
   script_.close_s = 3.0;
-  script_.present = false, script_.failing = true;
+  script_.present = false;
+  script_.failing = true;
   Pump(0.3);
   EXPECT_TRUE(HasIssue("camera_unavailable"));
-  script_.present = true, script_.failing = false, script_.close_s = 0.0;
+  script_.present = true;
+  script_.failing = false;
+  script_.close_s = 0.0;
   Pump(1.2);  // the reopening, 1.2 s into a 3-s close
   EXPECT_GE(script_.opens, 2);
   EXPECT_GT(Count(Pump(0.2), InputEvent::Kind::kFrame), 3);
