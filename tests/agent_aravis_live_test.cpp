@@ -183,7 +183,8 @@ void ExpectOnTruth(const LiveRun& run, double tolerance_m) {
     within += f.error_m < tolerance_m && f.error_rad < 0.05 * M_PI / 180;
     EXPECT_LT(f.error_m, 0.005) << "time offset " << f.time_offset_s;
     EXPECT_GE(f.time_offset_s, 0.0);  // the mapping never stamps a frame before its capture
-    offsets.push_back(f.time_offset_s), errors.push_back(f.error_m);
+    offsets.push_back(f.time_offset_s);
+    errors.push_back(f.error_m);
   }
   ASSERT_FALSE(offsets.empty());
   EXPECT_GE(within, 0.95 * run.frame_poses.size()) << run.log;

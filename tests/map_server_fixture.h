@@ -3,9 +3,9 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <signal.h>
 
 #include <chrono>
+#include <csignal>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -42,7 +42,7 @@ class MapServerFixture {
     if (imported.ok()) layout_ = *imported;
     if (!config_members.empty()) {
       config_path_ = (scratch_.path() / "map_server.json").string();
-      std::ofstream(config_path_) << "{\"mosaic\": \"" << mosaic_path_ << "\", " << config_members
+      std::ofstream(config_path_) << R"({"mosaic": ")" << mosaic_path_ << R"(", )" << config_members
                                   << "}";
     }
     StartServer();
@@ -85,7 +85,8 @@ class MapServerFixture {
           (void)reader->TakeAll([&](const fleetloc_ServiceHealth& h, const dds_sample_info_t&) {
             for (uint32_t i = 0; i < h.counters._length; ++i) {
               if (transport::GetBounded(h.counters._buffer[i].name) == name) {
-                value = h.counters._buffer[i].value, seen = true;
+                value = h.counters._buffer[i].value;
+                seen = true;
               }
             }
           });

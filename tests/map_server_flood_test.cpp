@@ -108,8 +108,12 @@ TEST_F(MapServerFlood, PatchesDeclaringWhatMayNotBeDecodedAreRefusedUnread) {
   transport::PatchToSend deep = testing::ScenePatch(scene_, 1, {490, 425}, {});
   ASSERT_TRUE(cv::imencode(".png", cv::Mat(240, 320, CV_16UC4, cv::Scalar(1, 2, 3, 4)), deep.png));
   transport::PatchToSend huge = testing::ScenePatch(scene_, 2, {490, 425}, {});
-  for (size_t at : {16u, 20u})
-    huge.png[at] = 0, huge.png[at + 1] = 0, huge.png[at + 2] = 0x75, huge.png[at + 3] = 0x30;
+  for (size_t at : {16u, 20u}) {
+    huge.png[at] = 0;
+    huge.png[at + 1] = 0;
+    huge.png[at + 2] = 0x75;
+    huge.png[at + 3] = 0x30;
+  }
   ASSERT_TRUE(testing::SendPatch(**vehicle, deep));
   ASSERT_TRUE(testing::SendPatch(**vehicle, huge));
   std::map<uint64_t, transport::ReceivedAck> acks;

@@ -100,13 +100,16 @@ class MultiHostFleet {
     std::vector<std::string> args;
     std::string host, program;
     if (name == "ms-west" || name == "ms-east") {
-      host = name == "ms-west" ? "ms1" : "ms2", program = "map_server";
+      host = name == "ms-west" ? "ms1" : "ms2";
+      program = "map_server";
       args = {"--config", ServerConfig(name)};
     } else if (name == "sup") {
-      host = "sup", program = "fleet_supervisor";
+      host = "sup";
+      program = "fleet_supervisor";
       args = {"--http-port", "8080", "--history", dir_ / "history.db", "--token-file", TokenFile()};
     } else {
-      host = name == "agv-1" ? "agv1" : "agv2", program = "tracker_agent";
+      host = name == "agv-1" ? "agv1" : "agv2";
+      program = "tracker_agent";
       args = {"--config",   AgentConfig(name), "--outbox",
               Outbox(name), "--summary",       Summary(name, starts_[name])};
     }

@@ -51,7 +51,10 @@ double Yaw(const geo::Quaternion_& q) {
                     1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
 }
 void SetYaw(geo::Quaternion_& q, double yaw) {
-  q.x(0), q.y(0), q.z(std::sin(yaw / 2)), q.w(std::cos(yaw / 2));
+  q.x(0);
+  q.y(0);
+  q.z(std::sin(yaw / 2));
+  q.w(std::cos(yaw / 2));
 }
 
 std::vector<double> Numbers(const std::string& text) {
@@ -147,7 +150,9 @@ int main(int argc, char** argv) {
   poses << "t,frame_id,x,y,theta,cxx,cxy,cxt,cyy,cyt,ctt,czz\n";
   tfs << "t,parent,child,x,y,theta\n";
   diagnostics << "t,level,name,message\n";
-  poses.precision(17), tfs.precision(17), diagnostics.precision(17);
+  poses.precision(17);
+  tfs.precision(17);
+  diagnostics.precision(17);
 
   auto take = [&] {
     TakeAll<geo::PoseWithCovarianceStamped_>(
@@ -187,7 +192,8 @@ int main(int argc, char** argv) {
         m.pose().pose().position().x(initial[1]);
         m.pose().pose().position().y(initial[2]);
         SetYaw(m.pose().pose().orientation(), initial[3]);
-        m.pose().covariance()[0] = initial[4], m.pose().covariance()[7] = initial[5];
+        m.pose().covariance()[0] = initial[4];
+        m.pose().covariance()[7] = initial[5];
         m.pose().covariance()[35] = initial[6];
         initial_writer->write(&m);
         initial_sent = true;

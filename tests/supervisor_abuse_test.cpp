@@ -72,7 +72,7 @@ json Stats(httplib::Client& http) {
 }
 
 std::string WriteConfig(const std::filesystem::path& dir, const json& http) {
-  const std::string path = (dir / "supervisor.json").string();
+  std::string path = (dir / "supervisor.json").string();
   std::ofstream(path) << json{{"http", http}}.dump();
   return path;
 }
@@ -81,13 +81,17 @@ TEST(SupervisorAbuse, TheApiKeepsAnsweringWhileHostileClientsHoldIdleStreamSlowA
   testing::ScratchDir dir("supervisor_abuse_load");
   testing::SupervisorProcess supervisor(dir.path(), kDomain, kToken);
   httplib::Client http("127.0.0.1", supervisor.port());
-  http.set_connection_timeout(10), http.set_read_timeout(10);
+  http.set_connection_timeout(10);
+  http.set_read_timeout(10);
   ASSERT_TRUE(http.Get("/api/fleet")) << supervisor.log();
   const double rss_before = runtime::UsageOf(supervisor.pid()).peak_rss_mb;
 
   bench::AbuseOptions options;
   options.port = supervisor.port();
-  options.idle = 300, options.streams = 40, options.slow = 20, options.flood_mb = 20;
+  options.idle = 300;
+  options.streams = 40;
+  options.slow = 20;
+  options.flood_mb = 20;
   bench::HttpAbuse abuse(options);
   abuse.Start();
   std::this_thread::sleep_for(std::chrono::seconds(1));  // let the attackers take their sockets
@@ -156,7 +160,10 @@ TEST(SupervisorAbuse, ForeignHostsNulBytesRangesAndSurplusConnectionsAreRefused)
   {
     bench::AbuseOptions options;
     options.port = port;
-    options.idle = 0, options.streams = 3, options.slow = 0, options.flood_mb = 0;
+    options.idle = 0;
+    options.streams = 3;
+    options.slow = 0;
+    options.flood_mb = 0;
     bench::HttpAbuse streams(options);
     streams.Start();
     std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -176,7 +183,10 @@ TEST(SupervisorAbuse, ForeignHostsNulBytesRangesAndSurplusConnectionsAreRefused)
   // Connections beyond max_connections are refused at once.
   bench::AbuseOptions options;
   options.port = port;
-  options.idle = 40, options.streams = 0, options.slow = 0, options.flood_mb = 0;
+  options.idle = 40;
+  options.streams = 0;
+  options.slow = 0;
+  options.flood_mb = 0;
   bench::HttpAbuse idle(options);
   idle.Start();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -198,6 +208,7 @@ TEST(SupervisorAbuse, OneAddressCannotTakeEveryConnection) {
       "GET /api/fleet HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
   httplib::Client http("127.0.0.1", port);
   std::vector<int> idle;
+  idle.reserve(6);
   for (int i = 0; i < 6; ++i) idle.push_back(ConnectFrom(port, "127.0.0.2"));
   for (int fd : idle) ASSERT_GE(fd, 0);
   ASSERT_TRUE(

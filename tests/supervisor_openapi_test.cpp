@@ -73,13 +73,12 @@ std::string Misfit(const json& doc, const json& schema, const json& value,
     }
     for (const auto& [key, member] : value.items()) {
       const json properties = schema.value("properties", json::object());
+      const std::string at = std::string(where).append(".").append(key);
       if (properties.contains(key)) {
-        if (std::string m = Misfit(doc, properties[key], member, where + "." + key); !m.empty())
-          return m;
+        if (std::string m = Misfit(doc, properties[key], member, at); !m.empty()) return m;
       } else if (schema.contains("additionalProperties") &&
                  schema["additionalProperties"].is_object()) {
-        if (std::string m = Misfit(doc, schema["additionalProperties"], member, where + "." + key);
-            !m.empty())
+        if (std::string m = Misfit(doc, schema["additionalProperties"], member, at); !m.empty())
           return m;
       }
     }
@@ -103,10 +102,13 @@ Answer Raw(int port, const std::string& method, const std::string& target,
   addr.sin_port = htons(static_cast<uint16_t>(port));
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   Answer a;
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) return ::close(fd), a;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return a;
+  }
   std::string request =
       method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n";
-  for (const auto& [k, v] : headers) request += k + ": " + v + "\r\n";
+  for (const auto& [k, v] : headers) request.append(k).append(": ").append(v).append("\r\n");
   if (!body.empty() || method == "POST") {
     request +=
         "Content-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
@@ -162,7 +164,8 @@ std::string Target(const std::string& path, const json& operation) {
     const std::string value = example.is_string() ? example.get<std::string>() : example.dump();
     const std::string name = p["name"];
     if (p["in"] == "path") target.replace(target.find("{" + name + "}"), name.size() + 2, value);
-    if (p["in"] == "query") query += (query.empty() ? "?" : "&") + name + "=" + value;
+    if (p["in"] == "query")
+      query.append(query.empty() ? "?" : "&").append(name).append("=").append(value);
   }
   return target + query;
 }
@@ -194,7 +197,7 @@ TEST_F(SupervisorOpenApi, EveryDocumentedOperationAnswersAsDescribedAndNothingEl
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("supervisor_openapi", floor, kDomain, 0.0005, 256,
-                                   "\"metrics\": {\"port\": 0}");
+                                   R"("metrics": {"port": 0})");
   std::filesystem::create_directories(server.dir() / "sup");
   testing::SupervisorProcess supervisor(server.dir() / "sup", kDomain, kToken,
                                         {"--metrics-port", "0"});
@@ -231,7 +234,7 @@ TEST_F(SupervisorOpenApi, EveryDocumentedOperationAnswersAsDescribedAndNothingEl
         body = operation["requestBody"]["content"]["application/json"]["example"].dump();
       const Answer a = Raw(port, upper, target,
                            operation.contains("security") ? token : httplib::Headers{}, body);
-      const std::string what = upper + " " + target;
+      const std::string what = std::string(upper).append(" ").append(target);
       EXPECT_GE(a.status, 200) << what;
       EXPECT_LT(a.status, 300) << what << ": the documented example should succeed: "
                                << a.body.substr(0, 200);
@@ -272,7 +275,8 @@ TEST_F(SupervisorOpenApi, EveryDocumentedOperationAnswersAsDescribedAndNothingEl
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const Answer a = Raw(port, method, target, headers, body);
     EXPECT_EQ(a.status, status) << method << " " << target << ": " << a.body;
-    const std::string misfit = Described(doc_["paths"][path][lower], a, method + " " + target);
+    const std::string misfit =
+        Described(doc_["paths"][path][lower], a, std::string(method).append(" ").append(target));
     EXPECT_TRUE(misfit.empty()) << misfit;
   }
 

@@ -60,7 +60,7 @@ int FreePort() {
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
+  (void)::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
   socklen_t len = sizeof addr;
   ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
   ::close(fd);
@@ -243,7 +243,8 @@ TEST_F(Vda5050Mqtt, VisualizationAndConnectionReachTheBrokerAndSurviveItsRestart
   std::atomic<bool> driving{true};
   std::thread drive([&] {
     for (double x = 0; driving; x += 0.01) {
-      vehicle.Publish(x), other.Publish(-x);
+      vehicle.Publish(x);
+      other.Publish(-x);
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   });

@@ -73,7 +73,8 @@ TEST(Calibration, RectifiedFloorViewIsAnExactSquareGrid) {
       const double angle_error =
           std::abs(std::acos(dx.dot(dy) / (cv::norm(dx) * cv::norm(dy))) - M_PI / 2);
       worst_angle = std::max(worst_angle, angle_error);
-      sum_angle += angle_error, ++cells;
+      sum_angle += angle_error;
+      ++cells;
     }
   }
   EXPECT_LT(worst_spacing, 1.0);  // < 2 % of a square

@@ -188,14 +188,16 @@ std::optional<cv::Mat> GstCamera::Image(GstSample* sample) {
   if (fps_ <= 0 && info.fps_d > 0) fps_ = static_cast<double>(info.fps_n) / info.fps_d;
   GstMapInfo map;
   if (!gst_buffer_map(buffer, &map, GST_MAP_READ)) {
-    ++stats_.dropped, stats_.last_drop = "buffer cannot be mapped";
+    ++stats_.dropped;
+    stats_.last_drop = "buffer cannot be mapped";
     return std::nullopt;
   }
   const cv::Mat view(GST_VIDEO_INFO_HEIGHT(&info), GST_VIDEO_INFO_WIDTH(&info), type, map.data,
                      GST_VIDEO_INFO_PLANE_STRIDE(&info, 0));
   cv::Mat gray;
   if (map.size < GST_VIDEO_INFO_SIZE(&info)) {
-    ++stats_.dropped, stats_.last_drop = "buffer smaller than its caps say";
+    ++stats_.dropped;
+    stats_.last_drop = "buffer smaller than its caps say";
   } else if (conversion == 0) {
     gray = view.clone();
   } else {
@@ -218,7 +220,8 @@ std::optional<double> GstCamera::CaptureTime(GstSample* sample, double arrival_t
 
 std::optional<double> GstCamera::DeviceTime(GstBuffer* buffer, double arrival_t) {
   if (!GST_BUFFER_PTS_IS_VALID(buffer)) {
-    ++stats_.dropped, stats_.last_drop = "buffer without a timestamp (gstreamer.timestamps device)";
+    ++stats_.dropped;
+    stats_.last_drop = "buffer without a timestamp (gstreamer.timestamps device)";
     return std::nullopt;
   }
   const double t = clock_.Map(static_cast<double>(GST_BUFFER_PTS(buffer)) * 1e-9, arrival_t);
@@ -243,7 +246,9 @@ double GstCamera::PipelineTime(GstBuffer* buffer, const GstSegment* segment,
   GstClockTime before = 0, after = 0;
   double host_now = 0;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    before = gst_clock_get_time(clock), host_now = HostNow(), after = gst_clock_get_time(clock);
+    before = gst_clock_get_time(clock);
+    host_now = HostNow();
+    after = gst_clock_get_time(clock);
     if (after - before < 20 * GST_USECOND) break;
   }
   gst_object_unref(clock);

@@ -26,7 +26,9 @@ class UdpFrameSender {
   static int FreePort() {
     const int s = ::socket(AF_INET, SOCK_DGRAM, 0);
     sockaddr_in a{};
-    a.sin_family = AF_INET, a.sin_addr.s_addr = htonl(INADDR_LOOPBACK), a.sin_port = 0;
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = 0;
     socklen_t size = sizeof a;
     int port = 0;
     if (s >= 0 && ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
@@ -38,7 +40,8 @@ class UdpFrameSender {
   // Sends a continuous CV_8UC1 frame; false when the datagram could not be sent.
   bool Send(const cv::Mat& gray, int port) const {
     sockaddr_in a{};
-    a.sin_family = AF_INET, a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     a.sin_port = htons(static_cast<uint16_t>(port));
     const size_t bytes = gray.total() * gray.elemSize();
     return ::sendto(socket_, gray.data, bytes, 0, reinterpret_cast<sockaddr*>(&a), sizeof a) ==

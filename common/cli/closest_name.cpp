@@ -27,7 +27,10 @@ std::optional<std::string> ClosestName(const std::string& typed,
   int best_distance = 0;
   for (const std::string& c : candidates) {
     const int distance = c.rfind(typed, 0) == 0 ? 1 : EditDistance(typed, c);
-    if (!best || distance < best_distance) best = c, best_distance = distance;
+    if (!best || distance < best_distance) {
+      best = c;
+      best_distance = distance;
+    }
   }
   const int limit = std::max<int>(2, static_cast<int>(typed.size()) / 3);
   if (!best || best_distance > limit) return std::nullopt;

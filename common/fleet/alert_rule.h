@@ -30,7 +30,10 @@ class HysteresisAlarm {
   Change Update(double t, double value);
   bool active() const { return active_; }
   // Sets the state without a hold (restoring an alert that was active before a restart).
-  void Force(bool active) { active_ = active, pending_since_.reset(); }
+  void Force(bool active) {
+    active_ = active;
+    pending_since_.reset();
+  }
 
  private:
   HysteresisOptions options_;

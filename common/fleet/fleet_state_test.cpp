@@ -11,13 +11,19 @@ constexpr double kT0 = 1.7e9;
 
 PoseSample Pose(double t, double x, LockState lock = LockState::kTracking, double dev_m = 0.001) {
   PoseSample p;
-  p.t = t, p.x = x, p.y = 2.0, p.lock = lock, p.deviation_range_m = dev_m;
+  p.t = t;
+  p.x = x;
+  p.y = 2.0;
+  p.lock = lock;
+  p.deviation_range_m = dev_m;
   return p;
 }
 
 HealthSample Health(double t, double cycle_p95_ms, std::uint64_t drops = 0, bool reachable = true) {
   HealthSample h;
-  h.t = t, h.cycle_ms_p95 = cycle_p95_ms, h.camera_frame_drops = drops;
+  h.t = t;
+  h.cycle_ms_p95 = cycle_p95_ms;
+  h.camera_frame_drops = drops;
   h.map_server_reachable = reachable;
   return h;
 }

@@ -32,8 +32,14 @@ TEST(DecimateMinMax, OneHourAtOneHertzKeepsTheSpikeWithinFourHundredPoints) {
 TEST(DecimateMinMax, GapsLeaveEmptyBucketsOut) {
   // Two bursts 1000 s apart: the buckets between them are empty and skipped.
   std::vector<double> t, v;
-  for (int i = 0; i < 50; ++i) t.push_back(i), v.push_back(i);
-  for (int i = 0; i < 50; ++i) t.push_back(1000 + i), v.push_back(-i);
+  for (int i = 0; i < 50; ++i) {
+    t.push_back(i);
+    v.push_back(i);
+  }
+  for (int i = 0; i < 50; ++i) {
+    t.push_back(1000 + i);
+    v.push_back(-i);
+  }
   const std::vector<size_t> kept = DecimateMinMax(t, v, 20);
   ASSERT_FALSE(kept.empty());
   EXPECT_LE(kept.size(), 20u);

@@ -47,8 +47,12 @@ Result<fleet::PoseSample> PoseFromIdl(const fleetloc_VehiclePose& p) {
   const transport::PoseReport report = transport::FromIdl(p);
   fleet::PoseSample s;
   s.t = report.t;
-  s.x = p.x, s.y = p.y, s.theta = p.theta;
-  s.cov_xx = p.covariance[0], s.cov_xy = p.covariance[1], s.cov_yy = p.covariance[4];
+  s.x = p.x;
+  s.y = p.y;
+  s.theta = p.theta;
+  s.cov_xx = p.covariance[0];
+  s.cov_xy = p.covariance[1];
+  s.cov_yy = p.covariance[4];
   s.cov_tt = p.covariance[8];
   s.lock = report.state;
   s.localization_score = p.localization_score;
@@ -72,7 +76,9 @@ Result<fleet::HealthSample> HealthFromIdl(const fleetloc_VehicleHealth& h) {
   for (uint32_t i = 0; i < h.issues._length && i < 32; ++i)
     s.issues.push_back(GetBounded(h.issues._buffer[i].name));
   s.lock = transport::FromIdl(h.lock_state);
-  s.cycle_ms_p50 = h.cycle_ms_p50, s.cycle_ms_p95 = h.cycle_ms_p95, s.cycle_ms_p99 = h.cycle_ms_p99;
+  s.cycle_ms_p50 = h.cycle_ms_p50;
+  s.cycle_ms_p95 = h.cycle_ms_p95;
+  s.cycle_ms_p99 = h.cycle_ms_p99;
   s.inliers = static_cast<int>(h.inliers);
   s.cache_hit_rate = h.cache_hit_rate;
   s.tiles_pending = static_cast<int>(h.tiles_pending);

@@ -74,11 +74,15 @@ std::pair<double, double> SpanAtY(const ConvexPolygon& polygon, double y) {
     const Eigen::Vector2d& a = polygon[i];
     const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
     if ((a.y() - y) * (b.y() - y) > 0 || (a.y() == y && b.y() == y)) {
-      if (a.y() == y) lo = std::min(lo, a.x()), hi = std::max(hi, a.x());
+      if (a.y() == y) {
+        lo = std::min(lo, a.x());
+        hi = std::max(hi, a.x());
+      }
       continue;
     }
     const double x = a.x() + (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y());
-    lo = std::min(lo, x), hi = std::max(hi, x);
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
   }
   return {lo, hi};
 }

@@ -28,13 +28,20 @@ cv::Mat AsFloat(const cv::Mat& m) {
 
 // Window [lo, hi) of each index, clipped to [0, n).
 void ClippedWindows(int n, int half, std::vector<int>& lo, std::vector<int>& hi) {
-  lo.resize(n), hi.resize(n);
-  for (int i = 0; i < n; ++i) lo[i] = std::max(0, i - half), hi[i] = std::min(n, i + half + 1);
+  lo.resize(n);
+  hi.resize(n);
+  for (int i = 0; i < n; ++i) {
+    lo[i] = std::max(0, i - half);
+    hi[i] = std::min(n, i + half + 1);
+  }
 }
 
 FLEETLOC_VECTOR_CLONES
 void AddRow(const float* in, float* sum, float* sum_sq, int n, float sign) {
-  for (int x = 0; x < n; ++x) sum[x] += sign * in[x], sum_sq[x] += sign * in[x] * in[x];
+  for (int x = 0; x < n; ++x) {
+    sum[x] += sign * in[x];
+    sum_sq[x] += sign * in[x] * in[x];
+  }
 }
 
 // sum[x] = prefix[x + half + 1] − prefix[x − half] for x in [begin, end).
@@ -198,12 +205,14 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
       prefix_sq[x + 1] = prefix_sq[x] + col_sq[x];
     }
     for (int x = 0; x < interior_begin; ++x) {
-      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]], sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
+      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]];
+      sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
     }
     WindowDifferences(prefix.data(), prefix_sq.data(), interior_begin, interior_end, half,
                       sum.data(), sq.data());
     for (int x = interior_end; x < cols; ++x) {
-      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]], sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
+      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]];
+      sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
     }
     const float inv_rows = 1.0f / static_cast<float>(y_hi[y] - y_lo[y]);
     ScaleInto(inv_cols.data(), inv_rows, inv_n.data(), cols);
@@ -220,7 +229,8 @@ namespace {
 void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int* j_end) {
   if (a == 0.0f) {
     const bool inside = s0 >= lo && s0 < hi;
-    *j_begin = 0, *j_end = inside ? n : 0;
+    *j_begin = 0;
+    *j_end = inside ? n : 0;
     return;
   }
   double first = (lo - s0) / a, last = (hi - s0) / a;
@@ -330,12 +340,16 @@ cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
         run += v[x + tw - 1] - v[x - 1];
         run_sq += v[x + tw - 1] * v[x + tw - 1] - v[x - 1] * v[x - 1];
       }
-      seg[y * cols + x] = run, seg_sq[y * cols + x] = run_sq;
+      seg[y * cols + x] = run;
+      seg_sq[y * cols + x] = run_sq;
     }
   }
   for (int x = 0; x < cols; ++x) {
     double s = 0.0, s2 = 0.0;
-    for (int y = 0; y < th; ++y) s += seg[y * cols + x], s2 += seg_sq[y * cols + x];
+    for (int y = 0; y < th; ++y) {
+      s += seg[y * cols + x];
+      s2 += seg_sq[y * cols + x];
+    }
     for (int y = 0; y < rows; ++y) {
       if (y > 0) {
         s += seg[(y + th - 1) * cols + x] - seg[(y - 1) * cols + x];
@@ -366,11 +380,15 @@ cv::Mat TextureScoreGrid(const cv::Mat& gray, int step_px, int window_px) {
         for (int x = cx - h; x <= cx + h; ++x) {
           const float dx = 0.5f * (mid[x + 1] - mid[x - 1]);
           const float dy = 0.5f * (down[x] - up[x]);
-          a += dx * dx, b += dx * dy, c += dy * dy;
+          a += dx * dx;
+          b += dx * dy;
+          c += dy * dy;
         }
       }
       const float n = static_cast<float>(window_px * window_px);
-      a /= n, b /= n, c /= n;
+      a /= n;
+      b /= n;
+      c /= n;
       const float half_diff = 0.5f * (a - c);
       score.at<float>(gy, gx) =
           std::max(0.0f, 0.5f * (a + c) - std::sqrt(half_diff * half_diff + b * b));

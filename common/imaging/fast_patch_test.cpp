@@ -90,7 +90,9 @@ TEST(TextureScoreGrid, AgreesWithTheDenseScoreInRankAndScale) {
   for (int r = 1; r < grid.rows - 1; ++r) {
     for (int c = 1; c < grid.cols - 1; ++c) {
       const double g = grid.at<float>(r, c), d = dense.at<float>((r + 1) * 8, (c + 1) * 8);
-      dot += g * d, nd += d * d, ng += g * g;
+      dot += g * d;
+      nd += d * d;
+      ng += g * g;
     }
   }
   EXPECT_GT(dot / std::sqrt(nd * ng), 0.9);  // strongly correlated

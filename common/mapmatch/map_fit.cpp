@@ -70,7 +70,10 @@ NormalEquations Accumulate(std::span<const Eigen::Vector2d> landmarks,
     for (std::size_t m = 0; m < landmarks.size(); ++m) {
       const Eigen::Vector2d r = landmarks[m] - moved;
       if (r.squaredNorm() >= r2) continue;
-      if (!have_jacobian) j = geometry::PointJacobian(t, points[i]), have_jacobian = true;
+      if (!have_jacobian) {
+        j = geometry::PointJacobian(t, points[i]);
+        have_jacobian = true;
+      }
       eq.hessian += w * j.transpose() * j;
       eq.gradient += w * j.transpose() * r;
       eq.weighted_squared_residual += w * r.squaredNorm();

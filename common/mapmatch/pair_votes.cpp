@@ -74,7 +74,10 @@ void VotePair(const Voting& v, std::size_t k, std::size_t l, std::vector<VotedCo
 void SpotBox(std::span<const DenseSpot> spots, Eigen::Vector2d* low, Eigen::Vector2d* high) {
   *low = spots.front().center;
   *high = *low;
-  for (const DenseSpot& s : spots) *low = low->cwiseMin(s.center), *high = high->cwiseMax(s.center);
+  for (const DenseSpot& s : spots) {
+    *low = low->cwiseMin(s.center);
+    *high = high->cwiseMax(s.center);
+  }
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ struct Box {
 
 Box BoxOf(std::span<const Eigen::Vector2d> xy) {
   Box box{xy.front(), xy.front()};
-  for (const Eigen::Vector2d& p : xy)
-    box.low = box.low.cwiseMin(p), box.high = box.high.cwiseMax(p);
+  for (const Eigen::Vector2d& p : xy) box.low = box.low.cwiseMin(p);
+  for (const Eigen::Vector2d& p : xy) box.high = box.high.cwiseMax(p);
   return box;
 }
 
@@ -175,9 +175,10 @@ Mode Refine(const Problem& problem, const geometry::Pose2& start, double start_r
 // rotation. The voted correction itself when fewer than two other spots help.
 geometry::Pose2 FitToSpots(const Problem& problem, const std::vector<DenseSpot>& spots,
                            const geometry::Pose2& voted) {
-  std::vector<Eigen::Vector2d> centers;
-  std::vector<double> supports;
-  for (const DenseSpot& s : spots) centers.push_back(s.center), supports.push_back(s.support);
+  std::vector<Eigen::Vector2d> centers(spots.size());
+  std::vector<double> supports(spots.size());
+  std::ranges::transform(spots, centers.begin(), &DenseSpot::center);
+  std::ranges::transform(spots, supports.begin(), &DenseSpot::support);
   const MapFitResult fit = FitMap(problem.landmarks, centers, supports, voted,
                                   {.radius_m = problem.final_radius,
                                    .max_iterations = problem.options.max_iterations,

@@ -59,8 +59,8 @@ std::vector<Eigen::Vector2d> ClusteredOutliers(const RoomMap& map, const RoomMap
           map.landmarks[room.landmarks[UniformInt(0, room.landmarks.size() - 1, rng)]];
       const double inward = std::atan2(middle.y() - corner.y(), middle.x() - corner.x());
       const double angle = inward + Uniform(-M_PI / 4, M_PI / 4, rng);
-      centers.push_back(corner +
-                        Uniform(0.1, 0.5, rng) * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+      centers.emplace_back(corner + Uniform(0.1, 0.5, rng) *
+                                        Eigen::Vector2d(std::cos(angle), std::sin(angle)));
     } else {
       const Eigen::Vector2d at(Uniform(room.low.x() + 0.7, room.high.x() - 0.7, rng),
                                Uniform(room.low.y() + 0.7, room.high.y() - 0.7, rng));
@@ -68,7 +68,7 @@ std::vector<Eigen::Vector2d> ClusteredOutliers(const RoomMap& map, const RoomMap
       const double a = 0.5 * Uniform(0.4, 1.2, rng), b = 0.5 * Uniform(0.3, 0.6, rng);
       for (const Eigen::Vector2d& leg : {Eigen::Vector2d(-a, -b), Eigen::Vector2d(a, -b),
                                          Eigen::Vector2d(a, b), Eigen::Vector2d(-a, b)})
-        centers.push_back(at + turn * leg);
+        centers.emplace_back(at + turn * leg);
     }
     for (const Eigen::Vector2d& center : centers) {
       const int size = std::min(UniformInt(3, 10, rng), count - static_cast<int>(out.size()));
@@ -121,7 +121,10 @@ RoomMap BuildRoomMap(int landmarks, std::mt19937& rng) {
   double row_low = 0.0, row_high = Uniform(3.0, 5.0, rng);
   for (int index = 0; static_cast<int>(map.landmarks.size()) < landmarks; ++index) {
     const int column = index % columns;
-    if (column == 0 && index > 0) row_low = row_high, row_high += Uniform(3.0, 5.0, rng);
+    if (column == 0 && index > 0) {
+      row_low = row_high;
+      row_high += Uniform(3.0, 5.0, rng);
+    }
     RoomMap::Room room;
     room.low = {x_walls[column] + wall / 2, row_low + wall / 2};
     room.high = {x_walls[column + 1] - wall / 2, row_high - wall / 2};

@@ -18,19 +18,24 @@ cv::Rect2d IdealBounds(const ForwardCamera& camera) {
   const cv::Size size = camera.image_size();
   std::vector<Eigen::Vector2d> border;
   for (int u = 0; u < size.width; u += 4) {
-    border.emplace_back(u, 0), border.emplace_back(u, size.height - 1);
+    border.emplace_back(u, 0);
+    border.emplace_back(u, size.height - 1);
   }
   for (int v = 0; v < size.height; v += 4) {
-    border.emplace_back(0, v), border.emplace_back(size.width - 1, v);
+    border.emplace_back(0, v);
+    border.emplace_back(size.width - 1, v);
   }
   double x0 = 0, y0 = 0, x1 = size.width - 1, y1 = size.height - 1;
   for (const Eigen::Vector2d& n : camera.Undistort(border)) {
     const Eigen::Vector2d p = camera.NormalizedToIdealPixel(n);
-    x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y());
-    x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+    x0 = std::min(x0, p.x());
+    y0 = std::min(y0, p.y());
+    x1 = std::max(x1, p.x());
+    y1 = std::max(y1, p.y());
   }
-  x0 = std::max(x0, -kMaxGrowth * size.width), y0 = std::max(y0, -kMaxGrowth * size.height);
-  x1 = std::min(x1, (1 + kMaxGrowth) * size.width),
+  x0 = std::max(x0, -kMaxGrowth * size.width);
+  y0 = std::max(y0, -kMaxGrowth * size.height);
+  x1 = std::min(x1, (1 + kMaxGrowth) * size.width);
   y1 = std::min(y1, (1 + kMaxGrowth) * size.height);
   return {x0, y0, x1 - x0, y1 - y0};
 }

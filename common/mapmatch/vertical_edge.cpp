@@ -70,7 +70,10 @@ double FirstDrop(const Gradients& g, const EdgeSegment& edge, double polarity, d
   const auto strength = [&](double t) { return StrengthAt(g, edge, t, polarity); };
   double t = start, s = strength(t);
   if (s < threshold) {  // scan up to the edge
-    while (t > edge.begin && s < threshold) t -= step, s = strength(t);
+    while (t > edge.begin && s < threshold) {
+      t -= step;
+      s = strength(t);
+    }
     return t;
   }
   const int persist = std::max(1, static_cast<int>(std::ceil(persist_px / step)));
@@ -81,7 +84,8 @@ double FirstDrop(const Gradients& g, const EdgeSegment& edge, double polarity, d
       while (weak < persist && strength(t + (weak + 1) * step) < threshold) ++weak;
       if (weak == persist) return t + step * (s - threshold) / (s - next);
     }
-    t += step, s = next;
+    t += step;
+    s = next;
   }
   return t;
 }

@@ -45,7 +45,10 @@ ChangeReport CompareWithMosaic(const cv::Mat& frame, const cv::Mat& view, const 
   for (const BlockComparison& b : CompareBlocks(frame, view, o)) {
     if (!b.mapped) {
       // Floor the mosaic does not cover — if the camera sees textured floor there at all.
-      if (b.floor_seen && b.frame_stddev >= o.min_block_stddev) ++report.blocks, ++report.unmapped;
+      if (b.floor_seen && b.frame_stddev >= o.min_block_stddev) {
+        ++report.blocks;
+        ++report.unmapped;
+      }
       continue;
     }
     if (!b.textured(o.min_block_stddev)) continue;

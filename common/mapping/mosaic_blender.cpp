@@ -114,7 +114,11 @@ cv::Vec2d MosaicBlender::FitGain(const cv::Mat& values, const cv::Mat& weights,
     for (int i = 0; i < roi.width; ++i) {
       if (w[i] <= 0.0f || a[i] <= 0.0f) continue;
       const double f = v[i], m = s[i] / a[i];
-      n += 1, sf += f, sm += m, sff += f * f, sfm += f * m;
+      n += 1;
+      sf += f;
+      sm += m;
+      sff += f * f;
+      sfm += f * m;
     }
   }
   const double variance = sff - sf * sf / std::max(n, 1.0);

@@ -61,7 +61,10 @@ double MeanError(const MosaicBlender& blender, const cv::Mat& reference, const c
 cv::Mat Coverage(const Canvas& canvas, const Frames& frames, const geometry::CameraModel& camera) {
   cv::Mat coverage = cv::Mat::zeros(canvas.height_px, canvas.width_px, CV_8U);
   geometry::CameraModel inner = camera;
-  inner.width_px /= 2, inner.height_px /= 2, inner.cx_px /= 2, inner.cy_px /= 2;
+  inner.width_px /= 2;
+  inner.height_px /= 2;
+  inner.cx_px /= 2;
+  inner.cy_px /= 2;
   for (const Pose2& pose : frames.cameras) {
     const geometry::ConvexPolygon footprint =
         geometry::PlaceFootprint(geometry::FootprintInGround(inner), pose);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <utility>
 
 #include "geometry/covariance_check.h"
 #include "mapping/patch_blender.h"
@@ -18,6 +19,13 @@ std::string Format(const char* what, double value, const char* op, double limit)
   out.precision(3);
   out << what << " " << value << " " << op << " " << limit;
   return out.str();
+}
+
+// `a` refused with `verdict` for `reason`: Evaluate's early answers.
+Admission Refused(Admission a, Verdict verdict, std::string reason) {
+  a.verdict = verdict;
+  a.reason = std::move(reason);
+  return a;
 }
 
 double MaxEigenvalue(const Eigen::Matrix2d& m) {
@@ -36,7 +44,8 @@ double PhotometricRms(const cv::Mat& patch, const cv::Mat& view,
       for (int x = r.x; x < r.br().x; ++x) {
         if (m[x] == 0) continue;
         const double d = m[x] - (gain * p[x] + bias);
-        sum += d * d, ++n;
+        sum += d * d;
+        ++n;
       }
     }
   }
@@ -126,7 +135,7 @@ double MeanLocalStdDev(const cv::Mat& image, const cv::Rect& rect, int window_px
 
 PatchAdmission::PatchAdmission(mosaic::RasterSource* mosaic, AdmissionOptions options,
                                tracking::TrackerOptions tracker)
-    : mosaic_(mosaic), options_(std::move(options)), registrar_(mosaic, tracker) {}
+    : mosaic_(mosaic), options_(options), registrar_(mosaic, tracker) {}
 
 Eigen::Matrix3d PatchAdmission::SearchPrior(const Eigen::Matrix3d& claimed) const {
   const double res = mosaic_->layout().geo.resolution;
@@ -144,37 +153,27 @@ Eigen::Matrix3d PatchAdmission::SearchPrior(const Eigen::Matrix3d& claimed) cons
 Admission PatchAdmission::Evaluate(const Patch& patch) {
   Admission a;
   a.pose = patch.pose;
-  if (const std::string problem = geometry::CovarianceProblem(patch.covariance); !problem.empty()) {
-    a.verdict = Verdict::kMalformed, a.reason = problem;
-    return a;
-  }
+  if (const std::string problem = geometry::CovarianceProblem(patch.covariance); !problem.empty())
+    return Refused(a, Verdict::kMalformed, problem);
   if (patch.image.empty() || patch.image.type() != CV_8UC1 ||
       patch.image.cols < 2 * options_.blocks.block_px ||
-      patch.image.rows < 2 * options_.blocks.block_px) {
-    a.verdict = Verdict::kMalformed, a.reason = "image is not 8-bit gray of at least 2 × 2 blocks";
-    return a;
-  }
+      patch.image.rows < 2 * options_.blocks.block_px)
+    return Refused(a, Verdict::kMalformed, "image is not 8-bit gray of at least 2 × 2 blocks");
   const double res = mosaic_->layout().geo.resolution;
   const Registration r = registrar_.Register(patch, SearchPrior(patch.covariance));
   a.evidence.registered = r.registered;
   a.evidence.inliers = r.inliers;
   a.evidence.rms_residual_px = r.rms_residual_px;
-  if (!r.registered) {
-    a.verdict = Verdict::kUnregistered, a.reason = "does not register against the mosaic";
-    return a;
-  }
+  if (!r.registered)
+    return Refused(a, Verdict::kUnregistered, "does not register against the mosaic");
   a.pose = r.pose;
-  if (r.inliers < options_.min_inliers) {
-    a.verdict = Verdict::kUnregistered;
-    a.reason = Format("registration inliers", r.inliers, "<", options_.min_inliers);
-    return a;
-  }
-  if (r.rms_residual_px > options_.max_rms_residual_px) {
-    a.verdict = Verdict::kUnregistered;
-    a.reason =
-        Format("registration residual (px)", r.rms_residual_px, ">", options_.max_rms_residual_px);
-    return a;
-  }
+  if (r.inliers < options_.min_inliers)
+    return Refused(a, Verdict::kUnregistered,
+                   Format("registration inliers", r.inliers, "<", options_.min_inliers));
+  if (r.rms_residual_px > options_.max_rms_residual_px)
+    return Refused(
+        a, Verdict::kUnregistered,
+        Format("registration residual (px)", r.rms_residual_px, ">", options_.max_rms_residual_px));
   const geometry::Pose2 offset = geometry::Between(patch.pose, r.pose);
   a.evidence.disagreement_px = std::hypot(offset.x, offset.y) / res;
   a.evidence.disagreement_rad = std::abs(geometry::WrapAngle(offset.theta));
@@ -185,18 +184,14 @@ Admission PatchAdmission::Evaluate(const Patch& patch) {
   const double allowed_rad =
       std::max(options_.max_disagreement_sigmas * std::sqrt(patch.covariance(2, 2)),
                options_.min_disagreement_rad);
-  if (a.evidence.disagreement_px > allowed_px) {
-    a.verdict = Verdict::kPoseDisagrees;
-    a.reason = Format("reported position off the registration by (px)", a.evidence.disagreement_px,
-                      ">", allowed_px);
-    return a;
-  }
-  if (a.evidence.disagreement_rad > allowed_rad) {
-    a.verdict = Verdict::kPoseDisagrees;
-    a.reason = Format("reported heading off the registration by (rad)", a.evidence.disagreement_rad,
-                      ">", allowed_rad);
-    return a;
-  }
+  if (a.evidence.disagreement_px > allowed_px)
+    return Refused(a, Verdict::kPoseDisagrees,
+                   Format("reported position off the registration by (px)",
+                          a.evidence.disagreement_px, ">", allowed_px));
+  if (a.evidence.disagreement_rad > allowed_rad)
+    return Refused(a, Verdict::kPoseDisagrees,
+                   Format("reported heading off the registration by (rad)",
+                          a.evidence.disagreement_rad, ">", allowed_rad));
   Judge(patch, &a);
   if (a.admitted()) a.rank = ClaimedRank(patch, res);
   return a;
@@ -212,13 +207,15 @@ void PatchAdmission::Judge(const Patch& patch, Admission* a) {
     if (!b.mapped || !b.textured(o.blocks.min_block_stddev)) continue;
     ++e.textured_blocks;
     if (b.ncc >= o.anchor_ncc) {
-      anchors.push_back(b.rect), anchor_ncc_sum += b.ncc;
+      anchors.push_back(b.rect);
+      anchor_ncc_sum += b.ncc;
     } else if (b.ncc < o.blocks.min_block_ncc) {
       changed.push_back(b.rect);
       const double patch_std = MeanLocalStdDev(patch.image, b.rect, o.texture_window_px);
       const double mosaic_std = MeanLocalStdDev(view, b.rect, o.texture_window_px);
       if (patch_std < o.min_texture_ratio * mosaic_std) ++e.flattened_blocks;
-      patch_texture += patch_std, mosaic_texture += mosaic_std;
+      patch_texture += patch_std;
+      mosaic_texture += mosaic_std;
     }
   }
   e.anchor_blocks = static_cast<int>(anchors.size());

@@ -88,12 +88,19 @@ std::pair<double, double> PhotometricFit(const cv::Mat& patch, const cv::Mat& mo
   double gain = 1.0, bias = 0.0;
   for (int iteration = 0; iteration < 4 && pairs.size() >= 100; ++iteration) {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (const auto& [x, y] : pairs) n += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
+    for (const auto& [x, y] : pairs) {
+      n += 1;
+      sx += x;
+      sy += y;
+      sxx += x * x;
+      sxy += x * y;
+    }
     const double var = sxx - sx * sx / n;
     if (var < 1e-3 * n) return {1.0, 0.0};  // a flat patch: nothing to fit
     gain = (sxy - sx * sy / n) / var;
     bias = (sy - gain * sx) / n;
     std::vector<float> residuals;
+    residuals.reserve(pairs.size());
     for (const auto& [x, y] : pairs) residuals.push_back(std::abs(y - (gain * x + bias)));
     std::vector<float> sorted = residuals;
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());

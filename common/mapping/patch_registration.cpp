@@ -8,8 +8,10 @@ namespace {
 
 geometry::CameraModel PatchCamera(cv::Size size, double resolution_m) {
   geometry::CameraModel camera;
-  camera.width_px = size.width, camera.height_px = size.height;
-  camera.cx_px = size.width / 2.0, camera.cy_px = size.height / 2.0;
+  camera.width_px = size.width;
+  camera.height_px = size.height;
+  camera.cx_px = size.width / 2.0;
+  camera.cy_px = size.height / 2.0;
   camera.resolution_m = resolution_m;
   camera.mount = {};  // the patch pose is camera_ground itself
   return camera;

@@ -23,8 +23,10 @@ cv::Rect FootprintPx(cv::Size size, const geometry::Pose2& pose,
     const Eigen::Vector2d m = pose * Eigen::Vector2d(a, b);
     const double u = (m.x() - geo.origin_x) / geo.resolution,
                  v = (geo.origin_y - m.y()) / geo.resolution;
-    min_u = std::min(min_u, u), max_u = std::max(max_u, u);
-    min_v = std::min(min_v, v), max_v = std::max(max_v, v);
+    min_u = std::min(min_u, u);
+    max_u = std::max(max_u, u);
+    min_v = std::min(min_v, v);
+    max_v = std::max(max_v, v);
   }
   return cv::Rect(
       cv::Point(static_cast<int>(std::floor(min_u)) - 1, static_cast<int>(std::floor(min_v)) - 1),

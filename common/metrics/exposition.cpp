@@ -28,10 +28,18 @@ size_t NameLength(std::string_view s, bool colons) {
 bool ParseValue(std::string_view text, double* out) {
   std::string lower(text);
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower == "+inf" || lower == "inf")
-    return *out = std::numeric_limits<double>::infinity(), true;
-  if (lower == "-inf") return *out = -std::numeric_limits<double>::infinity(), true;
-  if (lower == "nan") return *out = std::numeric_limits<double>::quiet_NaN(), true;
+  if (lower == "+inf" || lower == "inf") {
+    *out = std::numeric_limits<double>::infinity();
+    return true;
+  }
+  if (lower == "-inf") {
+    *out = -std::numeric_limits<double>::infinity();
+    return true;
+  }
+  if (lower == "nan") {
+    *out = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
   if (text.empty()) return false;
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), *out);
   return ec == std::errc() && ptr == text.data() + text.size();
@@ -43,7 +51,7 @@ std::string FamilyOf(const std::string& name, const std::map<std::string, std::s
   for (const char* suffix : {"_bucket", "_sum", "_count"}) {
     const std::string_view sv(suffix);
     if (name.size() > sv.size() && name.ends_with(sv)) {
-      const std::string base = name.substr(0, name.size() - sv.size());
+      std::string base = name.substr(0, name.size() - sv.size());
       auto it = types.find(base);
       if (it != types.end() &&
           (it->second == "histogram" || (it->second == "summary" && sv != "_bucket")))
@@ -53,6 +61,34 @@ std::string FamilyOf(const std::string& name, const std::map<std::string, std::s
   return "";
 }
 
+// Reads label `key`'s value after its opening quote, unescaping \n, \\ and \"; advances `r` past
+// the closing quote. False with `error` set on a bad escape or a missing closing quote.
+bool ReadLabelValue(std::string_view* r, const std::string& key, std::string* value,
+                    std::string* error) {
+  while (!r->empty()) {
+    const char c = (*r)[0];
+    r->remove_prefix(1);
+    if (c == '"') return true;
+    if (c != '\\') {
+      *value += c;
+      continue;
+    }
+    if (r->empty()) break;
+    const char e = (*r)[0];
+    r->remove_prefix(1);
+    if (e == 'n') {
+      *value += '\n';
+    } else if (e == '\\' || e == '"') {
+      *value += e;
+    } else {
+      *error = "label " + key + ": bad escape";
+      return false;
+    }
+  }
+  *error = "label " + key + ": unterminated value";
+  return false;
+}
+
 // Parses `{a="b",c="d"}` at the start of `s`; advances `s` past it.
 bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels,
                  std::string* error) {
@@ -60,43 +96,34 @@ bool ParseLabels(std::string_view* s, std::map<std::string, std::string>* labels
   r.remove_prefix(1);  // '{'
   while (!r.empty() && r[0] != '}') {
     const size_t n = NameLength(r, false);
-    if (n == 0) return *error = "bad label name", false;
+    if (n == 0) {
+      *error = "bad label name";
+      return false;
+    }
     const std::string key(r.substr(0, n));
     r.remove_prefix(n);
-    if (r.size() < 2 || r[0] != '=' || r[1] != '"')
-      return *error = "label " + key + ": expected =\"", false;
+    if (r.size() < 2 || r[0] != '=' || r[1] != '"') {
+      *error = "label " + key + ": expected =\"";
+      return false;
+    }
     r.remove_prefix(2);
     std::string value;
-    bool closed = false;
-    while (!r.empty()) {
-      const char c = r[0];
-      r.remove_prefix(1);
-      if (c == '"') {
-        closed = true;
-        break;
-      }
-      if (c == '\\') {
-        if (r.empty()) break;
-        const char e = r[0];
-        r.remove_prefix(1);
-        if (e == 'n')
-          value += '\n';
-        else if (e == '\\' || e == '"')
-          value += e;
-        else
-          return *error = "label " + key + ": bad escape", false;
-      } else {
-        value += c;
-      }
+    if (!ReadLabelValue(&r, key, &value, error)) return false;
+    if (!labels->emplace(key, value).second) {
+      *error = "label " + key + " twice";
+      return false;
     }
-    if (!closed) return *error = "label " + key + ": unterminated value", false;
-    if (!labels->emplace(key, value).second) return *error = "label " + key + " twice", false;
-    if (!r.empty() && r[0] == ',')
+    if (!r.empty() && r[0] == ',') {
       r.remove_prefix(1);
-    else if (r.empty() || r[0] != '}')
-      return *error = "expected , or } after label " + key, false;
+    } else if (r.empty() || r[0] != '}') {
+      *error = "expected , or } after label " + key;
+      return false;
+    }
   }
-  if (r.empty()) return *error = "unterminated label set", false;
+  if (r.empty()) {
+    *error = "unterminated label set";
+    return false;
+  }
   r.remove_prefix(1);
   *s = r;
   return true;

@@ -41,7 +41,9 @@ TEST(FamilyBuilder, SeriesOfOneNameShareAFamily) {
 
 TEST(FamilyBuilder, HistogramHasCumulativeBucketsAndInf) {
   Histogram h({0.001, 0.01});
-  h.Observe(0.0005), h.Observe(0.005), h.Observe(5);
+  h.Observe(0.0005);
+  h.Observe(0.005);
+  h.Observe(5);
   FamilyBuilder b("p_", {});
   b.Histogram("cycle_seconds", "tracker cycle", h.Snapshot());
   const std::string text = ToText(b.Take());

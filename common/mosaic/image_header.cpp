@@ -24,18 +24,17 @@ std::optional<ImageHeader> Png(Bytes b) {
   if (!(b[12] == 'I' && b[13] == 'H' && b[14] == 'D' && b[15] == 'R')) return std::nullopt;
   ImageHeader h;
   h.format = ImageFormat::kPng;
-  h.width = Be32(b, 16), h.height = Be32(b, 20);
+  h.width = Be32(b, 16);
+  h.height = Be32(b, 20);
   h.bit_depth = b[24];
   switch (b[25]) {  // colour type
     case 0:
       h.channels = 1;
       break;
     case 2:
+    case 3:  // palette: decodes to colour
       h.channels = 3;
       break;
-    case 3:
-      h.channels = 3;
-      break;  // palette: decodes to colour
     case 4:
       h.channels = 2;
       break;
@@ -65,7 +64,8 @@ std::optional<ImageHeader> Jpeg(Bytes b) {
       ImageHeader h;
       h.format = ImageFormat::kJpeg;
       h.bit_depth = b[at + 4];
-      h.height = Be16(b, at + 5), h.width = Be16(b, at + 7);
+      h.height = Be16(b, at + 5);
+      h.width = Be16(b, at + 7);
       h.channels = b[at + 9];
       return h;
     }
@@ -97,7 +97,8 @@ std::optional<ImageHeader> Pnm(Bytes b) {
   }
   ImageHeader h;
   h.format = ImageFormat::kPnm;
-  h.width = values[0], h.height = values[1];
+  h.width = values[0];
+  h.height = values[1];
   h.bit_depth = values[2] > 255 ? 16 : 8;
   h.channels = b[1] == '5' ? 1 : 3;
   return h;

@@ -46,7 +46,12 @@ TEST(ImageHeader, ReadsSizeDepthAndChannelsOfEncodedImages) {
 TEST(ImageHeader, ATinyFileDeclaringAHugeImageIsReadAsDeclared) {
   std::vector<std::uint8_t> png = Encode(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0)), ".png");
   // IHDR width and height (big-endian at 16 and 20) rewritten to 30000 × 30000.
-  for (size_t at : {16u, 20u}) png[at] = 0, png[at + 1] = 0, png[at + 2] = 0x75, png[at + 3] = 0x30;
+  for (size_t at : {16u, 20u}) {
+    png[at] = 0;
+    png[at + 1] = 0;
+    png[at + 2] = 0x75;
+    png[at + 3] = 0x30;
+  }
   const std::optional<ImageHeader> h = ReadImageHeader(png);
   ASSERT_TRUE(h.has_value());
   EXPECT_EQ(h->pixels(), 900'000'000LL);

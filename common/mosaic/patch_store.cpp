@@ -110,8 +110,10 @@ MapRect PatchStore::Footprint(const PatchRecord& p) const {
   for (const auto& [a, b] :
        {std::pair{half_h, half_w}, {half_h, -half_w}, {-half_h, half_w}, {-half_h, -half_w}}) {
     const Eigen::Vector2d m = p.pose * Eigen::Vector2d(a, b);
-    box.x_min = std::min(box.x_min, m.x()), box.x_max = std::max(box.x_max, m.x());
-    box.y_min = std::min(box.y_min, m.y()), box.y_max = std::max(box.y_max, m.y());
+    box.x_min = std::min(box.x_min, m.x());
+    box.x_max = std::max(box.x_max, m.x());
+    box.y_min = std::min(box.y_min, m.y());
+    box.y_max = std::max(box.y_max, m.y());
   }
   return box;
 }
@@ -133,12 +135,15 @@ Result<PutOutcome> PatchStore::Put(const PatchRecord& p) {
   sqlite3_bind_text(s, 1, p.vehicle_id.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(s, 2, p.sequence);
   sqlite3_bind_double(s, 3, p.stamp_s);
-  sqlite3_bind_double(s, 4, p.pose.x), sqlite3_bind_double(s, 5, p.pose.y);
+  sqlite3_bind_double(s, 4, p.pose.x);
+  sqlite3_bind_double(s, 5, p.pose.y);
   sqlite3_bind_double(s, 6, p.pose.theta);
   sqlite3_bind_blob(s, 7, p.covariance.data(), 9 * sizeof(double), SQLITE_TRANSIENT);
   sqlite3_bind_double(s, 8, p.quality);
-  sqlite3_bind_double(s, 9, box.x_min), sqlite3_bind_double(s, 10, box.y_min);
-  sqlite3_bind_double(s, 11, box.x_max), sqlite3_bind_double(s, 12, box.y_max);
+  sqlite3_bind_double(s, 9, box.x_min);
+  sqlite3_bind_double(s, 10, box.y_min);
+  sqlite3_bind_double(s, 11, box.x_max);
+  sqlite3_bind_double(s, 12, box.y_max);
   sqlite3_bind_blob(s, 13, png->data(), static_cast<int>(png->size()), SQLITE_STATIC);
   sqlite3_bind_double(s, 14, WallSeconds());
   if (sqlite3_step(s) != SQLITE_DONE) {
@@ -175,8 +180,10 @@ Result<cv::Mat> DecodeColumn(sqlite3_stmt* s, int column) {
 
 void BindRegion(sqlite3_stmt* s, const MapRect& r, int64_t committed_version) {
   sqlite3_bind_int64(s, 1, committed_version);
-  sqlite3_bind_double(s, 2, r.x_min), sqlite3_bind_double(s, 3, r.x_max);
-  sqlite3_bind_double(s, 4, r.y_min), sqlite3_bind_double(s, 5, r.y_max);
+  sqlite3_bind_double(s, 2, r.x_min);
+  sqlite3_bind_double(s, 3, r.x_max);
+  sqlite3_bind_double(s, 4, r.y_min);
+  sqlite3_bind_double(s, 5, r.y_max);
 }
 
 }  // namespace

@@ -80,8 +80,12 @@ TEST(TileCodec, DepthAndChannelsAreRefusedFromTheHeaderBeforeDecoding) {
   EXPECT_EQ(DecodeGrayPng(rgba16, 4096).status().message(), refused.message());
   // A header declaring 30000 x 30000 in a few bytes: refused by size, nothing decoded.
   std::vector<std::uint8_t> huge = *EncodeTile(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0)));
-  for (size_t at : {16u, 20u})
-    huge[at] = 0, huge[at + 1] = 0, huge[at + 2] = 0x75, huge[at + 3] = 0x30;
+  for (size_t at : {16u, 20u}) {
+    huge[at] = 0;
+    huge[at + 1] = 0;
+    huge[at + 2] = 0x75;
+    huge[at + 3] = 0x30;
+  }
   EXPECT_NE(DecodeGrayPng(huge, 4096).status().message().find("30000x30000 px"), std::string::npos);
   EXPECT_TRUE(CheckGrayPngHeader(*EncodeTile(RealTile()), 256).ok());
 }

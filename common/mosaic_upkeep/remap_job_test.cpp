@@ -58,8 +58,10 @@ class RemapJobTest : public ::testing::Test {
   int PutForged() {
     int n = 0;
     for (cv::Point centre : {cv::Point(490, 425), cv::Point(300, 300), cv::Point(700, 600)}) {
-      for (const auto& forged : mapping::testing::ForgedPatches(scene_, centre))
-        Put("forger", forged.patch), ++n;
+      for (const auto& forged : mapping::testing::ForgedPatches(scene_, centre)) {
+        Put("forger", forged.patch);
+        ++n;
+      }
     }
     return n;
   }
@@ -156,7 +158,8 @@ TEST_F(RemapJobTest, ADryRunPreviewsTheJobAndWritesNothing) {
   ASSERT_TRUE(real.ok()) << real.status().message();
   EXPECT_EQ(real->new_version, 2);
   std::vector<TileKey> previewed = dry->changed_tiles, changed = real->changed_tiles;
-  std::sort(previewed.begin(), previewed.end()), std::sort(changed.begin(), changed.end());
+  std::sort(previewed.begin(), previewed.end());
+  std::sort(changed.begin(), changed.end());
   EXPECT_EQ(previewed, changed);
   EXPECT_EQ(real->patches_folded, dry->patches_folded);
   EXPECT_EQ(RemapSummary(*real), RemapSummary(*dry));

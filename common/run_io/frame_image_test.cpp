@@ -84,7 +84,12 @@ TEST(ReadFrame, AHugeImageDeclaredInATinyFileIsRefusedBeforeDecoding) {
   testing::WriteGrayPng(file, 16, 12);
   std::string png = testing::ReadText(file);
   // IHDR width and height (big-endian at 16 and 20) rewritten to 30000 x 30000.
-  for (size_t at : {16u, 20u}) png[at] = 0, png[at + 1] = 0, png[at + 2] = 0x75, png[at + 3] = 0x30;
+  for (size_t at : {16u, 20u}) {
+    png[at] = 0;
+    png[at + 1] = 0;
+    png[at + 2] = 0x75;
+    png[at + 3] = 0x30;
+  }
   testing::WriteText(file, png);
   const Status frame = ReadFrame({0.0, file}, SmallCamera()).status();
   EXPECT_TRUE(HasError(frame, StatusCode::kInvalidInput, file, 0, "")) << frame.message();

@@ -2,11 +2,11 @@
 #include "runtime/child_process.h"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -25,12 +25,14 @@ Result<ChildProcess> ChildProcess::Start(const std::string& program,
   if (log < 0) return Internal(log_path + ": cannot open the log file");
   // Everything execv needs is prepared before fork (the child only calls async-signal-safe code).
   std::vector<char*> argv{const_cast<char*>(program.c_str())};
+  argv.reserve(args.size() + 2);
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   std::vector<std::string> env_strings;
   for (char** e = environ; *e != nullptr; ++e) env_strings.emplace_back(*e);
   env_strings.insert(env_strings.end(), env.begin(), env.end());
   std::vector<char*> envp;
+  envp.reserve(env_strings.size() + 1);
   for (std::string& e : env_strings) envp.push_back(e.data());
   envp.push_back(nullptr);
   const pid_t pid = ::fork();
@@ -41,7 +43,8 @@ Result<ChildProcess> ChildProcess::Start(const std::string& program,
   if (pid == 0) {
     // A child never outlives its parent (a crashed test or benchmark leaves no daemon behind).
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    ::dup2(log, 1), ::dup2(log, 2);
+    ::dup2(log, 1);
+    ::dup2(log, 2);
     ::execve(program.c_str(), argv.data(), envp.data());
     ::_exit(127);
   }

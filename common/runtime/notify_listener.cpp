@@ -16,7 +16,10 @@ namespace fleetloc::runtime::testing {
 
 NotifyListener::NotifyListener() {
   char dir_template[] = "/tmp/fleetloc-notify-XXXXXX";
-  if (mkdtemp(dir_template) == nullptr) std::perror("mkdtemp"), std::abort();
+  if (mkdtemp(dir_template) == nullptr) {
+    std::perror("mkdtemp");
+    std::abort();
+  }
   dir_ = dir_template;
   path_ = dir_ + "/notify";
   fd_ = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
@@ -24,7 +27,8 @@ NotifyListener::NotifyListener() {
   address.sun_family = AF_UNIX;
   std::strncpy(address.sun_path, path_.c_str(), sizeof(address.sun_path) - 1);
   if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
-    std::perror("notify socket"), std::abort();
+    std::perror("notify socket");
+    std::abort();
   }
 }
 

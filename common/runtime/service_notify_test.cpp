@@ -21,7 +21,10 @@ class SystemdEnvironment {
     setenv("NOTIFY_SOCKET", socket.c_str(), 1);
     if (watchdog_usec != nullptr) setenv("WATCHDOG_USEC", watchdog_usec, 1);
   }
-  ~SystemdEnvironment() { unsetenv("NOTIFY_SOCKET"), unsetenv("WATCHDOG_USEC"); }
+  ~SystemdEnvironment() {
+    unsetenv("NOTIFY_SOCKET");
+    unsetenv("WATCHDOG_USEC");
+  }
 };
 
 TEST(ServiceNotifier, FirstCycleReportsReadyThenPingsEveryHalfWatchdogInterval) {

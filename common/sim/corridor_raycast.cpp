@@ -35,7 +35,10 @@ void HitSolid(const Solid& solid, const Eigen::Vector3d& origin, const Eigen::Ve
     }
     const double t = room / along;
     if (along < 0.0) {
-      if (t > enter) enter = t, enter_normal = &face.normal;
+      if (t > enter) {
+        enter = t;
+        enter_normal = &face.normal;
+      }
     } else {
       exit = std::min(exit, t);
     }

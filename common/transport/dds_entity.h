@@ -20,7 +20,10 @@ class Entity {
   ~Entity() { Reset(); }
   Entity(Entity&& other) noexcept : handle_(std::exchange(other.handle_, 0)) {}
   Entity& operator=(Entity&& other) noexcept {
-    if (this != &other) Reset(), handle_ = std::exchange(other.handle_, 0);
+    if (this != &other) {
+      Reset();
+      handle_ = std::exchange(other.handle_, 0);
+    }
     return *this;
   }
   Entity(const Entity&) = delete;

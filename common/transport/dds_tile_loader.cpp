@@ -80,7 +80,10 @@ Result<size_t> DdsTileLoader::DecodeArrived(size_t max_tiles) {
   for (size_t decoded = 0; decoded < max_tiles && !encoded_order_.empty();) {
     const mosaic::TileKey key = encoded_order_.front();
     encoded_order_.pop_front();
-    if (encoded_.count(key)) (void)Ready(key), ++decoded;
+    if (encoded_.count(key)) {
+      (void)Ready(key);
+      ++decoded;
+    }
   }
   return encoded_.size();
 }

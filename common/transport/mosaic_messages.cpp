@@ -22,8 +22,10 @@ fleetloc_MosaicInfo ToIdl(const mosaic::MosaicLayout& layout, const std::string&
   info.origin_y = layout.geo.origin_y;
   info.resolution = layout.geo.resolution;
   SetBounded(info.tile_encoding, "png");
-  info.owned_col_begin = owned.col_begin, info.owned_col_end = owned.col_end;
-  info.owned_row_begin = owned.row_begin, info.owned_row_end = owned.row_end;
+  info.owned_col_begin = owned.col_begin;
+  info.owned_col_end = owned.col_end;
+  info.owned_row_begin = owned.row_begin;
+  info.owned_row_end = owned.row_end;
   info.stamp = NowStamp();
   return info;
 }

@@ -15,7 +15,9 @@ fleetloc_PatchObservation ToIdl(const PatchToSend& p, const std::string& vehicle
   sample.stamp = ToStamp(p.stamp_s);
   SetBounded(sample.mosaic_id, p.mosaic_id);
   sample.mosaic_version = p.mosaic_version;
-  sample.x = p.pose.x, sample.y = p.pose.y, sample.theta = p.pose.theta;
+  sample.x = p.pose.x;
+  sample.y = p.pose.y;
+  sample.theta = p.pose.theta;
   std::copy(p.covariance, p.covariance + 9, sample.covariance);
   sample.quality = p.quality;
   sample.resolution = p.resolution_m;

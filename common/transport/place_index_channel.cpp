@@ -161,12 +161,16 @@ std::vector<PlaceIndexBlob> PlaceIndexReceiver::Poll() {
       reader_.TakeAll([&](const fleetloc_PlaceIndexChunk& chunk, const dds_sample_info_t&) {
         Result<std::optional<PlaceIndexBlob>> added = assembler_.Add(chunk);
         if (!added.ok()) {
-          ++rejected_, last_error_ = added.status().message();
+          ++rejected_;
+          last_error_ = added.status().message();
         } else if (added->has_value()) {
           done.push_back(std::move(**added));
         }
       });
-  if (!taken.ok()) ++rejected_, last_error_ = taken.status().message();
+  if (!taken.ok()) {
+    ++rejected_;
+    last_error_ = taken.status().message();
+  }
   return done;
 }
 

@@ -87,13 +87,17 @@ TEST(PlaceIndexAssembler, RejectsChunksThatCannotBelongToAnIndex) {
   fleetloc_PlaceIndexChunk c = ChunkOf(blob, 0, 2, 1);
   c.wire_version = 99;
   rejected(c, "wire version");
-  c = ChunkOf(blob, 0, 2, 1), c.chunk = 2;
+  c = ChunkOf(blob, 0, 2, 1);
+  c.chunk = 2;
   rejected(c, "chunk beyond the count");
-  c = ChunkOf(blob, 0, 2, 1), c.chunk_count = 0;
+  c = ChunkOf(blob, 0, 2, 1);
+  c.chunk_count = 0;
   rejected(c, "no chunks");
-  c = ChunkOf(blob, 0, 2, 1), c.blob_bytes = kMaxPlaceIndexBytes + 1;
+  c = ChunkOf(blob, 0, 2, 1);
+  c.blob_bytes = kMaxPlaceIndexBytes + 1;
   rejected(c, "oversized");
-  c = ChunkOf(blob, 0, 2, 1), c.blob_bytes = 10;
+  c = ChunkOf(blob, 0, 2, 1);
+  c.blob_bytes = 10;
   rejected(c, "more data than the index");
   c = ChunkOf(blob, 0, 2, 1);
   SetBounded(c.server_id, "ms*");
@@ -101,11 +105,13 @@ TEST(PlaceIndexAssembler, RejectsChunksThatCannotBelongToAnIndex) {
   // Chunks of one generation that disagree.
   PlaceIndexAssembler assembler;
   ASSERT_TRUE(assembler.Add(ChunkOf(blob, 0, 2, 1)).ok());
-  c = ChunkOf(blob, 1, 2, 1), c.mosaic_version = 4;
+  c = ChunkOf(blob, 1, 2, 1);
+  c.mosaic_version = 4;
   EXPECT_FALSE(assembler.Add(c).ok());
   // Chunks whose sizes do not add up to the index's.
   PlaceIndexAssembler short_chunks;
-  c = ChunkOf(blob, 0, 2, 1), c.data._length = 10;
+  c = ChunkOf(blob, 0, 2, 1);
+  c.data._length = 10;
   ASSERT_TRUE(short_chunks.Add(c).ok());
   EXPECT_FALSE(short_chunks.Add(ChunkOf(blob, 1, 2, 1)).ok());
 }

@@ -54,7 +54,8 @@ fleetloc_VehiclePose ToIdl(const PoseReport& r) {
   pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   SetBounded(pose.vehicle_id, r.vehicle_id);
   pose.stamp = ToStamp(r.t);
-  pose.x = r.base_in_map.pose.x, pose.y = r.base_in_map.pose.y,
+  pose.x = r.base_in_map.pose.x;
+  pose.y = r.base_in_map.pose.y;
   pose.theta = r.base_in_map.pose.theta;
   Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(pose.covariance) =
       r.base_in_map.covariance;

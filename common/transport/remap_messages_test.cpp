@@ -31,7 +31,9 @@ TEST(RemapMessages, StatusRoundTripsEveryFieldAndTakesTheGivenStamp) {
   p.phase = "done";
   p.progress = 1.0;
   p.new_version = 7;
-  p.tiles_changed = 12, p.patches_folded = 5, p.patches_rejected = 1;
+  p.tiles_changed = 12;
+  p.patches_folded = 5;
+  p.patches_rejected = 1;
   p.message = "folded 5 patches";
   const fleetloc_RemapStatus s = ToIdl(p, ToStamp(1700000000.5));
   EXPECT_EQ(s.wire_version, fleetloc_CURRENT_WIRE_VERSION);

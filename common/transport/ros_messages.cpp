@@ -30,7 +30,10 @@ const char* LevelName(uint8_t level) {
 builtin_interfaces_msg_dds__Time_ ToRosTime(double t_s) {
   double sec = std::floor(t_s);
   auto nanosec = static_cast<uint32_t>(std::llround((t_s - sec) * 1e9));
-  if (nanosec >= 1000000000u) sec += 1, nanosec -= 1000000000u;
+  if (nanosec >= 1000000000u) {
+    sec += 1;
+    nanosec -= 1000000000u;
+  }
   return {static_cast<int32_t>(sec), nanosec};
 }
 

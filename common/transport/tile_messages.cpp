@@ -33,7 +33,8 @@ fleetloc_Tile ToIdl(const TileAnswer& answer) {
   fleetloc_Tile tile{};
   tile.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   tile.level = static_cast<uint16_t>(answer.key.level);
-  tile.col = answer.key.col, tile.row = answer.key.row;
+  tile.col = answer.key.col;
+  tile.row = answer.key.row;
   SetBounded(tile.vehicle_id, answer.vehicle_id);
   tile.request_id = answer.request_id;
   SetBounded(tile.mosaic_id, answer.mosaic_id);

@@ -35,7 +35,9 @@ TEST(Transport, VehiclePoseRoundTripBetweenParticipants) {
   fleetloc_VehiclePose pose{};
   pose.wire_version = fleetloc_CURRENT_WIRE_VERSION;
   std::snprintf(pose.vehicle_id, sizeof pose.vehicle_id, "agv-7");
-  pose.x = 1.25, pose.y = -2.5, pose.theta = 0.125;
+  pose.x = 1.25;
+  pose.y = -2.5;
+  pose.theta = 0.125;
   pose.covariance[8] = 1e-4;
   pose.lock_state = fleetloc_LOCK_TRACKING;
   ASSERT_TRUE(writer.Write(pose).ok());
@@ -65,7 +67,9 @@ TEST(Transport, LargeTileSampleArrivesIntact) {
   for (size_t i = 0; i < payload.size(); ++i)
     payload[i] = static_cast<uint8_t>(i * 2654435761u >> 13);
   fleetloc_Tile tile{};
-  tile.level = 2, tile.col = 3, tile.row = 4;
+  tile.level = 2;
+  tile.col = 3;
+  tile.row = 4;
   tile.data._buffer = payload.data();
   tile.data._length = tile.data._maximum = static_cast<uint32_t>(payload.size());
   tile.data._release = false;

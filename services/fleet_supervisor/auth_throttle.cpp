@@ -25,7 +25,8 @@ void AuthThrottle::Failed(const std::string& client, double now_s) {
   std::lock_guard lock(mutex_);
   // The global count forgets failures after a quiet spell as long as the longest wait.
   if (now_s - global_.last_failure_s > options_.max_backoff_s) global_.failures = 0;
-  ++global_.failures, global_.last_failure_s = now_s;
+  ++global_.failures;
+  global_.last_failure_s = now_s;
   if (!clients_.count(client) && clients_.size() >= options_.max_clients) {
     const auto oldest =
         std::min_element(clients_.begin(), clients_.end(), [](const auto& a, const auto& b) {
@@ -34,7 +35,8 @@ void AuthThrottle::Failed(const std::string& client, double now_s) {
     clients_.erase(oldest);
   }
   Record& r = clients_[client];
-  ++r.failures, r.last_failure_s = now_s;
+  ++r.failures;
+  r.last_failure_s = now_s;
 }
 
 void AuthThrottle::Succeeded(const std::string& client) {

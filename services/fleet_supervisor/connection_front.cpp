@@ -53,14 +53,26 @@ void ConnectionFront::Stop() {
     (void)!::write(wake_, &one, sizeof one);
     thread_.join();
   }
-  for (auto& [fd, c] : connections_) CloseSocket(fd), --counters_->http_connections_open;
+  for (auto& [fd, c] : connections_) {
+    CloseSocket(fd);
+    --counters_->http_connections_open;
+  }
   connections_.clear();
   deadlines_.clear();
   std::lock_guard lock(handover_mutex_);
-  for (const Handover& h : handovers_) CloseSocket(h.fd), --counters_->http_connections_open;
+  for (const Handover& h : handovers_) {
+    CloseSocket(h.fd);
+    --counters_->http_connections_open;
+  }
   handovers_.clear();
-  if (epoll_ >= 0) ::close(epoll_), epoll_ = -1;
-  if (wake_ >= 0) ::close(wake_), wake_ = -1;
+  if (epoll_ >= 0) {
+    ::close(epoll_);
+    epoll_ = -1;
+  }
+  if (wake_ >= 0) {
+    ::close(wake_);
+    wake_ = -1;
+  }
 }
 
 void ConnectionFront::Adopt(int fd) {
@@ -205,7 +217,8 @@ void ConnectionFront::Advance(Connection& c) {
     if (auto refusal = CheckRequest(*head, policy_, &body)) {
       return Refuse(c, refusal->status, refusal->message, &counters_->http_requests_refused);
     }
-    c.head_bytes = end.length, c.body_bytes = body;
+    c.head_bytes = end.length;
+    c.body_bytes = body;
     c.stream = head->method == "GET" && head->Path() == "/api/events";
     const std::string* expect = head->Field("expect");
     if (expect != nullptr && body > 0 && c.buffer.size() < c.head_bytes + body) {

@@ -188,7 +188,8 @@ void FleetSupervisor::FlushHistory(double now) {
     history_written_ = true;
     fleet_->counters().history_rows += pending_poses_.size() + pending_health_.size();
   }
-  pending_poses_.clear(), pending_health_.clear();
+  pending_poses_.clear();
+  pending_health_.clear();
   fleet_->counters().history_queue = 0;
   if (now >= next_prune_) {
     next_prune_ = now + kPrunePeriodS;

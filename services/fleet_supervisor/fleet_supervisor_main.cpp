@@ -3,13 +3,17 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
 
 #include "cli/command_line.h"
 #include "fleet_supervisor/fleet_supervisor.h"
 #include "runtime/logging.h"
 #include "runtime/stop_signal.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int SupervisorMain(int argc, char** argv) {
   using namespace fleetloc::fleet_supervisor;
   CLI::App app{
       "fleetloc fleet supervisor: fleet state, alerts, history and the operators' dashboard"};
@@ -35,8 +39,10 @@ int main(int argc, char** argv) {
   SupervisorConfig config;
   if (!config_path.empty()) {
     auto loaded = LoadSupervisorConfig(config_path);
-    if (!loaded.ok())
-      return std::fprintf(stderr, "fleet_supervisor: %s\n", loaded.status().message().c_str()), 2;
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "fleet_supervisor: %s\n", loaded.status().message().c_str());
+      return 2;
+    }
     config = *loaded;
   }
   if (domain >= 0) config.domain_id = domain;
@@ -45,7 +51,10 @@ int main(int argc, char** argv) {
   if (!bind.empty()) config.http_bind = bind;
   if (port >= 0) config.http_port = port;
   if (!port_file.empty()) config.port_file = port_file;
-  if (!token_file.empty()) config.maintainer_token = "", config.maintainer_token_file = token_file;
+  if (!token_file.empty()) {
+    config.maintainer_token = "";
+    config.maintainer_token_file = token_file;
+  }
   if (!web_dir.empty()) config.web_dir = web_dir;
   if (metrics_port >= 0) config.metrics.port = metrics_port;
   if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
@@ -59,4 +68,16 @@ int main(int argc, char** argv) {
   const fleetloc::Status ran = (*supervisor)->Run(stop);
   if (!ran.ok()) spdlog::error("{}", ran.message());
   return ran.ExitCode();
+}
+
+}  // namespace
+
+// An exception nothing below caught (an allocation failure) ends the supervisor with its message.
+int main(int argc, char** argv) {
+  try {
+    return SupervisorMain(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fleet_supervisor: %s\n", e.what());
+    return 1;
+  }
 }

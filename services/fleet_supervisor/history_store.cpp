@@ -337,13 +337,18 @@ Result<std::vector<fleet::VehicleState>> HistoryStore::LatestVehicles() {
   if (!health.ok()) return health.status();
   for (const StoredPose& p : *poses) {
     fleet::VehicleState& v = vehicles[p.vehicle_id];
-    v.id = p.vehicle_id, v.pose = p.pose, v.last_seen = std::max(v.last_seen, p.received);
+    v.id = p.vehicle_id;
+    v.pose = p.pose;
+    v.last_seen = std::max(v.last_seen, p.received);
   }
   for (const StoredHealth& h : *health) {
     fleet::VehicleState& v = vehicles[h.vehicle_id];
-    v.id = h.vehicle_id, v.health = h.health, v.last_seen = std::max(v.last_seen, h.received);
+    v.id = h.vehicle_id;
+    v.health = h.health;
+    v.last_seen = std::max(v.last_seen, h.received);
   }
   std::vector<fleet::VehicleState> out;
+  out.reserve(vehicles.size());
   for (auto& [id, v] : vehicles) out.push_back(std::move(v));
   return out;
 }

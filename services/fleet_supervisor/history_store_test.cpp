@@ -19,19 +19,30 @@ std::string TempDb(const std::string& name) {
 
 StoredPose Pose(const std::string& id, double t, double x) {
   StoredPose p;
-  p.vehicle_id = id, p.received = t + 0.01;
-  p.pose.t = t, p.pose.x = x, p.pose.y = -x, p.pose.theta = 0.5, p.pose.cov_xx = 1e-6;
-  p.pose.lock = localization::LockState::kCoasting, p.pose.deviation_range_m = 0.003;
+  p.vehicle_id = id;
+  p.received = t + 0.01;
+  p.pose.t = t;
+  p.pose.x = x;
+  p.pose.y = -x;
+  p.pose.theta = 0.5;
+  p.pose.cov_xx = 1e-6;
+  p.pose.lock = localization::LockState::kCoasting;
+  p.pose.deviation_range_m = 0.003;
   p.pose.mosaic_version = 2;
   return p;
 }
 
 StoredHealth Health(const std::string& id, double t, double p95) {
   StoredHealth h;
-  h.vehicle_id = id, h.received = t + 0.02;
-  h.health.t = t, h.health.cycle_ms_p95 = p95, h.health.issues = {"coasting", "tile_timeouts"};
-  h.health.level = fleet::HealthLevel::kWarn, h.health.camera_frame_drops = 7;
-  h.health.map_server_reachable = false, h.health.last_error = "tile 0/1/2 timed out";
+  h.vehicle_id = id;
+  h.received = t + 0.02;
+  h.health.t = t;
+  h.health.cycle_ms_p95 = p95;
+  h.health.issues = {"coasting", "tile_timeouts"};
+  h.health.level = fleet::HealthLevel::kWarn;
+  h.health.camera_frame_drops = 7;
+  h.health.map_server_reachable = false;
+  h.health.last_error = "tile 0/1/2 timed out";
   return h;
 }
 
@@ -41,6 +52,8 @@ TEST(HistoryStore, RowsRoundTripAndRangesAreOldestFirstWithTheNewestKept) {
   ASSERT_TRUE(store.ok()) << store.status().message();
   std::vector<StoredPose> poses;
   std::vector<StoredHealth> health;
+  poses.reserve(100);
+  health.reserve(10);
   for (int i = 0; i < 100; ++i) poses.push_back(Pose("agv-1", kT0 + i, i * 0.1));
   for (int i = 0; i < 10; ++i) health.push_back(Health("agv-1", kT0 + 10 * i, 2.0 + i));
   poses.push_back(Pose("agv-2", kT0 + 5, 9.0));
@@ -71,6 +84,7 @@ TEST(HistoryStore, RetentionDeletesOldRowsAndClearedAlertsOnly) {
   auto store = HistoryStore::Open(path);
   ASSERT_TRUE(store.ok());
   std::vector<StoredPose> poses;
+  poses.reserve(100);
   for (int i = 0; i < 100; ++i) poses.push_back(Pose("agv-1", kT0 + i, i));
   ASSERT_TRUE(
       (*store)->Append(poses, {Health("agv-1", kT0, 2), Health("agv-1", kT0 + 90, 2)}).ok());

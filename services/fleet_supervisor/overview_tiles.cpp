@@ -28,7 +28,10 @@ void OverviewTiles::PumpLocked() {
                         layout->mosaic_id != layout_->mosaic_id)) {
       spdlog::info("overview: mosaic {} version {}", layout->mosaic_id, layout->version);
       layout_ = *layout;
-      cache_.clear(), lru_.clear(), failed_.clear(), bytes_ = 0;
+      cache_.clear();
+      lru_.clear();
+      failed_.clear();
+      bytes_ = 0;
     }
   }
   Result<std::vector<transport::ReceivedTile>> tiles = client_->TakeTiles();

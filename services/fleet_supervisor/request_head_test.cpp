@@ -19,7 +19,8 @@ TEST(RequestHead, FindsTheEndOfACompleteHead) {
 
 TEST(RequestHead, AFloodIsCutAtTheLimits) {
   HeadLimits limits;
-  limits.max_bytes = 1000, limits.max_fields = 10;
+  limits.max_bytes = 1000;
+  limits.max_fields = 10;
   std::string many = "GET / HTTP/1.1\r\n";
   for (int i = 0; i < 11; ++i) many += "X-A: 1\r\n";
   EXPECT_EQ(FindHeadEnd(many, limits).state, HeadState::kTooManyFields);

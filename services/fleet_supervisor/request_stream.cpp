@@ -65,7 +65,8 @@ void RequestStream::get_local_ip_and_port(std::string& ip, int& port) const {
 
 std::string RequestStream::TakeUnread() {
   std::string unread = received_.substr(offset_);
-  received_.clear(), offset_ = 0;
+  received_.clear();
+  offset_ = 0;
   return unread;
 }
 

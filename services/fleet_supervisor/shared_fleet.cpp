@@ -79,8 +79,10 @@ void SharedFleet::NewestUnstored(std::vector<StoredPose>* poses) {
   std::lock_guard lock(mutex_);
   fleet_.ForEach([&](const fleet::VehicleState& v) {
     double& last = last_stored_[v.id];
-    if (v.pose && last < v.last_seen)
-      poses->push_back({v.id, v.last_seen, *v.pose}), last = v.last_seen;
+    if (v.pose && last < v.last_seen) {
+      poses->push_back({v.id, v.last_seen, *v.pose});
+      last = v.last_seen;
+    }
   });
 }
 

@@ -42,9 +42,11 @@ TEST(SharedFleet, AVehicleThatStoppedTalkingIsStaleInTheSummaryAndItsHealth) {
   fleet::VehicleState v;
   v.id = "agv-1";
   v.pose = fleet::PoseSample{};
-  v.pose->t = kT0, v.pose->lock = localization::LockState::kTracking;
+  v.pose->t = kT0;
+  v.pose->lock = localization::LockState::kTracking;
   v.health = fleet::HealthSample{};
-  v.health->t = kT0, v.health->level = fleet::HealthLevel::kOk;
+  v.health->t = kT0;
+  v.health->level = fleet::HealthLevel::kOk;
   v.last_seen = kT0;
   fleet.Restore({v}, {});
   fleet.Evaluate(kT0 + 1.0);

@@ -44,7 +44,10 @@ Status StreamHub::Start() {
   epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
   if (wake < 0 || epoll_ < 0) return Internal("live stream hub: cannot create its epoll set");
   // The listener may still be called after the hub is gone: it holds the eventfd itself.
-  wake_ = std::shared_ptr<int>(new int(wake), [](int* fd) { ::close(*fd), delete fd; });
+  wake_ = std::shared_ptr<int>(new int(wake), [](int* fd) {
+    ::close(*fd);
+    delete fd;
+  });
   epoll_event e{};
   e.events = EPOLLIN;
   e.data.fd = wake;
@@ -62,12 +65,21 @@ void StreamHub::Stop() {
     Notify(*wake_);
     thread_.join();
   }
-  for (auto& [fd, c] : clients_) CloseSocket(fd), --counters_->http_streams_open;
+  for (auto& [fd, c] : clients_) {
+    CloseSocket(fd);
+    --counters_->http_streams_open;
+  }
   clients_.clear();
   std::lock_guard lock(pending_mutex_);
-  for (int fd : pending_) CloseSocket(fd), --counters_->http_streams_open;
+  for (int fd : pending_) {
+    CloseSocket(fd);
+    --counters_->http_streams_open;
+  }
   pending_.clear();
-  if (epoll_ >= 0) ::close(epoll_), epoll_ = -1;
+  if (epoll_ >= 0) {
+    ::close(epoll_);
+    epoll_ = -1;
+  }
 }
 
 void StreamHub::Adopt(int fd) {
@@ -152,7 +164,10 @@ void StreamHub::RefreshMessage() {
 
 void StreamHub::Feed(Client& c, SteadyClock::time_point now) {
   if (c.sending != nullptr || message_ == nullptr || c.sent_seq >= message_seq_) return;
-  c.sending = message_, c.offset = 0, c.sent_seq = message_seq_, c.since = now;
+  c.sending = message_;
+  c.offset = 0;
+  c.sent_seq = message_seq_;
+  c.since = now;
   Flush(c, now);
 }
 
@@ -166,10 +181,13 @@ void StreamHub::Flush(Client& c, SteadyClock::time_point now) {
     if (n <= 0) return Drop(c, false);
     c.offset += static_cast<size_t>(n);
     if (c.offset < m.size()) continue;
-    c.sending = nullptr, c.since = now;
+    c.sending = nullptr;
+    c.since = now;
     // A newer snapshot came while this one was being taken: it goes next (those between, never).
     if (message_ != nullptr && c.sent_seq < message_seq_) {
-      c.sending = message_, c.offset = 0, c.sent_seq = message_seq_;
+      c.sending = message_;
+      c.offset = 0;
+      c.sent_seq = message_seq_;
     }
   }
   Arm(c, false);
@@ -198,7 +216,9 @@ void StreamHub::Tick(SteadyClock::time_point now) {
     if (c.sending != nullptr) {
       if (now - c.since > Seconds(limits_.write_timeout_s)) Drop(c, true);
     } else if (now - c.since >= Seconds(limits_.stream_keep_alive_s)) {
-      c.sending = KeepAlive(), c.offset = 0, c.since = now;
+      c.sending = KeepAlive();
+      c.offset = 0;
+      c.since = now;
       Flush(c, now);
     }
   }

@@ -40,17 +40,22 @@ json RemapJobJson(const transport::RemapProgress& job) {
 
 json PoseHistoryJson(const std::vector<StoredPose>& poses, size_t max_points) {
   std::vector<double> t, deviation;
-  for (const StoredPose& p : poses)
-    t.push_back(p.received), deviation.push_back(p.pose.deviation_range_m);
+  for (const StoredPose& p : poses) {
+    t.push_back(p.received);
+    deviation.push_back(p.pose.deviation_range_m);
+  }
   json out = {{"t", json::array()},     {"x", json::array()},           {"y", json::array()},
               {"theta", json::array()}, {"deviation_m", json::array()}, {"score", json::array()},
               {"lock", json::array()}};
   for (size_t i : fleet::DecimateMinMax(t, deviation, max_points)) {
     const fleet::PoseSample& p = poses[i].pose;
-    out["t"].push_back(poses[i].received), out["x"].push_back(p.x), out["y"].push_back(p.y);
-    out["theta"].push_back(p.theta), out["deviation_m"].push_back(p.deviation_range_m);
-    out["score"].push_back(p.localization_score),
-        out["lock"].push_back(localization::LockStateName(p.lock));
+    out["t"].push_back(poses[i].received);
+    out["x"].push_back(p.x);
+    out["y"].push_back(p.y);
+    out["theta"].push_back(p.theta);
+    out["deviation_m"].push_back(p.deviation_range_m);
+    out["score"].push_back(p.localization_score);
+    out["lock"].push_back(localization::LockStateName(p.lock));
   }
   return out;
 }
@@ -58,8 +63,9 @@ json PoseHistoryJson(const std::vector<StoredPose>& poses, size_t max_points) {
 json HealthHistoryJson(const std::vector<StoredHealth>& health, size_t max_points) {
   std::vector<double> t, cycle, inliers;
   for (const StoredHealth& h : health) {
-    t.push_back(h.received), cycle.push_back(h.health.cycle_ms_p95),
-        inliers.push_back(h.health.inliers);
+    t.push_back(h.received);
+    cycle.push_back(h.health.cycle_ms_p95);
+    inliers.push_back(h.health.inliers);
   }
   json out = {{"t", json::array()},
               {"cycle_ms_p50", json::array()},
@@ -71,8 +77,10 @@ json HealthHistoryJson(const std::vector<StoredHealth>& health, size_t max_point
   for (size_t i :
        Union(fleet::DecimateMinMax(t, cycle, half), fleet::DecimateMinMax(t, inliers, half))) {
     const fleet::HealthSample& h = health[i].health;
-    out["t"].push_back(health[i].received), out["cycle_ms_p50"].push_back(h.cycle_ms_p50);
-    out["cycle_ms_p95"].push_back(h.cycle_ms_p95), out["inliers"].push_back(h.inliers);
+    out["t"].push_back(health[i].received);
+    out["cycle_ms_p50"].push_back(h.cycle_ms_p50);
+    out["cycle_ms_p95"].push_back(h.cycle_ms_p95);
+    out["inliers"].push_back(h.inliers);
     out["level"].push_back(fleet::HealthLevelName(h.level));
     out["camera_frame_drops"].push_back(h.camera_frame_drops);
   }

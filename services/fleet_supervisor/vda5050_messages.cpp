@@ -21,7 +21,10 @@ std::string Iso8601(double unix_s) {
   const std::time_t seconds = static_cast<std::time_t>(whole);
   int millis = static_cast<int>(std::lround((unix_s - whole) * 1000.0));
   std::time_t shown = seconds;
-  if (millis >= 1000) millis -= 1000, ++shown;
+  if (millis >= 1000) {
+    millis -= 1000;
+    ++shown;
+  }
   std::tm utc{};
   gmtime_r(&shown, &utc);
   char text[64];  // room for any int the compiler cannot rule out

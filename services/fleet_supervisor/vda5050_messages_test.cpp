@@ -25,7 +25,8 @@ TEST(Vda5050, TimestampsAreIso8601UtcWithMilliseconds) {
 
 TEST(Vda5050, VelocityIsInTheVehicleFrame) {
   fleet::PoseSample a, b;
-  a.t = 10, b.t = 10.5;
+  a.t = 10;
+  b.t = 10.5;
   a.theta = b.theta = M_PI / 2;  // facing +y
   b.y = 0.5;                     // moved 0.5 m along +y in 0.5 s: forward at 1 m/s
   std::optional<Velocity> v = VelocityBetween(a, b);
@@ -37,9 +38,14 @@ TEST(Vda5050, VelocityIsInTheVehicleFrame) {
   EXPECT_NEAR(VelocityBetween(a, b)->omega, 0.2, 1e-12);
   // A quarter circle of radius 1 m driven forward in 1 s: all forward, no sideways motion.
   fleet::PoseSample s0, s1;
-  s0.t = 0, s1.t = 1;
-  s0.x = 1, s0.y = 0, s0.theta = M_PI / 2;
-  s1.x = 0, s1.y = 1, s1.theta = M_PI;
+  s0.t = 0;
+  s1.t = 1;
+  s0.x = 1;
+  s0.y = 0;
+  s0.theta = M_PI / 2;
+  s1.x = 0;
+  s1.y = 1;
+  s1.theta = M_PI;
   std::optional<Velocity> arc = VelocityBetween(s0, s1);
   ASSERT_TRUE(arc);
   EXPECT_NEAR(arc->vx, std::sqrt(2.0), 1e-12);  // the chord's length per second
@@ -52,7 +58,9 @@ TEST(Vda5050, VelocityIsInTheVehicleFrame) {
 
 TEST(Vda5050, VisualizationCarriesThePositionFieldsTheSchemaRequires) {
   fleet::PoseSample p;
-  p.x = 1.5, p.y = -2.25, p.theta = 4.0;  // wrapped into (-pi, pi]
+  p.x = 1.5;
+  p.y = -2.25;
+  p.theta = 4.0;  // wrapped into (-pi, pi]
   p.lock = localization::LockState::kTracking;
   p.localization_score = 1.3;  // clamped to [0, 1]
   p.deviation_range_m = 0.004;

@@ -30,9 +30,9 @@ constexpr const char* kRejectedPartition = "rejected_vehicle_partition";
 
 std::vector<std::string> AllCounterNames() {
   std::vector<std::string> names = TileService::CounterNames();
-  names.push_back(kRejectedPartition);
+  names.emplace_back(kRejectedPartition);
   for (const char* name : {"tile_rows_pruned", "patches_pruned", "prune_errors"})
-    names.push_back(name);
+    names.emplace_back(name);
   for (const auto& more : {PatchService::CounterNames(), RemapService::CounterNames(),
                            PlaceIndexService::CounterNames()}) {
     names.insert(names.end(), more.begin(), more.end());
@@ -234,6 +234,7 @@ Status MapServer::AnnounceVersion(long long version, const std::vector<mosaic::T
   announced_version_ = version;
   tiles_->DropCache();
   std::vector<fleetloc_TileAddress> addresses;
+  addresses.reserve(changed.size());
   for (const mosaic::TileKey& key : changed) addresses.push_back(transport::ToIdl(key));
   fleetloc_TileUpdate update{};
   update.wire_version = fleetloc_CURRENT_WIRE_VERSION;
@@ -260,7 +261,8 @@ std::optional<transport::ServiceHealthReport::Issue> MapServer::HealthIssue() {
   const uint64_t read_errors = counters_.Get("tile_read_errors");
   const bool new_read_errors = read_errors > reported_read_errors_;
   const bool new_rejects = rejected > reported_rejected_;
-  reported_rejected_ = rejected, reported_read_errors_ = read_errors;
+  reported_rejected_ = rejected;
+  reported_read_errors_ = read_errors;
   if (new_read_errors) return {{"tile_read_errors", fleetloc_HEALTH_ERROR, counters_.last_error()}};
   // Quarantined vehicles stay an issue until a maintainer releases them (read from the file each
   // time, so a release by `fleetctl mosaic vehicles --release` shows at once).

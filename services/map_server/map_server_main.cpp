@@ -2,13 +2,17 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
 
 #include "cli/command_line.h"
 #include "map_server/map_server.h"
 #include "runtime/logging.h"
 #include "runtime/stop_signal.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int MapServerMain(int argc, char** argv) {
   using fleetloc::map_server::MapServerConfig;
   CLI::App app{"fleetloc map server: the shared mosaic over DDS"};
   std::string config_path, mosaic, server_id, dds_config, metrics_port_file;
@@ -28,8 +32,10 @@ int main(int argc, char** argv) {
   MapServerConfig config;
   if (!config_path.empty()) {
     auto loaded = fleetloc::map_server::LoadMapServerConfig(config_path);
-    if (!loaded.ok())
-      return std::fprintf(stderr, "map_server: %s\n", loaded.status().message().c_str()), 2;
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "map_server: %s\n", loaded.status().message().c_str());
+      return 2;
+    }
     config = *loaded;
   }
   if (!mosaic.empty()) config.mosaic_path = mosaic;
@@ -48,4 +54,16 @@ int main(int argc, char** argv) {
   const fleetloc::Status ran = (*server)->Run(stop);
   if (!ran.ok()) spdlog::error("{}", ran.message());
   return ran.ExitCode();
+}
+
+}  // namespace
+
+// An exception nothing below caught (an allocation failure) ends the server with its message.
+int main(int argc, char** argv) {
+  try {
+    return MapServerMain(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "map_server: %s\n", e.what());
+    return 1;
+  }
 }

@@ -10,11 +10,15 @@ namespace {
 
 TEST(MapServerMetrics, ExposesCountersLatencyAndCacheHitRatio) {
   metrics::Histogram latency(metrics::Histogram::LatencyBoundsS());
-  latency.Observe(0.0008), latency.Observe(0.003), latency.Observe(0.003);
+  latency.Observe(0.0008);
+  latency.Observe(0.003);
+  latency.Observe(0.003);
   MapServerMetricsInput in;
   in.counters = {{"tiles_served", 120}, {"rejected_tile_request", 2}};
   in.tile_reply_latency = latency.Snapshot();
-  in.cache.hits = 90, in.cache.misses = 30, in.cache.bytes = 4096;
+  in.cache.hits = 90;
+  in.cache.misses = 30;
+  in.cache.bytes = 4096;
   in.tile_requests_pending = 4;
   in.mosaic_version = 7;
   metrics::FamilyBuilder b(kMapServerMetricPrefix, {{"service_id", "map-1"}});

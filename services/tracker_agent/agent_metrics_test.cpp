@@ -16,7 +16,8 @@ TEST(AgentMetrics, ExposesLockStateCycleTimesOutboxAndCache) {
   in.frames = 3;
   in.cycle_seconds = cycle.Snapshot();
   in.tile_round_trip_seconds = metrics::Histogram(metrics::Histogram::LatencyBoundsS()).Snapshot();
-  in.cache.hits = 3, in.cache.misses = 1;
+  in.cache.hits = 3;
+  in.cache.misses = 1;
   in.loader.timeouts = 2;
   in.outbox_patches = 11;
   in.map_server_reachable = true;

@@ -45,8 +45,10 @@ Status ReadAravis(const io::JsonFields& fields, const nlohmann::json& parent,
       if (v < 0 || v != static_cast<int>(v))
         return f->Error("region", "must be 4 non-negative integers x, y, width, height");
     }
-    o->region_x = static_cast<int>(r[0]), o->region_y = static_cast<int>(r[1]);
-    o->region_width = static_cast<int>(r[2]), o->region_height = static_cast<int>(r[3]);
+    o->region_x = static_cast<int>(r[0]);
+    o->region_y = static_cast<int>(r[1]);
+    o->region_width = static_cast<int>(r[2]);
+    o->region_height = static_cast<int>(r[3]);
   }
   for (const auto& [key, out] : {std::pair{"exposure_us", &o->exposure_us},
                                  {"gain", &o->gain},

@@ -80,9 +80,10 @@ void LiveInput::CameraLoop() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       const camera_io::CameraStats s = camera->stats();
-      closed_stats_.frames += s.frames, closed_stats_.dropped += s.dropped;
-      closed_stats_.lost_packets += s.lost_packets,
-          closed_stats_.resent_packets += s.resent_packets;
+      closed_stats_.frames += s.frames;
+      closed_stats_.dropped += s.dropped;
+      closed_stats_.lost_packets += s.lost_packets;
+      closed_stats_.resent_packets += s.resent_packets;
       camera_stats_ = {};
     }
     // Closed on a thread of its own: closing a GigE Vision camera that is gone waits out its
@@ -135,9 +136,14 @@ void LiveInput::CameraLoop() {
 void LiveInput::DropFrame(const std::string& why, bool wrong_format) {
   ++dropped_;  // mutex_ held
   const double now = HostNow();
-  if (now - last_drop_log_ > 1.0)
-    spdlog::warn("camera frame dropped: {}", why), last_drop_log_ = now;
-  if (wrong_format) wrong_format_ = why, wrong_format_host_s_ = now;
+  if (now - last_drop_log_ > 1.0) {
+    spdlog::warn("camera frame dropped: {}", why);
+    last_drop_log_ = now;
+  }
+  if (wrong_format) {
+    wrong_format_ = why;
+    wrong_format_host_s_ = now;
+  }
 }
 
 void LiveInput::Accept(camera_io::CapturedFrame frame) {
@@ -185,7 +191,9 @@ void LiveInput::TakeOdometry() {
       if (odometry_bad_since_ >= 0) spdlog::info("odometry good again at t={:.3f}", sample.t);
       odometry_bad_since_ = -1;
       InputEvent event;
-      event.kind = InputEvent::Kind::kOdometry, event.t = sample.t, event.odom = sample.pose;
+      event.kind = InputEvent::Kind::kOdometry;
+      event.t = sample.t;
+      event.odom = sample.pose;
       ready_.push_back(event);
       latest_odometry_ = std::pair{sample.t, sample.pose};
       continue;
@@ -205,10 +213,13 @@ void LiveInput::TakeOdometry() {
       odometry_watch_.Check(sample.t, true, now);
       odometry_bad_since_ = -1;
       InputEvent restart;
-      restart.kind = InputEvent::Kind::kOdometryRestart, restart.t = sample.t;
+      restart.kind = InputEvent::Kind::kOdometryRestart;
+      restart.t = sample.t;
       ready_.push_back(restart);
       InputEvent event;
-      event.kind = InputEvent::Kind::kOdometry, event.t = sample.t, event.odom = sample.pose;
+      event.kind = InputEvent::Kind::kOdometry;
+      event.t = sample.t;
+      event.odom = sample.pose;
       ready_.push_back(event);
       latest_odometry_ = std::pair{sample.t, sample.pose};
     }
@@ -237,9 +248,11 @@ Result<std::optional<InputEvent>> LiveInput::Next() {
     std::unique_lock<std::mutex> lock(mutex_);
     if (!frames_.empty()) {
       InputEvent event;
-      event.kind = InputEvent::Kind::kFrame, event.t = frames_.front().t;
+      event.kind = InputEvent::Kind::kFrame;
+      event.t = frames_.front().t;
       event.frame = std::move(frames_.front().image);
-      event.arrival_t = frames_.front().arrival_t, event.taken_t = HostNow();
+      event.arrival_t = frames_.front().arrival_t;
+      event.taken_t = HostNow();
       frames_.pop_front();
       return std::optional<InputEvent>(std::move(event));
     }

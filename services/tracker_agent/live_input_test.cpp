@@ -66,7 +66,8 @@ class LiveInputTest : public ::testing::Test {
     config_.live.camera_reopen_s = 0.6;
     config_.live.odometry_stale_s = 0.3;
     config_.live.issue_hold_s = 0.8;
-    camera_.model.width_px = 64, camera_.model.height_px = 48;
+    camera_.model.width_px = 64;
+    camera_.model.height_px = 48;
     LiveInput::CameraOpener opener = Opener();
     auto input = LiveInput::Create(config_, camera_, std::move(opener));
     ASSERT_TRUE(input.ok()) << input.status().message();
@@ -172,10 +173,12 @@ TEST_F(LiveInputTest, FramesWhoseTimeDoesNotAdvanceAreDroppedAndNamedBackInTime)
 TEST_F(LiveInputTest, ACameraThatGoesAwayIsUnavailableThenReopened) {
   Pump(0.2);
   EXPECT_FALSE(HasIssue("camera_unavailable"));
-  script_.present = false, script_.failing = true;
+  script_.present = false;
+  script_.failing = true;
   Pump(0.3);
   EXPECT_TRUE(HasIssue("camera_unavailable"));
-  script_.present = true, script_.failing = false;
+  script_.present = true;
+  script_.failing = false;
   Pump(1.2);  // the opener is retried every second
   EXPECT_FALSE(HasIssue("camera_unavailable"));
   EXPECT_FALSE(HasIssue("camera_stalled"));
@@ -188,10 +191,13 @@ TEST_F(LiveInputTest, ACameraThatGoesAwayIsUnavailableThenReopened) {
 TEST_F(LiveInputTest, ACameraWhoseCloseHangsIsNamedAndReopenedWithoutWaitingForTheClose) {
   Pump(0.2);
   script_.close_s = 3.0;
-  script_.present = false, script_.failing = true;
+  script_.present = false;
+  script_.failing = true;
   Pump(0.3);
   EXPECT_TRUE(HasIssue("camera_unavailable"));
-  script_.present = true, script_.failing = false, script_.close_s = 0.0;
+  script_.present = true;
+  script_.failing = false;
+  script_.close_s = 0.0;
   Pump(1.2);  // the reopening, 1.2 s into a 3-s close
   EXPECT_GE(script_.opens, 2);
   EXPECT_GT(Count(Pump(0.2), InputEvent::Kind::kFrame), 3);
@@ -278,8 +284,11 @@ TEST_F(LiveInputTest, BadOdometryIsDroppedAndNamedAndStaleOdometryIsNoticed) {
   EXPECT_TRUE(HasIssue("odometry_back_in_time"));
   EXPECT_TRUE(HasIssue("odometry_not_finite"));
   Pump(0.3);
-  EXPECT_TRUE(HasIssue("odometry_stale"));                                       // nothing since
-  for (int i = 0; i < 9; ++i) SendOdometry(t0 + 1.0 + 0.1 * i, 3.0), Pump(0.1);  // flowing again
+  EXPECT_TRUE(HasIssue("odometry_stale"));  // nothing since
+  for (int i = 0; i < 9; ++i) {             // flowing again
+    SendOdometry(t0 + 1.0 + 0.1 * i, 3.0);
+    Pump(0.1);
+  }
   EXPECT_FALSE(HasIssue("odometry_stale"));
   EXPECT_FALSE(HasIssue("odometry_back_in_time"));  // the hold has passed
   EXPECT_FALSE(HasIssue("odometry_not_finite"));
@@ -305,7 +314,8 @@ TEST_F(LiveInputTest, OdometryThatRestartsWithAnOlderClockBecomesANewTimeline) {
   for (auto it = restart + 1; it != events.end(); ++it) {
     if (it->kind != InputEvent::Kind::kOdometry) continue;
     EXPECT_GT(it->t, last);
-    last = it->t, ++after;
+    last = it->t;
+    ++after;
   }
   EXPECT_GT(after, 5);
   EXPECT_LT(restart->t, 0.4);

@@ -61,7 +61,10 @@ void LocalizationCore::ProcessReadyFrames() {
     waiting_frames_.pop_front();
     const double span = ExtrapolatedSpan(frame.t);
     extrapolated_frame_t_ = span > 0 ? std::optional<double>(frame.t) : std::nullopt;
-    if (span > 0) ++extrapolated_frames_, max_extrapolated_s_ = std::max(max_extrapolated_s_, span);
+    if (span > 0) {
+      ++extrapolated_frames_;
+      max_extrapolated_s_ = std::max(max_extrapolated_s_, span);
+    }
     if (const std::string gap = InOdometryGap(frame.t); !gap.empty()) {
       spdlog::warn("dropped: {}", gap);
       health_.RecordDroppedFrame(gap);
@@ -75,7 +78,8 @@ void LocalizationCore::ProcessReadyFrames() {
 
 bool LocalizationCore::Start(double t, const geometry::Pose2& odom) {
   if (!initial_) return false;
-  tracker_.Reset(*initial_, odom), started_ = true;
+  tracker_.Reset(*initial_, odom);
+  started_ = true;
   propagator_.SetAnchor(t, odom, *initial_);
   return true;
 }
@@ -184,7 +188,9 @@ bool LocalizationCore::TryRelocalize(double t, const cv::Mat& frame, const geome
       t, base.pose.x, base.pose.y, base.pose.theta * 180.0 / M_PI, found->inliers,
       found->from_trajectory ? found->trajectory_frames : 1, relocalization.last_ms());
   tracker_.Reset(base, odom);
-  started_ = true, provisional_ = true, coasting_in_a_row_ = 0;
+  started_ = true;
+  provisional_ = true;
+  coasting_in_a_row_ = 0;
   if (position_update_) position_update_->Forget();  // its points were placed before the jump
   state_ = tracking::LockState::kRelocalized;
   propagator_.SetAnchor(t, odom, base);

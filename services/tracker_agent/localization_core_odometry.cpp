@@ -76,7 +76,9 @@ void LocalizationCore::ApplyInitialPose(double stamp, const geometry::PoseWithCo
   WarmUp(t, pose);
   tracker_.Reset(pose, *odom);
   extrapolated_frame_t_.reset();
-  started_ = true, provisional_ = false, coasting_in_a_row_ = 0;
+  started_ = true;
+  provisional_ = false;
+  coasting_in_a_row_ = 0;
   if (position_update_) position_update_->Forget();
   state_ = tracking::LockState::kCoasting;  // until a frame tracks from it
   health_.RecordLockState(state_);

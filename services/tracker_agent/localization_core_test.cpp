@@ -18,7 +18,8 @@ namespace {
 class FakeTiles : public TileSupply {
  public:
   Status Prefetch(const std::vector<mosaic::TileKey>& keys) override {
-    ++prefetches, asked += static_cast<long long>(keys.size());
+    ++prefetches;
+    asked += static_cast<long long>(keys.size());
     return Status::Ok();
   }
   Result<size_t> DecodeArrived(size_t) override { return size_t{0}; }

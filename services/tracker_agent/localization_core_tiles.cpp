@@ -77,7 +77,10 @@ void LocalizationCore::ScheduleTrackerWarmUp(const geometry::PoseWithCovariance&
                                              const char* what) {
   // Live only: a replay has no time between events to do it in (its loop decodes no tiles there).
   if (!options_.live) return;
-  tracker_warm_up_ = base, warm_up_what_ = what, warm_up_tiles_ = 0, warm_up_ms_ = 0.0;
+  tracker_warm_up_ = base;
+  warm_up_what_ = what;
+  warm_up_tiles_ = 0;
+  warm_up_ms_ = 0.0;
 }
 
 void LocalizationCore::WarmUpTracker() {

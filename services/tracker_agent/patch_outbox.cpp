@@ -93,10 +93,12 @@ Result<uint64_t> PatchOutbox::Add(transport::PatchToSend* p) {
   sqlite3_bind_double(s, 2, p->stamp_s);
   sqlite3_bind_text(s, 3, p->mosaic_id.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(s, 4, p->mosaic_version);
-  sqlite3_bind_double(s, 5, p->pose.x), sqlite3_bind_double(s, 6, p->pose.y);
+  sqlite3_bind_double(s, 5, p->pose.x);
+  sqlite3_bind_double(s, 6, p->pose.y);
   sqlite3_bind_double(s, 7, p->pose.theta);
   sqlite3_bind_blob(s, 8, p->covariance, sizeof p->covariance, SQLITE_TRANSIENT);
-  sqlite3_bind_double(s, 9, p->quality), sqlite3_bind_double(s, 10, p->resolution_m);
+  sqlite3_bind_double(s, 9, p->quality);
+  sqlite3_bind_double(s, 10, p->resolution_m);
   sqlite3_bind_blob(s, 11, p->png.data(), static_cast<int>(p->png.size()), SQLITE_STATIC);
   if (sqlite3_step(s) != SQLITE_DONE) return fail("storing the patch");
   if (!sqlite::Exec(db_.get(), "UPDATE meta SET value = value + 1 WHERE name = 'next_sequence'")

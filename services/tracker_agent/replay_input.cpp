@@ -8,7 +8,10 @@ namespace fleetloc::tracker_agent {
 void Pacer::WaitUntil(double t) {
   if (!paced_) return;
   const auto now = std::chrono::steady_clock::now();
-  if (!wall_start_) wall_start_ = now, t_start_ = t;
+  if (!wall_start_) {
+    wall_start_ = now;
+    t_start_ = t;
+  }
   std::this_thread::sleep_until(*wall_start_ +
                                 std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                     std::chrono::duration<double>(t - t_start_)));
@@ -41,7 +44,8 @@ Result<std::optional<InputEvent>> ReplayInput::Next() {
   const std::optional<std::pair<InputEvent::Kind, double>> next = Peek();
   if (!next) return std::optional<InputEvent>();
   InputEvent event;
-  event.kind = next->first, event.t = next->second;
+  event.kind = next->first;
+  event.t = next->second;
   switch (event.kind) {
     case InputEvent::Kind::kOdometry:
       event.odom = run_.odometry[next_odometry_++].pose;

@@ -27,8 +27,10 @@ run_io::Run WriteRunWithForwardImages(const fs::path& dir) {
   run_io::Run run;
   run.dir = dir;
   run.vehicle_id = "agv-2";
-  run.camera.model.width_px = 16, run.camera.model.height_px = 12;
-  run.camera.model.cx_px = 8, run.camera.model.cy_px = 6;
+  run.camera.model.width_px = 16;
+  run.camera.model.height_px = 12;
+  run.camera.model.cx_px = 8;
+  run.camera.model.cy_px = 6;
   for (int i = 0; i < 2; ++i) {
     const fs::path file = dir / ("f" + std::to_string(i) + ".png");
     EXPECT_TRUE(cv::imwrite(file.string(), cv::Mat(12, 16, CV_8UC1, cv::Scalar(i))));

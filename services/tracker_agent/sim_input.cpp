@@ -52,7 +52,8 @@ Result<std::optional<InputEvent>> SimInput::Next() {
   InputEvent event;
   if (take_odometry) {
     event.kind = InputEvent::Kind::kOdometry;
-    event.t = odometry[next_odometry_].t, event.odom = odometry[next_odometry_].pose;
+    event.t = odometry[next_odometry_].t;
+    event.odom = odometry[next_odometry_].pose;
     ++next_odometry_;
   } else {
     event.kind = InputEvent::Kind::kFrame;

@@ -43,7 +43,8 @@ TEST(SimInput, DrivesOnAcrossStretchesWithoutJumps) {
         largest_truth_step = std::max(largest_truth_step,
                                       std::hypot(truth.x - last_truth.x, truth.y - last_truth.y));
       }
-      last_odom = odom_camera, last_truth = truth;
+      last_odom = odom_camera;
+      last_truth = truth;
     }
     last_t = e.t;
   }

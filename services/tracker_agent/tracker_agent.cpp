@@ -89,8 +89,10 @@ void TrackerAgent::PublishHealth() {
   in.patch_outbox = static_cast<size_t>(patches_->waiting());
   in.position_update = core_->position_update() ? &core_->position_update()->stats() : nullptr;
   in.patch_outbox_dropped = patches_->dropped();
-  if (input_ != nullptr)
-    in.input_issues = input_->Issues(), in.input_dropped = input_->DroppedFrames();
+  if (input_ != nullptr) {
+    in.input_issues = input_->Issues();
+    in.input_dropped = input_->DroppedFrames();
+  }
   link_->PublishHealth(std::move(in));
 }
 

@@ -86,56 +86,82 @@ Status RunAgent(const tracker_agent::AgentConfig& config, const std::atomic<bool
   return (*agent)->Run(input, stop);
 }
 
+// The command line's overrides of the configuration; an empty string or a negative number is
+// "not given".
+struct CommandLineOptions {
+  std::string config_path, vehicle_id, run, landmarks, sim_floor, dds_config, outbox, summary;
+  std::string metrics_port_file;
+  int domain = -1;
+  int metrics_port = -1;
+  bool fast = false;
+  bool relocalize = false;
+};
+
+// Declares the agent's flags on `app`, writing into `options`.
+void AddOptions(CLI::App& app, CommandLineOptions& options) {
+  app.add_option("--config", options.config_path, "Configuration (JSON; defaults for absent keys)");
+  app.add_option("--vehicle-id", options.vehicle_id, "Vehicle id (overrides the configuration)");
+  app.add_option("--run", options.run, "Replay this run directory (overrides the configuration)");
+  app.add_option("--landmarks", options.landmarks,
+                 "Landmark map for the position updates (default: the run's landmarks.csv)");
+  app.add_option("--sim-floor", options.sim_floor,
+                 "Drive a live simulated vehicle over this floor image forever");
+  app.add_option("--domain", options.domain, "DDS domain id (overrides the configuration)");
+  app.add_option("--dds-config", options.dds_config,
+                 "Cyclone DDS XML (default: built-in loopback)");
+  app.add_option("--metrics-port", options.metrics_port,
+                 "Serve Prometheus /metrics on this port (0: any free one; off by default)");
+  app.add_option("--metrics-port-file", options.metrics_port_file,
+                 "Write the bound metrics port into this file");
+  app.add_option("--outbox", options.outbox, "Patch outbox file (overrides the configuration)");
+  app.add_option("--summary", options.summary,
+                 "Write a JSON summary (frames, cycle times) at exit");
+  app.add_flag("--fast", options.fast, "Replay as fast as possible instead of at recorded speed");
+  app.add_flag("--relocalize", options.relocalize,
+               "Start without the given initial pose: find it with the map server's place index");
+}
+
+// Applies the flags that were given over the configuration file's values (or the defaults).
+void ApplyOverrides(const CommandLineOptions& options, tracker_agent::AgentConfig& config) {
+  if (!options.vehicle_id.empty()) config.vehicle_id = options.vehicle_id;
+  if (!options.run.empty()) {
+    config.run_path = options.run;
+    config.source = "replay";
+  }
+  if (!options.sim_floor.empty()) {
+    config.sim_floor = options.sim_floor;
+    config.source = "sim";
+  }
+  if (options.domain >= 0) config.domain_id = options.domain;
+  if (!options.dds_config.empty()) config.dds_config_path = options.dds_config;
+  if (options.fast) config.paced = false;
+  if (options.relocalize) config.start_pose = "relocalize";
+  if (!options.outbox.empty()) config.outbox_path = options.outbox;
+  if (!options.summary.empty()) config.summary_path = options.summary;
+  if (!options.landmarks.empty()) config.landmarks_path = options.landmarks;
+  if (options.metrics_port >= 0) {
+    config.metrics.enabled = true;
+    config.metrics.port = options.metrics_port;
+  }
+  if (!options.metrics_port_file.empty()) config.metrics.port_file = options.metrics_port_file;
+}
+
 int AgentMain(int argc, char** argv) {
   CLI::App app{"fleetloc tracker agent: one vehicle's pose over the shared mosaic, live over DDS"};
-  std::string config_path, vehicle_id, run, dds_config, outbox, summary;
-  int domain = -1, metrics_port = -1;
-  std::string metrics_port_file;
-  bool fast = false;
-  app.add_option("--config", config_path, "Configuration (JSON; defaults for absent keys)");
-  app.add_option("--vehicle-id", vehicle_id, "Vehicle id (overrides the configuration)");
-  std::string sim_floor;
-  app.add_option("--run", run, "Replay this run directory (overrides the configuration)");
-  std::string landmarks;
-  app.add_option("--landmarks", landmarks,
-                 "Landmark map for the position updates (default: the run's landmarks.csv)");
-  app.add_option("--sim-floor", sim_floor,
-                 "Drive a live simulated vehicle over this floor image forever");
-  app.add_option("--domain", domain, "DDS domain id (overrides the configuration)");
-  app.add_option("--dds-config", dds_config, "Cyclone DDS XML (default: built-in loopback)");
-  app.add_option("--metrics-port", metrics_port,
-                 "Serve Prometheus /metrics on this port (0: any free one; off by default)");
-  app.add_option("--metrics-port-file", metrics_port_file,
-                 "Write the bound metrics port into this file");
-  app.add_option("--outbox", outbox, "Patch outbox file (overrides the configuration)");
-  app.add_option("--summary", summary, "Write a JSON summary (frames, cycle times) at exit");
-  app.add_flag("--fast", fast, "Replay as fast as possible instead of at recorded speed");
-  bool relocalize = false;
-  app.add_flag("--relocalize", relocalize,
-               "Start without the given initial pose: find it with the map server's place index");
+  CommandLineOptions options;
+  AddOptions(app, options);
   if (auto exit_status = fleetloc::cli::ParseCommandLine(app, "tracker_agent", argc, argv))
     return *exit_status;
   tracker_agent::AgentConfig config;
-  if (!config_path.empty()) {
-    auto loaded = tracker_agent::LoadAgentConfig(config_path);
+  if (!options.config_path.empty()) {
+    auto loaded = tracker_agent::LoadAgentConfig(options.config_path);
     if (!loaded.ok()) {
       std::fprintf(stderr, "tracker_agent: %s\n", loaded.status().message().c_str());
       return loaded.status().ExitCode();
     }
     config = *loaded;
   }
-  if (!vehicle_id.empty()) config.vehicle_id = vehicle_id;
-  if (!run.empty()) config.run_path = run, config.source = "replay";
-  if (!sim_floor.empty()) config.sim_floor = sim_floor, config.source = "sim";
-  if (domain >= 0) config.domain_id = domain;
-  if (!dds_config.empty()) config.dds_config_path = dds_config;
-  if (fast) config.paced = false;
-  if (relocalize) config.start_pose = "relocalize";
-  if (!outbox.empty()) config.outbox_path = outbox;
-  if (!summary.empty()) config.summary_path = summary;
-  if (!landmarks.empty()) config.landmarks_path = landmarks;
-  if (metrics_port >= 0) config.metrics.enabled = true, config.metrics.port = metrics_port;
-  if (!metrics_port_file.empty()) config.metrics.port_file = metrics_port_file;
+  ApplyOverrides(options, config);
   runtime::SetupLogging(config.vehicle_id);
   const Status ran = RunAgent(config, runtime::InstallStopSignals());
   if (!ran.ok()) spdlog::error("{}", ran.message());

@@ -71,7 +71,9 @@ void BM_TrackFrame640x480(benchmark::State& state) {
     }
     const auto r = tracker.Track(f.frames[i], truth[i].t, odom_at(truth[i].t));
     tracked += r.state == tracking::LockState::kTracking;
-    select_ms += r.select_ms, coarse_ms += r.coarse_ms, fine_ms += r.fine_ms;
+    select_ms += r.select_ms;
+    coarse_ms += r.coarse_ms;
+    fine_ms += r.fine_ms;
     ++i;
   }
   state.counters["lock_rate"] = benchmark::Counter(tracked, benchmark::Counter::kAvgIterations);

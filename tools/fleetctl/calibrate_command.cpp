@@ -56,7 +56,10 @@ Status RunCalibrate(const CalibrateArgs& a) {
     camera = *base;
   }
   run_io::RawCamera raw;
-  for (int i = 0; i < 9; ++i) raw.K[i] = intrinsics->K.val[i], raw.H_ground[i] = H->val[i];
+  for (int i = 0; i < 9; ++i) {
+    raw.K[i] = intrinsics->K.val[i];
+    raw.H_ground[i] = H->val[i];
+  }
   raw.dist = intrinsics->dist;
   camera.raw = raw;
   FLEETLOC_RETURN_IF_ERROR(run_io::WriteCameraJson(a.out, camera));

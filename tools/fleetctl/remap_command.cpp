@@ -85,7 +85,10 @@ Result<std::vector<std::string>> WaitForServers(transport::RemapClient* client, 
   for (;;) {
     std::vector<std::string> now = client->ServersOf(a.mosaic_id);
     if (now.empty()) now = client->ServersOf("");  // they will reject an unknown mosaic id
-    if (now != servers) servers = std::move(now), steady_since = Clock::now();
+    if (now != servers) {
+      servers = std::move(now);
+      steady_since = Clock::now();
+    }
     const bool listening =
         !servers.empty() && client->MatchedServers() >= static_cast<int>(servers.size());
     if (listening && Clock::now() - steady_since >= kSettle) return servers;
@@ -110,7 +113,9 @@ const transport::RemapProgress& Worst(
 
 nlohmann::json Outcome(const transport::RemapProgress& s) {
   nlohmann::json out = ToJson(s);
-  out.erase("phase"), out.erase("progress"), out.erase("t");
+  out.erase("phase");
+  out.erase("progress");
+  out.erase("t");
   return out;
 }
 

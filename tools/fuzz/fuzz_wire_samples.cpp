@@ -20,7 +20,8 @@ void FuzzPatch(FuzzedDataProvider& in) {
   p.stamp = {in.ConsumeIntegral<std::int64_t>(), in.ConsumeIntegral<std::uint32_t>()};
   transport::SetBounded(p.mosaic_id, in.ConsumeBool() ? "fuzz" : in.ConsumeRandomLengthString(70));
   p.mosaic_version = in.ConsumeIntegral<std::int64_t>();
-  p.x = in.ConsumeFloatingPoint<double>(), p.y = in.ConsumeFloatingPoint<double>();
+  p.x = in.ConsumeFloatingPoint<double>();
+  p.y = in.ConsumeFloatingPoint<double>();
   p.theta = in.ConsumeFloatingPoint<double>();
   for (double& c : p.covariance) c = in.ConsumeFloatingPoint<double>();
   p.quality = in.ConsumeFloatingPoint<float>();

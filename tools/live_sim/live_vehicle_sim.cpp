@@ -55,7 +55,9 @@ Result<std::unique_ptr<OdometryPublisher>> OdometryPublisher::Create(
     const transport::Participant& p, std::vector<geometry::StampedPose> samples, Mangle mangle,
     double min_gap_s, const std::string& topic) {
   std::unique_ptr<OdometryPublisher> o(new OdometryPublisher());
-  o->samples_ = std::move(samples), o->mangle_ = std::move(mangle), o->min_gap_s_ = min_gap_s;
+  o->samples_ = std::move(samples);
+  o->mangle_ = std::move(mangle);
+  o->min_gap_s_ = min_gap_s;
   FLEETLOC_RETURN_IF_ERROR(
       AssignTo(transport::Topic<nav_msgs_msg_dds__Odometry_>::Create(p, topic), &o->topic_));
   FLEETLOC_RETURN_IF_ERROR(AssignTo(transport::Writer<nav_msgs_msg_dds__Odometry_>::Create(

@@ -9,7 +9,10 @@ namespace fleetloc::peers {
 LandmarkGrid::LandmarkGrid(std::span<const Eigen::Vector2d> landmarks, double reach_m)
     : landmarks_(landmarks), reach2_(reach_m * reach_m) {
   Eigen::Vector2d low = landmarks.front(), high = low;
-  for (const Eigen::Vector2d& m : landmarks) low = low.cwiseMin(m), high = high.cwiseMax(m);
+  for (const Eigen::Vector2d& m : landmarks) {
+    low = low.cwiseMin(m);
+    high = high.cwiseMax(m);
+  }
   const Eigen::Vector2d extent = high - low;
   const double area = std::max(extent.x() * extent.y(), reach_m * reach_m);
   cell_m_ = std::max(reach_m, std::sqrt(area / (16.0 * static_cast<double>(landmarks.size()))));
@@ -44,7 +47,10 @@ int LandmarkGrid::NearestWithin(const Eigen::Vector2d& xy) const {
       const int cell = y * columns_ + x;
       for (int k = first_[cell]; k < first_[cell + 1]; ++k) {
         const double d2 = (landmarks_[members_[k]] - xy).squaredNorm();
-        if (d2 <= best_d2) best_d2 = d2, best = members_[k];
+        if (d2 <= best_d2) {
+          best_d2 = d2;
+          best = members_[k];
+        }
       }
     }
   }

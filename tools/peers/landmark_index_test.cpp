@@ -17,7 +17,8 @@ std::vector<Eigen::Vector2d> Landmarks(std::mt19937& rng) {
   std::vector<Eigen::Vector2d> landmarks;
   for (int k = 0; k < 20; ++k) {
     landmarks.emplace_back(x(rng), y(rng));
-    landmarks.push_back(landmarks.back() + Eigen::Vector2d(near(rng), near(rng)));
+    const Eigen::Vector2d twin = landmarks.back() + Eigen::Vector2d(near(rng), near(rng));
+    landmarks.push_back(twin);  // not emplace_back: the argument reads landmarks.back()
   }
   return landmarks;
 }
@@ -27,7 +28,10 @@ int BruteNearestWithin(const std::vector<Eigen::Vector2d>& landmarks, const Eige
   int best = -1;
   double best_d = reach;
   for (std::size_t m = 0; m < landmarks.size(); ++m) {
-    if ((landmarks[m] - xy).norm() <= best_d) best_d = (landmarks[m] - xy).norm(), best = int(m);
+    if ((landmarks[m] - xy).norm() <= best_d) {
+      best_d = (landmarks[m] - xy).norm();
+      best = int(m);
+    }
   }
   return best;
 }

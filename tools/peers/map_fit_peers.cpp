@@ -16,7 +16,10 @@ const Eigen::Vector2d& Nearest(std::span<const Eigen::Vector2d> landmarks,
   double best_d2 = std::numeric_limits<double>::infinity();
   for (std::size_t m = 0; m < landmarks.size(); ++m) {
     const double d2 = (landmarks[m] - xy).squaredNorm();
-    if (d2 < best_d2) best_d2 = d2, best = m;
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = m;
+    }
   }
   return landmarks[best];
 }
@@ -62,7 +65,10 @@ mapmatch::MapFitResult NearestRansacMapFit(std::span<const Eigen::Vector2d> land
 geometry::Pose2 RigidFit(const std::vector<Eigen::Vector2d>& from,
                          const std::vector<Eigen::Vector2d>& to) {
   Eigen::Vector2d from_mean = Eigen::Vector2d::Zero(), to_mean = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) from_mean += from[i], to_mean += to[i];
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    from_mean += from[i];
+    to_mean += to[i];
+  }
   from_mean /= static_cast<double>(from.size());
   to_mean /= static_cast<double>(to.size());
   double dot = 0.0, cross = 0.0;

@@ -75,7 +75,10 @@ void TryPointPair(const Search& s, const Eigen::Vector2d& a, const Eigen::Vector
       const geometry::Pose2 step =
           mapmatch::RigidFromTwoPairs(a, b, s.landmarks[ma], s.landmarks[mb]);
       const int inliers = CountInliers(s, step, best->inliers);
-      if (inliers > best->inliers) best->step = step, best->inliers = inliers;
+      if (inliers > best->inliers) {
+        best->step = step;
+        best->inliers = inliers;
+      }
     }
   }
 }
@@ -104,7 +107,10 @@ geometry::Pose2 Refine(const Search& s, geometry::Pose2 step) {
     std::vector<Eigen::Vector2d> from, to;
     for (const Eigen::Vector2d& p : s.moved) {
       const int m = s.grid.NearestWithin(step * p);
-      if (m >= 0) from.push_back(p), to.push_back(s.landmarks[m]);
+      if (m >= 0) {
+        from.push_back(p);
+        to.push_back(s.landmarks[m]);
+      }
     }
     if (from.size() < 2) break;
     step = RigidFit(from, to);

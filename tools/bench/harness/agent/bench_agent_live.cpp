@@ -179,7 +179,10 @@ Result<HeardPoses> DriveAndListen(const LiveAgentBenchSettings& s, live_sim::Pla
     FLEETLOC_RETURN_IF_ERROR(init_writer->Write(initial.get()));
     live_sim::SleepUntilHost(start + 0.2);
     live_sim::FakeGigECamera camera(&d, start - 100.0);
-    while (!(*odometry)->done()) take(), std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    while (!(*odometry)->done()) {
+      take();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     take();
   }

@@ -6,10 +6,10 @@
 // docs/benchmarks.md.
 #include "harness/map_server/bench_patch_flood.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -78,7 +78,9 @@ Result<std::string> PrepareFloodMosaic(const PatchFloodBenchArgs& a) {
   if (!demo.ok()) return demo.status();
   const std::string mosaic = a.tiles.work_dir + "/flood_bench.db",
                     config = a.tiles.work_dir + "/map_server.json";
-  fs::remove(mosaic), fs::remove(mosaic + "-wal"), fs::remove(mosaic + "-shm");
+  fs::remove(mosaic);
+  fs::remove(mosaic + "-wal");
+  fs::remove(mosaic + "-shm");
   fs::copy_file(*demo, mosaic);
   std::ofstream(config) << nlohmann::json{
       {"mosaic", mosaic},
@@ -141,7 +143,8 @@ Status RunPatchFloodBench(PatchFloodBenchArgs a) {
                vehicles, a.flood_mb_per_s);
   Result<TileLatency> flooded = MeasureTileLatency(*participant, vehicles, a.tiles);
   stop = true;
-  flood.join(), sampler.join();
+  flood.join();
+  sampler.join();
   if (!flooded.ok()) return flooded.status();
   const double seconds = growth.empty() ? 1.0 : growth.back()["t_s"].get<double>();
   (void)server->Stop(SIGTERM);

@@ -35,7 +35,9 @@ Result<std::string> MosaicWithPatches(const RemapBenchArgs& a) {
       EnsureDemoMosaic(a.work_dir, "rock_dirt_2048.png", "remap_bench_demo.db");
   if (!demo.ok()) return demo.status();
   const std::string path = a.work_dir + "/remap_bench.db";
-  fs::remove(path), fs::remove(path + "-wal"), fs::remove(path + "-shm");
+  fs::remove(path);
+  fs::remove(path + "-wal");
+  fs::remove(path + "-shm");
   fs::copy_file(*demo, path);
   Result<cv::Mat> floor =
       run_io::ReadGrayImage(fleetctl::DefaultFloorsDir() / "rock_dirt_2048.png");

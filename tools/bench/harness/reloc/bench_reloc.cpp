@@ -206,8 +206,9 @@ AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
   for (const RelocTrial& t : trials) {
     for (const relocalization::Relocalization& r : t.runs) {
       a.attempt_ms.push_back(Ms(r) + r.trajectory_ms);
-      a.detect.push_back(r.detect_ms), a.match.push_back(r.match_ms),
-          a.verify.push_back(r.verify_ms);
+      a.detect.push_back(r.detect_ms);
+      a.match.push_back(r.match_ms);
+      a.verify.push_back(r.verify_ms);
       // The dense stages' p50 over the attempts they ran in.
       if (r.dense) a.dense.push_back(r.dense_ms - r.dense_fine_ms);
       if (r.dense_fine) a.dense_fine.push_back(r.dense_fine_ms);

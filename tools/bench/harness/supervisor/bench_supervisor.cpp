@@ -79,7 +79,8 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop,
     for (int i = 0; i < a.vehicles; ++i) {
       PoseReport report{"sim-" + std::to_string(i), now, {}, tracking::LockState::kTracking, 1};
       const double phase = now * 0.2 + i;
-      report.base_in_map.pose = {10 * (i % 25) + std::cos(phase), 10 * (i / 25) + std::sin(phase),
+      const int row = i / 25;  // 25 vehicles a row, 10 m apart
+      report.base_in_map.pose = {10 * (i % 25) + std::cos(phase), 10 * row + std::sin(phase),
                                  phase + M_PI / 2};
       report.base_in_map.covariance = Eigen::Vector3d(1e-8, 1e-8, 1e-6).asDiagonal();
       if (poses[i].Write(ToIdl(report)).ok()) ++*published;
@@ -88,7 +89,10 @@ void PublishFleet(const SupervisorBenchArgs& a, const std::atomic<bool>& stop,
         h.wire_version = fleetloc_CURRENT_WIRE_VERSION;
         SetBounded(h.vehicle_id, report.vehicle_id);
         h.stamp = NowStamp();
-        h.cycle_ms_p50 = 1.2f, h.cycle_ms_p95 = 1.9f, h.cycle_ms_p99 = 2.5f, h.inliers = 24;
+        h.cycle_ms_p50 = 1.2f;
+        h.cycle_ms_p95 = 1.9f;
+        h.cycle_ms_p99 = 2.5f;
+        h.inliers = 24;
         h.map_server_reachable = true;
         (void)health[i].Write(h);
       }
@@ -118,7 +122,10 @@ void ReadStream(int port, const std::atomic<bool>& stop, std::vector<double>* la
         if (v["pose"].is_null()) continue;
         const double t = v["pose"]["t"].get<double>();
         double& last = last_stamp[v["id"].get<std::string>()];
-        if (t != last) latencies_ms->push_back((seen - t) * 1e3), last = t;
+        if (t != last) {
+          latencies_ms->push_back((seen - t) * 1e3);
+          last = t;
+        }
       }
     }
     return !stop.load();
@@ -129,7 +136,8 @@ void ReadStream(int port, const std::atomic<bool>& stop, std::vector<double>* la
 Result<runtime::ChildProcess> StartSupervisor(const SupervisorBenchArgs& a, int* port) {
   fs::create_directories(a.work_dir);
   const std::string port_file = a.work_dir + "/port", history = a.work_dir + "/history.db";
-  fs::remove(port_file), fs::remove(history);
+  fs::remove(port_file);
+  fs::remove(history);
   std::vector<std::string> args = {
       "--domain", std::to_string(a.domain), "--history", history, "--http-port", "0", "--port-file",
       port_file,  "--metrics-port",         "0"};

@@ -67,7 +67,8 @@ void Timed(Series* series, Call call, Ok ok) {
 // The operator's client for `seconds`: GET /api/fleet and POST /api/remap at `hz`.
 Phase Measure(int port, pid_t supervisor, double seconds, double hz) {
   httplib::Client http("127.0.0.1", port);
-  http.set_connection_timeout(10), http.set_read_timeout(10);
+  http.set_connection_timeout(10);
+  http.set_read_timeout(10);
   const httplib::Headers maintainer = {{"Authorization", std::string("Bearer ") + kToken}};
   Phase phase;
   const auto end = Clock::now() + std::chrono::duration<double>(seconds);
@@ -183,7 +184,8 @@ Status RunSupervisorAbuseBench(SupervisorAbuseBenchArgs a) {
   const std::string token_file = a.work_dir + "/token", port_file = a.work_dir + "/port";
   std::ofstream(token_file) << kToken << "\n";
   fs::permissions(token_file, fs::perms::owner_read | fs::perms::owner_write);
-  fs::remove(port_file), fs::remove(a.work_dir + "/history.db");
+  fs::remove(port_file);
+  fs::remove(a.work_dir + "/history.db");
   auto map_server = StartDaemon(
       "map_server", {"--mosaic", mosaic, "--domain", std::to_string(a.domain)}, a.work_dir);
   if (!map_server.ok()) return map_server.status();

@@ -36,8 +36,15 @@ void HoldConnections(int port, int count, std::chrono::milliseconds period,
   while (running) {
     for (int& fd : fds) {
       if (!running) break;
-      if (fd >= 0 && ClosedByServer(fd)) ::close(fd), fd = -1, ++*closed;
-      if (fd < 0 && (fd = Connect(port)) >= 0) ++*connects, opened(fd);
+      if (fd >= 0 && ClosedByServer(fd)) {
+        ::close(fd);
+        fd = -1;
+        ++*closed;
+      }
+      if (fd < 0 && (fd = Connect(port)) >= 0) {
+        ++*connects;
+        opened(fd);
+      }
       if (fd >= 0) tick(fd);
     }
     std::this_thread::sleep_for(period);

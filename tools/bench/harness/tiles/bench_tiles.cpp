@@ -1,9 +1,9 @@
 // Tile streaming benchmark against a real map_server process (see bench_tiles.h).
 #include "harness/tiles/bench_tiles.h"
 
-#include <signal.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -72,6 +72,7 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   size_t next_key = 0;
   auto send = [&]() -> Status {
     std::vector<mosaic::TileKey> batch;
+    batch.reserve(s.batch_tiles);
     for (int i = 0; i < s.batch_tiles; ++i) batch.push_back(keys[next_key++ % keys.size()]);
     outstanding[next_id] = s.batch_tiles;
     return (*client)->Request(next_id++, "", batch);
@@ -82,14 +83,19 @@ Result<Throughput> MeasureThroughput(const transport::Participant& participant,
   Clock::time_point measuring;
   bool warm = false;
   while (SecondsSince(start) < 1.0 + s.seconds) {
-    if (!warm && SecondsSince(start) >= 1.0)
-      warm = true, measuring = Clock::now(), t.tiles = 0, bytes = 0;
+    if (!warm && SecondsSince(start) >= 1.0) {
+      warm = true;
+      measuring = Clock::now();
+      t.tiles = 0;
+      bytes = 0;
+    }
     while (static_cast<int>(outstanding.size()) < s.pipeline) FLEETLOC_RETURN_IF_ERROR(send());
     (void)waitset->Wait(0.01);
     auto tiles = (*client)->TakeTiles();
     if (!tiles.ok()) return tiles.status();
     for (const auto& tile : *tiles) {
-      ++t.tiles, bytes += static_cast<long long>(tile.data.size());
+      ++t.tiles;
+      bytes += static_cast<long long>(tile.data.size());
       if (--outstanding[tile.request_id] == 0) outstanding.erase(tile.request_id);
     }
   }
