@@ -36,43 +36,64 @@ void ClippedWindows(int n, int half, std::vector<int>& lo, std::vector<int>& hi)
   }
 }
 
+// Adds (sign 1) or takes away (sign −1) one row of I − offset to the column sums.
 FLEETLOC_VECTOR_CLONES
-void AddRow(const float* in, float* sum, float* sum_sq, int n, float sign) {
+void AddRow(const float* in, float offset, float* sum, float* sum_sq, int n, float sign) {
   for (int x = 0; x < n; ++x) {
-    sum[x] += sign * in[x];
-    sum_sq[x] += sign * in[x] * in[x];
+    const float v = in[x] - offset;
+    sum[x] += sign * v;
+    sum_sq[x] += sign * v * v;
   }
 }
 
-// sum[x] = prefix[x + half + 1] − prefix[x − half] for x in [begin, end).
-FLEETLOC_VECTOR_CLONES
-void WindowDifferences(const float* prefix, const float* prefix_sq, int begin, int end, int half,
-                       float* sum, float* sq) {
-  for (int x = begin; x < end; ++x) {
-    sum[x] = prefix[x + half + 1] - prefix[x - half];
-    sq[x] = prefix_sq[x + half + 1] - prefix_sq[x - half];
+// Window sums along a row, 8 at a time: sum[x] = Σ_{k<w} padded[x + k] (and the same of the
+// squares), added in the order k = 0, 1, …; returns the first x it did not do. Only called when
+// the CPU has AVX2 (checked at run time).
+__attribute__((target("avx2"))) int WindowSumsAvx2(const float* padded, const float* padded_sq,
+                                                   int w, int n, float* sum, float* sq) {
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    __m256 s = _mm256_loadu_ps(padded + x), q = _mm256_loadu_ps(padded_sq + x);
+    for (int k = 1; k < w; ++k) {
+      s = _mm256_add_ps(s, _mm256_loadu_ps(padded + x + k));
+      q = _mm256_add_ps(q, _mm256_loadu_ps(padded_sq + x + k));
+    }
+    _mm256_storeu_ps(sum + x, s);
+    _mm256_storeu_ps(sq + x, q);
+  }
+  return x;
+}
+
+// Each pixel's window sum is taken directly rather than as the difference of two running
+// prefix sums: a prefix along a 256-px tile row of 7 rows' squares reaches ~10⁸, where a float's
+// step is 8, so the difference lost whole grey levels² of a plain floor's local variance; and
+// the prefix loop is one serial chain of dependent adds.
+void WindowSums(const float* padded, const float* padded_sq, int w, int n, float* sum, float* sq) {
+  int x = kHasAvx2 ? WindowSumsAvx2(padded, padded_sq, w, n, sum, sq) : 0;
+  for (; x < n; ++x) {
+    float s = padded[x], q = padded_sq[x];
+    for (int k = 1; k < w; ++k) {
+      s += padded[x + k];
+      q += padded_sq[x + k];
+    }
+    sum[x] = s;
+    sq[x] = q;
   }
 }
 
+// One row's output from the window sums of I − offset: mean = Σ/n, variance = max(0, Σ²/n −
+// mean²) (stored when `variance` is not null) and (I − offset − mean) / (σ + ε).
 FLEETLOC_VECTOR_CLONES
-void ScaleInto(const float* in, float scale, float* out, int n) {
-  for (int x = 0; x < n; ++x) out[x] = in[x] * scale;
-}
-
-// The window mean and variance of each pixel of a row, from its window sums.
-FLEETLOC_VECTOR_CLONES
-void MomentsRow(const float* mean_sum, const float* sq_sum, const float* inv_n, float* mean,
-                float* variance, int n) {
+void NormalizeRowFromSums(const float* in, float offset, const float* sum, const float* sq,
+                          const float* inv_cols, float inv_rows, float epsilon, float* out,
+                          float* variance, int n) {
   for (int x = 0; x < n; ++x) {
-    mean[x] = mean_sum[x] * inv_n[x];
-    variance[x] = std::max(0.0f, sq_sum[x] * inv_n[x] - mean[x] * mean[x]);
+    const float inv_n = inv_cols[x] * inv_rows;
+    const float mean = sum[x] * inv_n;
+    const float v = std::max(0.0f, sq[x] * inv_n - mean * mean);
+    out[x] = (in[x] - offset - mean) / (std::sqrt(v) + epsilon);
+    if (variance) variance[x] = v;
   }
-}
-
-FLEETLOC_VECTOR_CLONES
-void NormalizeRow(const float* in, const float* mean, const float* variance, float epsilon,
-                  float* out, int n) {
-  for (int x = 0; x < n; ++x) out[x] = (in[x] - mean[x]) / (std::sqrt(variance[x]) + epsilon);
 }
 
 // A float dot product with 8-wide AVX2 multiply-adds (the compiler may not reorder a float sum
@@ -178,47 +199,37 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   CV_Assert(window_px >= 3 && window_px % 2 == 1);
   const cv::Mat f = AsFloat(patch);
   const int rows = f.rows, cols = f.cols, half = window_px / 2;
-  std::vector<int> x_lo, x_hi, y_lo, y_hi;
-  ClippedWindows(cols, half, x_lo, x_hi);
+  std::vector<int> y_lo, y_hi;
   ClippedWindows(rows, half, y_lo, y_hi);
-  // Column sums over the vertical window, updated row by row; then horizontal window sums from
-  // prefix sums (interior columns as a difference of shifted prefixes, borders clipped).
-  std::vector<float> col_sum(cols, 0.0f), col_sq(cols, 0.0f);
-  std::vector<float> prefix(cols + 1), prefix_sq(cols + 1), sum(cols), sq(cols), inv_n(cols);
-  std::vector<float> inv_cols(cols), mean(cols), variance_row(cols);
-  for (int x = 0; x < cols; ++x) inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
-  for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), col_sum.data(), col_sq.data(), cols, 1);
+  // The sums are taken of I − the patch's mean, whose squares are of the local variance's size
+  // rather than of the grey level's: on a bright plain floor Σ I² − (Σ I)²/n cancels ~10⁶ down to
+  // a few grey levels², below a float's resolution there.
+  const float offset = static_cast<float>(cv::mean(f)[0]);
+  // Column sums over the vertical window, updated row by row and kept between `half` zeros on
+  // each side, so that the horizontal window sums need no clipping (the clipped pixel counts are
+  // in inv_cols and inv_rows).
+  std::vector<float> padded(cols + 2 * half, 0.0f), padded_sq(cols + 2 * half, 0.0f);
+  float* col_sum = padded.data() + half;
+  float* col_sq = padded_sq.data() + half;
+  std::vector<float> sum(cols), sq(cols), inv_cols(cols);
+  for (int x = 0; x < cols; ++x) {
+    inv_cols[x] = 1.0f / static_cast<float>(std::min(cols, x + half + 1) - std::max(0, x - half));
+  }
+  for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), offset, col_sum, col_sq, cols, 1);
   cv::Mat out(f.size(), CV_32F);
   if (local_variance) local_variance->create(f.size(), CV_32F);
-  const int interior_begin = std::min(half, cols),
-            interior_end = std::max(interior_begin, cols - half);
   for (int y = 0; y < rows; ++y) {
     if (y > 0 && y_hi[y] > y_hi[y - 1]) {
-      AddRow(f.ptr<float>(y_hi[y] - 1), col_sum.data(), col_sq.data(), cols, 1);
+      AddRow(f.ptr<float>(y_hi[y] - 1), offset, col_sum, col_sq, cols, 1);
     }
     if (y > 0 && y_lo[y] > y_lo[y - 1]) {
-      AddRow(f.ptr<float>(y_lo[y] - 1), col_sum.data(), col_sq.data(), cols, -1);
+      AddRow(f.ptr<float>(y_lo[y] - 1), offset, col_sum, col_sq, cols, -1);
     }
-    prefix[0] = prefix_sq[0] = 0.0f;
-    for (int x = 0; x < cols; ++x) {
-      prefix[x + 1] = prefix[x] + col_sum[x];
-      prefix_sq[x + 1] = prefix_sq[x] + col_sq[x];
-    }
-    for (int x = 0; x < interior_begin; ++x) {
-      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]];
-      sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
-    }
-    WindowDifferences(prefix.data(), prefix_sq.data(), interior_begin, interior_end, half,
-                      sum.data(), sq.data());
-    for (int x = interior_end; x < cols; ++x) {
-      sum[x] = prefix[x_hi[x]] - prefix[x_lo[x]];
-      sq[x] = prefix_sq[x_hi[x]] - prefix_sq[x_lo[x]];
-    }
+    WindowSums(padded.data(), padded_sq.data(), window_px, cols, sum.data(), sq.data());
     const float inv_rows = 1.0f / static_cast<float>(y_hi[y] - y_lo[y]);
-    ScaleInto(inv_cols.data(), inv_rows, inv_n.data(), cols);
-    float* variance = local_variance ? local_variance->ptr<float>(y) : variance_row.data();
-    MomentsRow(sum.data(), sq.data(), inv_n.data(), mean.data(), variance, cols);
-    NormalizeRow(f.ptr<float>(y), mean.data(), variance, epsilon, out.ptr<float>(y), cols);
+    NormalizeRowFromSums(f.ptr<float>(y), offset, sum.data(), sq.data(), inv_cols.data(), inv_rows,
+                         epsilon, out.ptr<float>(y),
+                         local_variance ? local_variance->ptr<float>(y) : nullptr, cols);
   }
   return out;
 }

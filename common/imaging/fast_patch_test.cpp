@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -37,6 +39,50 @@ TEST(NormalizePatch, GivesTheLocalVarianceOfOpenCvsBoxFilterAwayFromTheBorder) {
   const cv::Rect interior(5, 5, 50, 40);
   ASSERT_GT(cv::mean(reference(interior))[0], 10.0);  // a textured patch
   EXPECT_LT(cv::norm(variance(interior), reference(interior), cv::NORM_INF), 0.05);
+}
+
+// (I − μ_w) / (σ_w + ε) and σ_w² in double precision, the window clipped at the patch border.
+void ClippedWindowReference(const cv::Mat& patch, int window_px, cv::Mat* normalized,
+                            cv::Mat* variance) {
+  const int half = window_px / 2;
+  normalized->create(patch.size(), CV_64F);
+  variance->create(patch.size(), CV_64F);
+  for (int y = 0; y < patch.rows; ++y) {
+    for (int x = 0; x < patch.cols; ++x) {
+      double sum = 0.0, sum_sq = 0.0, n = 0.0;
+      for (int v = std::max(0, y - half); v <= std::min(patch.rows - 1, y + half); ++v) {
+        for (int u = std::max(0, x - half); u <= std::min(patch.cols - 1, x + half); ++u) {
+          const double value = patch.at<float>(v, u);
+          sum += value;
+          sum_sq += value * value;
+          n += 1.0;
+        }
+      }
+      const double mean = sum / n, var = std::max(0.0, sum_sq / n - mean * mean);
+      variance->at<double>(y, x) = var;
+      normalized->at<double>(y, x) = (patch.at<float>(y, x) - mean) / (std::sqrt(var) + 2.0);
+    }
+  }
+}
+
+TEST(NormalizePatch, EqualsADoublePrecisionReferenceAtEveryPixelOfABrightPlainTileRow) {
+  // A bright, nearly plain floor (grey 200–225, mean local variance 6.4 grey levels²), as wide as
+  // a mosaic tile with its margins: Σ I² over a 7×7 window is ~2·10⁶, of which ~300 is variance.
+  // Running float prefix sums of I and I² along the rows were off by up to 1.2 grey levels² and
+  // 0.087 in the normalized value here.
+  cv::Mat patch;
+  Gravel()(cv::Rect(0, 0, 270, 40)).convertTo(patch, CV_32F, 0.1, 200.0);
+  for (const int window_px : {5, 7, 11}) {
+    cv::Mat variance, reference_normalized, reference_variance;
+    const cv::Mat normalized = NormalizePatch(patch, window_px, 2.0f, &variance);
+    ClippedWindowReference(patch, window_px, &reference_normalized, &reference_variance);
+    cv::Mat variance_64, normalized_64;
+    variance.convertTo(variance_64, CV_64F);
+    normalized.convertTo(normalized_64, CV_64F);
+    ASSERT_GT(cv::mean(reference_variance)[0], 4.0) << window_px;
+    EXPECT_LT(cv::norm(variance_64, reference_variance, cv::NORM_INF), 1e-3) << window_px;
+    EXPECT_LT(cv::norm(normalized_64, reference_normalized, cv::NORM_INF), 1e-5) << window_px;
+  }
 }
 
 TEST(ResampleAffine, MatchesWarpAffineBilinear) {
