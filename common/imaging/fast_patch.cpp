@@ -141,6 +141,62 @@ void CrossSumsAcrossPlacements(const cv::Mat& window, const cv::Mat& t0, cv::Mat
   }
 }
 
+// Σ t·v for NB blocks of 8 placements of one row, kept in registers: per template pixel one
+// broadcast weight, and one load and one multiply-add per block (NB independent chains). The
+// last block may be partial (`last_mask`): its loads and store are masked, so nothing is read or
+// written past the row's placements. Adds in the same order as CrossSumsAcrossPlacements.
+template <int NB>
+__attribute__((target("avx2,fma"))) void CrossSumsBlocksAvx2(const cv::Mat& window,
+                                                             const cv::Mat& t0, int y, int x0,
+                                                             __m256i last_mask, float* c) {
+  const __m256i all = _mm256_set1_epi32(-1);
+  __m256 acc[NB];
+  for (int b = 0; b < NB; ++b) acc[b] = _mm256_setzero_ps();
+  for (int ty = 0; ty < t0.rows; ++ty) {
+    const float* trow = t0.ptr<float>(ty);
+    const float* v = window.ptr<float>(y + ty) + x0;
+    for (int tx = 0; tx < t0.cols; ++tx) {
+      const __m256 weight = _mm256_broadcast_ss(trow + tx);
+      for (int b = 0; b < NB; ++b) {
+        const __m256 values = _mm256_maskload_ps(v + tx + 8 * b, b + 1 < NB ? all : last_mask);
+        acc[b] = _mm256_fmadd_ps(weight, values, acc[b]);
+      }
+    }
+  }
+  for (int b = 0; b < NB; ++b)
+    _mm256_maskstore_ps(c + x0 + 8 * b, b + 1 < NB ? all : last_mask, acc[b]);
+}
+
+// Σ t·v per placement with many placements per row, up to 32 placements at a time in registers.
+__attribute__((target("avx2,fma"))) void CrossSumsAcrossPlacementsAvx2(const cv::Mat& window,
+                                                                       const cv::Mat& t0,
+                                                                       cv::Mat& cross) {
+  const int cols = cross.cols;
+  for (int y = 0; y < cross.rows; ++y) {
+    float* c = cross.ptr<float>(y);
+    for (int x0 = 0; x0 < cols; x0 += 32) {
+      const int n = std::min(32, cols - x0), blocks = (n + 7) / 8, tail = n - 8 * (blocks - 1);
+      alignas(32) int mask_bits[8];
+      for (int i = 0; i < 8; ++i) mask_bits[i] = i < tail ? -1 : 0;
+      const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(mask_bits));
+      switch (blocks) {
+        case 1:
+          CrossSumsBlocksAvx2<1>(window, t0, y, x0, mask, c);
+          break;
+        case 2:
+          CrossSumsBlocksAvx2<2>(window, t0, y, x0, mask, c);
+          break;
+        case 3:
+          CrossSumsBlocksAvx2<3>(window, t0, y, x0, mask, c);
+          break;
+        default:
+          CrossSumsBlocksAvx2<4>(window, t0, y, x0, mask, c);
+          break;
+      }
+    }
+  }
+}
+
 // Σ t·v per placement with few placements: one 8-wide multiply-add loop over the whole template
 // per placement (masked tail for widths that are not a multiple of 8).
 __attribute__((target("avx2,fma"))) void CrossSumsAlongTemplateAvx2(const cv::Mat& window,
@@ -174,7 +230,9 @@ __attribute__((target("avx2,fma"))) void CrossSumsAlongTemplateAvx2(const cv::Ma
 
 // Σ t·v for every placement of the template (rows × cols placements).
 void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
-  if (cross.cols >= 16) {
+  if (cross.cols >= 16 && kHasAvx2Fma) {
+    CrossSumsAcrossPlacementsAvx2(window, t0, cross);
+  } else if (cross.cols >= 16) {
     CrossSumsAcrossPlacements(window, t0, cross);
   } else if (kHasAvx2Fma) {
     CrossSumsAlongTemplateAvx2(window, t0, cross);

@@ -127,6 +127,25 @@ TEST(NccSurface, MatchesMatchTemplateCoeffNormed) {
   EXPECT_NEAR(best, 1.0, 1e-5);
 }
 
+TEST(NccSurface, MatchesMatchTemplateForEveryPlacementCountOfTheTrackersSearches) {
+  // Few placements a row (each one a dot product along the template) and many (8-wide blocks of
+  // placements, the last one partial): widths around the blocks' edges, templates of 12 px (level
+  // 2), 13 and 24 px, and windows that are views into a larger image.
+  cv::Mat f;
+  Gravel().convertTo(f, CV_32F);
+  for (const int template_px : {12, 13, 24}) {
+    for (const int placements : {3, 9, 15, 16, 17, 24, 31, 32, 33, 40, 65}) {
+      const cv::Mat window = f(cv::Rect(150, 160, template_px + placements - 1, template_px + 6));
+      const cv::Mat templ = f(cv::Rect(150 + placements / 2, 163, template_px, template_px));
+      cv::Mat reference;
+      cv::matchTemplate(window, templ, reference, cv::TM_CCOEFF_NORMED);
+      const cv::Mat fast = NccSurface(window, templ);
+      ASSERT_EQ(fast.size(), reference.size());
+      EXPECT_LT(cv::norm(fast, reference, cv::NORM_INF), 1e-4) << template_px << " " << placements;
+    }
+  }
+}
+
 TEST(TextureScoreGrid, AgreesWithTheDenseScoreInRankAndScale) {
   const cv::Mat gray = Gravel();
   const cv::Mat grid = TextureScoreGrid(gray, 8, 5);
