@@ -5,8 +5,10 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace fleetloc::imaging {
@@ -96,6 +98,13 @@ void NormalizeRowFromSums(const float* in, float offset, const float* sum, const
   }
 }
 
+// The sum of an 8-lane register's lanes.
+__attribute__((target("avx2"))) inline float LaneSum(__m256 acc) {
+  const __m128 half = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
+  const __m128 pair = _mm_add_ps(half, _mm_movehl_ps(half, half));
+  return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+}
+
 // A float dot product with 8-wide AVX2 multiply-adds (the compiler may not reorder a float sum
 // into SIMD lanes by itself).
 __attribute__((target("avx2,fma"))) float DotAvx2(const float* a, const float* b, int n) {
@@ -108,10 +117,7 @@ __attribute__((target("avx2,fma"))) float DotAvx2(const float* a, const float* b
   for (; i + 8 <= n; i += 8) {
     acc0 = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), _mm256_loadu_ps(b + i), acc0);
   }
-  const __m256 acc = _mm256_add_ps(acc0, acc1);
-  const __m128 half = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
-  const __m128 pair = _mm_add_ps(half, _mm_movehl_ps(half, half));
-  float s = _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+  float s = LaneSum(_mm256_add_ps(acc0, acc1));
   for (; i < n; ++i) s += a[i] * b[i];
   return s;
 }
@@ -197,35 +203,53 @@ __attribute__((target("avx2,fma"))) void CrossSumsAcrossPlacementsAvx2(const cv:
   }
 }
 
-// Σ t·v per placement with few placements: one 8-wide multiply-add loop over the whole template
-// per placement (masked tail for widths that are not a multiple of 8).
-__attribute__((target("avx2,fma"))) void CrossSumsAlongTemplateAvx2(const cv::Mat& window,
-                                                                    const cv::Mat& t0,
-                                                                    cv::Mat& cross) {
-  const int th = t0.rows, tw = t0.cols, full = tw & ~7, tail = tw - full;
+// Σ t·v for the NP placements of row y, each an 8-wide multiply-add loop along the whole template
+// (masked tail for widths that are not a multiple of 8). Each load of the template serves all NP
+// placements, whose partial sums stay in registers.
+template <int NP>
+__attribute__((target("avx2,fma"))) void CrossSumsRowAlongTemplateAvx2(const cv::Mat& window,
+                                                                       const cv::Mat& t0, int y,
+                                                                       float* c) {
+  const int full = t0.cols & ~7, tail = t0.cols - full;
   alignas(32) int mask_bits[8];
   for (int i = 0; i < 8; ++i) mask_bits[i] = i < tail ? -1 : 0;
   const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(mask_bits));
-  for (int y = 0; y < cross.rows; ++y) {
-    float* c = cross.ptr<float>(y);
-    for (int x = 0; x < cross.cols; ++x) {
-      __m256 acc = _mm256_setzero_ps();
-      for (int ty = 0; ty < th; ++ty) {
-        const float* t = t0.ptr<float>(ty);
-        const float* v = window.ptr<float>(y + ty) + x;
-        for (int i = 0; i < full; i += 8) {
-          acc = _mm256_fmadd_ps(_mm256_loadu_ps(t + i), _mm256_loadu_ps(v + i), acc);
-        }
-        if (tail > 0) {
-          acc = _mm256_fmadd_ps(_mm256_maskload_ps(t + full, mask),
-                                _mm256_maskload_ps(v + full, mask), acc);
-        }
+  __m256 acc[NP];
+  for (int p = 0; p < NP; ++p) acc[p] = _mm256_setzero_ps();
+  for (int ty = 0; ty < t0.rows; ++ty) {
+    const float* t = t0.ptr<float>(ty);
+    const float* v = window.ptr<float>(y + ty);
+    for (int i = 0; i < full; i += 8) {
+      const __m256 weights = _mm256_loadu_ps(t + i);
+      for (int p = 0; p < NP; ++p) {
+        acc[p] = _mm256_fmadd_ps(weights, _mm256_loadu_ps(v + p + i), acc[p]);
       }
-      const __m128 half = _mm_add_ps(_mm256_castps256_ps128(acc), _mm256_extractf128_ps(acc, 1));
-      const __m128 pair = _mm_add_ps(half, _mm_movehl_ps(half, half));
-      c[x] = _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
+    }
+    if (tail > 0) {
+      const __m256 weights = _mm256_maskload_ps(t + full, mask);
+      for (int p = 0; p < NP; ++p) {
+        acc[p] = _mm256_fmadd_ps(weights, _mm256_maskload_ps(v + p + full, mask), acc[p]);
+      }
     }
   }
+  for (int p = 0; p < NP; ++p) c[p] = LaneSum(acc[p]);
+}
+
+using RowAlongTemplate = void (*)(const cv::Mat&, const cv::Mat&, int, float*);
+
+template <int... N>
+constexpr std::array<RowAlongTemplate, sizeof...(N)> RowAlongTemplateKernels(
+    std::integer_sequence<int, N...>) {
+  return {&CrossSumsRowAlongTemplateAvx2<N + 1>...};
+}
+
+// Σ t·v per placement with few placements (1–15 a row): one kernel per count, so that the
+// placements' partial sums are registers.
+void CrossSumsAlongTemplateAvx2(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
+  static constexpr auto kKernels = RowAlongTemplateKernels(std::make_integer_sequence<int, 15>());
+  CV_Assert(cross.cols >= 1 && cross.cols <= static_cast<int>(kKernels.size()));
+  const RowAlongTemplate kernel = kKernels[cross.cols - 1];
+  for (int y = 0; y < cross.rows; ++y) kernel(window, t0, y, cross.ptr<float>(y));
 }
 
 // Σ t·v for every placement of the template (rows × cols placements).
