@@ -98,7 +98,8 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   CV_Assert(window_px >= 3 && window_px % 2 == 1);
   const cv::Mat f = AsFloat(patch);
   const int rows = f.rows, cols = f.cols, half = window_px / 2;
-  std::vector<int> y_lo, y_hi;
+  std::vector<int> x_lo, x_hi, y_lo, y_hi;
+  ClippedWindows(cols, half, x_lo, x_hi);
   ClippedWindows(rows, half, y_lo, y_hi);
   // The sums are taken of I − the patch's mean, whose squares are of the local variance's size
   // rather than of the grey level's: on a bright plain floor Σ I² − (Σ I)²/n cancels ~10⁶ down to
@@ -112,7 +113,7 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   float* col_sq = padded_sq.data() + half;
   std::vector<float> sum(cols), sq(cols), inv_cols(cols);
   for (int x = 0; x < cols; ++x) {
-    inv_cols[x] = 1.0f / static_cast<float>(std::min(cols, x + half + 1) - std::max(0, x - half));
+    inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
   }
   for (int y = 0; y < y_hi[0]; ++y) AddRow(f.ptr<float>(y), offset, col_sum, col_sq, cols, 1);
   cv::Mat out(f.size(), CV_32F);

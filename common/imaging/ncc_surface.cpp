@@ -93,9 +93,7 @@ __attribute__((target("avx2,fma"))) void CrossSumsAcrossPlacementsAvx2(const cv:
     float* c = cross.ptr<float>(y);
     for (int x0 = 0; x0 < cols; x0 += 32) {
       const int n = std::min(32, cols - x0), blocks = (n + 7) / 8, tail = n - 8 * (blocks - 1);
-      alignas(32) int mask_bits[8];
-      for (int i = 0; i < 8; ++i) mask_bits[i] = i < tail ? -1 : 0;
-      const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(mask_bits));
+      const __m256i mask = FirstLanesMask(tail);
       switch (blocks) {
         case 1:
           CrossSumsBlocksAvx2<1>(window, t0, y, x0, mask, c);
@@ -122,9 +120,7 @@ __attribute__((target("avx2,fma"))) void CrossSumsRowAlongTemplateAvx2(const cv:
                                                                        const cv::Mat& t0, int y,
                                                                        float* c) {
   const int full = t0.cols & ~7, tail = t0.cols - full;
-  alignas(32) int mask_bits[8];
-  for (int i = 0; i < 8; ++i) mask_bits[i] = i < tail ? -1 : 0;
-  const __m256i mask = _mm256_load_si256(reinterpret_cast<const __m256i*>(mask_bits));
+  const __m256i mask = FirstLanesMask(tail);
   __m256 acc[NP];
   for (int p = 0; p < NP; ++p) acc[p] = _mm256_setzero_ps();
   for (int ty = 0; ty < t0.rows; ++ty) {

@@ -19,4 +19,9 @@ __attribute__((target("avx2"))) inline float LaneSum(__m256 acc) {
   return _mm_cvtss_f32(_mm_add_ss(pair, _mm_shuffle_ps(pair, pair, 1)));
 }
 
+// A lane mask for AVX2's masked loads and stores with the first n lanes (0–8) set.
+__attribute__((target("avx2"))) inline __m256i FirstLanesMask(int n) {
+  return _mm256_cmpgt_epi32(_mm256_set1_epi32(n), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
 }  // namespace fleetloc::imaging
