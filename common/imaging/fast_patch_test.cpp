@@ -146,6 +146,42 @@ TEST(NccSurface, MatchesMatchTemplateForEveryPlacementCountOfTheTrackersSearches
   }
 }
 
+// TM_CCOEFF_NORMED at every placement, summed in double.
+cv::Mat NccReference(const cv::Mat& window, const cv::Mat& templ) {
+  cv::Mat w, t;
+  window.convertTo(w, CV_64F);
+  templ.convertTo(t, CV_64F);
+  t -= cv::mean(t)[0];
+  cv::Mat out(window.rows - templ.rows + 1, window.cols - templ.cols + 1, CV_64F);
+  for (int y = 0; y < out.rows; ++y) {
+    for (int x = 0; x < out.cols; ++x) {
+      cv::Mat v = w(cv::Rect({x, y}, templ.size())).clone();
+      v -= cv::mean(v)[0];
+      out.at<double>(y, x) = t.dot(v) / std::sqrt(t.dot(t) * v.dot(v));
+    }
+  }
+  return out;
+}
+
+TEST(NccSurface, EqualsADoublePrecisionReferenceOnABrightPlainWindow) {
+  // Grey 200–225 with a local variance of a few grey levels²: Σ v² under a 24² template is
+  // ~3·10⁷, of which ~4·10³ is spread. Running float sums along the window's rows were off by
+  // 1·10⁻⁴ to 1·10⁻³ in the NCC here; what remains (≤ 2·10⁻⁵) is the float sum Σ t'·v.
+  cv::Mat bright;
+  Gravel().convertTo(bright, CV_32F, 0.1, 200.0);
+  for (const int template_px : {12, 24}) {
+    for (const int placements : {5, 9, 40, 65}) {
+      const cv::Mat window =
+          bright(cv::Rect(30, 20, template_px + placements - 1, template_px + 8));
+      const cv::Mat templ = bright(cv::Rect(30 + placements / 3, 24, template_px, template_px));
+      cv::Mat fast;
+      NccSurface(window, templ).convertTo(fast, CV_64F);
+      EXPECT_LT(cv::norm(fast, NccReference(window, templ), cv::NORM_INF), 4e-5)
+          << template_px << " " << placements;
+    }
+  }
+}
+
 TEST(TextureScoreGrid, AgreesWithTheDenseScoreInRankAndScale) {
   const cv::Mat gray = Gravel();
   const cv::Mat grid = TextureScoreGrid(gray, 8, 5);

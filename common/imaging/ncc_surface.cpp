@@ -164,6 +164,7 @@ void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
   if (cross.cols >= 16 && kHasAvx2Fma) {
     CrossSumsAcrossPlacementsAvx2(window, t0, cross);
   } else if (cross.cols >= 16) {
+    cross.setTo(0.0f);
     CrossSumsAcrossPlacements(window, t0, cross);
   } else if (kHasAvx2Fma) {
     CrossSumsAlongTemplateAvx2(window, t0, cross);
@@ -181,6 +182,151 @@ void CrossSums(const cv::Mat& window, const cv::Mat& t0, cv::Mat& cross) {
   }
 }
 
+// Σ(v − offset) and Σ(v − offset)² over the first `n` values of a row, 8-wide.
+__attribute__((target("avx2,fma"))) void FirstWindowSumsAvx2(const float* v, int n, float offset,
+                                                             double* sum, double* sum_sq) {
+  const __m256 shift = _mm256_set1_ps(offset);
+  __m256 s = _mm256_setzero_ps(), q = _mm256_setzero_ps();
+  int k = 0;
+  for (; k + 8 <= n; k += 8) {
+    const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(v + k), shift);
+    s = _mm256_add_ps(s, d);
+    q = _mm256_fmadd_ps(d, d, q);
+  }
+  *sum = LaneSum(s), *sum_sq = LaneSum(q);
+  for (; k < n; ++k) {
+    const double d = v[k] - offset;
+    *sum += d, *sum_sq += d * d;
+  }
+}
+
+void FirstWindowSums(const float* v, int n, float offset, double* sum, double* sum_sq) {
+  if (kHasAvx2Fma) return FirstWindowSumsAvx2(v, n, offset, sum, sum_sq);
+  *sum = 0.0, *sum_sq = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double d = v[k] - offset;
+    *sum += d, *sum_sq += d * d;
+  }
+}
+
+// Σ(v − offset) and Σ(v − offset)² over the template's width `tw` at each of a window row's
+// `cols` placements: the first window summed, then running in double (one add and one remove a
+// placement). The offset keeps the sums small on bright images, where Σ v² would leave a float
+// few digits for the window's spread.
+void RowWindowSums(const float* v, int tw, int cols, float offset, double* sum, double* sum_sq) {
+  double run = 0.0, run_sq = 0.0;
+  FirstWindowSums(v, tw, offset, &run, &run_sq);
+  sum[0] = run, sum_sq[0] = run_sq;
+  for (int x = 1; x < cols; ++x) {
+    const double in = v[x + tw - 1] - offset, out = v[x - 1] - offset;
+    run += in - out;
+    run_sq += in * in - out * out;
+    sum[x] = run, sum_sq[x] = run_sq;
+  }
+}
+
+// sum += add − remove (remove may be null), element-wise.
+inline void Slide(const double* add, const double* remove, int n, double* sum) {
+  if (remove == nullptr) {
+    for (int i = 0; i < n; ++i) sum[i] += add[i];
+  } else {
+    for (int i = 0; i < n; ++i) sum[i] += add[i] - remove[i];
+  }
+}
+
+// c = Σ t'·v / (√(Σ(v − v̄)²) · ‖t'‖) from the window sums `sum` and `sum_sq` of n_pixels values;
+// 0 where the window is flat.
+inline void DivideBySpread(const double* sum, const double* sum_sq, int n, double n_pixels,
+                           double t_norm, float* c) {
+  for (int i = 0; i < n; ++i) {
+    const double spread = std::sqrt(std::max(0.0, sum_sq[i] - sum[i] * sum[i] / n_pixels)) * t_norm;
+    c[i] = spread > 1e-9 ? static_cast<float>(c[i] / spread) : 0.0f;
+  }
+}
+
+// Divides each placement's Σ t'·v (`cross`) by the spread of the window under it: per window row
+// the sums over the template's width, then running down the template's height, all in double, of
+// v − `offset` (the template's mean, near the window's). The scratch rows are reused across calls
+// (thread_local: the tracker calls this a few thousand times a frame, most for a handful of
+// placements).
+FLEETLOC_VECTOR_CLONES
+void NormalizeBySpread(const cv::Mat& window, int th, int tw, float offset, double t_norm,
+                       cv::Mat& cross) {
+  const int cols = cross.cols;
+  thread_local std::vector<double> scratch;
+  scratch.resize(2 * static_cast<size_t>(window.rows + 1) * cols);
+  double* seg = scratch.data();
+  double* seg_sq = seg + static_cast<size_t>(window.rows) * cols;
+  double* sum = seg_sq + static_cast<size_t>(window.rows) * cols;
+  double* sum_sq = sum + cols;
+  for (int y = 0; y < window.rows; ++y) {
+    RowWindowSums(window.ptr<float>(y), tw, cols, offset, &seg[y * cols], &seg_sq[y * cols]);
+  }
+  std::fill(sum, sum + 2 * cols, 0.0);
+  for (int y = 0; y < th; ++y) {
+    Slide(&seg[y * cols], nullptr, cols, sum);
+    Slide(&seg_sq[y * cols], nullptr, cols, sum_sq);
+  }
+  const double n = static_cast<double>(th) * tw;
+  for (int y = 0; y < cross.rows; ++y) {
+    if (y > 0) {
+      Slide(&seg[(y + th - 1) * cols], &seg[(y - 1) * cols], cols, sum);
+      Slide(&seg_sq[(y + th - 1) * cols], &seg_sq[(y - 1) * cols], cols, sum_sq);
+    }
+    DivideBySpread(sum, sum_sq, cols, n, t_norm, cross.ptr<float>(y));
+  }
+}
+
+// The zero-mean template t' = t − t̄ into `t0`, with t̄ and ‖t'‖ summed in double lanes (by hand:
+// OpenCV's cv::mean and `templ - mean` cost several times the arithmetic on a 48² template in
+// their per-call set-up).
+__attribute__((target("avx2,fma"))) void ZeroMeanAvx2(const cv::Mat& templ, cv::Mat& t0,
+                                                      double* mean, double* norm) {
+  const int full = templ.cols & ~3;
+  __m256d acc = _mm256_setzero_pd();
+  double tail = 0.0;
+  for (int y = 0; y < templ.rows; ++y) {
+    const float* t = templ.ptr<float>(y);
+    for (int x = 0; x < full; x += 4)
+      acc = _mm256_add_pd(acc, _mm256_cvtps_pd(_mm_loadu_ps(t + x)));
+    for (int x = full; x < templ.cols; ++x) tail += t[x];
+  }
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, acc);
+  *mean = (lanes[0] + lanes[1] + lanes[2] + lanes[3] + tail) / static_cast<double>(templ.total());
+  const __m256d m = _mm256_set1_pd(*mean);
+  __m256d acc_sq = _mm256_setzero_pd();
+  double tail_sq = 0.0;
+  for (int y = 0; y < templ.rows; ++y) {
+    const float* t = templ.ptr<float>(y);
+    float* d = t0.ptr<float>(y);
+    for (int x = 0; x < full; x += 4) {
+      const __m128 r = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_cvtps_pd(_mm_loadu_ps(t + x)), m));
+      _mm_storeu_ps(d + x, r);
+      const __m256d rd = _mm256_cvtps_pd(r);
+      acc_sq = _mm256_fmadd_pd(rd, rd, acc_sq);
+    }
+    for (int x = full; x < templ.cols; ++x) {
+      d[x] = static_cast<float>(t[x] - *mean);
+      tail_sq += static_cast<double>(d[x]) * d[x];
+    }
+  }
+  _mm256_store_pd(lanes, acc_sq);
+  *norm = std::sqrt(lanes[0] + lanes[1] + lanes[2] + lanes[3] + tail_sq);
+}
+
+cv::Mat ZeroMean(const cv::Mat& templ, double* mean, double* norm) {
+  cv::Mat t0(templ.size(), CV_32F);
+  if (kHasAvx2Fma) {
+    ZeroMeanAvx2(templ, t0, mean, norm);
+  } else {
+    *mean = cv::mean(templ)[0];
+    cv::subtract(templ, cv::Scalar(*mean), t0);
+    *norm = std::sqrt(t0.dot(t0));
+  }
+  return t0;
+}
+
 }  // namespace
 
 cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
@@ -189,43 +335,11 @@ cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
   const int rows = window.rows - th + 1, cols = window.cols - tw + 1;
   CV_Assert(rows > 0 && cols > 0);
   // Zero-mean template: Σ t'·(v − v̄) = Σ t'·v, so only one product sum per position is needed.
-  const double n = static_cast<double>(th) * tw;
-  cv::Mat t0 = templ - cv::mean(templ)[0];
-  const double t_norm = std::sqrt(t0.dot(t0));
-  cv::Mat cross = cv::Mat::zeros(rows, cols, CV_32F);
+  double mean = 0.0, t_norm = 0.0;
+  const cv::Mat t0 = ZeroMean(templ, &mean, &t_norm);
+  cv::Mat cross(rows, cols, CV_32F);
   CrossSums(window, t0, cross);
-  // Sum and sum of squares of the window under each placement: per row, the sums over each
-  // tw-wide segment (one SIMD sum, then sliding), then sliding th rows down.
-  std::vector<float> seg(static_cast<size_t>(window.rows) * cols), seg_sq(seg.size());
-  for (int y = 0; y < window.rows; ++y) {
-    const float* v = window.ptr<float>(y);
-    const Eigen::Map<const Eigen::ArrayXf> first(v, tw);
-    float run = first.sum(), run_sq = first.square().sum();
-    for (int x = 0; x < cols; ++x) {
-      if (x > 0) {
-        run += v[x + tw - 1] - v[x - 1];
-        run_sq += v[x + tw - 1] * v[x + tw - 1] - v[x - 1] * v[x - 1];
-      }
-      seg[y * cols + x] = run;
-      seg_sq[y * cols + x] = run_sq;
-    }
-  }
-  for (int x = 0; x < cols; ++x) {
-    double s = 0.0, s2 = 0.0;
-    for (int y = 0; y < th; ++y) {
-      s += seg[y * cols + x];
-      s2 += seg_sq[y * cols + x];
-    }
-    for (int y = 0; y < rows; ++y) {
-      if (y > 0) {
-        s += seg[(y + th - 1) * cols + x] - seg[(y - 1) * cols + x];
-        s2 += seg_sq[(y + th - 1) * cols + x] - seg_sq[(y - 1) * cols + x];
-      }
-      const double denominator = std::sqrt(std::max(0.0, s2 - s * s / n)) * t_norm;
-      float& c = cross.at<float>(y, x);
-      c = denominator > 1e-9 ? static_cast<float>(c / denominator) : 0.0f;
-    }
-  }
+  NormalizeBySpread(window, th, tw, static_cast<float>(mean), t_norm, cross);
   return cross;
 }
 
