@@ -150,15 +150,18 @@ void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int*
   *j_end = std::clamp(static_cast<int>(std::ceil(last)), *j_begin, n);
 }
 
-// Bilinear samples of a float image along one output row, 8 at a time with AVX2 gathers; returns
-// the first j it did not do. Only called when the CPU has AVX2 (checked at run time).
-__attribute__((target("avx2"))) int ResampleRowAvx2(const float* base, int stride, float sx0,
-                                                    float sy0, float a, float c, int begin, int end,
-                                                    float* out) {
+// Bilinear samples of a float image along one output row, 8 at a time with AVX2 gathers, the last
+// partial 8 under a mask (a masked lane loads nothing). Only called when the CPU has AVX2 (checked
+// at run time).
+__attribute__((target("avx2"))) void ResampleRowAvx2(const float* base, int stride, float sx0,
+                                                     float sy0, float a, float c, int begin,
+                                                     int end, float* out) {
   const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i stride_v = _mm256_set1_epi32(stride);
-  int j = begin;
-  for (; j + 8 <= end; j += 8) {
+  const __m256 zero = _mm256_setzero_ps();
+  for (int j = begin; j < end; j += 8) {
+    const __m256i mask = FirstLanesMask(end - j);
+    const __m256 valid = _mm256_castsi256_ps(mask);
     const __m256 jj = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), lane);
     const __m256 sx = _mm256_add_ps(_mm256_set1_ps(sx0), _mm256_mul_ps(_mm256_set1_ps(a), jj));
     const __m256 sy = _mm256_add_ps(_mm256_set1_ps(sy0), _mm256_mul_ps(_mm256_set1_ps(c), jj));
@@ -167,15 +170,30 @@ __attribute__((target("avx2"))) int ResampleRowAvx2(const float* base, int strid
     const __m256 ay = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
     const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(y0, stride_v), x0);
     const __m256i below = _mm256_add_epi32(index, stride_v);
-    const __m256 p00 = _mm256_i32gather_ps(base, index, 4);
-    const __m256 p01 = _mm256_i32gather_ps(base + 1, index, 4);
-    const __m256 p10 = _mm256_i32gather_ps(base, below, 4);
-    const __m256 p11 = _mm256_i32gather_ps(base + 1, below, 4);
+    const __m256 p00 = _mm256_mask_i32gather_ps(zero, base, index, valid, 4);
+    const __m256 p01 = _mm256_mask_i32gather_ps(zero, base + 1, index, valid, 4);
+    const __m256 p10 = _mm256_mask_i32gather_ps(zero, base, below, valid, 4);
+    const __m256 p11 = _mm256_mask_i32gather_ps(zero, base + 1, below, valid, 4);
     const __m256 top = _mm256_add_ps(p00, _mm256_mul_ps(ax, _mm256_sub_ps(p01, p00)));
     const __m256 bottom = _mm256_add_ps(p10, _mm256_mul_ps(ax, _mm256_sub_ps(p11, p10)));
-    _mm256_storeu_ps(out + j, _mm256_add_ps(top, _mm256_mul_ps(ay, _mm256_sub_ps(bottom, top))));
+    _mm256_maskstore_ps(out + j, mask,
+                        _mm256_add_ps(top, _mm256_mul_ps(ay, _mm256_sub_ps(bottom, top))));
   }
-  return j;
+}
+
+// Whether every output pixel of `size` samples src inside [lo, max_x) × [lo, max_y): the map is
+// affine, so the output's four corners decide it, with a margin beyond the per-row test's for the
+// float rounding of the rows' coordinates (a few float steps at the source's size).
+bool AllInside(const cv::Matx23d& m, cv::Size size, double max_x, double max_y) {
+  const double spare = 1e-3 + 1e-6 * std::max(max_x, max_y), lo = 1e-3 + spare;
+  for (const double j : {0.0, size.width - 1.0}) {
+    for (const double i : {0.0, size.height - 1.0}) {
+      const double sx = m(0, 0) * j + m(0, 1) * i + m(0, 2);
+      const double sy = m(1, 0) * j + m(1, 1) * i + m(1, 2);
+      if (!(sx >= lo && sx < max_x - spare && sy >= lo && sy < max_y - spare)) return false;
+    }
+  }
+  return true;
 }
 
 template <typename Pixel>
@@ -186,23 +204,27 @@ void ResampleRows(const cv::Mat& src, const cv::Matx23d& m, cv::Mat& dst) {
   const float a = static_cast<float>(m(0, 0)), c = static_cast<float>(m(1, 0));
   const size_t stride = src.step[0] / sizeof(Pixel);
   const Pixel* base = src.ptr<Pixel>(0);
+  const bool all_inside = AllInside(m, dst.size(), max_x, max_y);
   for (int i = 0; i < dst.rows; ++i) {
     float* out = dst.ptr<float>(i);
     const float sx0 = static_cast<float>(m(0, 1) * i + m(0, 2));
     const float sy0 = static_cast<float>(m(1, 1) * i + m(1, 2));
-    int bx, ex, by, ey;
-    ValidRange(sx0, a, 1e-3f, max_x, dst.cols, &bx, &ex);
-    ValidRange(sy0, c, 1e-3f, max_y, dst.cols, &by, &ey);
-    const int begin = std::max(bx, by), end = std::max(begin, std::min(ex, ey));
-    std::fill(out, out + begin, 0.0f);
-    std::fill(out + end, out + dst.cols, 0.0f);
-    int j = begin;
+    int begin = 0, end = dst.cols;
+    if (!all_inside) {
+      int bx, ex, by, ey;
+      ValidRange(sx0, a, 1e-3f, max_x, dst.cols, &bx, &ex);
+      ValidRange(sy0, c, 1e-3f, max_y, dst.cols, &by, &ey);
+      begin = std::max(bx, by), end = std::max(begin, std::min(ex, ey));
+      std::fill(out, out + begin, 0.0f);
+      std::fill(out + end, out + dst.cols, 0.0f);
+    }
     if constexpr (std::is_same_v<Pixel, float>) {
       if (kHasAvx2) {
-        j = ResampleRowAvx2(base, static_cast<int>(stride), sx0, sy0, a, c, begin, end, out);
+        ResampleRowAvx2(base, static_cast<int>(stride), sx0, sy0, a, c, begin, end, out);
+        continue;
       }
     }
-    for (; j < end; ++j) {
+    for (int j = begin; j < end; ++j) {
       const float sx = sx0 + a * j, sy = sy0 + c * j;
       const int x0 = static_cast<int>(sx), y0 = static_cast<int>(sy);  // floor: both > 0
       const float ax = sx - x0, ay = sy - y0;

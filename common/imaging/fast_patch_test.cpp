@@ -110,6 +110,23 @@ TEST(ResampleAffine, FloatSourceEqualsByteSourceOnTheSameImage) {
       1e-3);
 }
 
+TEST(ResampleAffine, FloatSourceEqualsByteSourceAcrossTheSourcesEdgeAtEveryRowWidth) {
+  // Rows whose samples leave the source part-way (zeros there) and widths that are not a multiple
+  // of the vector path's 8 lanes: the float path (vectorized, the row's tail under a mask) against
+  // the byte path (scalar).
+  const cv::Mat src = Gravel()(cv::Rect(50, 50, 40, 30)).clone();
+  cv::Mat src_f;
+  src.convertTo(src_f, CV_32F);
+  const double c = std::cos(0.4), s = std::sin(0.4);
+  for (const int width : {1, 5, 8, 9, 15, 16, 17, 31, 50}) {
+    const cv::Matx23d m(c, -s, 20.3 - 0.5 * width * c, s, c, 3.7 - 0.5 * width * s);
+    const cv::Mat fast = ResampleAffine(src_f, m, {width, 40});
+    const cv::Mat bytes = ResampleAffine(src, m, {width, 40});
+    EXPECT_LT(cv::norm(fast, bytes, cv::NORM_INF), 1e-3) << width;
+    EXPECT_EQ(cv::countNonZero(fast == 0.0f), cv::countNonZero(bytes == 0.0f)) << width;
+  }
+}
+
 TEST(NccSurface, MatchesMatchTemplateCoeffNormed) {
   cv::Mat f;
   Gravel().convertTo(f, CV_32F);
