@@ -10,10 +10,10 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "imaging/simd.h"
+
 namespace fleetloc::imaging {
 namespace {
-
-const bool kHasAvx2Fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 
 // Lanes x .. x + 7 of out[x] = Σ_k w[k]·in[k][x], the lanes at or beyond n masked off.
 __attribute__((target("avx2,fma"))) inline __m256 MaskedSum(const float* const* in, const float* w,
@@ -48,9 +48,37 @@ __attribute__((target("avx2,fma"))) void WeightedSumAvx2(const float* const* in,
   const __m256i all = _mm256_set1_epi32(-1);
   for (; x + 8 <= n; x += 8) _mm256_storeu_ps(out + x, MaskedSum(in, w, taps, x, all));
   if (x < n) {
-    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(n - x), lane);
+    const __m256i mask = FirstLanesMask(n - x);
     _mm256_maskstore_ps(out + x, mask, MaskedSum(in, w, taps, x, mask));
+  }
+}
+
+// The same sums for a kernel of kTaps taps known at compile time: the taps' weights and row
+// pointers stay in registers and the tap loop unrolls (the tracker's patches are 40–60 px wide, so
+// the generic loop's per-tap overhead was most of the cost). Same adds in the same order.
+template <int kTaps>
+__attribute__((target("avx2,fma"))) void WeightedSumFixedAvx2(const float* const* in,
+                                                              const float* w, int n, float* out) {
+  __m256 weight[kTaps];
+  const float* row[kTaps];
+  for (int k = 0; k < kTaps; ++k) weight[k] = _mm256_broadcast_ss(w + k), row[k] = in[k];
+  int x = 0;
+  for (; x + 16 <= n; x += 16) {
+    __m256 a0 = _mm256_setzero_ps(), a1 = a0;
+    for (int k = 0; k < kTaps; ++k) {
+      a0 = _mm256_fmadd_ps(weight[k], _mm256_loadu_ps(row[k] + x), a0);
+      a1 = _mm256_fmadd_ps(weight[k], _mm256_loadu_ps(row[k] + x + 8), a1);
+    }
+    _mm256_storeu_ps(out + x, a0);
+    _mm256_storeu_ps(out + x + 8, a1);
+  }
+  for (; x < n; x += 8) {
+    const __m256i mask = FirstLanesMask(n - x);
+    __m256 a = _mm256_setzero_ps();
+    for (int k = 0; k < kTaps; ++k) {
+      a = _mm256_fmadd_ps(weight[k], _mm256_maskload_ps(row[k] + x, mask), a);
+    }
+    _mm256_maskstore_ps(out + x, mask, a);
   }
 }
 
@@ -65,7 +93,26 @@ void WeightedSumPlain(const float* const* in, const float* w, int taps, int n, f
 
 void WeightedSum(const float* const* in, const float* w, int taps, int n, float* out) {
   if (kHasAvx2Fma) {
-    WeightedSumAvx2(in, w, taps, n, out);
+    switch (taps) {
+      case 3:
+        return WeightedSumFixedAvx2<3>(in, w, n, out);
+      case 5:
+        return WeightedSumFixedAvx2<5>(in, w, n, out);
+      case 7:
+        return WeightedSumFixedAvx2<7>(in, w, n, out);
+      case 9:
+        return WeightedSumFixedAvx2<9>(in, w, n, out);
+      case 11:
+        return WeightedSumFixedAvx2<11>(in, w, n, out);
+      case 13:
+        return WeightedSumFixedAvx2<13>(in, w, n, out);
+      case 15:
+        return WeightedSumFixedAvx2<15>(in, w, n, out);
+      case 17:
+        return WeightedSumFixedAvx2<17>(in, w, n, out);
+      default:
+        return WeightedSumAvx2(in, w, taps, n, out);
+    }
   } else {
     WeightedSumPlain(in, w, taps, n, out);
   }
@@ -77,16 +124,24 @@ cv::Mat GaussianBlurInterior(const cv::Mat& src, double sigma_px, int radius_px)
   CV_Assert(src.type() == CV_32FC1 && sigma_px > 0 && radius_px >= 0);
   CV_Assert(src.cols > 2 * radius_px && src.rows > 2 * radius_px);
   const int taps = 2 * radius_px + 1;
-  const cv::Mat kernel = cv::getGaussianKernel(taps, sigma_px, CV_32F);
+  // The tracker blurs a few dozen small patches a frame with one kernel: the kernel and the
+  // scratch row are kept between calls (per thread) rather than made again each time.
+  thread_local cv::Mat kernel;
+  thread_local double kernel_sigma = 0.0;
+  if (kernel.rows != taps || kernel_sigma != sigma_px) {
+    kernel = cv::getGaussianKernel(taps, sigma_px, CV_32F);
+    kernel_sigma = sigma_px;
+  }
   const float* w = kernel.ptr<float>(0);
   cv::Mat out(src.rows - 2 * radius_px, src.cols - 2 * radius_px, CV_32F);
-  std::vector<float> column_sums(src.cols);
-  std::vector<const float*> in(taps);
+  thread_local std::vector<float> column_sums;
+  column_sums.resize(src.cols);
+  std::vector<const float*> rows(taps), columns(taps);
+  for (int k = 0; k < taps; ++k) columns[k] = column_sums.data() + k;
   for (int y = 0; y < out.rows; ++y) {
-    for (int k = 0; k < taps; ++k) in[k] = src.ptr<float>(y + k);
-    WeightedSum(in.data(), w, taps, src.cols, column_sums.data());
-    for (int k = 0; k < taps; ++k) in[k] = column_sums.data() + k;
-    WeightedSum(in.data(), w, taps, out.cols, out.ptr<float>(y));
+    for (int k = 0; k < taps; ++k) rows[k] = src.ptr<float>(y + k);
+    WeightedSum(rows.data(), w, taps, src.cols, column_sums.data());
+    WeightedSum(columns.data(), w, taps, out.cols, out.ptr<float>(y));
   }
   return out;
 }

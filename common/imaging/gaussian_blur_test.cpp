@@ -25,9 +25,13 @@ TEST(GaussianBlurInterior, EqualsOpenCvsBlurCroppedByTheRadius) {
     double sigma;
     int radius;
   };
-  // Widths that leave 16-, 8- and 1-pixel remainders for the vector loops; radius 0 is a copy.
+  // Widths that leave 16-, 8- and 1-pixel remainders for the vector loops; every kernel size with
+  // its own unrolled loop (3–17 taps) and one without (19); radius 0 is a copy.
   for (const Case& c : {Case{{10, 20, 200, 150}, 1.55, 5}, Case{{0, 0, 37, 29}, 0.5, 2},
-                        Case{{50, 40, 33, 64}, 2.5, 8}, Case{{5, 5, 20, 20}, 1.0, 0}}) {
+                        Case{{50, 40, 33, 64}, 2.5, 8}, Case{{5, 5, 20, 20}, 1.0, 0},
+                        Case{{3, 7, 45, 31}, 0.4, 1}, Case{{60, 60, 58, 40}, 1.0, 3},
+                        Case{{80, 30, 41, 50}, 1.4, 4}, Case{{20, 90, 63, 44}, 2.0, 6},
+                        Case{{70, 10, 50, 52}, 2.3, 7}, Case{{40, 40, 70, 60}, 3.0, 9}}) {
     const cv::Mat src = gravel(c.rect);
     cv::Mat reference;
     const int k = 2 * c.radius + 1;
