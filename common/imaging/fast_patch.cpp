@@ -150,34 +150,61 @@ void ValidRange(float s0, float a, float lo, float hi, int n, int* j_begin, int*
   *j_end = std::clamp(static_cast<int>(std::ceil(last)), *j_begin, n);
 }
 
-// Bilinear samples of a float image along one output row, 8 at a time with AVX2 gathers, the last
-// partial 8 under a mask (a masked lane loads nothing). Only called when the CPU has AVX2 (checked
-// at run time).
+// Bilinear samples of a float image at output columns j .. j + 7 of a row; with kMasked, only
+// the lanes of `mask` are loaded and stored (a masked lane loads nothing).
+template <bool kMasked>
+__attribute__((target("avx2"))) inline void ResampleEightAvx2(const float* base, __m256i stride,
+                                                              __m256 sx0, __m256 sy0, __m256 a,
+                                                              __m256 c, int j, __m256i mask,
+                                                              float* out) {
+  const __m256 jj =
+      _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256 sx = _mm256_add_ps(sx0, _mm256_mul_ps(a, jj));
+  const __m256 sy = _mm256_add_ps(sy0, _mm256_mul_ps(c, jj));
+  const __m256i x0 = _mm256_cvttps_epi32(sx), y0 = _mm256_cvttps_epi32(sy);
+  const __m256 ax = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(x0));
+  const __m256 ay = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
+  const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(y0, stride), x0);
+  const __m256i below = _mm256_add_epi32(index, stride);
+  __m256 p00, p01, p10, p11;
+  if constexpr (kMasked) {
+    const __m256 valid = _mm256_castsi256_ps(mask), zero = _mm256_setzero_ps();
+    p00 = _mm256_mask_i32gather_ps(zero, base, index, valid, 4);
+    p01 = _mm256_mask_i32gather_ps(zero, base + 1, index, valid, 4);
+    p10 = _mm256_mask_i32gather_ps(zero, base, below, valid, 4);
+    p11 = _mm256_mask_i32gather_ps(zero, base + 1, below, valid, 4);
+  } else {
+    p00 = _mm256_i32gather_ps(base, index, 4);
+    p01 = _mm256_i32gather_ps(base + 1, index, 4);
+    p10 = _mm256_i32gather_ps(base, below, 4);
+    p11 = _mm256_i32gather_ps(base + 1, below, 4);
+  }
+  const __m256 top = _mm256_add_ps(p00, _mm256_mul_ps(ax, _mm256_sub_ps(p01, p00)));
+  const __m256 bottom = _mm256_add_ps(p10, _mm256_mul_ps(ax, _mm256_sub_ps(p11, p10)));
+  const __m256 value = _mm256_add_ps(top, _mm256_mul_ps(ay, _mm256_sub_ps(bottom, top)));
+  if constexpr (kMasked) {
+    _mm256_maskstore_ps(out + j, mask, value);
+  } else {
+    _mm256_storeu_ps(out + j, value);
+  }
+}
+
+// Bilinear samples of a float image along one output row over [begin, end), 8 at a time with AVX2
+// gathers, the last partial 8 under a mask. Only called when the CPU has AVX2 (checked at run
+// time).
 __attribute__((target("avx2"))) void ResampleRowAvx2(const float* base, int stride, float sx0,
                                                      float sy0, float a, float c, int begin,
                                                      int end, float* out) {
-  const __m256 lane = _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i stride_v = _mm256_set1_epi32(stride);
-  const __m256 zero = _mm256_setzero_ps();
-  for (int j = begin; j < end; j += 8) {
-    const __m256i mask = FirstLanesMask(end - j);
-    const __m256 valid = _mm256_castsi256_ps(mask);
-    const __m256 jj = _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), lane);
-    const __m256 sx = _mm256_add_ps(_mm256_set1_ps(sx0), _mm256_mul_ps(_mm256_set1_ps(a), jj));
-    const __m256 sy = _mm256_add_ps(_mm256_set1_ps(sy0), _mm256_mul_ps(_mm256_set1_ps(c), jj));
-    const __m256i x0 = _mm256_cvttps_epi32(sx), y0 = _mm256_cvttps_epi32(sy);
-    const __m256 ax = _mm256_sub_ps(sx, _mm256_cvtepi32_ps(x0));
-    const __m256 ay = _mm256_sub_ps(sy, _mm256_cvtepi32_ps(y0));
-    const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(y0, stride_v), x0);
-    const __m256i below = _mm256_add_epi32(index, stride_v);
-    const __m256 p00 = _mm256_mask_i32gather_ps(zero, base, index, valid, 4);
-    const __m256 p01 = _mm256_mask_i32gather_ps(zero, base + 1, index, valid, 4);
-    const __m256 p10 = _mm256_mask_i32gather_ps(zero, base, below, valid, 4);
-    const __m256 p11 = _mm256_mask_i32gather_ps(zero, base + 1, below, valid, 4);
-    const __m256 top = _mm256_add_ps(p00, _mm256_mul_ps(ax, _mm256_sub_ps(p01, p00)));
-    const __m256 bottom = _mm256_add_ps(p10, _mm256_mul_ps(ax, _mm256_sub_ps(p11, p10)));
-    _mm256_maskstore_ps(out + j, mask,
-                        _mm256_add_ps(top, _mm256_mul_ps(ay, _mm256_sub_ps(bottom, top))));
+  const __m256 sx0_v = _mm256_set1_ps(sx0), sy0_v = _mm256_set1_ps(sy0);
+  const __m256 a_v = _mm256_set1_ps(a), c_v = _mm256_set1_ps(c);
+  int j = begin;
+  for (; j + 8 <= end; j += 8) {
+    ResampleEightAvx2<false>(base, stride_v, sx0_v, sy0_v, a_v, c_v, j, stride_v, out);
+  }
+  if (j < end) {
+    ResampleEightAvx2<true>(base, stride_v, sx0_v, sy0_v, a_v, c_v, j, FirstLanesMask(end - j),
+                            out);
   }
 }
 
