@@ -27,6 +27,13 @@ cv::Mat ResampleAffine(const cv::Mat& src, const cv::Matx23d& dst_to_src, cv::Si
 // (window − templ + 1) positions. Cost ∝ positions × template pixels: meant for small searches.
 cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ);
 
+// Σ t·v at every placement of `templ` over `window` (both CV_32F): NccSurface's numerator for a
+// zero-mean template, (window − templ + 1) positions summed directly.
+cv::Mat CrossCorrelationSums(const cv::Mat& window, const cv::Mat& templ);
+
+// What CrossCorrelationSums costs, in 8-wide multiply-adds, for these sizes.
+double CrossCorrelationSumsCost(cv::Size window, cv::Size templ);
+
 // Texture score at grid points: element (r, c) is taken at pixel ((c + 1)·step, (r + 1)·step):
 // the smallest eigenvalue of the window-mean structure matrix of central-difference gradients
 // (grey levels per pixel). Returns CV_32F of (rows/step − 1) × (cols/step − 1); points whose

@@ -75,7 +75,9 @@ __attribute__((target("avx2,fma"))) void CrossSumsBlocksAvx2(const cv::Mat& wind
     for (int tx = 0; tx < t0.cols; ++tx) {
       const __m256 weight = _mm256_broadcast_ss(trow + tx);
       for (int b = 0; b < NB; ++b) {
-        const __m256 values = _mm256_maskload_ps(v + tx + 8 * b, b + 1 < NB ? all : last_mask);
+        // Only the last block's loads are masked (a masked load costs more than a plain one).
+        const __m256 values = b + 1 < NB ? _mm256_loadu_ps(v + tx + 8 * b)
+                                         : _mm256_maskload_ps(v + tx + 8 * b, last_mask);
         acc[b] = _mm256_fmadd_ps(weight, values, acc[b]);
       }
     }
@@ -328,6 +330,23 @@ cv::Mat ZeroMean(const cv::Mat& templ, double* mean, double* norm) {
 }
 
 }  // namespace
+
+cv::Mat CrossCorrelationSums(const cv::Mat& window, const cv::Mat& templ) {
+  CV_Assert(window.type() == CV_32F && templ.type() == CV_32F);
+  CV_Assert(window.cols >= templ.cols && window.rows >= templ.rows);
+  cv::Mat cross(window.rows - templ.rows + 1, window.cols - templ.cols + 1, CV_32F);
+  CrossSums(window, templ, cross);
+  return cross;
+}
+
+double CrossCorrelationSumsCost(cv::Size window, cv::Size templ) {
+  const int rows = window.height - templ.height + 1, cols = window.width - templ.width + 1;
+  // Up to 15 placements a row: each placement along the template's 8-wide chunks; more: blocks
+  // of 8 placements for each template pixel (CrossSums).
+  const double per_row =
+      cols < 16 ? cols * std::ceil(templ.width / 8.0) : std::ceil(cols / 8.0) * templ.width;
+  return per_row * templ.height * rows;
+}
 
 cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
   CV_Assert(window.type() == CV_32F && templ.type() == CV_32F);

@@ -1,11 +1,23 @@
-// One template's NCC over many views through its cached spectrum (see spectral_ncc.h).
+// One template's NCC over many views, through its cached spectrum or summed directly (see
+// spectral_ncc.h).
 #include "imaging/spectral_ncc.h"
 
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "imaging/fast_patch.h"
+
 namespace fleetloc::imaging {
+namespace {
+
+// A view's two transforms (forward, and the inverse of the product) against the direct sums'
+// 8-wide multiply-adds: measured on one core of this Debian build, one transformed pixel costs
+// about as much as 60 of them (154×114 frame: ±5 px directly 0.11 ms, through spectra 0.74 ms;
+// ±14 px 0.96 and 0.90 ms; docs/benchmarks.md, session 43).
+constexpr double kMultiplyAddsPerTransformedPixel = 60.0;
+
+}  // namespace
 
 SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
     : templ_size_(templ.size()),
@@ -21,11 +33,14 @@ SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
   cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F);
   zero_mean_ = padded(cv::Rect({0, 0}, templ_size_));
   cv::subtract(templ, mean, zero_mean_);
-  cv::dft(padded, spectrum_, 0, templ.rows);
+  direct_ = CrossCorrelationSumsCost(view_size, templ_size_) <=
+            kMultiplyAddsPerTransformedPixel * dft_size_.area();
+  if (!direct_) cv::dft(padded, spectrum_, 0, templ.rows);
 }
 
 cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
   CV_Assert(view.type() == CV_32F && view.size() == view_size_);
+  if (direct_) return SurfaceNear(view);
   const cv::Size out(view.cols - templ_size_.width + 1, view.rows - templ_size_.height + 1);
   cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F), spectrum, correlation;
   view.copyTo(padded(cv::Rect({0, 0}, view_size_)));
@@ -38,16 +53,7 @@ cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
 cv::Mat SpectralNcc::SurfaceNear(const cv::Mat& view) const {
   CV_Assert(view.type() == CV_32F && view.cols >= templ_size_.width &&
             view.rows >= templ_size_.height);
-  // Each position's Σ(t − t̄)·v directly (cv::Mat::dot, vectorized): a handful of positions costs
-  // a fraction of the two transforms of a view.
-  cv::Mat correlation(view.rows - templ_size_.height + 1, view.cols - templ_size_.width + 1,
-                      CV_32F);
-  for (int y = 0; y < correlation.rows; ++y) {
-    for (int x = 0; x < correlation.cols; ++x) {
-      correlation.at<float>(y, x) =
-          static_cast<float>(zero_mean_.dot(view(cv::Rect({x, y}, templ_size_))));
-    }
-  }
+  const cv::Mat correlation = CrossCorrelationSums(view, zero_mean_);
   return Normalized(view, correlation);
 }
 
