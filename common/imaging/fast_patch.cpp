@@ -14,6 +14,10 @@
 namespace fleetloc::imaging {
 namespace {
 
+// Spare floats at the end of NormalizePatch's scratch rows, so that WindowSumsAvx2 may read and
+// write whole vectors past a row's last pixel (the reads are of zeros).
+constexpr int kRowSpare = 8;
+
 cv::Mat AsFloat(const cv::Mat& m) {
   if (m.type() == CV_32F) return m;
   cv::Mat f;
@@ -42,12 +46,13 @@ void AddRow(const float* in, float offset, float* sum, float* sum_sq, int n, flo
 }
 
 // Window sums along a row, 8 at a time: sum[x] = Σ_{k<w} padded[x + k] (and the same of the
-// squares), added in the order k = 0, 1, …; returns the first x it did not do. Only called when
-// the CPU has AVX2 (checked at run time).
+// squares), added in the order k = 0, 1, …, for every x < n rounded up to a multiple of 8 (the
+// caller's rows have room: kRowSpare more floats). Only called when the CPU has AVX2 (checked at
+// run time).
 __attribute__((target("avx2"))) int WindowSumsAvx2(const float* padded, const float* padded_sq,
                                                    int w, int n, float* sum, float* sq) {
   int x = 0;
-  for (; x + 8 <= n; x += 8) {
+  for (; x < n; x += 8) {
     __m256 s = _mm256_loadu_ps(padded + x), q = _mm256_loadu_ps(padded_sq + x);
     for (int k = 1; k < w; ++k) {
       s = _mm256_add_ps(s, _mm256_loadu_ps(padded + x + k));
@@ -108,10 +113,10 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   // Column sums over the vertical window, updated row by row and kept between `half` zeros on
   // each side, so that the horizontal window sums need no clipping (the clipped pixel counts are
   // in inv_cols and inv_rows).
-  std::vector<float> padded(cols + 2 * half, 0.0f), padded_sq(cols + 2 * half, 0.0f);
+  std::vector<float> padded(cols + 2 * half + kRowSpare, 0.0f), padded_sq(padded.size(), 0.0f);
   float* col_sum = padded.data() + half;
   float* col_sq = padded_sq.data() + half;
-  std::vector<float> sum(cols), sq(cols), inv_cols(cols);
+  std::vector<float> sum(cols + kRowSpare), sq(cols + kRowSpare), inv_cols(cols);
   for (int x = 0; x < cols; ++x) {
     inv_cols[x] = 1.0f / static_cast<float>(x_hi[x] - x_lo[x]);
   }
