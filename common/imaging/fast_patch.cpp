@@ -246,7 +246,8 @@ void ResampleRows(const cv::Mat& src, const cv::Matx23d& m, cv::Mat& dst) {
       int bx, ex, by, ey;
       ValidRange(sx0, a, 1e-3f, max_x, dst.cols, &bx, &ex);
       ValidRange(sy0, c, 1e-3f, max_y, dst.cols, &by, &ey);
-      begin = std::max(bx, by), end = std::max(begin, std::min(ex, ey));
+      begin = std::max(bx, by);
+      end = std::max(begin, std::min(ex, ey));
       std::fill(out, out + begin, 0.0f);
       std::fill(out + end, out + dst.cols, 0.0f);
     }

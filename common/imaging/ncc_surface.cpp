@@ -195,19 +195,23 @@ __attribute__((target("avx2,fma"))) void FirstWindowSumsAvx2(const float* v, int
     s = _mm256_add_ps(s, d);
     q = _mm256_fmadd_ps(d, d, q);
   }
-  *sum = LaneSum(s), *sum_sq = LaneSum(q);
+  *sum = LaneSum(s);
+  *sum_sq = LaneSum(q);
   for (; k < n; ++k) {
     const double d = v[k] - offset;
-    *sum += d, *sum_sq += d * d;
+    *sum += d;
+    *sum_sq += d * d;
   }
 }
 
 void FirstWindowSums(const float* v, int n, float offset, double* sum, double* sum_sq) {
   if (kHasAvx2Fma) return FirstWindowSumsAvx2(v, n, offset, sum, sum_sq);
-  *sum = 0.0, *sum_sq = 0.0;
+  *sum = 0.0;
+  *sum_sq = 0.0;
   for (int k = 0; k < n; ++k) {
     const double d = v[k] - offset;
-    *sum += d, *sum_sq += d * d;
+    *sum += d;
+    *sum_sq += d * d;
   }
 }
 
@@ -218,12 +222,14 @@ void FirstWindowSums(const float* v, int n, float offset, double* sum, double* s
 void RowWindowSums(const float* v, int tw, int cols, float offset, double* sum, double* sum_sq) {
   double run = 0.0, run_sq = 0.0;
   FirstWindowSums(v, tw, offset, &run, &run_sq);
-  sum[0] = run, sum_sq[0] = run_sq;
+  sum[0] = run;
+  sum_sq[0] = run_sq;
   for (int x = 1; x < cols; ++x) {
     const double in = v[x + tw - 1] - offset, out = v[x - 1] - offset;
     run += in - out;
     run_sq += in * in - out * out;
-    sum[x] = run, sum_sq[x] = run_sq;
+    sum[x] = run;
+    sum_sq[x] = run_sq;
   }
 }
 

@@ -22,7 +22,9 @@ double CorrelationSums::Gain() const { return LeastSquaresGain(stv, svv); }
 void FinishLinearization(const CorrelationSums& c, double inliers,
                          const std::vector<Eigen::Vector3d>& block_scores,
                          const std::vector<int>& block_counts, Linearization* lin) {
-  lin->h(1, 0) = lin->h(0, 1), lin->h(2, 0) = lin->h(0, 2), lin->h(2, 1) = lin->h(1, 2);
+  lin->h(1, 0) = lin->h(0, 1);
+  lin->h(2, 0) = lin->h(0, 2);
+  lin->h(2, 1) = lin->h(1, 2);
   lin->correlation = c.Correlation();
   lin->next_gain = c.Gain();
   lin->inlier_fraction = inliers / lin->points;
@@ -40,7 +42,10 @@ void InLevel0Pixels(int level, Linearization* lin) {
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total) {
   int pixels = 0, used_blocks = 0;
-  for (int c : block_counts) pixels += c, used_blocks += c > 0;
+  for (int c : block_counts) {
+    pixels += c;
+    used_blocks += c > 0;
+  }
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   for (size_t b = 0; b < block_scores.size(); ++b) {
     if (block_counts[b] == 0) continue;
@@ -68,7 +73,10 @@ void VisitSparseGrid(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& 
 double SparseGain(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                   const std::vector<cv::Range>& spans) {
   double stv = 0, svv = 0;
-  VisitSparseGrid(frame, view, inner, spans, [&](float t, float v) { stv += t * v, svv += v * v; });
+  VisitSparseGrid(frame, view, inner, spans, [&](float t, float v) {
+    stv += t * v;
+    svv += v * v;
+  });
   return LeastSquaresGain(stv, svv);
 }
 
@@ -115,11 +123,20 @@ inline void AddPixel(const float* t, const float* up, const float* mid, const fl
   // J for q = (qx, qy, qθ) in camera_ground axes: frame x is ground −y, frame y is ground −x.
   const float j0 = -gy, j1 = -gx, j2 = gx * dv - gy * du;
   const float wj0 = w * j0, wj1 = w * j1, wj2 = w * j2;
-  acc[kH00 * stride] += wj0 * j0, acc[kH01 * stride] += wj0 * j1, acc[kH02 * stride] += wj0 * j2;
-  acc[kH11 * stride] += wj1 * j1, acc[kH12 * stride] += wj1 * j2, acc[kH22 * stride] += wj2 * j2;
-  score0[x] = wj0 * r, score1[x] = wj1 * r, score2[x] = wj2 * r;
-  acc[kSw * stride] += w, acc[kSt * stride] += w * t[x], acc[kSv * stride] += w * v;
-  acc[kStt * stride] += w * t[x] * t[x], acc[kSvv * stride] += w * v * v;
+  acc[kH00 * stride] += wj0 * j0;
+  acc[kH01 * stride] += wj0 * j1;
+  acc[kH02 * stride] += wj0 * j2;
+  acc[kH11 * stride] += wj1 * j1;
+  acc[kH12 * stride] += wj1 * j2;
+  acc[kH22 * stride] += wj2 * j2;
+  score0[x] = wj0 * r;
+  score1[x] = wj1 * r;
+  score2[x] = wj2 * r;
+  acc[kSw * stride] += w;
+  acc[kSt * stride] += w * t[x];
+  acc[kSv * stride] += w * v;
+  acc[kStt * stride] += w * t[x] * t[x];
+  acc[kSvv * stride] += w * v * v;
   acc[kStv * stride] += w * t[x] * v;
   acc[kIn * stride] += inlier;
 }
@@ -161,7 +178,11 @@ __attribute__((target_clones("avx2", "default"))) Eigen::Vector3d SumScores(
     const float* __restrict s0, const float* __restrict s1, const float* __restrict s2, int n) {
   float a = 0, b = 0, c = 0;
 #pragma omp simd reduction(+ : a, b, c)
-  for (int i = 0; i < n; ++i) a += s0[i], b += s1[i], c += s2[i];
+  for (int i = 0; i < n; ++i) {
+    a += s0[i];
+    b += s1[i];
+    c += s2[i];
+  }
   return {a, b, c};
 }
 
@@ -180,7 +201,8 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
   std::vector<cv::Range> spans = spans_in;
   if (spans.empty()) spans.assign(inner.height, cv::Range(0, inner.width));
   for (cv::Range& span : spans) {
-    span.start = std::max(span.start, 0), span.end = std::min(span.end, inner.width);
+    span.start = std::max(span.start, 0);
+    span.end = std::min(span.end, inner.width);
     if (span.end > span.start) lin.points += span.end - span.start;
   }
   if (lin.points < 3) return lin;
@@ -204,9 +226,18 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     const float du0 = static_cast<float>(inner.x + x0 + 0.5 - principal_px.x());
     const RowSums s = SumRow(t, up, mid, down, n, du0, dv, lin.gain, inv_cutoff_sq, score[0] + x0,
                              score[1] + x0, score[2] + x0);
-    lin.h(0, 0) += s.h00, lin.h(0, 1) += s.h01, lin.h(0, 2) += s.h02;
-    lin.h(1, 1) += s.h11, lin.h(1, 2) += s.h12, lin.h(2, 2) += s.h22;
-    c.sw += s.sw, c.st += s.st, c.sv += s.sv, c.stt += s.stt, c.svv += s.svv, c.stv += s.stv;
+    lin.h(0, 0) += s.h00;
+    lin.h(0, 1) += s.h01;
+    lin.h(0, 2) += s.h02;
+    lin.h(1, 1) += s.h11;
+    lin.h(1, 2) += s.h12;
+    lin.h(2, 2) += s.h22;
+    c.sw += s.sw;
+    c.st += s.st;
+    c.sv += s.sv;
+    c.stt += s.stt;
+    c.svv += s.svv;
+    c.stv += s.stv;
     inliers += s.inliers;
     const int by = y * kScoreBlocks / inner.height;
     for (int bx = 0; bx < kScoreBlocks; ++bx) {
