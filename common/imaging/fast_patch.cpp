@@ -45,12 +45,28 @@ void AddRow(const float* in, float offset, float* sum, float* sum_sq, int n, flo
   }
 }
 
+// AddRow(in, +1) then AddRow(out, −1) in one pass over the column sums (the same adds in the
+// same order).
+FLEETLOC_VECTOR_CLONES
+void SlideRow(const float* in, const float* out, float offset, float* sum, float* sum_sq, int n) {
+  for (int x = 0; x < n; ++x) {
+    const float v = in[x] - offset, u = out[x] - offset;
+    sum[x] += v;
+    sum_sq[x] += v * v;
+    sum[x] += -u;
+    sum_sq[x] += -u * u;
+  }
+}
+
 // Window sums along a row, 8 at a time: sum[x] = Σ_{k<w} padded[x + k] (and the same of the
 // squares), added in the order k = 0, 1, …, for every x < n rounded up to a multiple of 8 (the
-// caller's rows have room: kRowSpare more floats). Only called when the CPU has AVX2 (checked at
-// run time).
+// caller's rows have room: kRowSpare more floats). kW > 0 fixes w at compile time, so the tap
+// loop unrolls (the tracker's windows are 5 and 7 px). Only called when the CPU has AVX2
+// (checked at run time).
+template <int kW>
 __attribute__((target("avx2"))) int WindowSumsAvx2(const float* padded, const float* padded_sq,
                                                    int w, int n, float* sum, float* sq) {
+  if constexpr (kW > 0) w = kW;
   int x = 0;
   for (; x < n; x += 8) {
     __m256 s = _mm256_loadu_ps(padded + x), q = _mm256_loadu_ps(padded_sq + x);
@@ -62,6 +78,18 @@ __attribute__((target("avx2"))) int WindowSumsAvx2(const float* padded, const fl
     _mm256_storeu_ps(sq + x, q);
   }
   return x;
+}
+
+int WindowSumsAvx2(const float* padded, const float* padded_sq, int w, int n, float* sum,
+                   float* sq) {
+  switch (w) {
+    case 5:
+      return WindowSumsAvx2<5>(padded, padded_sq, w, n, sum, sq);
+    case 7:
+      return WindowSumsAvx2<7>(padded, padded_sq, w, n, sum, sq);
+    default:
+      return WindowSumsAvx2<0>(padded, padded_sq, w, n, sum, sq);
+  }
 }
 
 // Each pixel's window sum is taken directly rather than as the difference of two running
@@ -124,10 +152,12 @@ cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon,
   cv::Mat out(f.size(), CV_32F);
   if (local_variance) local_variance->create(f.size(), CV_32F);
   for (int y = 0; y < rows; ++y) {
-    if (y > 0 && y_hi[y] > y_hi[y - 1]) {
+    const bool enters = y > 0 && y_hi[y] > y_hi[y - 1], leaves = y > 0 && y_lo[y] > y_lo[y - 1];
+    if (enters && leaves) {
+      SlideRow(f.ptr<float>(y_hi[y] - 1), f.ptr<float>(y_lo[y] - 1), offset, col_sum, col_sq, cols);
+    } else if (enters) {
       AddRow(f.ptr<float>(y_hi[y] - 1), offset, col_sum, col_sq, cols, 1);
-    }
-    if (y > 0 && y_lo[y] > y_lo[y - 1]) {
+    } else if (leaves) {
       AddRow(f.ptr<float>(y_lo[y] - 1), offset, col_sum, col_sq, cols, -1);
     }
     WindowSums(padded.data(), padded_sq.data(), window_px, cols, sum.data(), sq.data());
