@@ -186,6 +186,23 @@ __attribute__((target_clones("avx2", "default"))) Eigen::Vector3d SumScores(
   return {a, b, c};
 }
 
+// One row's sums added to the frame's normal equations and correlation sums.
+void AddRowSums(const RowSums& s, Linearization* lin, CorrelationSums* c, double* inliers) {
+  lin->h(0, 0) += s.h00;
+  lin->h(0, 1) += s.h01;
+  lin->h(0, 2) += s.h02;
+  lin->h(1, 1) += s.h11;
+  lin->h(1, 2) += s.h12;
+  lin->h(2, 2) += s.h22;
+  c->sw += s.sw;
+  c->st += s.st;
+  c->sv += s.sv;
+  c->stt += s.stt;
+  c->svv += s.svv;
+  c->stv += s.stv;
+  *inliers += s.inliers;
+}
+
 }  // namespace
 
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
@@ -226,19 +243,7 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     const float du0 = static_cast<float>(inner.x + x0 + 0.5 - principal_px.x());
     const RowSums s = SumRow(t, up, mid, down, n, du0, dv, lin.gain, inv_cutoff_sq, score[0] + x0,
                              score[1] + x0, score[2] + x0);
-    lin.h(0, 0) += s.h00;
-    lin.h(0, 1) += s.h01;
-    lin.h(0, 2) += s.h02;
-    lin.h(1, 1) += s.h11;
-    lin.h(1, 2) += s.h12;
-    lin.h(2, 2) += s.h22;
-    c.sw += s.sw;
-    c.st += s.st;
-    c.sv += s.sv;
-    c.stt += s.stt;
-    c.svv += s.svv;
-    c.stv += s.stv;
-    inliers += s.inliers;
+    AddRowSums(s, &lin, &c, &inliers);
     const int by = y * kScoreBlocks / inner.height;
     for (int bx = 0; bx < kScoreBlocks; ++bx) {
       const int b0 = std::max(bx * inner.width / kScoreBlocks, spans[y].start);
