@@ -7,7 +7,9 @@
 
 #include <immintrin.h>
 
+#include <array>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 #include <vector>
 
 #include "imaging/simd.h"
@@ -91,30 +93,24 @@ void WeightedSumPlain(const float* const* in, const float* w, int taps, int n, f
   }
 }
 
+using FixedWeightedSum = void (*)(const float* const*, const float*, int, float*);
+
+// WeightedSumFixedAvx2 for radii 1 .. sizeof...(R) (3 .. 17 taps), indexed by radius − 1.
+template <int... R>
+constexpr std::array<FixedWeightedSum, sizeof...(R)> FixedWeightedSums(
+    std::integer_sequence<int, R...>) {
+  return {&WeightedSumFixedAvx2<2 * (R + 1) + 1>...};
+}
+
 void WeightedSum(const float* const* in, const float* w, int taps, int n, float* out) {
-  if (kHasAvx2Fma) {
-    switch (taps) {
-      case 3:
-        return WeightedSumFixedAvx2<3>(in, w, n, out);
-      case 5:
-        return WeightedSumFixedAvx2<5>(in, w, n, out);
-      case 7:
-        return WeightedSumFixedAvx2<7>(in, w, n, out);
-      case 9:
-        return WeightedSumFixedAvx2<9>(in, w, n, out);
-      case 11:
-        return WeightedSumFixedAvx2<11>(in, w, n, out);
-      case 13:
-        return WeightedSumFixedAvx2<13>(in, w, n, out);
-      case 15:
-        return WeightedSumFixedAvx2<15>(in, w, n, out);
-      case 17:
-        return WeightedSumFixedAvx2<17>(in, w, n, out);
-      default:
-        return WeightedSumAvx2(in, w, taps, n, out);
-    }
-  } else {
+  static constexpr auto kFixed = FixedWeightedSums(std::make_integer_sequence<int, 8>());
+  const int radius = taps / 2;
+  if (!kHasAvx2Fma) {
     WeightedSumPlain(in, w, taps, n, out);
+  } else if (radius >= 1 && radius <= static_cast<int>(kFixed.size())) {
+    kFixed[radius - 1](in, w, n, out);
+  } else {
+    WeightedSumAvx2(in, w, taps, n, out);
   }
 }
 
