@@ -51,6 +51,14 @@ int PlannedDrive::FrameAt(double t) const {
   return static_cast<int>(std::clamp<long>(i, 0, static_cast<long>(images_.size()) - 1));
 }
 
+std::optional<int> PlannedDrive::FrameCapturedBy(double t) const {
+  // The camera fires at or just after a grid time (microseconds): a tenth of a millisecond's
+  // allowance for the rounding of both clocks.
+  const double periods = (t - first_frame_t()) * rate_hz_ + 1e-3;
+  if (periods < 0 || periods >= static_cast<double>(images_.size())) return std::nullopt;
+  return static_cast<int>(std::floor(periods));
+}
+
 Result<std::unique_ptr<OdometryPublisher>> OdometryPublisher::Create(
     const transport::Participant& p, std::vector<geometry::StampedPose> samples, Mangle mangle,
     double min_gap_s, const std::string& topic) {
@@ -106,7 +114,11 @@ bool FakeGigECamera::running() const { return arv_gv_fake_camera_is_running(came
 void FakeGigECamera::Fill(ArvBuffer* buffer, void* self_ptr, unsigned, unsigned, unsigned) {
   auto* self = static_cast<FakeGigECamera*>(self_ptr);
   const double now = static_cast<double>(arv_buffer_get_timestamp(buffer)) * 1e-9;  // fill time
-  const int i = self->drive_->FrameAt(now);
+  // A frame is exposed before it is read out and sent: a fill that comes late (a loaded machine)
+  // still shows, and is stamped with, the last frame due by now, never the next one (a capture
+  // stamped after its own arrival would move the agent's clock mapping early).
+  const std::optional<int> captured_frame = self->drive_->FrameCapturedBy(now);
+  const int i = captured_frame.value_or(self->drive_->FrameAt(now));
   const cv::Mat& image = self->drive_->image(i);
   // The buffer holds the payload (its received size is set after the fill: 0 here).
   void* data = const_cast<void*>(arv_buffer_get_data(buffer, nullptr));
@@ -115,9 +127,7 @@ void FakeGigECamera::Fill(ArvBuffer* buffer, void* self_ptr, unsigned, unsigned,
   std::memcpy(data, image.data, image.total());
   // Within the drive the frame shows planned frame i: captured then, however late the fill
   // (the camera's own clock would say so); before and after it, the frame of the moment.
-  const bool driving =
-      now > self->drive_->first_frame_t() - 0.05 && now < self->drive_->last_frame_t() + 0.05;
-  const double captured = driving ? self->drive_->frame_t(i) : now;
+  const double captured = captured_frame ? self->drive_->frame_t(i) : now;
   arv_buffer_set_timestamp(
       buffer, static_cast<guint64>(std::llround((captured - self->device_epoch_) * 1e9)));
   ++self->filled_;

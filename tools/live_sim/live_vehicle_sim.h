@@ -9,6 +9,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -48,6 +49,10 @@ class PlannedDrive {
   double last_frame_t() const { return sim_->truth().back().t; }
   // The planned frame nearest to host time t (clamped to the drive).
   int FrameAt(double t) const;
+  // The planned frame a camera firing on the frame-period grid has exposed by host time t: the last
+  // one at or before t, whatever the delay since; none before the first frame or a period after
+  // the last.
+  std::optional<int> FrameCapturedBy(double t) const;
   const cv::Mat& image(int i) const { return images_[i]; }
   double frame_t(int i) const { return sim_->truth()[i].t; }
   int frame_count() const { return static_cast<int>(images_.size()); }
