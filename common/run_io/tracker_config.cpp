@@ -50,6 +50,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"polish_dense_max_frame_pixels", &o.polish_dense_max_frame_pixels},
           {"polish_min_frame_pixels", &o.polish_min_frame_pixels},
           {"polish_dense_below_correlation", &o.polish_dense_below_correlation},
+          {"polish_dense_max_level_pixels", &o.polish_dense_max_level_pixels},
           {"retry_templates_frames", &o.retry_templates_frames},
           {"direct_first_after_failures", &o.direct_first_after_failures},
           {"max_disagreement_chi2", &o.max_disagreement_chi2}};

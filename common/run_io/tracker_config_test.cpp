@@ -102,6 +102,13 @@ TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOn
   bad = TrackerOptionsFromJson({{"direct", {{"polish_max_level_pixels", -5}}}}, "t.json");
   EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
   EXPECT_NE(bad.status().message().find("direct.polish_max_level_pixels"), std::string::npos);
+  EXPECT_EQ(defaults.polish_dense_max_level_pixels, 80000);
+  EXPECT_EQ(TrackerOptionsFromJson({{"polish_dense_max_level_pixels", 0}}, "t.json")
+                ->polish_dense_max_level_pixels,
+            0);
+  bad = TrackerOptionsFromJson({{"polish_dense_max_level_pixels", -1}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("polish_dense_max_level_pixels"), std::string::npos);
 }
 
 }  // namespace

@@ -69,15 +69,18 @@ class DirectAligner {
   // validation of the pose itself stays the caller's (the fit it starts from). The view is blurred
   // by `view_blur_px`, or (< 0) by the frame's blur estimated here when max_view_blur_px > 0; the
   // blur used is in the result's view_blur_px. `confirming`: the fit is valid only once polished
-  // (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps.
+  // (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps. `level`: the
+  // pyramid level it works at (< 0: PolishLevel()).
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
                          const geometry::Pose2& start, double view_blur_px = -1.0,
-                         bool confirming = false) const;
+                         bool confirming = false, int level = -1) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).
   int levels() const { return levels_; }
   // The pyramid level the polish works at (direct.polish_max_level_pixels).
-  int PolishLevel() const;
+  int PolishLevel() const { return PolishLevel(options_.polish_max_level_pixels); }
+  // The finest level whose frame has at most `max_level_pixels` (0: level 0).
+  int PolishLevel(int max_level_pixels) const;
 
  private:
   struct Level;

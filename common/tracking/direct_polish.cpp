@@ -63,24 +63,23 @@ std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv:
   return spans;
 }
 
-// The level the polish works at: the finest whose frame has at most polish_max_level_pixels.
-int DirectAligner::PolishLevel() const {
+int DirectAligner::PolishLevel(int max_level_pixels) const {
   const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
   int level = 0;
-  while (options_.polish_max_level_pixels > 0 && level + 1 < levels_ &&
-         (pixels >> (2 * level)) > options_.polish_max_level_pixels) {
+  while (max_level_pixels > 0 && level + 1 < levels_ &&
+         (pixels >> (2 * level)) > max_level_pixels) {
     ++level;
   }
   return level;
 }
 
-// Every pixel of the frame at the polish level (full resolution up to 640×480), from a pose
-// already within a fraction of a pixel (see DirectAligner::Polish).
+// Every pixel of the frame at the polish level, from a pose already within a fraction of a pixel
+// (see DirectAligner::Polish).
 DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithCovariance& prior,
-                                      const Pose2& start, double view_blur_px,
-                                      bool confirming) const {
+                                      const Pose2& start, double view_blur_px, bool confirming,
+                                      int level) const {
   DirectAlignment out;
-  const int level = PolishLevel();
+  if (level < 0) level = PolishLevel();
   cv::Mat frame = full_frame;
   for (int l = 0; l < level; ++l) frame = direct_detail::Halved(frame);
   const int b = mosaic_->MarginAt(level);

@@ -248,8 +248,13 @@ PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithC
   const auto t_polish = std::chrono::steady_clock::now();
   const bool estimate_blur =
       view_blur_px_ < 0 || ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
-  const DirectAlignment polished = direct_.Polish(
-      frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_, stats->direct_needs_polish);
+  // A camera that polishes every frame does so at direct.polish_max_level_pixels' level; one that
+  // polishes only its weak dense fits, at polish_dense_max_level_pixels'.
+  const int level =
+      polish_ ? direct_.PolishLevel() : direct_.PolishLevel(options_.polish_dense_max_level_pixels);
+  const DirectAlignment polished =
+      direct_.Polish(frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_,
+                     stats->direct_needs_polish, level);
   stats->polish_ms += MsSince(t_polish);
   stats->view_blur_px = polished.view_blur_px;
   if (!polished.valid) return fit;

@@ -186,6 +186,8 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_dense_max_frame_pixels >= 0, "polish_dense_max_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polish_dense_max_level_pixels >= 0, "polish_dense_max_level_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_dense_below_correlation >= 0 && o.polish_dense_below_correlation <= 1,
             "polish_dense_below_correlation", "must be in [0, 1]"));
   return Status::Ok();

@@ -279,6 +279,13 @@ struct TrackerOptions {
   // polished at 640×480").
   int polish_dense_max_frame_pixels = 307200;
   double polish_dense_below_correlation = 0.33;
+  // Those polishes work at the finest pyramid level whose frame has at most this many pixels (0:
+  // level 0): level 1 at 640×480, the level their fit ended at, but over every pixel where the
+  // fit took the 12000 strongest. At 640×480 under `all`, against level 0: polished concrete 024
+  // camera RMS 0.0779 → 0.0768 px, painted pavement 001 0.0849 → 0.0847, the polish ~4× fewer
+  // sums; no other 640×480 stress cell polishes, no wrong-floor frame tracks (docs/benchmarks.md,
+  // session 44).
+  int polish_dense_max_level_pixels = 80000;
   // After direct_first_after_failures frames in a row that the templates failed on, the last of
   // them locked by the dense alignment (a weak floor, not a one-off bad prediction), the next
   // frames start with the dense alignment; the templates are tried again after
