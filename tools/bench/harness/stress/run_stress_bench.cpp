@@ -33,42 +33,6 @@ double Number(const nlohmann::json& summary, const char* group, const char* key)
   return g.contains(key) && g[key].is_number() ? g[key].get<double>() : NAN;
 }
 
-// Issue 15's targets for fleetloc in one cell: lock ≥ 99.5 %, no false lock, camera-centre RMS
-// ≤ 0.1 px (0.15 on plain floors) and below ECC's, and at 640×480 a median ≤ 2 ms (4 ms plain).
-std::string Judge(const std::vector<BenchRow>& rows, const std::string& floor_class,
-                  const FrameSize& size) {
-  const BenchRow* fleetloc = nullptr;
-  const BenchRow* on_peer_frames = nullptr;  // "fleetloc@N": when the peers replayed fewer frames
-  const BenchRow* ecc = nullptr;
-  for (const BenchRow& row : rows) {
-    if (row.label() == "fleetloc") fleetloc = &row;
-    if (row.label().starts_with("fleetloc@")) on_peer_frames = &row;
-    if (row.label() == "ecc") ecc = &row;
-  }
-  if (!fleetloc) return "n/a";
-  const nlohmann::json& f = fleetloc->summary;
-  std::vector<std::string> misses;
-  if (Number(f, nullptr, "lock_rate") < 0.995) misses.emplace_back("lock");
-  if (Number(f, "error", "false_locks") > 0) misses.emplace_back("false lock");
-  const double rms = Number(f, "error", "camera_position_rms_px");
-  if (!(rms <= (PlainClass(floor_class) ? 0.15 : 0.1))) misses.emplace_back("rms");
-  // Against ECC on the same frames: fleetloc's first N when ECC replayed only N.
-  const BenchRow* same_frames = on_peer_frames ? on_peer_frames : fleetloc;
-  if (ecc && Number(ecc->summary, "error", "camera_position_rms_px") <=
-                 Number(same_frames->summary, "error", "camera_position_rms_px")) {
-    misses.emplace_back("rms vs ecc");
-  }
-  if (size.width == 640 && size.height == 480 &&
-      Number(f, "ms_per_frame", "median") > (PlainClass(floor_class) ? 4.0 : 2.0)) {
-    misses.emplace_back("time");
-  }
-  if (misses.empty()) return "PASS";
-  std::string text = "MISS:";
-  for (const std::string& m : misses) text += " " + m + ",";
-  text.pop_back();
-  return text;
-}
-
 void PrintHeader() {
   std::printf("%-18s %-30s %-9s %-6s %-12s %6s %6s %5s %8s %8s %8s %8s\n", "class", "floor", "size",
               "cond", "method", "frames", "lock", "false", "camRMS", "RMS", "ms med", "ms p95");
@@ -101,7 +65,7 @@ Result<nlohmann::json> RunCell(const StressFloor& floor, const FrameSize& size,
   if (!bench.ok()) return bench.status();
   const std::vector<BenchRow> rows = ScoreRows(TableReplays(*bench));
   for (const BenchRow& row : rows) PrintRow(floor, size, condition, row);
-  const std::string verdict = Judge(rows, floor.floor_class, size);
+  const std::string verdict = JudgeStressCell(rows, floor.floor_class, size);
   std::printf("%-18s %-30s %-9s %-6s -> %s\n", floor.floor_class.c_str(), floor.file.c_str(),
               size.label.c_str(), condition.c_str(), verdict.c_str());
   std::fflush(stdout);
@@ -112,6 +76,42 @@ Result<nlohmann::json> RunCell(const StressFloor& floor, const FrameSize& size,
 }
 
 }  // namespace
+
+std::string JudgeStressCell(const std::vector<BenchRow>& rows, const std::string& floor_class,
+                            const FrameSize& size) {
+  const BenchRow* fleetloc = nullptr;
+  const BenchRow* on_peer_frames = nullptr;  // "fleetloc@N": when the peers replayed fewer frames
+  const BenchRow* ecc = nullptr;
+  for (const BenchRow& row : rows) {
+    if (row.label() == "fleetloc") fleetloc = &row;
+    if (row.label().starts_with("fleetloc@")) on_peer_frames = &row;
+    if (row.label() == "ecc") ecc = &row;
+  }
+  if (!fleetloc) return "n/a";
+  const nlohmann::json& f = fleetloc->summary;
+  std::vector<std::string> misses;
+  if (Number(f, nullptr, "lock_rate") < 0.995) misses.emplace_back("lock");
+  if (Number(f, "error", "false_locks") > 0) misses.emplace_back("false lock");
+  const double rms = Number(f, "error", "camera_position_rms_px");
+  if (!(rms <= (PlainClass(floor_class) ? 0.15 : 0.1))) misses.emplace_back("rms");
+  // Against ECC on the same frames: fleetloc's first N when ECC replayed only N. An ECC that
+  // locked no frame has no RMS to compare (its summary's error is 0 over no frame).
+  const BenchRow* same_frames = on_peer_frames ? on_peer_frames : fleetloc;
+  if (ecc && Number(ecc->summary, nullptr, "lock_rate") > 0 &&
+      Number(ecc->summary, "error", "camera_position_rms_px") <=
+          Number(same_frames->summary, "error", "camera_position_rms_px")) {
+    misses.emplace_back("rms vs ecc");
+  }
+  if (size.width == 640 && size.height == 480 &&
+      Number(f, "ms_per_frame", "median") > (PlainClass(floor_class) ? 4.0 : 2.0)) {
+    misses.emplace_back("time");
+  }
+  if (misses.empty()) return "PASS";
+  std::string text = "MISS:";
+  for (const std::string& m : misses) text += " " + m + ",";
+  text.pop_back();
+  return text;
+}
 
 Status RunTrackerStressBench(TrackerStressBenchArgs& args) {
   FLEETLOC_RETURN_IF_ERROR(LoadBenchTrackerOptions(args.tracker_config, &args.settings));
