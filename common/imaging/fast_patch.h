@@ -31,6 +31,21 @@ cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ);
 // zero-mean template, (window − templ + 1) positions summed directly.
 cv::Mat CrossCorrelationSums(const cv::Mat& window, const cv::Mat& templ);
 
+// What a placement whose Σ t'·v reaches the window's spread (rounding, a flat window) becomes.
+enum class SpreadRule {
+  kZeroWhenFlat,  // c / spread, 0 where the spread is 0 (NccSurface)
+  kLikeOpenCv,    // as TM_CCOEFF_NORMED: ±1 up to 1.125 × the spread, 0 beyond (sums with a
+                  // transform's rounding in them, SpectralNcc)
+};
+
+// Divides each placement's Σ t'·v (`cross`, CV_32F, in place) by the spread of `window` under it
+// times `templ_norm` (‖t − t̄‖): the normalized cross-correlation. The window's sums are of
+// v − `offset` in double (the template's mean keeps them small on bright images, where Σ v²
+// would leave few digits for the spread); running sums, not integral images (cv::integral in
+// double cost ten times as much on a coarse search's view).
+void NormalizeBySpread(const cv::Mat& window, cv::Size templ, float offset, double templ_norm,
+                       SpreadRule rule, cv::Mat& cross);
+
 // What CrossCorrelationSums costs, in 8-wide multiply-adds, for these sizes.
 double CrossCorrelationSumsCost(cv::Size window, cv::Size templ);
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <tuple>
 
 #include "imaging/normalize.h"
 #include "imaging/texture.h"
@@ -197,6 +198,26 @@ TEST(NccSurface, EqualsADoublePrecisionReferenceOnABrightPlainWindow) {
           << template_px << " " << placements;
     }
   }
+}
+
+// A placement whose Σ t'·v reaches the window's spread: rounding (kept at 1 within 1.125 of it,
+// as TM_CCOEFF_NORMED) or a transform's noise over a flat window (0), or the plain ratio.
+TEST(NormalizeBySpread, TreatsSumsBeyondTheSpreadByItsRule) {
+  cv::Mat window = cv::Mat::zeros(1, 4, CV_32F);
+  window.at<float>(0, 0) = 1.0f;  // one placement of a 1×4 template: spread² = Σ(v − v̄)² = 0.75
+  const double spread = std::sqrt(0.75) * 2.0;  // times the template's norm, 2
+  for (const auto& [ratio, opencv, zero_when_flat] :
+       {std::tuple{0.5, 0.5, 0.5}, {-1.05, -1.0, -1.05}, {1.2, 0.0, 1.2}}) {
+    cv::Mat cross(1, 1, CV_32F, cv::Scalar(ratio * spread)), plain = cross.clone();
+    NormalizeBySpread(window, {4, 1}, 0.25f, 2.0, SpreadRule::kLikeOpenCv, cross);
+    NormalizeBySpread(window, {4, 1}, 0.25f, 2.0, SpreadRule::kZeroWhenFlat, plain);
+    EXPECT_NEAR(cross.at<float>(0, 0), opencv, 1e-6) << ratio;
+    EXPECT_NEAR(plain.at<float>(0, 0), zero_when_flat, 1e-6) << ratio;
+  }
+  // A flat window: 0 either way.
+  cv::Mat flat(1, 4, CV_32F, cv::Scalar(3.0f)), cross(1, 1, CV_32F, cv::Scalar(1e-3f));
+  NormalizeBySpread(flat, {4, 1}, 3.0f, 2.0, SpreadRule::kLikeOpenCv, cross);
+  EXPECT_EQ(cross.at<float>(0, 0), 0.0f);
 }
 
 TEST(TextureScoreGrid, AgreesWithTheDenseScoreInRankAndScale) {

@@ -243,23 +243,30 @@ inline void Slide(const double* add, const double* remove, int n, double* sum) {
 }
 
 // c = Σ t'·v / (√(Σ(v − v̄)²) · ‖t'‖) from the window sums `sum` and `sum_sq` of n_pixels values;
-// 0 where the window is flat.
+// where |c| reaches the spread (rounding, or a flat window), as `rule` says.
 inline void DivideBySpread(const double* sum, const double* sum_sq, int n, double n_pixels,
-                           double t_norm, float* c) {
+                           double t_norm, SpreadRule rule, float* c) {
   for (int i = 0; i < n; ++i) {
     const double spread = std::sqrt(std::max(0.0, sum_sq[i] - sum[i] * sum[i] / n_pixels)) * t_norm;
-    c[i] = spread > 1e-9 ? static_cast<float>(c[i] / spread) : 0.0f;
+    if (rule == SpreadRule::kZeroWhenFlat) {
+      c[i] = spread > 1e-9 ? static_cast<float>(c[i] / spread) : 0.0f;
+    } else if (std::abs(c[i]) < spread) {
+      c[i] = static_cast<float>(c[i] / spread);
+    } else {
+      c[i] = std::abs(c[i]) < spread * 1.125 ? (c[i] > 0 ? 1.0f : -1.0f) : 0.0f;
+    }
   }
 }
 
-// Divides each placement's Σ t'·v (`cross`) by the spread of the window under it: per window row
-// the sums over the template's width, then running down the template's height, all in double, of
-// v − `offset` (the template's mean, near the window's). The scratch rows are reused across calls
-// (thread_local: the tracker calls this a few thousand times a frame, most for a handful of
-// placements).
+}  // namespace
+
+// Per window row the sums over the template's width, then running down the template's height,
+// all in double, of v − `offset`. The scratch rows are reused across calls (thread_local: the
+// tracker calls this a few thousand times a frame, most for a handful of placements).
 FLEETLOC_VECTOR_CLONES
-void NormalizeBySpread(const cv::Mat& window, int th, int tw, float offset, double t_norm,
-                       cv::Mat& cross) {
+void NormalizeBySpread(const cv::Mat& window, cv::Size templ, float offset, double templ_norm,
+                       SpreadRule rule, cv::Mat& cross) {
+  const int th = templ.height, tw = templ.width;
   const int cols = cross.cols;
   thread_local std::vector<double> scratch;
   scratch.resize(2 * static_cast<size_t>(window.rows + 1) * cols);
@@ -281,9 +288,11 @@ void NormalizeBySpread(const cv::Mat& window, int th, int tw, float offset, doub
       Slide(&seg[(y + th - 1) * cols], &seg[(y - 1) * cols], cols, sum);
       Slide(&seg_sq[(y + th - 1) * cols], &seg_sq[(y - 1) * cols], cols, sum_sq);
     }
-    DivideBySpread(sum, sum_sq, cols, n, t_norm, cross.ptr<float>(y));
+    DivideBySpread(sum, sum_sq, cols, n, templ_norm, rule, cross.ptr<float>(y));
   }
 }
+
+namespace {
 
 // The zero-mean template t' = t − t̄ into `t0`, with t̄ and ‖t'‖ summed in double lanes (by hand:
 // OpenCV's cv::mean and `templ - mean` cost several times the arithmetic on a 48² template in
@@ -364,7 +373,8 @@ cv::Mat NccSurface(const cv::Mat& window, const cv::Mat& templ) {
   const cv::Mat t0 = ZeroMean(templ, &mean, &t_norm);
   cv::Mat cross(rows, cols, CV_32F);
   CrossSums(window, t0, cross);
-  NormalizeBySpread(window, th, tw, static_cast<float>(mean), t_norm, cross);
+  NormalizeBySpread(window, templ.size(), static_cast<float>(mean), t_norm,
+                    SpreadRule::kZeroWhenFlat, cross);
   return cross;
 }
 

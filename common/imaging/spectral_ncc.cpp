@@ -28,6 +28,7 @@ SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
   cv::Scalar mean, deviation;
   cv::meanStdDev(templ, mean, deviation);
   templ_norm_ = deviation[0] * std::sqrt(static_cast<double>(templ.total()));
+  templ_mean_ = static_cast<float>(mean[0]);
   // Padding to at least the view's size keeps the circular correlation exact wherever the
   // template lies wholly inside the view, which is every position of the surface.
   cv::Mat padded = cv::Mat::zeros(dft_size_, CV_32F);
@@ -47,47 +48,18 @@ cv::Mat SpectralNcc::Surface(const cv::Mat& view) const {
   cv::dft(padded, spectrum, 0, view.rows);
   cv::mulSpectrums(spectrum, spectrum_, spectrum, 0, /*conjB=*/true);
   cv::idft(spectrum, correlation, cv::DFT_SCALE | cv::DFT_REAL_OUTPUT, out.height);
-  return Normalized(view, correlation(cv::Rect({0, 0}, out)));
+  // Σ(t − t̄)·v over each window is the numerator; the window's own spread the denominator, and
+  // near-degenerate windows (where the transforms' rounding dominates) as OpenCV treats them.
+  cv::Mat surface = correlation(cv::Rect({0, 0}, out)).clone();
+  NormalizeBySpread(view, templ_size_, templ_mean_, templ_norm_, SpreadRule::kLikeOpenCv, surface);
+  return surface;
 }
 
 cv::Mat SpectralNcc::SurfaceNear(const cv::Mat& view) const {
   CV_Assert(view.type() == CV_32F && view.cols >= templ_size_.width &&
             view.rows >= templ_size_.height);
-  const cv::Mat correlation = CrossCorrelationSums(view, zero_mean_);
-  return Normalized(view, correlation);
-}
-
-// Σ(t − t̄)·v over each window (`correlation`) is the numerator; the window's own spread the
-// denominator, from integral images in double as OpenCV's; near-degenerate windows as OpenCV
-// treats them.
-cv::Mat SpectralNcc::Normalized(const cv::Mat& view, const cv::Mat& correlation) const {
-  const cv::Size out = correlation.size();
-  cv::Mat sum, square_sum;
-  cv::integral(view, sum, square_sum, CV_64F, CV_64F);
-  const double n = static_cast<double>(templ_size_.area());
-  const int w = templ_size_.width, h = templ_size_.height;
-  cv::Mat surface(out, CV_32F);
-  for (int y = 0; y < out.height; ++y) {
-    const double *s0 = sum.ptr<double>(y), *s1 = sum.ptr<double>(y + h);
-    const double *q0 = square_sum.ptr<double>(y), *q1 = square_sum.ptr<double>(y + h);
-    const float* c = correlation.ptr<float>(y);
-    float* o = surface.ptr<float>(y);
-    for (int x = 0; x < out.width; ++x) {
-      const double window_sum = s1[x + w] - s1[x] - s0[x + w] + s0[x];
-      const double window_sq = q1[x + w] - q1[x] - q0[x + w] + q0[x];
-      const double t =
-          std::sqrt(std::max(window_sq - window_sum * window_sum / n, 0.0)) * templ_norm_;
-      double num = c[x];
-      if (std::abs(num) < t) {
-        num /= t;
-      } else if (std::abs(num) < t * 1.125) {
-        num = num > 0 ? 1.0 : -1.0;
-      } else {
-        num = 0.0;
-      }
-      o[x] = static_cast<float>(num);
-    }
-  }
+  cv::Mat surface = CrossCorrelationSums(view, zero_mean_);
+  NormalizeBySpread(view, templ_size_, templ_mean_, templ_norm_, SpreadRule::kLikeOpenCv, surface);
   return surface;
 }
 

@@ -29,13 +29,12 @@ class SpectralNcc {
   cv::Mat SurfaceNear(const cv::Mat& view) const;
 
  private:
-  cv::Mat Normalized(const cv::Mat& view, const cv::Mat& correlation) const;
-
   cv::Size templ_size_, view_size_, dft_size_;
   bool direct_ = false;      // views summed directly (CrossCorrelationSums), not through spectra
   cv::Mat spectrum_;         // of the zero-mean template, padded to dft_size_ (CCS packed)
   cv::Mat zero_mean_;        // the zero-mean template
   double templ_norm_ = 0.0;  // √Σ(t − t̄)²
+  float templ_mean_ = 0.0f;
 };
 
 }  // namespace fleetloc::imaging
