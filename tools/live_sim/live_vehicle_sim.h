@@ -2,7 +2,7 @@
 // simulator `--sim-floor` uses) with frame times on a grid of the frame period (where Aravis's fake
 // camera fires), its frames rendered ahead; its wheel odometry published as ROS 2 nav_msgs/Odometry
 // over DDS at its own times; a fake GigE Vision camera (Aravis's ArvGvFakeCamera on 127.0.0.1)
-// serving the frame of the moment over GVCP/GVSP, stamped by a device clock that counts from the
+// serving the last frame due over GVCP/GVSP, stamped by a device clock that counts from the
 // camera's power-up. For the live-agent tests and `fleetctl bench agent --source aravis`.
 #pragma once
 
@@ -95,7 +95,7 @@ class OdometryPublisher {
 };
 
 // Aravis's fake GigE Vision camera on 127.0.0.1 (GVCP port 3956: one at a time per host), each
-// buffer filled with the drive's frame of the moment and stamped on a device clock
+// buffer filled with the drive's last frame due by its fill time and stamped on a device clock
 // `device_epoch` seconds behind the host's Unix time. `gvsp_lost_ratio`: share of GVSP packets
 // it drops (the fake camera does not resend them: those frames arrive incomplete).
 class FakeGigECamera {
