@@ -52,8 +52,8 @@ int PlannedDrive::FrameAt(double t) const {
 }
 
 std::optional<int> PlannedDrive::FrameCapturedBy(double t) const {
-  // The camera fires at or just after a grid time (microseconds): a tenth of a millisecond's
-  // allowance for the rounding of both clocks.
+  // The camera fires at or just after a grid time (microseconds): a thousandth of a period's
+  // allowance (0.1 ms at 10 Hz) for the rounding of both clocks.
   const double periods = (t - first_frame_t()) * rate_hz_ + 1e-3;
   if (periods < 0 || periods >= static_cast<double>(images_.size())) return std::nullopt;
   return static_cast<int>(std::floor(periods));
