@@ -100,7 +100,7 @@ TEST(ResampleAffine, MatchesWarpAffineBilinear) {
 }
 
 TEST(ResampleAffine, FloatSourceEqualsByteSourceOnTheSameImage) {
-  // Float sources take the vectorized path (on AVX2 machines); both must agree to rounding.
+  // Both take the vectorized path (on AVX2 machines), gathering floats or bytes.
   const cv::Mat src = Gravel()(cv::Rect(50, 50, 120, 120)).clone();
   cv::Mat src_f;
   src.convertTo(src_f, CV_32F);
@@ -113,8 +113,8 @@ TEST(ResampleAffine, FloatSourceEqualsByteSourceOnTheSameImage) {
 
 TEST(ResampleAffine, FloatSourceEqualsByteSourceAcrossTheSourcesEdgeAtEveryRowWidth) {
   // Rows whose samples leave the source part-way (zeros there) and widths that are not a multiple
-  // of the vector path's 8 lanes: the float path (vectorized, the row's tail under a mask) against
-  // the byte path (scalar).
+  // of the vector path's 8 lanes: the float path's gathers against the byte path's, the row's
+  // tail under a mask.
   const cv::Mat src = Gravel()(cv::Rect(50, 50, 40, 30)).clone();
   cv::Mat src_f;
   src.convertTo(src_f, CV_32F);
@@ -125,6 +125,44 @@ TEST(ResampleAffine, FloatSourceEqualsByteSourceAcrossTheSourcesEdgeAtEveryRowWi
     const cv::Mat bytes = ResampleAffine(src, m, {width, 40});
     EXPECT_LT(cv::norm(fast, bytes, cv::NORM_INF), 1e-3) << width;
     EXPECT_EQ(cv::countNonZero(fast == 0.0f), cv::countNonZero(bytes == 0.0f)) << width;
+  }
+}
+
+// Bilinear src at (x, y) in double, for sources sampled wholly inside.
+double ReferenceBilinear(const cv::Mat& src, double x, double y) {
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  const double ax = x - x0, ay = y - y0;
+  const auto at = [&](int yy, int xx) { return static_cast<double>(src.at<uchar>(yy, xx)); };
+  const double top = at(y0, x0) + ax * (at(y0, x0 + 1) - at(y0, x0));
+  const double bottom = at(y0 + 1, x0) + ax * (at(y0 + 1, x0 + 1) - at(y0 + 1, x0));
+  return top + ay * (bottom - top);
+}
+
+TEST(ResampleAffine, ByteSourceMatchesBilinearFromTheFirstPixelsToTheLastAtEveryRowWidth) {
+  // 8-bit sources are gathered as 32-bit words from two bytes before each sample (the AVX2 path);
+  // rows that start in the first row's first two columns fall back to the scalar path. Samples
+  // from (0.3, 0.2) to the far corner's pixel, in a view of a larger image (rows strided) and in
+  // a continuous copy, at widths around the vector path's 8 lanes.
+  const cv::Mat parent = Gravel()(cv::Rect(50, 50, 60, 50)).clone();
+  const cv::Mat view = parent(cv::Rect(0, 0, 41, 33));
+  for (const cv::Mat& src : {view, view.clone()}) {
+    for (const int width : {1, 7, 8, 9, 16, 17, 23}) {
+      const int height = 12;
+      const double s = 0.05, c = std::sqrt(1.0 - s * s);
+      const double scale = 37.0 / width;  // the row spans ~37 px of the source
+      const cv::Matx23d m(c * scale, s * 2.0, 0.3, s * scale, c * 2.0, 0.2);
+      const cv::Mat out = ResampleAffine(src, m, {width, height});
+      double worst = 0.0;
+      for (int i = 0; i < height; ++i) {
+        for (int j = 0; j < width; ++j) {
+          const double x = m(0, 0) * j + m(0, 1) * i + m(0, 2);
+          const double y = m(1, 0) * j + m(1, 1) * i + m(1, 2);
+          ASSERT_TRUE(x >= 0.0 && y >= 0.0 && x < src.cols - 1 && y < src.rows - 1);
+          worst = std::max(worst, std::abs(out.at<float>(i, j) - ReferenceBilinear(src, x, y)));
+        }
+      }
+      EXPECT_LT(worst, 1e-3) << width << (src.isContinuous() ? " continuous" : " strided");
+    }
   }
 }
 

@@ -64,11 +64,7 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
 cv::Mat RenderPredictedViewFloat(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                                  const FrameMosaicWarp& warp, int level) {
   const ViewSource source = RawCoveringBlock(mosaic, frame_rect, warp, level);
-  // ResampleAffine's vectorized path reads floats: converting the block first is 30 times cheaper
-  // than its per-pixel path over 8-bit pixels.
-  cv::Mat block;
-  source.block.convertTo(block, CV_32F);
-  return imaging::ResampleAffine(block, source.view_to_block, frame_rect.size());
+  return imaging::ResampleAffine(source.block, source.view_to_block, frame_rect.size());
 }
 
 cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,
