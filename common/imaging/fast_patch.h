@@ -1,10 +1,10 @@
-// Small-patch kernels for the tracker's hot loop: local normalization, bilinear affine
-// resampling, direct NCC and a grid texture score. Written by hand rather than calling OpenCV
-// because on the 40–80 px patches the tracker works on, OpenCV's per-call cost dominates: measured
-// on this Debian build (one core), cv::warpAffine of a 48² patch takes 19 µs, cv::boxFilter 9 µs,
-// cv::matchTemplate goes through a DFT and takes ≥ 50 µs even for a ±2 px search, and
-// cv::cornerMinEigenVal takes 1.1 ms on a 320×240 image when only a grid of points is needed.
-// These loops do the same arithmetic in a few µs (contiguous inner loops the compiler
+// Small-patch kernels for the tracker's hot loop: local normalization, direct NCC and a grid
+// texture score (bilinear affine resampling: resample.h). Written by hand rather than calling
+// OpenCV because on the 40–80 px patches the tracker works on, OpenCV's per-call cost dominates:
+// measured on this Debian build (one core), cv::warpAffine of a 48² patch takes 19 µs,
+// cv::boxFilter 9 µs, cv::matchTemplate goes through a DFT and takes ≥ 50 µs even for a ±2 px
+// search, and cv::cornerMinEigenVal takes 1.1 ms on a 320×240 image when only a grid of points is
+// needed. These loops do the same arithmetic in a few µs (contiguous inner loops the compiler
 // vectorizes). Their results are checked against the OpenCV functions in fast_patch_test.cpp.
 #pragma once
 
@@ -18,10 +18,6 @@ namespace fleetloc::imaging {
 // computes anyway.
 cv::Mat NormalizePatch(const cv::Mat& patch, int window_px, float epsilon = 2.0f,
                        cv::Mat* local_variance = nullptr);
-
-// dst(i, j) = bilinear src at dst_to_src · (j, i, 1) (pixel-index coordinates, as
-// cv::warpAffine with WARP_INVERSE_MAP); 0 outside src. src CV_8UC1 or CV_32FC1; returns CV_32F.
-cv::Mat ResampleAffine(const cv::Mat& src, const cv::Matx23d& dst_to_src, cv::Size size);
 
 // The TM_CCOEFF_NORMED surface of `templ` over `window` (both CV_32F), computed directly:
 // (window − templ + 1) positions. Cost ∝ positions × template pixels: meant for small searches.

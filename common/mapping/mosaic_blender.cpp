@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "geometry/footprint.h"
-#include "imaging/fast_patch.h"
+#include "imaging/resample.h"
 #include "tracking/frame_mosaic_warp.h"
 
 namespace fleetloc::mapping {

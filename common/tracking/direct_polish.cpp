@@ -21,23 +21,24 @@ using geometry::PoseWithCovariance;
 namespace {
 
 // The normalized mosaic view of `rect` (pixels of `level`) from `pose`. Above level 0 it is the
-// frame's own steps: the mosaic's pixels rendered at level 0, averaged down (direct_detail::Halved
-// per level), then normalized at `level`. The mosaic's own coarser levels were averaged on the
-// mosaic's pixel grid: when the frame's grid runs parallel to it (a vehicle driving along the
-// mosaic's axes), their aliasing differs from the frame's by an amount that depends on the
-// sub-pixel phase between the grids, and the fit is pulled towards the mosaic's pixels (0.08 px at
-// 1280×1024 measured, against 0.002 at other headings). Normalized at level 0 before averaging,
-// the view's local contrast differed from the frame's (clean worn asphalt g8 at 1280×1024: 0.0035
-// px RMS, 0.0007 by the frame's steps).
+// frame's own steps: the mosaic averaged over each pixel's 2^level square of level-0 pixels
+// (RenderAreaAveragedView), then normalized at `level`. The mosaic's own coarser levels were
+// averaged on the mosaic's pixel grid and subsampled: when the frame's grid runs parallel to it (a
+// vehicle driving along the mosaic's axes), their aliasing differs from the frame's by an amount
+// that depends on the sub-pixel phase between the grids, and the fit is pulled towards the
+// mosaic's pixels (0.08 px at 1280×1024 measured, against 0.002 at other headings). Normalized at
+// level 0 before averaging, the view's local contrast differed from the frame's (clean worn asphalt
+// g8 at 1280×1024: 0.0035 px RMS, 0.0007 by the frame's steps). Until session 45 the view was
+// rendered at level 0 and averaged down (4^level times the samples: a fifth of a 640×480 frame's
+// time on concrete under `all`); the average over a square aligned with the mosaic is the same to
+// float rounding at the headings where the grids run parallel, and a turned square of the same
+// centre and size elsewhere (docs/benchmarks.md, session 45).
 cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera,
                    const cv::Rect& rect, const Pose2& pose, int level) {
   const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera, mosaic->layout().geo);
   if (level == 0) return RenderNormalizedView(mosaic, rect, warp, 0);
-  const int k = 1 << level, n = mosaic->MarginAt(level);
-  const cv::Rect wide = GrownBy(rect, n);
-  cv::Mat view = RenderPredictedViewFloat(
-      mosaic->source(), cv::Rect(wide.x * k, wide.y * k, wide.width * k, wide.height * k), warp, 0);
-  for (int l = 0; l < level; ++l) view = direct_detail::Halved(view);
+  const int n = mosaic->MarginAt(level);
+  const cv::Mat view = RenderAreaAveragedView(mosaic->source(), GrownBy(rect, n), warp, level);
   return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height)).clone();
 }
 

@@ -6,7 +6,7 @@
 #include <functional>
 #include <opencv2/imgproc.hpp>
 
-#include "imaging/fast_patch.h"
+#include "imaging/resample.h"
 
 namespace fleetloc::tracking {
 
@@ -65,6 +65,29 @@ cv::Mat RenderPredictedViewFloat(mosaic::RasterSource* mosaic, const cv::Rect& f
                                  const FrameMosaicWarp& warp, int level) {
   const ViewSource source = RawCoveringBlock(mosaic, frame_rect, warp, level);
   return imaging::ResampleAffine(source.block, source.view_to_block, frame_rect.size());
+}
+
+cv::Mat RenderAreaAveragedView(mosaic::RasterSource* mosaic, const cv::Rect& level_rect,
+                               const FrameMosaicWarp& warp, int level) {
+  const int k = 1 << level;
+  // The level-0 view of the pixels under level_rect, with k level-0 pixels to spare each side so
+  // that every k × k average sampled lies inside the covering block.
+  const cv::Rect frame_rect((level_rect.x - 1) * k, (level_rect.y - 1) * k,
+                            (level_rect.width + 2) * k, (level_rect.height + 2) * k);
+  const ViewSource source = RawCoveringBlock(mosaic, frame_rect, warp, 0);
+  // averaged(m) = mean of block(m + a), a ∈ [0, k)², located at m + (k − 1) / 2.
+  // Level pixel (j, i) is the centre of level-0 view pixels k·(j + 1) … k·(j + 1) + k − 1 of
+  // frame_rect, i.e. view index k·(j + 1) + (k − 1) / 2; its average over the k × k pixels about
+  // it is the k × k means' image (mean (y, x) over block rows y … y + k − 1 and columns x … x +
+  // k − 1) at that index's block position less (k − 1) / 2.
+  const cv::Matx23d& m = source.view_to_block;
+  const double centre = k + 0.5 * (k - 1);
+  const cv::Matx23d level_to_averaged(
+      m(0, 0) * k, m(0, 1) * k, m(0, 0) * centre + m(0, 1) * centre + m(0, 2) - 0.5 * (k - 1),
+      m(1, 0) * k, m(1, 1) * k, m(1, 0) * centre + m(1, 1) * centre + m(1, 2) - 0.5 * (k - 1));
+  if (k == 2) return imaging::ResamplePairMeans(source.block, level_to_averaged, level_rect.size());
+  return imaging::ResampleAffine(imaging::BoxAverage(source.block, k), level_to_averaged,
+                                 level_rect.size());
 }
 
 cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,

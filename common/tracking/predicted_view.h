@@ -23,6 +23,17 @@ cv::Mat RenderPredictedView(mosaic::RasterSource* mosaic, const cv::Rect& frame_
 cv::Mat RenderPredictedViewFloat(mosaic::RasterSource* mosaic, const cv::Rect& frame_rect,
                                  const FrameMosaicWarp& warp, int level);
 
+// The view of `level_rect` (pixels of frame level `level`) whose pixels are the mosaic averaged
+// over the 2^level × 2^level level-0 pixels about each one's centre, as the frame's own levels
+// average its pixels, as CV_32F; `warp` maps level-0 frame pixels to level-0 mosaic pixels. The
+// average is taken over a square aligned with the mosaic's axes, then sampled bilinearly at the
+// pixel's centre: where the frame's axes are parallel to the mosaic's this is the level-0 view
+// (RenderPredictedViewFloat) averaged down, to float rounding; at other headings the squares
+// differ by their turn, with the same centre and the same second moments (a blur of the same
+// size). It costs a box filter of the level-0 block and 4^-level of the samples.
+cv::Mat RenderAreaAveragedView(mosaic::RasterSource* mosaic, const cv::Rect& level_rect,
+                               const FrameMosaicWarp& warp, int level);
+
 // The same view of the locally normalized mosaic, as CV_32F, resampled by the tracker's own
 // small-patch kernel (fast on the template-sized views of the hot loop; see imaging/fast_patch.h).
 cv::Mat RenderNormalizedView(NormalizedMosaic* mosaic, const cv::Rect& frame_rect,

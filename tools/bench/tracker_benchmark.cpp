@@ -10,6 +10,7 @@
 #include "imaging/correlation.h"
 #include "imaging/fast_patch.h"
 #include "imaging/normalize.h"
+#include "imaging/resample.h"
 #include "imaging/spectral_ncc.h"
 #include "imaging/texture.h"
 #include "sim/run_simulator.h"
