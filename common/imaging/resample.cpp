@@ -46,7 +46,9 @@ inline Quad LoadQuad(const Pixel<kSource>* at, size_t stride) {
     const uchar* r0 = at;
     const uchar* r1 = at + stride;
     const uchar* r2 = r1 + stride;
-    const auto mean = [](int a, int b, int c, int d) { return static_cast<float>(a + b + c + d) * 0.25f; };
+    const auto mean = [](int a, int b, int c, int d) {
+      return static_cast<float>(a + b + c + d) * 0.25f;
+    };
     return {mean(r0[0], r0[1], r1[0], r1[1]), mean(r0[1], r0[2], r1[1], r1[2]),
             mean(r1[0], r1[1], r2[0], r2[1]), mean(r1[1], r1[2], r2[1], r2[2])};
   } else {
@@ -138,8 +140,8 @@ __attribute__((target("avx2"))) inline Neighbours GatherNeighbours(const Pixel<k
 template <bool kMasked, Source kSource>
 __attribute__((target("avx2"))) inline void ResampleEightAvx2(const Pixel<kSource>* base,
                                                               __m256i stride, __m256 sx0,
-                                                              __m256 sy0, __m256 a, __m256 c,
-                                                              int j, __m256i mask, float* out) {
+                                                              __m256 sy0, __m256 a, __m256 c, int j,
+                                                              __m256i mask, float* out) {
   const __m256 jj =
       _mm256_add_ps(_mm256_set1_ps(static_cast<float>(j)), _mm256_setr_ps(0, 1, 2, 3, 4, 5, 6, 7));
   const __m256 sx = _mm256_add_ps(sx0, _mm256_mul_ps(a, jj));

@@ -58,7 +58,8 @@ TEST(RenderAreaAveragedView, EqualsTheLevelZeroViewAveragedDownWhereTheGridsRunP
   }
 }
 
-TEST(RenderAreaAveragedView, DiffersFromTheLevelZeroViewAveragedDownOnlyInFineDetailAtOtherHeadings) {
+TEST(RenderAreaAveragedView,
+     DiffersFromTheLevelZeroViewAveragedDownOnlyInFineDetailAtOtherHeadings) {
   // The turned square has the same centre and second moments: no offset in grey level, and a
   // difference in the finest detail only. Measured on this gravel (texture 1–2 px fine, the
   // views' spread 31–36 grey levels): means within ±0.13, RMS differences 0.55–1.34, single
