@@ -67,6 +67,10 @@ void RegisterBenchRelocCommand(CLI::App& bench, Status* result) {
                   "Refine-level heading steps either side the fine dense search refines over")
       ->check(CLI::Range(1, 8))
       ->capture_default_str();
+  cmd->add_option("--fine-min-correlation", args->trials.relocalizer.dense_fine_min_correlation,
+                  "The fine dense search's best peak must correlate at least this much")
+      ->check(CLI::Range(0.01, 0.99))
+      ->capture_default_str();
   cmd->add_flag("--trajectory-refine-level", args->trials.relocalizer.trajectory_refine_level,
                 "Sum the frames' heading sweeps at the dense search's refine level (slower)");
   cmd->add_option("--trajectory-max-mb", args->trials.relocalizer.trajectory_max_mb,
