@@ -73,12 +73,20 @@ PointSet Grouped(const std::vector<PixelPoint>& chosen) {
     set.block_start[b + 1] += set.block_start[b];
   }
   const size_t n = chosen.size();
-  set.u.resize(n), set.v.resize(n), set.value.resize(n), set.du0.resize(n), set.dv0.resize(n);
+  set.u.resize(n);
+  set.v.resize(n);
+  set.value.resize(n);
+  set.du0.resize(n);
+  set.dv0.resize(n);
   std::array<int, kScoreBlocks * kScoreBlocks> next{};
   std::copy(set.block_start.begin(), set.block_start.end() - 1, next.begin());
   for (const PixelPoint& p : chosen) {
     const int i = next[p.block]++;
-    set.u[i] = p.u, set.v[i] = p.v, set.value[i] = p.value, set.du0[i] = p.du0, set.dv0[i] = p.dv0;
+    set.u[i] = p.u;
+    set.v[i] = p.v;
+    set.value[i] = p.value;
+    set.du0[i] = p.du0;
+    set.dv0[i] = p.dv0;
   }
   return set;
 }
@@ -189,13 +197,16 @@ PointSet ChoosePoints(const cv::Mat& t, const cv::Mat& occluded, int border, int
       for (int c = cx; c < std::min(cx + cell, b + w); ++c) {
         if (column_best[c] > best ||
             (column_best[c] == best && x >= 0 && column_best_y[c] < column_best_y[x])) {
-          best = column_best[c], x = c;
+          best = column_best[c];
+          x = c;
         }
       }
       if (x < 0) continue;
       const int y = column_best_y[x];
       PixelPoint point;
-      point.u = x + 0.5f, point.v = y + 0.5f, point.value = t.ptr<float>(y)[x];
+      point.u = x + 0.5f;
+      point.v = y + 0.5f;
+      point.value = t.ptr<float>(y)[x];
       point.du0 = static_cast<float>((x + 0.5) * (1 << level) - principal.x);
       point.dv0 = static_cast<float>((y + 0.5) * (1 << level) - principal.y);
       point.block = ScoreBlock(point, t.size());
@@ -241,8 +252,10 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
   for (int c = 0; c < 4; ++c) {
     const Eigen::Vector2d m =
         warp(Eigen::Vector2d((c & 1) * level.normalized.cols, (c >> 1) * level.normalized.rows));
-    min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
-    min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
+    min_x = std::min(min_x, m.x());
+    max_x = std::max(max_x, m.x());
+    min_y = std::min(min_y, m.y());
+    max_y = std::max(max_y, m.y());
   }
   constexpr int kMargin = 8;
   MosaicBlock source;

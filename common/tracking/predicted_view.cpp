@@ -28,8 +28,10 @@ ViewSource CoveringBlock(const BlockReader& read, const cv::Rect& frame_rect,
     const Eigen::Vector2d f(frame_rect.x + (corner & 1) * frame_rect.width,
                             frame_rect.y + (corner >> 1) * frame_rect.height);
     const Eigen::Vector2d m = warp(f);
-    min_x = std::min(min_x, m.x()), max_x = std::max(max_x, m.x());
-    min_y = std::min(min_y, m.y()), max_y = std::max(max_y, m.y());
+    min_x = std::min(min_x, m.x());
+    max_x = std::max(max_x, m.x());
+    min_y = std::min(min_y, m.y());
+    max_y = std::max(max_y, m.y());
   }
   const cv::Rect block_rect(static_cast<int>(std::floor(min_x)) - 2,
                             static_cast<int>(std::floor(min_y)) - 2,
