@@ -1,9 +1,11 @@
 // fleetctl reloc through the command line: a real floor photo imported as a mosaic, a simulated
 // run over it, frames relocalized with no prior (the place index built once, then loaded from the
 // mosaic's cache table), a floor without detectable features (the dense place search alone),
-// a floor that repeats itself (--self-similarity names its twins), and bad input.
+// a floor that repeats itself (--self-similarity names its twins), the relocalization bench's
+// polished concrete under every effect at once, and bad input.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -115,6 +117,29 @@ TEST(CliReloc, AFlatFloorIsSearchedDenselyAndNotFound) {
   const CommandResult r = RelocOnFloor(dir, image);
   EXPECT_EQ(r.exit_code, 1) << r.err << r.out;  // searched: nothing found (not a crash)
   EXPECT_NE(r.err.find("dense place search alone"), std::string::npos) << r.err;
+}
+
+// The relocalization bench's hardest tuning cell that its fine dense search reaches: 320×240
+// polished concrete under every effect at once (dust, vignetting, gain jitter, read noise, a
+// short exposure), 10 trials of up to 3 frames. The fine search's right bests there correlate
+// 0.10–0.15, its wrong ones 0.03–0.06: at the gate of sessions 28–44 (0.12) 5 of the 10 were
+// found, at 0.09 8 (docs/benchmarks.md, session 45). Never a wrong pose.
+TEST(CliReloc, TheStressBenchsPolishedConcreteUnderEveryEffectIsFoundAndNeverWrong) {
+  const ScratchDir dir("cli_reloc_stress");
+  const std::string json = dir / "reloc.json";
+  const CommandResult r = RunFleetctl(
+      "bench reloc --stress --manifest " +
+      Quote(FLEETLOC_SOURCE_DIR "/data/stress_floors/floors.json") +
+      " --split tuning --classes polished_concrete --sizes 320x240 --conditions all --trials 10"
+      " --trajectory-frames 3 --work-dir " +
+      Quote(dir / "work") + " --json " + Quote(json));
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["cells"].size(), 1u);
+  const nlohmann::json& trials = j["cells"][0]["trials"];
+  EXPECT_EQ(trials["wrong_pose"].get<int>(), 0);
+  EXPECT_GE(trials["correct"].get<int>(), 7) << trials.dump();
 }
 
 TEST(CliReloc, MissingFilesAndFramesAreBadInput) {

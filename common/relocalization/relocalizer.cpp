@@ -229,6 +229,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
   if (trajectory_->frames() >= options_.trajectory_frames ||
       trajectory_->TravelTo(camera_in_odom) > options_.trajectory_max_travel_m)
     trajectory_->Reset();
+  if (trajectory_->frames() == 0) trajectory_saw_twin_ = false;
   trajectory_->Begin(frame, camera_in_odom);
   feed_trajectory_ = trajectory_->level() == TrajectoryPlaceSearch::SweepLevel::kCoarse;
   trajectory_fed_ = false;
@@ -238,6 +239,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame,
     trajectory_->Reset();
     return out;
   }
+  trajectory_saw_twin_ = trajectory_saw_twin_ || out->ambiguous;
   TrajectoryRelocalize(frame, &*out);
   RefuseNamedTwins(&*out);
   return out;
@@ -293,7 +295,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
     out.reason = "no consistent pose votes (" + Describe(out) + ")";
   } else {
     Choose(VerifyCandidates(frame, candidates, &out), &out);
-    if (out.found && dense_) CheckDenseTwin(frame, &out);
+    if (out.found && dense_) CheckDenseTwin(*dense_, frame, &out);
   }
   out.verify_ms = MsSince(verify_start);
   // A pose refused for its twin is ambiguous: the dense search would find one of the two.

@@ -74,10 +74,13 @@ struct RelocalizerOptions {
   // second 0.11–0.50 of it; where it misses, a noise peak at 0.05 with its second at 0.73–1.0 of
   // it); 320×240 polished concrete at 2 mm/px: 10 of 10 at 0.15–0.20 (docs/benchmarks.md, issue
   // 17, 2026-11-26). Off (not built) when the mosaic is too large for these options; it costs
-  // several times the dense search.
+  // several times the dense search. Its minimum correlation: wrong bests at these levels reach
+  // 0.03–0.06; under every effect at once (`all`) the right bests on 320×240 polished concrete
+  // correlate 0.10–0.15 with seconds at 0.3–0.45 of them, which 0.12 refused in 3 of 10 trials
+  // (docs/benchmarks.md, session 45).
   bool dense_fine_search = true;
   DensePlaceSearchOptions dense_fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
-  double dense_fine_min_correlation = 0.12;
+  double dense_fine_min_correlation = 0.09;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
   // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
   // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
@@ -182,9 +185,9 @@ class Relocalizer {
   // Whether two base poses are distinct places for the verification (the clustering's radius and
   // heading tolerance).
   bool Distinct(const geometry::Pose2& a, const geometry::Pose2& b) const;
-  // Refuses the pose the features found in *out as ambiguous when its best distinct dense
-  // alternative is as good (see RelocalizerOptions).
-  void CheckDenseTwin(const cv::Mat& frame, Relocalization* out);
+  // Refuses the pose found in *out as ambiguous when its best distinct alternative in `search` is
+  // as good (see RelocalizerOptions).
+  void CheckDenseTwin(const DensePlaceSearch& search, const cv::Mat& frame, Relocalization* out);
   // The dense place search and the verification of its best peak, then the fine one when that
   // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
@@ -204,6 +207,9 @@ class Relocalizer {
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
   void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
+  // Refuses the trajectory's found pose as ambiguous when, placed on its best distinct
+  // alternative, the trajectory correlates as well at the finest search's level.
+  void CheckTrajectoryTwin(Relocalization* out);
   Status CheckFrame(const cv::Mat& frame) const;
   // Refuses a found pose in a place of twin_places_ (see SetTwinPlaces).
   void RefuseNamedTwins(Relocalization* out) const;
@@ -217,6 +223,8 @@ class Relocalizer {
   std::unique_ptr<TrajectoryPlaceSearch> trajectory_;  // null: off
   bool feed_trajectory_ = false;  // the dense search's coarse sweep also feeds trajectory_
   bool trajectory_fed_ = false;   // and it did, for the current frame
+  // A frame of the current trajectory was refused as ambiguous on its own: it saw a twin.
+  bool trajectory_saw_twin_ = false;
   std::vector<SimilarPlace> twin_places_;
 };
 

@@ -68,6 +68,30 @@ DensePeak TrajectoryPlaceSearch::Alternative(const geometry::Pose2& first) const
   return dense_->Alternative(frames_, motion_, first);
 }
 
+double TrajectoryPlaceSearch::MeanRefined(const DensePlaceSearch& search,
+                                          const geometry::Pose2& first) const {
+  double mean = 0.0;
+  for (std::size_t j = 0; j < frames_.size(); ++j) {
+    const DensePeak r = search.Refine(frames_[j], {first * motion_[j], 0.0});
+    mean += std::max(0.0, r.correlation) / static_cast<double>(frames_.size());
+  }
+  return mean;
+}
+
+// The alternative's sums place every frame by the odometry alone; both places are then refined
+// frame by frame, as the trajectory's own place is, so that the odometry's drift costs neither
+// more than the other (measured: a twin summing to 0.25 refined to the place's own 0.40).
+TrajectoryPlaceSearch::OwnAndTwin TrajectoryPlaceSearch::MeasureTwin(
+    const DensePlaceSearch& search, const geometry::Pose2& newest) const {
+  OwnAndTwin out;
+  if (frames_.empty()) return out;
+  const geometry::Pose2 to_first = motion_.back().Inverse();
+  out.own = MeanRefined(search, newest * to_first);
+  const DensePeak twin = search.Alternative(frames_, motion_, newest * to_first);
+  out.twin = std::max(twin.correlation, MeanRefined(search, twin.camera_in_map * to_first));
+  return out;
+}
+
 std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {
   if (frames_.empty()) return {};
   std::vector<DensePeak> coarse;  // the first frame's camera poses

@@ -51,8 +51,19 @@ class TrajectoryPlaceSearch {
   // the frames' mean correlation, summed at the refine level over ±2 of its heading steps around
   // first's heading: the best distinct alternative, measured at the level the best was.
   DensePeak Alternative(const geometry::Pose2& first) const;
+  // The trajectory placed with its newest frame's camera at `newest` and its best distinct
+  // alternative, both measured in `search` (another level's search of the same mosaic: where a
+  // frame's twin shows): each the frames' mean correlation.
+  struct OwnAndTwin {
+    double own = 0.0, twin = 0.0;
+  };
+  OwnAndTwin MeasureTwin(const DensePlaceSearch& search, const geometry::Pose2& newest) const;
 
  private:
+  // The frames' mean correlation in `search`, each refined about the pose the odometry gives it
+  // from the first frame's camera at `first`.
+  double MeanRefined(const DensePlaceSearch& search, const geometry::Pose2& first) const;
+
   const DensePlaceSearch* dense_;
   SweepLevel level_;
   Eigen::Vector2d centre_ground_;  // the frame centre in camera_ground

@@ -1,7 +1,8 @@
 // TrajectoryPlaceSearch on a real plain-concrete photograph: three sim-rendered frames along a
 // short drive with drifting odometry put the newest frame within 2 mm and 1° of truth, the best
 // distinct alternative far below it; on the photograph twice side by side, the best's alternative
-// is its twin one copy away, as good as the best (the caller's gate refuses it as ambiguous).
+// is its twin one copy away, as good as the best (the caller's gate refuses it as ambiguous), and
+// a finer search measures the place and its twin alike.
 #include "relocalization/trajectory_place_search.h"
 
 #include <gtest/gtest.h>
@@ -90,6 +91,39 @@ TEST(TrajectoryPlaceSearch, TheAlternativeOfAPlaceOnARepeatedFloorIsItsTwin) {
   const std::vector<DensePeak> peaks = search.Search();
   ASSERT_GE(peaks.size(), 2u);
   EXPECT_GT(peaks[1].correlation, 0.8 * peaks[0].correlation);
+}
+
+// Another level's search measures the trajectory's place and its twin alike, each frame refined
+// about its odometry pose: with odometry 2 % long and 0.5° a step off, the twin one copy away
+// measures as the place itself on the repeated floor; on the floor alone the best alternative
+// is far below the place.
+TEST(TrajectoryPlaceSearch, AFinerSearchMeasuresThePlaceAndItsTwinAlikeDespiteTheOdometrysDrift) {
+  Fixture f;
+  cv::Mat twice;
+  cv::hconcat(f.photo, f.photo, twice);
+  mosaic::ImageRasterSource repeated(twice, {0.0, twice.rows * kResolutionM, kResolutionM});
+  const DensePlaceSearchOptions fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
+  const std::vector<geometry::Pose2> cameras = Drive({0.2, 0.25, 1.0});  // inside the left copy
+  for (mosaic::ImageRasterSource* floor : {&repeated, &f.floor}) {
+    auto dense = DensePlaceSearch::Create(*floor, f.camera, DensePlaceSearchOptions{});
+    auto finer = DensePlaceSearch::Create(*floor, f.camera, fine);
+    ASSERT_TRUE(dense.ok() && finer.ok());
+    sim::CameraRenderer renderer(floor, f.camera, sim::RenderOptions{}, 7);
+    TrajectoryPlaceSearch search(dense->get(), f.camera);
+    for (std::size_t j = 0; j < cameras.size(); ++j) {
+      const geometry::Pose2 base = cameras[j] * f.camera.mount.Inverse();
+      const geometry::Pose2 rel = cameras[0].Inverse() * cameras[j];
+      search.Add(renderer.Render(base, {0, 0}, j).image,
+                 {1.02 * rel.x, 1.02 * rel.y, rel.theta + 0.009 * j});
+    }
+    const TrajectoryPlaceSearch::OwnAndTwin m = search.MeasureTwin(**finer, cameras.back());
+    EXPECT_GT(m.own, 0.3);
+    if (floor == &repeated) {
+      EXPECT_NEAR(m.twin, m.own, 0.05 * m.own);
+    } else {
+      EXPECT_LT(m.twin, 0.5 * m.own);
+    }
+  }
 }
 
 }  // namespace
