@@ -52,7 +52,7 @@ std::string WriteFeaturelessFloor(const ScratchDir& dir) {
   cv::meanStdDev(noise, mean, sigma);
   cv::Mat gray;
   noise.convertTo(gray, CV_8U, 8.0 / sigma[0], 128.0 - 8.0 * mean[0] / sigma[0]);
-  const std::string path = dir / "smooth.png";
+  std::string path = dir / "smooth.png";
   cv::imwrite(path, gray);
   return path;
 }
