@@ -338,9 +338,13 @@ TEST(AgentAravisLive, BadOdometryAndAnUnpluggedCameraAreNamedAndTheAgentRecovers
   }
   // Back on the truth within a second of the camera's return.
   EXPECT_GE(after_return, 15) << run.log;
-  EXPECT_TRUE(run.issues_at_end.empty() ||
-              run.issues_at_end == std::vector<std::string>{"camera_frame_drops"})
-      << ::testing::PrintToString(run.issues_at_end);
+  // At the end only the unplug's counts may remain (both are counts over the run, warnings): the
+  // frames it dropped and, when it cut a frame in transfer, that frame's lost packets (CI, loaded:
+  // {"camera_packet_loss", "camera_frame_drops"}).
+  for (const std::string& issue : run.issues_at_end) {
+    EXPECT_TRUE(issue == "camera_frame_drops" || issue == "camera_packet_loss")
+        << ::testing::PrintToString(run.issues_at_end);
+  }
 }
 
 // The base controller goes quiet for 1.5 s mid-drive (no odometry at all, then fresh samples
