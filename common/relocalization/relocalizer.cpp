@@ -295,7 +295,7 @@ Result<Relocalization> Relocalizer::Relocalize(const cv::Mat& frame) {
     out.reason = "no consistent pose votes (" + Describe(out) + ")";
   } else {
     Choose(VerifyCandidates(frame, candidates, &out), &out);
-    if (out.found && dense_) CheckDenseTwin(*dense_, frame, &out);
+    if (out.found && dense_) CheckDenseTwin(frame, &out);
   }
   out.verify_ms = MsSince(verify_start);
   // A pose refused for its twin is ambiguous: the dense search would find one of the two.

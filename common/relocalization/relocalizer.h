@@ -185,9 +185,9 @@ class Relocalizer {
   // Whether two base poses are distinct places for the verification (the clustering's radius and
   // heading tolerance).
   bool Distinct(const geometry::Pose2& a, const geometry::Pose2& b) const;
-  // Refuses the pose found in *out as ambiguous when its best distinct alternative in `search` is
-  // as good (see RelocalizerOptions).
-  void CheckDenseTwin(const DensePlaceSearch& search, const cv::Mat& frame, Relocalization* out);
+  // Refuses the pose found in *out as ambiguous when its best distinct dense alternative is as
+  // good (see RelocalizerOptions).
+  void CheckDenseTwin(const cv::Mat& frame, Relocalization* out);
   // The dense place search and the verification of its best peak, then the fine one when that
   // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);

@@ -12,12 +12,11 @@ namespace fleetloc::relocalization {
 
 using timing::MsSince;
 
-void Relocalizer::CheckDenseTwin(const DensePlaceSearch& search, const cv::Mat& frame,
-                                 Relocalization* out) {
+void Relocalizer::CheckDenseTwin(const cv::Mat& frame, Relocalization* out) {
   const auto start = std::chrono::steady_clock::now();
   const geometry::Pose2 camera = out->base_in_map.pose * camera_.mount;
-  const DensePeak own = search.Refine(frame, {camera, 0.0});
-  const DensePeak twin = search.Alternative({frame}, {geometry::Pose2{}}, camera);
+  const DensePeak own = dense_->Refine(frame, {camera, 0.0});
+  const DensePeak twin = dense_->Alternative({frame}, {geometry::Pose2{}}, camera);
   out->twin_checked = true;
   out->twin_own = own.correlation;
   out->twin_correlation = twin.correlation;
@@ -27,7 +26,7 @@ void Relocalizer::CheckDenseTwin(const DensePlaceSearch& search, const cv::Mat& 
     candidate.camera_in_map = twin.camera_in_map;
     ++out->verified;
     const std::optional<Verified> v =
-        Verify(frame, candidate, search.separation_m() / 4, search.heading_separation_rad() / 8);
+        Verify(frame, candidate, dense_->separation_m() / 4, dense_->heading_separation_rad() / 8);
     if (v && Distinct(v->base_in_map.pose, out->base_in_map.pose) &&
         v->inliers >= out->inliers - options_.ambiguity_margin_inliers)
       out->twin_inliers = v->inliers;

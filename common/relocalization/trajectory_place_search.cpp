@@ -68,14 +68,15 @@ DensePeak TrajectoryPlaceSearch::Alternative(const geometry::Pose2& first) const
   return dense_->Alternative(frames_, motion_, first);
 }
 
-double TrajectoryPlaceSearch::MeanRefined(const DensePlaceSearch& search,
-                                          const geometry::Pose2& first) const {
-  double mean = 0.0;
+DensePeak TrajectoryPlaceSearch::MeanRefined(const DensePlaceSearch& search,
+                                             const geometry::Pose2& first) const {
+  DensePeak newest{first, 0.0};
   for (std::size_t j = 0; j < frames_.size(); ++j) {
     const DensePeak r = search.Refine(frames_[j], {first * motion_[j], 0.0});
-    mean += std::max(0.0, r.correlation) / static_cast<double>(frames_.size());
+    newest.correlation += std::max(0.0, r.correlation) / static_cast<double>(frames_.size());
+    if (j + 1 == frames_.size()) newest.camera_in_map = r.camera_in_map;
   }
-  return mean;
+  return newest;
 }
 
 // The alternative's sums place every frame by the odometry alone; both places are then refined
@@ -86,9 +87,10 @@ TrajectoryPlaceSearch::OwnAndTwin TrajectoryPlaceSearch::MeasureTwin(
   OwnAndTwin out;
   if (frames_.empty()) return out;
   const geometry::Pose2 to_first = motion_.back().Inverse();
-  out.own = MeanRefined(search, newest * to_first);
+  out.own = MeanRefined(search, newest * to_first).correlation;
   const DensePeak twin = search.Alternative(frames_, motion_, newest * to_first);
-  out.twin = std::max(twin.correlation, MeanRefined(search, twin.camera_in_map * to_first));
+  out.twin =
+      std::max(twin.correlation, MeanRefined(search, twin.camera_in_map * to_first).correlation);
   return out;
 }
 
@@ -106,12 +108,7 @@ std::vector<DensePeak> TrajectoryPlaceSearch::Search() const {
   std::vector<DensePeak> refined;
   DensePeak best_first{{}, -1.0};  // the first frame's pose of the best refined candidate
   for (const DensePeak& first : dense_->DistinctBest(coarse, dense_->options().coarse_peaks)) {
-    DensePeak newest{first.camera_in_map, 0.0};
-    for (std::size_t j = 0; j < frames_.size(); ++j) {
-      const DensePeak r = dense_->Refine(frames_[j], {first.camera_in_map * motion_[j], 0.0});
-      newest.correlation += std::max(0.0, r.correlation) / frames_.size();
-      if (j + 1 == frames_.size()) newest.camera_in_map = r.camera_in_map;
-    }
+    const DensePeak newest = MeanRefined(*dense_, first.camera_in_map);
     if (newest.correlation > best_first.correlation)
       best_first = {first.camera_in_map, newest.correlation};
     refined.push_back(newest);

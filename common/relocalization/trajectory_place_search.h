@@ -61,8 +61,8 @@ class TrajectoryPlaceSearch {
 
  private:
   // The frames' mean correlation in `search`, each refined about the pose the odometry gives it
-  // from the first frame's camera at `first`.
-  double MeanRefined(const DensePlaceSearch& search, const geometry::Pose2& first) const;
+  // from the first frame's camera at `first`, with the newest frame's refined camera pose.
+  DensePeak MeanRefined(const DensePlaceSearch& search, const geometry::Pose2& first) const;
 
   const DensePlaceSearch* dense_;
   SweepLevel level_;
