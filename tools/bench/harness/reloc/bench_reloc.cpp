@@ -1,7 +1,9 @@
 // Relocalization trials (see bench_reloc.h).
 #include "harness/reloc/bench_reloc.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <opencv2/core/utility.hpp>
 #include <random>
 
@@ -38,15 +40,39 @@ bool FrameFits(const mosaic::MosaicLayout& layout, const geometry::CameraModel& 
          px.y() <= layout.height_px - r;
 }
 
+// How far the vehicle at `start` may drive straight ahead (sign 1) or back (sign -1), up to
+// `limit_m`, with the whole frame on the mosaic (bisection: the frame fits along an interval).
+double DrivableM(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
+                 const geometry::Pose2& start, double sign, double limit_m) {
+  double fits = 0.0, leaves = limit_m;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (fits + leaves);
+    (FrameFits(layout, camera, start * geometry::Pose2{sign * mid, 0.0, 0.0}) ? fits : leaves) =
+        mid;
+  }
+  return fits;
+}
+
 // The vehicle's pose at frame `k`: driven straight ahead from `start`, or backwards when ahead
-// leaves the mosaic, or standing at `start` when neither fits (a floor a few frames across).
+// leaves the mosaic. On a floor too short for either (a floor a few frames across) it drives to
+// and fro along its heading, reversing where the frame would leave the mosaic, so that the frames
+// of a trajectory see different parts of the floor (until session 46 it stood still at `start`,
+// every such frame a copy of the first one's place); it stands only where it cannot move at all.
 geometry::Pose2 PoseAtFrame(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
                             const geometry::Pose2& start, int k, double step_m) {
+  const double travel_m = k * step_m;
   for (const double sign : {1.0, -1.0}) {
-    const geometry::Pose2 pose = start * geometry::Pose2{sign * k * step_m, 0.0, 0.0};
+    const geometry::Pose2 pose = start * geometry::Pose2{sign * travel_m, 0.0, 0.0};
     if (FrameFits(layout, camera, pose)) return pose;
   }
-  return start;
+  const double ahead_m = DrivableM(layout, camera, start, 1.0, travel_m);
+  const double behind_m = DrivableM(layout, camera, start, -1.0, travel_m);
+  const double lane_m = ahead_m + behind_m;
+  if (lane_m < 1e-3) return start;
+  // Unfolded, the to-and-fro drive is a straight one along a lane of twice the length.
+  const double along = std::fmod(behind_m + travel_m, 2.0 * lane_m);
+  const double at_m = (along <= lane_m ? along : 2.0 * lane_m - along) - behind_m;
+  return start * geometry::Pose2{at_m, 0.0, 0.0};
 }
 
 // The floor's velocity across the image while the vehicle drives straight ahead at speed_m_s
@@ -95,6 +121,23 @@ RelocTrial::Refused RefusedTwin(const relocalization::Relocalization& r,
   return refused;
 }
 
+// Whether the floor repeats where the camera of base_link at `base` looks: the ideal frame there
+// (the floor as an ideal area sensor sees it, no camera effect) has a distinct place in `dense`
+// correlating at least `max_second_ratio` of its best (the relocalizer's ambiguity gate), its best
+// distinct alternative at the refine level included. Such a place is on the floor twice (the
+// stress floors' photographs have cloned patches: worn asphalt g8 repeats a region 0.24 m away),
+// and refusing it as ambiguous is right.
+bool FloorRepeatsAt(sim::CameraRenderer& ideal, const relocalization::DensePlaceSearch& dense,
+                    const geometry::Pose2& base, double max_second_ratio) {
+  cv::Mat frame;
+  ideal.RenderFloor(base * ideal.camera().mount, 0).convertTo(frame, CV_8U);
+  std::vector<relocalization::DensePeak> peaks = dense.Search(frame);
+  if (peaks.empty()) return false;
+  peaks.push_back(dense.Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
+  peaks = dense.DistinctBest(std::move(peaks), 2);
+  return peaks.size() == 2 && peaks[1].correlation >= max_second_ratio * peaks[0].correlation;
+}
+
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
 // multi-frame relocalization the frames go on until the single-frame path has answered too.
 Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
@@ -110,9 +153,11 @@ Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
   const bool multi = s.relocalizer.trajectory_frames > 1;
   RelocTrial out;
   out.memory = (*relocalizer)->dense_memory();
+  std::vector<geometry::Pose2> truths;
   const geometry::Pose2 first = PoseAtFrame(layout, renderer.camera(), start, 0, s.step_m);
   for (int k = 0; k < s.attempts && !(out.found && (out.single_found || !multi)); ++k) {
     const geometry::Pose2 truth = PoseAtFrame(layout, renderer.camera(), start, k, s.step_m);
+    truths.push_back(truth);
     const Eigen::Vector2d velocity = ImageVelocity(renderer.camera(), s.step_m / s.frame_period_s);
     const cv::Mat frame =
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
@@ -139,6 +184,12 @@ Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
     out.accepted_run = k;
     out.correct = Correct(r->base_in_map.pose, truth, s, &out);
   }
+  const relocalization::DensePlaceSearch* dense = (*relocalizer)->dense_search();
+  if (!out.found && dense != nullptr) {
+    out.at_repeated_place = std::all_of(truths.begin(), truths.end(), [&](const auto& truth) {
+      return FloorRepeatsAt(renderer, *dense, truth, s.relocalizer.dense_max_second_ratio);
+    });
+  }
   return out;
 }
 
@@ -155,6 +206,7 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
                         {"found", t.found},
                         {"error_m", t.error_m},
                         {"error_rad", t.error_rad},
+                        {"at_repeated_place", t.at_repeated_place},
                         {"attempts", runs}});
   }
   return failures;
@@ -221,7 +273,7 @@ AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
 }  // namespace
 
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
-  int correct = 0, within = 0, wrong = 0, not_found = 0;
+  int correct = 0, within = 0, wrong = 0, not_found = 0, repeated = 0;
   int single_within = 0, single_wrong = 0, single_none = 0;
   std::vector<double> to_pose_ms;
   for (const RelocTrial& t : trials) {
@@ -232,6 +284,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
     within += t.correct && t.time_to_pose_s <= s.target_s;
     wrong += t.found && !t.correct;
     not_found += !t.found;
+    repeated += t.at_repeated_place;
     if (t.correct) to_pose_ms.push_back(t.time_to_pose_s * 1e3);
   }
   const AttemptTimes times = TimesOf(trials);
@@ -251,6 +304,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"success_rate_within_target", within / n},
                           {"wrong_pose", wrong},
                           {"not_found", not_found},
+                          {"not_found_at_repeated_place", repeated},
                           {"time_to_correct_pose_ms", pct(to_pose_ms)},
                           {"attempt_ms", pct(attempt_ms)},
                           {"attempts", attempt_ms.size()},

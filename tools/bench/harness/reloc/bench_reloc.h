@@ -1,6 +1,7 @@
 // `fleetctl bench reloc` trials: a vehicle put down at a random pose (uniform over the mosaic area
 // where a full frame fits, uniform heading) sees sim-rendered frames (5 Hz, driving straight at
-// 0.3 m per frame, backwards when ahead leaves the floor, standing when neither fits); each frame
+// 0.3 m per frame, backwards when ahead leaves the floor, to and fro along its heading when
+// neither fits); each frame
 // is relocalized with no prior, from a cold tile cache, until a pose is returned. Time to the first
 // correct pose counts the relocalizer's time of every attempt plus the frame period for each frame
 // it waited for.
@@ -61,6 +62,10 @@ struct RelocTrial {
     bool by_report = false;  // refused by the self-similarity report, not the twin check
   };
   std::vector<Refused> refused;
+  // Not found, and the floor itself repeats where every frame of the trial looked (see
+  // FloorRepeatsAt in bench_reloc.cpp): no frame of those places can tell them from their twins,
+  // and "not found" is the right answer.
+  bool at_repeated_place = false;
   relocalization::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
 };
 
@@ -71,7 +76,8 @@ Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::Til
                                                const relocalization::PlaceIndex* index,
                                                const RelocTrialSettings& settings);
 
-// The trials' counts (correct, within target_s, wrong, not found), time percentiles, every
+// The trials' counts (correct, within target_s, wrong, not found, of those not found the ones at
+// a place the floor repeats), time percentiles, every
 // failed trial with what the relocalizer saw, and the gate margins of every accepted pose.
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s);
 
