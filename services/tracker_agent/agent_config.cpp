@@ -51,6 +51,8 @@ Status Validate(const AgentConfig& c) {
     return bad("relocalize_after_coasting_frames", "must be >= 1");
   if (c.relocalize_trajectory_frames < 1 || c.relocalize_trajectory_frames > 20)
     return bad("relocalize_trajectory_frames", "must be 1..20");
+  if (c.relocalize_threads < 1 || c.relocalize_threads > 2)
+    return bad("relocalize_threads", "must be 1 or 2");
   if (!(c.relocalize_interval_s >= 0 && c.relocalize_interval_s <= 60)) {
     return bad("relocalize_interval_s", "must be in [0, 60]");
   }
@@ -93,7 +95,8 @@ Status ReadTextAndIntegerFields(const io::JsonFields& fields, AgentConfig* c) {
         {"outbox_max_patches", &c->outbox_max_patches},
         {"outbox_max_mb", &c->outbox_max_mb},
         {"relocalize_after_coasting_frames", &c->relocalize_after_coasting_frames},
-        {"relocalize_trajectory_frames", &c->relocalize_trajectory_frames}}) {
+        {"relocalize_trajectory_frames", &c->relocalize_trajectory_frames},
+        {"relocalize_threads", &c->relocalize_threads}}) {
     if (!fields.Has(key)) continue;
     double value = 0;
     FLEETLOC_RETURN_IF_ERROR(fields.NonNegativeNumber(key, &value));
@@ -174,6 +177,7 @@ Result<AgentConfig> LoadAgentConfig(const std::string& path) {
                                               "relocalize_after_coasting_frames",
                                               "relocalize_interval_s",
                                               "relocalize_trajectory_frames",
+                                              "relocalize_threads",
                                               "landmarks",
                                               "position_update_period_s",
                                               "position_update_window_s",

@@ -56,6 +56,11 @@ struct AgentConfig {
   // Attempts whose single frame finds nothing are combined with odometry, up to this many within
   // 1 m of travel (multi-frame relocalization, issue 17; 1: single frames only).
   int relocalize_trajectory_frames = 3;
+  // The dense place searches' heading pairs run on this many cores (1 or 2): a lost vehicle's
+  // tracker is idle, so both cores of a 2-core vehicle CPU search. On an idle 2-core machine the
+  // attempts' p95 fell by 35–40 % on 320×240 plain concrete (docs/benchmarks.md, session 46); on
+  // one whose other core is busy, 2 was slower (session 32): set 1 where other work shares the CPU.
+  int relocalize_threads = 2;
   // Global position update (docs/architecture.md, docs/forward_camera.md): landmarks the forward
   // camera sees (a run's forward/) fitted to the landmark map; it corrects the pose when the
   // downward camera is not tracking.

@@ -36,13 +36,18 @@ TEST(AgentConfig, ReadsRelocalizationFields) {
                                               "relocalize_on_lost": false,
                                               "relocalize_after_coasting_frames": 3,
                                               "relocalize_interval_s": 0.25,
-                                              "relocalize_trajectory_frames": 4})"));
+                                              "relocalize_trajectory_frames": 4,
+                                              "relocalize_threads": 1})"));
   ASSERT_TRUE(c.ok()) << c.status().message();
   EXPECT_EQ(c->start_pose, "relocalize");
   EXPECT_FALSE(c->relocalize_on_lost);
   EXPECT_EQ(c->relocalize_after_coasting_frames, 3);
   EXPECT_EQ(c->relocalize_interval_s, 0.25);
   EXPECT_EQ(c->relocalize_trajectory_frames, 4);
+  EXPECT_EQ(c->relocalize_threads, 1);
+  EXPECT_FALSE(LoadAgentConfig(Write("reloc_threads", R"({"run": "/runs/a",
+                                                          "relocalize_threads": 3})"))
+                   .ok());
   EXPECT_FALSE(LoadAgentConfig(Write("reloc_frames", R"({"run": "/runs/a",
                                                          "relocalize_trajectory_frames": 0})"))
                    .ok());

@@ -131,6 +131,7 @@ void DdsLink::WaitForTileCoverage(std::chrono::steady_clock::time_point deadline
 Status DdsLink::OpenRelocalizer(const geometry::CameraModel& camera) {
   relocalization::RelocalizerOptions options;
   options.trajectory_frames = config_.relocalize_trajectory_frames;
+  options.dense.threads = options.dense_fine.threads = config_.relocalize_threads;
   return TakeInto(
       AgentRelocalizer::Create(*participant_, layout_.mosaic_id, view_.get(), camera, options),
       &relocalizer_);

@@ -34,8 +34,9 @@ struct RelocTrialSettings {
   sim::RenderOptions render;                // camera effects (default: `fleetctl sim`'s)
   // OpenCV threads while a frame is relocalized, and the dense searches' stripes
   // (DensePlaceSearchOptions::threads); 1 otherwise, so the index builds fork with no worker
-  // busy and the rendering stays on one core.
-  int threads = 1;
+  // busy and the rendering stays on one core. 2 by default, as the tracker agent's
+  // relocalize_threads: a lost vehicle's tracker is idle (1 measures one core).
+  int threads = 2;
   relocalization::RelocalizerOptions relocalizer;
 };
 
