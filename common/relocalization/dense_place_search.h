@@ -43,7 +43,8 @@ struct DensePlaceSearchOptions {
   // not depend on it: every stripe fills its own slot and the slots are read in heading order.
   // At most 2: the vehicles' CPUs are small. 1 by default: on a loaded 2-core machine the
   // stripes wait for each other at every pair of headings and 2 measured slower (benchmarks.md,
-  // session 32); not yet measured on an idle one.
+  // session 32); on an idle one 2 cut the attempts' p95 by 35–40 % (320×240 plain concrete,
+  // session 46), and the tracker agent (relocalize_threads) and the bench use 2.
   int threads = 1;
 };
 
