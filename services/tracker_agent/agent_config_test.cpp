@@ -45,9 +45,13 @@ TEST(AgentConfig, ReadsRelocalizationFields) {
   EXPECT_EQ(c->relocalize_interval_s, 0.25);
   EXPECT_EQ(c->relocalize_trajectory_frames, 4);
   EXPECT_EQ(c->relocalize_threads, 1);
-  EXPECT_FALSE(LoadAgentConfig(Write("reloc_threads", R"({"run": "/runs/a",
-                                                          "relocalize_threads": 3})"))
-                   .ok());
+  for (const char* threads : {"0", "3", "1.5"}) {
+    EXPECT_FALSE(LoadAgentConfig(Write("reloc_threads", std::string(R"({"run": "/runs/a",
+                                                          "relocalize_threads": )") +
+                                                            threads + "}"))
+                     .ok())
+        << threads;
+  }
   EXPECT_FALSE(LoadAgentConfig(Write("reloc_frames", R"({"run": "/runs/a",
                                                          "relocalize_trajectory_frames": 0})"))
                    .ok());

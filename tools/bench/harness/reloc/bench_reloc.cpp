@@ -53,26 +53,28 @@ double DrivableM(const mosaic::MosaicLayout& layout, const geometry::CameraModel
   return fits;
 }
 
-// The vehicle's pose at frame `k`: driven straight ahead from `start`, or backwards when ahead
-// leaves the mosaic. On a floor too short for either (a floor a few frames across) it drives to
-// and fro along its heading, reversing where the frame would leave the mosaic, so that the frames
-// of a trajectory see different parts of the floor (until session 46 it stood still at `start`,
-// every such frame a copy of the first one's place); it stands only where it cannot move at all.
+// The vehicle's pose at frame `k`, after k steps of driving from `start`: ahead when one step
+// fits ahead, else backwards (the direction is the trial's, not the frame's). Where the floor is
+// too short for k steps (a floor a few frames across) it drives to and fro along its heading,
+// reversing where the frame would leave the mosaic, so that the frames of a trajectory see
+// different parts of the floor; until session 46 it stood still at `start` there, every such
+// frame a copy of the first one's place. It stands only where it cannot move at all.
 geometry::Pose2 PoseAtFrame(const mosaic::MosaicLayout& layout, const geometry::CameraModel& camera,
                             const geometry::Pose2& start, int k, double step_m) {
+  const double sign =
+      FrameFits(layout, camera, start * geometry::Pose2{step_m, 0.0, 0.0}) ? 1.0 : -1.0;
   const double travel_m = k * step_m;
-  for (const double sign : {1.0, -1.0}) {
-    const geometry::Pose2 pose = start * geometry::Pose2{sign * travel_m, 0.0, 0.0};
-    if (FrameFits(layout, camera, pose)) return pose;
-  }
-  const double ahead_m = DrivableM(layout, camera, start, 1.0, travel_m);
-  const double behind_m = DrivableM(layout, camera, start, -1.0, travel_m);
+  const geometry::Pose2 straight = start * geometry::Pose2{sign * travel_m, 0.0, 0.0};
+  if (FrameFits(layout, camera, straight)) return straight;
+  // Room ahead and behind in the direction of travel; neither is needed beyond travel_m.
+  const double ahead_m = DrivableM(layout, camera, start, sign, travel_m);
+  const double behind_m = DrivableM(layout, camera, start, -sign, travel_m);
   const double lane_m = ahead_m + behind_m;
   if (lane_m < 1e-3) return start;
   // Unfolded, the to-and-fro drive is a straight one along a lane of twice the length.
   const double along = std::fmod(behind_m + travel_m, 2.0 * lane_m);
   const double at_m = (along <= lane_m ? along : 2.0 * lane_m - along) - behind_m;
-  return start * geometry::Pose2{at_m, 0.0, 0.0};
+  return start * geometry::Pose2{sign * at_m, 0.0, 0.0};
 }
 
 // The floor's velocity across the image while the vehicle drives straight ahead at speed_m_s
@@ -90,12 +92,13 @@ double Ms(const relocalization::Relocalization& r) {
   return r.detect_ms + r.match_ms + r.cluster_ms + r.verify_ms + r.dense_ms;
 }
 
-// The vehicle's odometry (base_link in odom, odom = the first frame's pose) at `truth`: the true
-// motion 2 % long, turning 0.5° more per metre, as a drifting wheel encoder's.
-geometry::Pose2 DriftedOdometry(const geometry::Pose2& first, const geometry::Pose2& truth) {
+// The vehicle's odometry (base_link in odom, odom = the first frame's pose) at `truth`, after
+// `travelled_m` of driving: the true motion 2 % long (a straight drive, forwards and back alike),
+// turning 0.5° more per metre travelled, as a drifting wheel encoder's.
+geometry::Pose2 DriftedOdometry(const geometry::Pose2& first, const geometry::Pose2& truth,
+                                double travelled_m) {
   const geometry::Pose2 motion = first.Inverse() * truth;
-  const double distance = std::hypot(motion.x, motion.y);
-  return {1.02 * motion.x, 1.02 * motion.y, motion.theta + 0.0087 * distance};
+  return {1.02 * motion.x, 1.02 * motion.y, motion.theta + 0.0087 * travelled_m};
 }
 
 bool Correct(const geometry::Pose2& pose, const geometry::Pose2& truth, const RelocTrialSettings& s,
@@ -123,7 +126,7 @@ RelocTrial::Refused RefusedTwin(const relocalization::Relocalization& r,
 
 // Whether the floor repeats where the camera of base_link at `base` looks: the ideal frame there
 // (the floor as an ideal area sensor sees it, no camera effect) has a distinct place in `dense`
-// correlating at least `max_second_ratio` of its best (the relocalizer's ambiguity gate), its best
+// correlating more than `max_second_ratio` of its best (the relocalizer's ambiguity gate), its best
 // distinct alternative at the refine level included. Such a place is on the floor twice (the
 // stress floors' photographs have cloned patches: worn asphalt g8 repeats a region 0.24 m away),
 // and refusing it as ambiguous is right.
@@ -135,7 +138,7 @@ bool FloorRepeatsAt(sim::CameraRenderer& ideal, const relocalization::DensePlace
   if (peaks.empty()) return false;
   peaks.push_back(dense.Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
   peaks = dense.DistinctBest(std::move(peaks), 2);
-  return peaks.size() == 2 && peaks[1].correlation >= max_second_ratio * peaks[0].correlation;
+  return peaks.size() == 2 && peaks[1].correlation > max_second_ratio * peaks[0].correlation;
 }
 
 // One trial; the relocalizer starts from a cold tile cache (and cold normalized tiles). With
@@ -163,7 +166,7 @@ Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
         renderer.Render(truth, velocity, static_cast<std::uint64_t>(trial) * 16 + k).image;
     cv::setNumThreads(s.threads);
     Result<relocalization::Relocalization> r =
-        multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth))
+        multi ? (*relocalizer)->Relocalize(frame, DriftedOdometry(first, truth, k * s.step_m))
               : (*relocalizer)->Relocalize(frame);
     cv::setNumThreads(1);
     if (!r.ok()) return Internal("trial " + std::to_string(trial) + ": " + r.status().message());
@@ -185,7 +188,9 @@ Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
     out.correct = Correct(r->base_in_map.pose, truth, s, &out);
   }
   const relocalization::DensePlaceSearch* dense = (*relocalizer)->dense_search();
-  if (!out.found && dense != nullptr) {
+  const bool refused_ambiguous =
+      std::any_of(out.runs.begin(), out.runs.end(), [](const auto& r) { return r.ambiguous; });
+  if (!out.found && refused_ambiguous && dense != nullptr) {
     out.at_repeated_place = std::all_of(truths.begin(), truths.end(), [&](const auto& truth) {
       return FloorRepeatsAt(renderer, *dense, truth, s.relocalizer.dense_max_second_ratio);
     });

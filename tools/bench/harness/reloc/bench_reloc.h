@@ -1,10 +1,9 @@
 // `fleetctl bench reloc` trials: a vehicle put down at a random pose (uniform over the mosaic area
 // where a full frame fits, uniform heading) sees sim-rendered frames (5 Hz, driving straight at
-// 0.3 m per frame, backwards when ahead leaves the floor, to and fro along its heading when
-// neither fits); each frame
-// is relocalized with no prior, from a cold tile cache, until a pose is returned. Time to the first
-// correct pose counts the relocalizer's time of every attempt plus the frame period for each frame
-// it waited for.
+// 0.3 m per frame, backwards when a step ahead leaves the floor, to and fro along its heading
+// where the floor is too short); each frame is relocalized with no prior, from a cold tile cache,
+// until a pose is returned. Time to the first correct pose counts the relocalizer's time of every
+// attempt plus the frame period for each frame it waited for.
 #pragma once
 
 #include <cstdint>
@@ -63,9 +62,9 @@ struct RelocTrial {
     bool by_report = false;  // refused by the self-similarity report, not the twin check
   };
   std::vector<Refused> refused;
-  // Not found, and the floor itself repeats where every frame of the trial looked (see
-  // FloorRepeatsAt in bench_reloc.cpp): no frame of those places can tell them from their twins,
-  // and "not found" is the right answer.
+  // Not found, refused as ambiguous at least once, and the floor itself repeats where every frame
+  // of the trial looked (see FloorRepeatsAt in bench_reloc.cpp): no frame of those places can
+  // tell them from their twins, and "not found" is the right answer.
   bool at_repeated_place = false;
   relocalization::Relocalizer::DenseMemory memory;  // the trial's relocalizer's dense searches
 };

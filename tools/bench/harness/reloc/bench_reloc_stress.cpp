@@ -174,11 +174,11 @@ void PrintSummary(const nlohmann::json& cells, const std::string& split) {
       split.c_str());
   for (const auto& [key, s] : sums) {
     const int elsewhere = s.trials - s.repeated;
-    std::printf(
-        "%-40s %5d/%-5d (%5.1f %%) wrong %d none %d (%d)  %5.1f %%  %6.0f ms  1f %d wrong %d\n",
-        key.c_str(), s.within, s.trials, 100.0 * s.within / s.trials, s.wrong, s.none, s.repeated,
-        elsewhere > 0 ? 100.0 * s.within / elsewhere : 100.0, s.attempt_p95_ms, s.single_within,
-        s.single_wrong);
+    char share[16] = "    -  ";
+    if (elsewhere > 0) std::snprintf(share, sizeof share, "%5.1f %%", 100.0 * s.within / elsewhere);
+    std::printf("%-40s %5d/%-5d (%5.1f %%) wrong %d none %d (%d)  %s  %6.0f ms  1f %d wrong %d\n",
+                key.c_str(), s.within, s.trials, 100.0 * s.within / s.trials, s.wrong, s.none,
+                s.repeated, share, s.attempt_p95_ms, s.single_within, s.single_wrong);
   }
 }
 
