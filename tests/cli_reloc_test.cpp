@@ -119,6 +119,20 @@ TEST(CliReloc, AFlatFloorIsSearchedDenselyAndNotFound) {
   EXPECT_NE(r.err.find("dense place search alone"), std::string::npos) << r.err;
 }
 
+// `fleetctl bench reloc --stress` on the tuning floors with 3 frames combined, `args` added; its
+// JSON report (an empty object, with the test failed, when the command fails).
+nlohmann::json RunStressBench(const ScratchDir& dir, const std::string& args) {
+  const std::string json = dir / "reloc.json";
+  const CommandResult r = RunFleetctl(
+      "bench reloc --stress --manifest " +
+      Quote(FLEETLOC_SOURCE_DIR "/data/stress_floors/floors.json") + " --split tuning " + args +
+      " --trajectory-frames 3 --work-dir " + Quote(dir / "work") + " --json " + Quote(json));
+  EXPECT_EQ(r.exit_code, 0) << r.err << r.out;
+  if (r.exit_code != 0) return nlohmann::json::object({{"cells", nlohmann::json::array()}});
+  std::ifstream in(json);
+  return nlohmann::json::parse(in);
+}
+
 // The relocalization bench's hardest tuning cell that its fine dense search reaches: 320×240
 // polished concrete under every effect at once (dust, vignetting, gain jitter, read noise, a
 // short exposure), 10 trials of up to 3 frames. The fine search's right bests there correlate
@@ -126,16 +140,8 @@ TEST(CliReloc, AFlatFloorIsSearchedDenselyAndNotFound) {
 // found, at 0.09 8 (docs/benchmarks.md, session 45). Never a wrong pose.
 TEST(CliReloc, TheStressBenchsPolishedConcreteUnderEveryEffectIsFoundAndNeverWrong) {
   const ScratchDir dir("cli_reloc_stress");
-  const std::string json = dir / "reloc.json";
-  const CommandResult r = RunFleetctl(
-      "bench reloc --stress --manifest " +
-      Quote(FLEETLOC_SOURCE_DIR "/data/stress_floors/floors.json") +
-      " --split tuning --classes polished_concrete --sizes 320x240 --conditions all --trials 10"
-      " --trajectory-frames 3 --work-dir " +
-      Quote(dir / "work") + " --json " + Quote(json));
-  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-  std::ifstream in(json);
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = RunStressBench(
+      dir, "--classes polished_concrete --sizes 320x240 --conditions all --trials 10");
   ASSERT_EQ(j["cells"].size(), 1u);
   const nlohmann::json& trials = j["cells"][0]["trials"];
   EXPECT_EQ(trials["wrong_pose"].get<int>(), 0);
@@ -150,16 +156,9 @@ TEST(CliReloc, TheStressBenchsPolishedConcreteUnderEveryEffectIsFoundAndNeverWro
 // counted as such (its ideal frames have a distinct place as good), and never a wrong pose.
 TEST(CliReloc, TrialsRefusedWhereTheFloorRepeatsAreCountedApart) {
   const ScratchDir dir("cli_reloc_repeated_place");
-  const std::string json = dir / "reloc.json";
-  const CommandResult r =
-      RunFleetctl("bench reloc --stress --manifest " +
-                  Quote(FLEETLOC_SOURCE_DIR "/data/stress_floors/floors.json") +
-                  " --split tuning --classes worn_asphalt --sizes 320x240 --conditions all"
-                  " --layouts single repeated --trials 5 --trajectory-frames 3 --work-dir " +
-                  Quote(dir / "work") + " --json " + Quote(json));
-  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
-  std::ifstream in(json);
-  const nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json j = RunStressBench(dir,
+                                          "--classes worn_asphalt --sizes 320x240 --conditions all"
+                                          " --layouts single repeated --trials 5");
   ASSERT_EQ(j["cells"].size(), 4u);
   for (const nlohmann::json& cell : j["cells"]) {
     const nlohmann::json& trials = cell["trials"];
