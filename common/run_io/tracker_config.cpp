@@ -75,6 +75,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"converged_px", &d.converged_px},
           {"tukey_c", &d.tukey_c},
           {"fit_contrast", &d.fit_contrast},
+          {"noise_model", &d.noise_model},
           {"max_view_blur_px", &d.max_view_blur_px},
           {"view_blur_step_px", &d.view_blur_step_px},
           {"view_blur_every_frames", &d.view_blur_every_frames},

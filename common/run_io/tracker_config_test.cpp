@@ -42,6 +42,13 @@ TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergen
   ASSERT_TRUE(options.ok());
   EXPECT_EQ(options->polish_dense_max_frame_pixels, 0);
   EXPECT_DOUBLE_EQ(options->direct.polish_single_pass_px, 0.2);
+  EXPECT_TRUE(options->direct.noise_model);  // the default
+  const auto equal_weights =
+      TrackerOptionsFromJson({{"direct", {{"noise_model", false}}}}, "t.json");
+  ASSERT_TRUE(equal_weights.ok());
+  EXPECT_FALSE(equal_weights->direct.noise_model);
+  EXPECT_EQ(TrackerOptionsFromJson({{"direct", {{"noise_model", 1.5}}}}, "t.json").status().code(),
+            StatusCode::kInvalidInput);
   // A single pass that may move further than a converged polish's next step would contradict it.
   const auto bad = TrackerOptionsFromJson(
       {{"direct", {{"polish_single_pass_px", 0.5}, {"max_polish_next_step_px", 0.35}}}}, "t.json");

@@ -58,37 +58,39 @@ Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
 
 namespace {
 
-// Every third pixel of every third row of the spans: the scale and a starting gain need a few
-// thousand samples, not all of them.
+// Every third pixel of every third row of the spans, with its precision (1 without a map): the
+// scale and a starting gain need a few thousand samples, not all of them.
 template <typename Visit>
 void VisitSparseGrid(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                     const std::vector<cv::Range>& spans, Visit visit) {
+                     const std::vector<cv::Range>& spans, const cv::Mat& precision, Visit visit) {
   for (int y = 0; y < inner.height; y += 3) {
     const float* t = frame.ptr<float>(inner.y + y) + inner.x;
     const float* v = view.ptr<float>(y + 1) + 1;
-    for (int x = spans[y].start; x < spans[y].end; x += 3) visit(t[x], v[x]);
+    const float* p = precision.empty() ? nullptr : precision.ptr<float>(inner.y + y) + inner.x;
+    for (int x = spans[y].start; x < spans[y].end; x += 3) visit(t[x], v[x], p ? p[x] : 1.0f);
   }
 }
 
 double SparseGain(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                  const std::vector<cv::Range>& spans) {
+                  const std::vector<cv::Range>& spans, const cv::Mat& precision) {
   double stv = 0, svv = 0;
-  VisitSparseGrid(frame, view, inner, spans, [&](float t, float v) {
-    stv += t * v;
-    svv += v * v;
+  VisitSparseGrid(frame, view, inner, spans, precision, [&](float t, float v, float p) {
+    stv += p * t * v;
+    svv += p * v * v;
   });
   return LeastSquaresGain(stv, svv);
 }
 
-// 1.4826 × the median absolute residual t − gain·v over the sparse grid.
+// 1.4826 × the median absolute residual t − gain·v, each times √precision, over the sparse grid.
 double RobustScale(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                   const std::vector<cv::Range>& spans, float gain) {
+                   const std::vector<cv::Range>& spans, const cv::Mat& precision, float gain) {
   // Filled by index into a buffer sized for the whole grid (push_back's capacity check per sample
   // cost as much as the sample).
   std::vector<float> magnitudes((inner.width / 3 + 1) * (inner.height / 3 + 1));
   size_t count = 0;
-  VisitSparseGrid(frame, view, inner, spans,
-                  [&](float t, float v) { magnitudes[count++] = std::abs(t - gain * v); });
+  VisitSparseGrid(frame, view, inner, spans, precision, [&](float t, float v, float p) {
+    magnitudes[count++] = std::sqrt(p) * std::abs(t - gain * v);
+  });
   if (count == 0) return 1e-3;
   magnitudes.resize(count);
   const auto mid = magnitudes.begin() + magnitudes.size() / 2;
@@ -107,22 +109,25 @@ struct RowSums {
 
 enum RowSum { kH00, kH01, kH02, kH11, kH12, kH22, kSw, kSt, kSv, kStt, kSvv, kStv, kIn, kSums };
 
-// One pixel's terms added to lane sums `acc[sum]`.
-inline void AddPixel(const float* t, const float* up, const float* mid, const float* down, int x,
-                     float du, float dv, float gain, float inv_cutoff_sq, float* score0,
-                     float* score1, float* score2, float* acc, int stride) {
+// One pixel's terms added to lane sums `acc[sum]`. `p`: the pixels' precisions. The Tukey weight
+// is of the residual in units of its own spread (√p·r); the normal equations take p times it.
+// The correlation sums keep the Tukey weight alone: the gates on the correlation were set on it.
+inline void AddPixel(const float* t, const float* p, const float* up, const float* mid,
+                     const float* down, int x, float du, float dv, float gain, float inv_cutoff_sq,
+                     float* score0, float* score1, float* score2, float* acc, int stride) {
   const float gx = 0.5f * gain * (mid[x + 1] - mid[x - 1]);
   const float gy = 0.5f * gain * (down[x] - up[x]);
   const float v = mid[x];
   const float r = t[x] - gain * v;
-  const float a = r * r * inv_cutoff_sq;
+  const float a = p[x] * r * r * inv_cutoff_sq;
   // Branch-free so the lanes vectorize: max(0, 1 − a)², and 1 when w > 0.5 (a < 1 − √½).
   const float b = 0.5f * ((1.0f - a) + std::abs(1.0f - a));
   const float w = b * b;
   const float inlier = 0.5f + 0.5f * std::copysign(1.0f, 0.29289322f - a);
   // J for q = (qx, qy, qθ) in camera_ground axes: frame x is ground −y, frame y is ground −x.
   const float j0 = -gy, j1 = -gx, j2 = gx * dv - gy * du;
-  const float wj0 = w * j0, wj1 = w * j1, wj2 = w * j2;
+  const float wp = w * p[x];
+  const float wj0 = wp * j0, wj1 = wp * j1, wj2 = wp * j2;
   acc[kH00 * stride] += wj0 * j0;
   acc[kH01 * stride] += wj0 * j1;
   acc[kH02 * stride] += wj0 * j2;
@@ -141,27 +146,29 @@ inline void AddPixel(const float* t, const float* up, const float* mid, const fl
   acc[kIn * stride] += inlier;
 }
 
-// `t`: the frame row from the span's first pixel; `up`, `mid`, `down`: the view rows above, at
-// and below it, also from the span's first pixel (one pixel of view lies on either side of it).
-// `du0`: the first pixel's column offset from the principal point; `dv`: the row's. Eight lanes
-// of independent sums, so the compiler vectorizes the lanes (a plain reduction it may not
-// reorder); built for AVX2 as well as the baseline, the loader picks the best the CPU has.
+// `t`, `p`: the frame row and its precisions from the span's first pixel; `up`, `mid`, `down`: the
+// view rows above, at and below it, also from the span's first pixel (one pixel of view lies on
+// either side of it). `du0`: the first pixel's column offset from the principal point; `dv`: the
+// row's. Eight lanes of independent sums, so the compiler vectorizes the lanes (a plain reduction
+// it may not reorder); built for AVX2 as well as the baseline, the loader picks the best the CPU
+// has.
 __attribute__((target_clones("avx2", "default"))) RowSums SumRow(
-    const float* __restrict t, const float* __restrict up, const float* __restrict mid,
-    const float* __restrict down, int n, float du0, float dv, float gain, float inv_cutoff_sq,
-    float* __restrict score0, float* __restrict score1, float* __restrict score2) {
+    const float* __restrict t, const float* __restrict p, const float* __restrict up,
+    const float* __restrict mid, const float* __restrict down, int n, float du0, float dv,
+    float gain, float inv_cutoff_sq, float* __restrict score0, float* __restrict score1,
+    float* __restrict score2) {
   constexpr int kLanes = 8;
   alignas(32) float lanes[kSums][kLanes] = {};
   int x = 0;
   for (; x + kLanes <= n; x += kLanes) {
     for (int k = 0; k < kLanes; ++k) {
-      AddPixel(t, up, mid, down, x + k, du0 + x + k, dv, gain, inv_cutoff_sq, score0, score1,
+      AddPixel(t, p, up, mid, down, x + k, du0 + x + k, dv, gain, inv_cutoff_sq, score0, score1,
                score2, &lanes[0][k], kLanes);
     }
   }
   float tail[kSums] = {};
   for (; x < n; ++x) {
-    AddPixel(t, up, mid, down, x, du0 + x, dv, gain, inv_cutoff_sq, score0, score1, score2, tail,
+    AddPixel(t, p, up, mid, down, x, du0 + x, dv, gain, inv_cutoff_sq, score0, score1, score2, tail,
              1);
   }
   float sums[kSums];
@@ -208,11 +215,12 @@ void AddRowSums(const RowSums& s, Linearization* lin, CorrelationSums* c, double
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans_in,
                                   const Eigen::Vector2d& principal_px, double tukey_c, double sigma,
-                                  double gain) {
+                                  double gain, const cv::Mat& precision) {
   CV_Assert(frame.type() == CV_32F && view.type() == CV_32F);
   CV_Assert(view.cols == inner.width + 2 && view.rows == inner.height + 2);
   CV_Assert((cv::Rect(0, 0, frame.cols, frame.rows) & inner) == inner);
   CV_Assert(spans_in.empty() || spans_in.size() == static_cast<size_t>(inner.height));
+  CV_Assert(precision.empty() || (precision.type() == CV_32F && precision.size() == frame.size()));
   Linearization lin;
   if (inner.width < kScoreBlocks || inner.height < kScoreBlocks) return lin;
   std::vector<cv::Range> spans = spans_in;
@@ -223,8 +231,9 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     if (span.end > span.start) lin.points += span.end - span.start;
   }
   if (lin.points < 3) return lin;
-  lin.gain = gain > 0 ? gain : SparseGain(frame, view, inner, spans);
-  lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans, lin.gain);
+  lin.gain = gain > 0 ? gain : SparseGain(frame, view, inner, spans, precision);
+  lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans, precision, lin.gain);
+  const std::vector<float> uniform(precision.empty() ? inner.width : 0, 1.0f);
   const float inv_cutoff_sq = static_cast<float>(1.0 / (tukey_c * tukey_c * lin.sigma * lin.sigma));
   std::vector<Eigen::Vector3d> block_scores(kScoreBlocks * kScoreBlocks, Eigen::Vector3d::Zero());
   std::vector<int> block_counts(kScoreBlocks * kScoreBlocks, 0);
@@ -236,13 +245,15 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     const int x0 = spans[y].start, n = spans[y].end - spans[y].start;
     if (n <= 0) continue;
     const float* t = frame.ptr<float>(inner.y + y) + inner.x + x0;
+    const float* p =
+        precision.empty() ? uniform.data() + x0 : precision.ptr<float>(inner.y + y) + inner.x + x0;
     const float* up = view.ptr<float>(y) + 1 + x0;
     const float* mid = view.ptr<float>(y + 1) + 1 + x0;
     const float* down = view.ptr<float>(y + 2) + 1 + x0;
     const float dv = static_cast<float>(inner.y + y + 0.5 - principal_px.y());
     const float du0 = static_cast<float>(inner.x + x0 + 0.5 - principal_px.x());
-    const RowSums s = SumRow(t, up, mid, down, n, du0, dv, lin.gain, inv_cutoff_sq, score[0] + x0,
-                             score[1] + x0, score[2] + x0);
+    const RowSums s = SumRow(t, p, up, mid, down, n, du0, dv, lin.gain, inv_cutoff_sq,
+                             score[0] + x0, score[1] + x0, score[2] + x0);
     AddRowSums(s, &lin, &c, &inliers);
     const int by = y * kScoreBlocks / inner.height;
     for (int bx = 0; bx < kScoreBlocks; ++bx) {

@@ -98,10 +98,12 @@ Linearization LinearizePoints(const PointSet& points, const PointViews& views, d
 // (relative to inner.x) whose view lies in the mosaic; empty: every column. sigma ≤ 0: estimated
 // from the residuals' MAD. gain: residuals are t − gain·v; ≤ 0: estimated from a sparse grid of
 // the pixels. The Jacobian takes the view's gradient (the clean mosaic's, see Linearize in
-// direct_aligner.cpp), times the gain.
+// direct_aligner.cpp), times the gain. `precision` (CV_32F, frame's size; empty: 1 everywhere):
+// each pixel's residual precision relative to the others (tracking/noise_precision.h); sigma is
+// then the spread of √precision·r.
 Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
                                   const std::vector<cv::Range>& spans,
                                   const Eigen::Vector2d& principal_px, double tukey_c, double sigma,
-                                  double gain = 1.0);
+                                  double gain = 1.0, const cv::Mat& precision = cv::Mat());
 
 }  // namespace fleetloc::tracking

@@ -2,12 +2,14 @@
 // mosaic view blurred to the frame's own blur (see DirectAligner::Polish in direct_aligner.h).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "geometry/convex_polygon.h"
 #include "tracking/dense_linearization.h"
 #include "tracking/direct_aligner.h"
 #include "tracking/direct_aligner_parts.h"
 #include "tracking/frame_mosaic_warp.h"
+#include "tracking/noise_precision.h"
 #include "tracking/predicted_view.h"
 #include "tracking/view_blur.h"
 
@@ -40,6 +42,14 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
   const int n = mosaic->MarginAt(level);
   const cv::Mat view = RenderAreaAveragedView(mosaic->source(), GrownBy(rect, n), warp, level);
   return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height)).clone();
+}
+
+// Each pixel's residual precision under the noise fitted to the normalized frame's residuals
+// against `view` (see tracking/noise_precision.h); empty when the fit finds no noise term.
+cv::Mat FittedPrecision(const cv::Mat& normalized, const cv::Mat& view, const cv::Rect& inner,
+                        const std::vector<cv::Range>& spans, const cv::Mat& local_variance) {
+  const cv::Mat u = NormalizationFactorSquared(local_variance, NormalizedMosaic::kSpreadEpsilon);
+  return ResidualPrecision(FitResidualNoise(normalized, view, inner, spans, u), u);
 }
 
 }  // namespace
@@ -92,7 +102,8 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
     out.reason = "frame mostly outside the mosaic";
     return out;
   }
-  const cv::Mat normalized = mosaic_->Normalize(frame, level);
+  cv::Mat local_variance;
+  const cv::Mat normalized = mosaic_->Normalize(frame, level, &local_variance);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
@@ -105,11 +116,15 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
   }
   out.view_blur_px = blur;
   const int m = BlurMarginPx(blur);
+  // Each pixel's precision, fitted at the first pass's view; an empty map: all alike.
+  std::optional<cv::Mat> precision;
+  if (!options_.noise_model) precision.emplace();
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
     const cv::Mat view =
         BlurredView(PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level), blur, m);
+    if (!precision) precision = FittedPrecision(normalized, view, inner, spans, local_variance);
     Linearization lin = LinearizeWholeFrame(normalized, view, inner, spans, principal,
-                                            options_.tukey_c, sigma, gain);
+                                            options_.tukey_c, sigma, gain, *precision);
     InLevel0Pixels(level, &lin);
     return lin;
   };

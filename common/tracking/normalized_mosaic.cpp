@@ -24,7 +24,8 @@ NormalizedMosaic::NormalizedMosaic(mosaic::RasterSource* mosaic, int window_leve
 
 cv::Mat NormalizedMosaic::Normalize(const cv::Mat& image, int level,
                                     cv::Mat* local_variance) const {
-  cv::Mat normalized = imaging::NormalizePatch(image, WindowAt(level), 2.0f, local_variance);
+  cv::Mat normalized =
+      imaging::NormalizePatch(image, WindowAt(level), kSpreadEpsilon, local_variance);
   if (level == 0 && level0_sigma_px_ > 0) {
     // Only the pixels the whole kernel covers are smoothed: the others lie within MarginAt(0),
     // which no caller uses.

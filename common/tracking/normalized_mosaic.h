@@ -24,6 +24,8 @@ class NormalizedMosaic {
   // within MarginAt(level) of its border see only part of their neighbourhood. `local_variance`,
   // when given, receives the image's variance over the normalization window.
   cv::Mat Normalize(const cv::Mat& image, int level, cv::Mat* local_variance = nullptr) const;
+  // Normalize divides each pixel's offset from its window's mean by (its spread + this).
+  static constexpr float kSpreadEpsilon = 2.0f;
   int MarginAt(int level) const;
 
   // CV_32F normalized pixels of `rect` at `level`; outside the mosaic 0.
