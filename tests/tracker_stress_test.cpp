@@ -188,6 +188,42 @@ CommandResult TrackWithFramesOut(const fs::path& cell, const fs::path& work,
                      Quote((work / "frames.csv").string()) + options);
 }
 
+// Painted pavement 001 under fast motion at 640×480 (`fast`) with every located frame polished
+// (deploy/config/tracker/polish_640.json: polish_max_frame_pixels 307200), at level 1 (320×240
+// pixels, two passes) with at most polished_max_templates templates; the templates' fit alone
+// (the default: 28 templates, a refine pass) leaves the frame's noise in a fifth of its pixels.
+// Every template-located frame is polished (frames-out `polished`).
+TEST(TrackerStressFastFrames, EveryFrameIsPolishedAtLevel1At640x480) {
+  const fs::path work = fs::temp_directory_path() / "stress_test_polish_640";
+  const std::string every_frame = R"({"polish_max_frame_pixels": 307200})";
+  const nlohmann::json polished =
+      RunCellsIn(work, "painted_lines", "tuning", "fast", "640x480", every_frame);
+  CheckOnlyCell(polished, 1.0, 0.05);
+  const nlohmann::json unpolished = RunCellsIn(work, "painted_lines", "tuning", "fast", "640x480");
+  ASSERT_EQ(unpolished.size(), 1u);
+  const auto rms = [](const nlohmann::json& cells) {
+    return cells[0]["methods"]["fleetloc"]["error"]["camera_position_rms_px"].get<double>();
+  };
+  EXPECT_GE(rms(unpolished), 1.25 * rms(polished))
+      << rms(unpolished) << " against " << rms(polished);
+  const fs::path cell = work / "640x480" / "fast" / "painted_lines_pavement001_x2_png";
+  const CommandResult r = TrackWithFramesOut(cell, work, every_frame);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string frames = ReadWhole(work / "frames.csv");
+  const std::vector<std::string> sizes = CsvColumn(frames, "template_size_px");
+  const std::vector<std::string> polished_frames = CsvColumn(frames, "polished");
+  ASSERT_EQ(sizes.size(), polished_frames.size());
+  int located = 0, located_polished = 0;
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    if (sizes[i] == "0") continue;
+    ++located;
+    located_polished += polished_frames[i] == "1";
+  }
+  EXPECT_GE(located, 20);
+  EXPECT_GE(located_polished, located - 1);  // the first frame starts the track unpolished
+  fs::remove_all(work);
+}
+
 // Dark plain concrete under fast motion and dust (640×480, `all`): the standard templates fail
 // there and the larger weak-floor templates lock (before them the dense alignment ran on nearly
 // every frame, at 5.5 ms against 1.6).
@@ -272,15 +308,16 @@ TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
   EXPECT_GE(dense_polished, dense * 9 / 10);
   ExpectHeadingProbesClimbLikeWholeWindows(cell, work, frames);
   // The polish works at level 1 (polish_dense_max_level_pixels), the fit's own level but over
-  // every pixel: as close as at level 0 (0.0768 against 0.0779 px over 60 frames) for a quarter
-  // of the sums.
+  // every pixel: nearly as close as at level 0 for a quarter of the sums (0.0768 against
+  // 0.0779 px over 60 frames in session 44; over these 30 frames with the noise model, session
+  // 47, 0.083 against 0.078).
   const CommandResult at_level_0 =
       TrackWithFramesOut(cell, work, R"({"polish_dense_max_level_pixels": 0})");
   ASSERT_EQ(at_level_0.exit_code, 0) << at_level_0.err;
   const auto camera_rms = [](const CommandResult& c) {
     return nlohmann::json::parse(c.out)["error"]["camera_position_rms_px"].get<double>();
   };
-  EXPECT_LE(camera_rms(r), camera_rms(at_level_0) + 0.005) << "level 0: " << camera_rms(at_level_0);
+  EXPECT_LE(camera_rms(r), camera_rms(at_level_0) + 0.008) << "level 0: " << camera_rms(at_level_0);
   fs::remove_all(work);
 }
 

@@ -26,7 +26,7 @@ cv::Mat MosaicUnderPatch(mosaic::RasterSource* mosaic, cv::Size size, const geom
 }
 
 PatchRegistrar::PatchRegistrar(mosaic::RasterSource* mosaic, tracking::TrackerOptions options)
-    : mosaic_(mosaic), options_(options) {}
+    : mosaic_(mosaic), options_(tracking::CountingTemplateInliers(options)) {}
 
 tracking::MosaicTracker& PatchRegistrar::TrackerFor(cv::Size size) {
   auto& tracker = trackers_[{size.width, size.height}];

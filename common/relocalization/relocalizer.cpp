@@ -70,7 +70,7 @@ Relocalizer::Relocalizer(const PlaceIndex* index, mosaic::RasterSource* mosaic,
     : index_(index),
       camera_(camera),
       options_(options),
-      tracker_(options.tracker, camera, mosaic) {}
+      tracker_(tracking::CountingTemplateInliers(options.tracker), camera, mosaic) {}
 
 Result<std::unique_ptr<Relocalizer>> Relocalizer::Create(const PlaceIndex* index,
                                                          mosaic::RasterSource* mosaic,

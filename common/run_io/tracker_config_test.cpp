@@ -56,6 +56,20 @@ TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergen
   EXPECT_NE(bad.status().message().find("direct.polish_single_pass_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsThePolishedCamerasTemplatesAndLevelAndRefusesTooFew) {
+  const auto options = TrackerOptionsFromJson(
+      {{"polished_max_templates", 14}, {"direct", {{"polish_max_level", 0}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->polished_max_templates, 14);
+  EXPECT_EQ(options->direct.polish_max_level, 0);
+  // Fewer templates than a lock needs could never lock.
+  auto bad = TrackerOptionsFromJson({{"polished_max_templates", 3}, {"min_inliers", 4}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("polished_max_templates"), std::string::npos);
+  bad = TrackerOptionsFromJson({{"direct", {{"polish_max_level", -1}}}}, "t.json");
+  EXPECT_NE(bad.status().message().find("direct.polish_max_level"), std::string::npos);
+}
+
 TEST(TrackerConfig, ReadsTheConfirmingPolishAndRefusesAWeakFitFloorAboveTheSignificantOne) {
   const auto options = TrackerOptionsFromJson(
       {{"direct",
@@ -102,7 +116,9 @@ TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOn
   EXPECT_EQ(options->direct.polish_max_level_pixels, 0);
   const tracking::TrackerOptions defaults;
   EXPECT_EQ(defaults.polish_min_frame_pixels, 1000000);
-  EXPECT_EQ(defaults.direct.polish_max_level_pixels, 330000);
+  EXPECT_EQ(defaults.direct.polish_max_level_pixels, 80000);
+  EXPECT_EQ(defaults.direct.polish_max_level, 1);
+  EXPECT_EQ(defaults.polish_max_frame_pixels, 100000);  // 320×240 polishes every frame, not 640×480
   auto bad = TrackerOptionsFromJson({{"polish_min_frame_pixels", -1}}, "t.json");
   EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
   EXPECT_NE(bad.status().message().find("polish_min_frame_pixels"), std::string::npos);

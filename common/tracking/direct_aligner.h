@@ -79,6 +79,8 @@ class DirectAligner {
   int levels() const { return levels_; }
   // The pyramid level the polish works at (direct.polish_max_level_pixels).
   int PolishLevel() const { return PolishLevel(options_.polish_max_level_pixels); }
+  // The pyramid level the alignment (Align) ends at.
+  int FinestLevel() const { return finest_level_; }
   // The finest level whose frame has at most `max_level_pixels` (0: level 0).
   int PolishLevel(int max_level_pixels) const;
 

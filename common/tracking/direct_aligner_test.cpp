@@ -415,6 +415,16 @@ TEST(DirectAligner, PolishAtLevel1TakesANearFitCloserWithAnHonestCovariance) {
   }
 }
 
+// The polish level: the finest with at most direct.polish_max_level_pixels, but never coarser than
+// direct.polish_max_level (a 1280×1024 camera polishes at level 1, not at 320×256).
+TEST(DirectAligner, PolishLevelStopsAtTheCoarsestAllowed) {
+  Fixture f;
+  DirectAlignOptions options = PolishAtLevel1Options(f.scene);
+  EXPECT_EQ(DirectAligner(options, f.scene.camera, &f.normalized).PolishLevel(), 1);
+  options.polish_max_level = 0;
+  EXPECT_EQ(DirectAligner(options, f.scene.camera, &f.normalized).PolishLevel(), 0);
+}
+
 // From a template-like fit (0.02–0.05 px off), the linearization at the start is final: one render
 // of the view, and the same pose as two linearizations give.
 TEST(DirectAligner, PolishFromANearFitTakesOnePassToTheSamePose) {

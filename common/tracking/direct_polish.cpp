@@ -77,7 +77,7 @@ std::vector<cv::Range> DirectAligner::SpansInMosaic(const Pose2& pose, const cv:
 int DirectAligner::PolishLevel(int max_level_pixels) const {
   const long long pixels = static_cast<long long>(camera_.width_px) * camera_.height_px;
   int level = 0;
-  while (max_level_pixels > 0 && level + 1 < levels_ &&
+  while (max_level_pixels > 0 && level + 1 < levels_ && level < options_.polish_max_level &&
          (pixels >> (2 * level)) > max_level_pixels) {
     ++level;
   }

@@ -108,6 +108,7 @@ class MosaicTracker : public FrameLocalizer {
                                                           bool refine_only,
                                                           FrameResult* stats) const;
   bool WeakDenseFitToPolish(const FrameResult& stats) const;
+  bool ToPolish(bool templates_locked, const FrameResult& stats) const;
   static bool PolishesEveryFrame(const TrackerOptions& options,
                                  const geometry::CameraModel& camera);
   bool Agree(const geometry::PoseWithCovariance& a, const geometry::PoseWithCovariance& b) const;

@@ -36,6 +36,8 @@ Status ValidateDirectLevels(const DirectAlignOptions& d) {
       Check(d.max_polish_next_step_px > 0, "direct.max_polish_next_step_px", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.polish_max_level_pixels >= 0, "direct.polish_max_level_pixels", "must be ≥ 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.polish_max_level >= 0 && d.polish_max_level <= 4,
+                                 "direct.polish_max_level", "must be in [0, 4]"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.polish_single_pass_px >= 0 && d.polish_single_pass_px <= d.max_polish_next_step_px,
             "direct.polish_single_pass_px", "must be in [0, direct.max_polish_next_step_px]"));
@@ -182,6 +184,9 @@ Status ValidateSearchAndFilter(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_max_frame_pixels >= 0, "polish_max_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(o.polished_max_templates >= o.min_inliers && o.polished_max_templates <= 256,
+            "polished_max_templates", "must be in [min_inliers, 256]"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_min_frame_pixels >= 0, "polish_min_frame_pixels", "must be ≥ 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(o.polish_dense_max_frame_pixels >= 0, "polish_dense_max_frame_pixels", "must be ≥ 0"));
@@ -207,6 +212,11 @@ Status ValidateOdometryNoise(const OdometryNoiseOptions& n) {
 Status Validate(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(ValidateDirectLevels(d));
   return ValidateDirectSearch(d);
+}
+
+TrackerOptions CountingTemplateInliers(TrackerOptions options) {
+  options.polished_max_templates = options.max_templates;
+  return options;
 }
 
 Status Validate(const TrackerOptions& o) {

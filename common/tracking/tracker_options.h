@@ -63,14 +63,16 @@ struct DirectAlignOptions {
   // A polish whose first step would move no pixel more than this (level-0 px) starts at its
   // minimum (a template fit): the linearization at the start is the final one, one render of the
   // view instead of two (0: always two). Off by default: at 0.1 it saved about a third of the
-  // polish on template-located frames (640×480 fast epoxy: 49.8 → 44.0 M instructions per frame
-  // with every frame polished) and left the 320×240 stress cells' camera RMS within +0.0008 px,
-  // but it buys no time target (only 640×480 is judged, where template fits are not polished).
+  // polish on template-located frames and left the 320×240 stress cells' camera RMS within
+  // +0.0008 px, but at 640×480 (polished at level 1 since session 47, from the unrefined template
+  // fit) the camera RMS of `clean` cells rose up to 1.6 times the two-pass one.
   double polish_single_pass_px = 0.0;
   // The polish works at the finest pyramid level whose frame has at most this many pixels (0:
-  // always level 0): level 0 up to 640×480; level 1 (640×512) at 1280×1024, where level 0 would
-  // cost four times a 640×480 polish.
-  int polish_max_level_pixels = 330000;
+  // always level 0), and at most at polish_max_level: level 0 at 320×240; level 1 at 640×480
+  // (320×240 pixels: two passes over it fit the 2 ms budget, where level 0 took 3.4 ms a frame),
+  // and at 1280×1024 (640×512: coarser levels keep too little of the frame's detail).
+  int polish_max_level_pixels = 80000;
+  int polish_max_level = 1;
   int max_points = 12000;   // pixels used per level: the strongest gradient of each cell
   int max_iterations = 10;  // Gauss–Newton iterations per level
   // A level (and the polish) stops when its step moves no pixel more than this (level px; the
@@ -266,22 +268,35 @@ struct TrackerOptions {
   // direct_refine is set (it then gives the final pose when it agrees with the templates).
   bool direct_refine = false;
   // On cameras of at most this many pixels every located frame's fit is polished over all its
-  // pixels at full resolution (DirectAligner::Polish) and the polished fit taken when it
-  // validates and agrees (0: never). It divides the camera RMS by 1.4–5 on every stress cell
-  // (the templates use a fifth of the pixels) but costs ≈ 0.5 ms per 320×240 frame and ≈ 2 ms per
-  // 640×480 one, beyond that size's 2 ms budget on textured floors: so by default 320×240 only
-  // (docs/benchmarks.md, "Full-resolution polish"); 307200 turns it on at 640×480.
+  // pixels at the polish level (DirectAligner::Polish: level 0 at 320×240, level 1 at 640×480,
+  // direct.polish_max_level_pixels) and the polished fit taken when it validates and agrees (0:
+  // never). At 320×240 it divides the camera RMS by 1.4–5 on every stress cell (the templates use
+  // a fifth of the pixels; docs/benchmarks.md, "Full-resolution polish"). At 640×480 (307200,
+  // deploy/config/tracker/polish_640.json) it lowered the camera RMS of 57 of the 60 stress cells
+  // by 5–75 % (none higher), with polished_max_templates templates and the polish at level 1, but
+  // took the textured floors' median frame from 1.3–1.8 to 1.9–2.8 ms, over their 2 ms budget:
+  // so by default 320×240 only, and at 640×480 the dense alignment's weak fits (polish_dense_*;
+  // docs/benchmarks.md, "Every 640×480 frame polished at level 1").
   int polish_max_frame_pixels = 100000;
+  // A camera of at most polish_max_frame_pixels keeps at most this many standard templates (and
+  // max_templates): polished, they need only bring the fit within the polish's reach and agree on
+  // it; 10 and 14 gave the same camera RMS at 640×480 (every cell within 4 %), 28 cost 0.3 ms more
+  // a frame. The weak-floor templates (weak_template_size_px) and large cameras that polish every
+  // frame (polish_min_frame_pixels) keep max_templates: with 10, plain concrete b1 under `all` at
+  // 640×480 locked 14 of 60 frames with the templates instead of 49, and at 1280×1024 the cap
+  // raised 9 cells' camera RMS by 3–20 %.
+  int polished_max_templates = 10;
   // On cameras of at least this many pixels (0: none) every located frame is polished too, at
   // level 1 (direct.polish_max_level_pixels): there the templates use a smaller share of the
   // frame's pixels, and the polish has as many pixels as a 640×480 frame's. Measured on the
   // painted floor 016 (holdout) at 1280×1024 under `all`: camera RMS 0.108 → 0.017 px, the
   // polish 9 ms a frame on a loaded host (docs/benchmarks.md, session 39).
   int polish_min_frame_pixels = 1000000;
-  // On cameras of at most this many pixels the frames the dense alignment located with a finest-
-  // level correlation below polish_dense_below_correlation are polished too: that fit ends at
-  // level 1 or coarser (the templates' at full resolution), and is least precise where it
-  // correlates weakly. At 640×480 under `all`: polished concrete 024 (dense fits correlating
+  // On cameras of at most this many pixels that do not polish every frame (since session 47 only
+  // when polish_max_frame_pixels is set below the camera's size), the frames the dense alignment
+  // located with a finest-level correlation below polish_dense_below_correlation are polished: that
+  // fit ends at level 1 or coarser (the templates' at full resolution), and is least precise where
+  // it correlates weakly. At 640×480 under `all`: polished concrete 024 (dense fits correlating
   // 0.24–0.30) camera RMS 0.189 → 0.078 px; the textured floors' dense fits (0.34–0.51, within
   // their targets) stay unpolished, which keeps their time (docs/benchmarks.md, "The dense fits
   // polished at 640×480").
@@ -312,5 +327,11 @@ struct TrackerOptions {
 // Flat lists of range checks; the message names the offending field.
 Status Validate(const DirectAlignOptions& options);
 Status Validate(const TrackerOptions& options);
+
+// `options` for a tracker whose fits are judged by their template inliers (relocalization's
+// verifying cycle, the map server's patch registration): their thresholds were set with
+// max_templates templates, so the cap of a camera that polishes every frame
+// (polished_max_templates) is lifted.
+TrackerOptions CountingTemplateInliers(TrackerOptions options);
 
 }  // namespace fleetloc::tracking
