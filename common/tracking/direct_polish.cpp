@@ -48,8 +48,10 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
 // against `view` (see tracking/noise_precision.h); empty when the fit finds no noise term.
 cv::Mat FittedPrecision(const cv::Mat& normalized, const cv::Mat& view, const cv::Rect& inner,
                         const std::vector<cv::Range>& spans, const cv::Mat& local_variance) {
-  const cv::Mat u = NormalizationFactorSquared(local_variance, NormalizedMosaic::kSpreadEpsilon);
-  return ResidualPrecision(FitResidualNoise(normalized, view, inner, spans, u), u);
+  constexpr float kEpsilon = NormalizedMosaic::kSpreadEpsilon;
+  return ResidualPrecision(
+      FitResidualNoise(normalized, view, inner, spans, local_variance, kEpsilon), local_variance,
+      kEpsilon);
 }
 
 }  // namespace

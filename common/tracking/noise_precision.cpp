@@ -21,12 +21,13 @@ struct Sample {
   float u, r2;
 };
 
+// The grid's frame value, view value and local variance.
 template <typename Visit>
 void VisitGrid(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-               const std::vector<cv::Range>& spans, const cv::Mat& u, Visit visit) {
+               const std::vector<cv::Range>& spans, const cv::Mat& local_variance, Visit visit) {
   for (int y = 0; y < inner.height; y += kGridStep) {
     const float* t = frame.ptr<float>(inner.y + y) + inner.x;
-    const float* uu = u.ptr<float>(inner.y + y) + inner.x;
+    const float* uu = local_variance.ptr<float>(inner.y + y) + inner.x;
     const float* v = view.ptr<float>(y + 1) + 1;
     const int start = spans.empty() ? 0 : spans[y].start;
     const int end = spans.empty() ? inner.width : spans[y].end;
@@ -37,18 +38,18 @@ void VisitGrid(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
 // The samples' u and squared residual against the view at its least-squares contrast.
 std::vector<Sample> ResidualSamples(const cv::Mat& frame, const cv::Mat& view,
                                     const cv::Rect& inner, const std::vector<cv::Range>& spans,
-                                    const cv::Mat& u) {
+                                    const cv::Mat& local_variance, float epsilon) {
   double stv = 0, svv = 0;
-  VisitGrid(frame, view, inner, spans, u, [&](float t, float v, float) {
+  VisitGrid(frame, view, inner, spans, local_variance, [&](float t, float v, float) {
     stv += t * v;
     svv += v * v;
   });
   const float gain = static_cast<float>(LeastSquaresGain(stv, svv));
   std::vector<Sample> samples;
   samples.reserve((inner.width / kGridStep + 1) * (inner.height / kGridStep + 1));
-  VisitGrid(frame, view, inner, spans, u, [&](float t, float v, float uu) {
+  VisitGrid(frame, view, inner, spans, local_variance, [&](float t, float v, float variance) {
     const float r = t - gain * v;
-    samples.push_back({uu, r * r});
+    samples.push_back({NormalizationFactorSquared(variance, epsilon), r * r});
   });
   return samples;
 }
@@ -72,26 +73,13 @@ void BinByU(std::vector<Sample>* samples, std::vector<double>* u, std::vector<do
 
 }  // namespace
 
-cv::Mat NormalizationFactorSquared(const cv::Mat& local_variance, float epsilon) {
-  CV_Assert(local_variance.type() == CV_32F);
-  cv::Mat u(local_variance.size(), CV_32F);
-  for (int y = 0; y < u.rows; ++y) {
-    const float* v = local_variance.ptr<float>(y);
-    float* out = u.ptr<float>(y);
-    for (int x = 0; x < u.cols; ++x) {
-      const float d = std::sqrt(std::max(v[x], 0.0f)) + epsilon;
-      out[x] = 1.0f / (d * d);
-    }
-  }
-  return u;
-}
-
 ResidualNoise FitResidualNoise(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                               const std::vector<cv::Range>& spans, const cv::Mat& u) {
-  CV_Assert(frame.type() == CV_32F && view.type() == CV_32F && u.type() == CV_32F);
-  CV_Assert(u.size() == frame.size());
+                               const std::vector<cv::Range>& spans, const cv::Mat& local_variance,
+                               float epsilon) {
+  CV_Assert(frame.type() == CV_32F && view.type() == CV_32F && local_variance.type() == CV_32F);
+  CV_Assert(local_variance.size() == frame.size());
   CV_Assert(view.cols == inner.width + 2 && view.rows == inner.height + 2);
-  std::vector<Sample> samples = ResidualSamples(frame, view, inner, spans, u);
+  std::vector<Sample> samples = ResidualSamples(frame, view, inner, spans, local_variance, epsilon);
   ResidualNoise noise;
   if (samples.size() < kMinSamples) return noise;
   std::vector<double> bin_u, bin_variance;
@@ -112,16 +100,19 @@ ResidualNoise FitResidualNoise(const cv::Mat& frame, const cv::Mat& view, const 
   return noise;
 }
 
-cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& u) {
+cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& local_variance,
+                          float epsilon) {
   if (!(noise.b > 0) || !(noise.a > 0)) return cv::Mat();
   // (A + B·ū)/(A + B·u) = c / (1 + k·u) with k = B/A, c = 1 + k·ū.
   const float k = static_cast<float>(noise.b / noise.a);
   const float c = static_cast<float>(1.0 + noise.b / noise.a * noise.median_u);
-  cv::Mat precision(u.size(), CV_32F);
-  for (int y = 0; y < u.rows; ++y) {
-    const float* in = u.ptr<float>(y);
+  cv::Mat precision(local_variance.size(), CV_32F);
+  for (int y = 0; y < precision.rows; ++y) {
+    const float* in = local_variance.ptr<float>(y);
     float* out = precision.ptr<float>(y);
-    for (int x = 0; x < u.cols; ++x) out[x] = c / (1.0f + k * in[x]);
+    for (int x = 0; x < precision.cols; ++x) {
+      out[x] = c / (1.0f + k * NormalizationFactorSquared(in[x], epsilon));
+    }
   }
   return precision;
 }

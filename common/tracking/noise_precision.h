@@ -12,6 +12,8 @@
 // texture the frame's blur has removed): such pixels hold less of the floor, and count less too.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -24,20 +26,25 @@ struct ResidualNoise {
   double Precision(double u) const { return (a + b * median_u) / (a + b * u); }
 };
 
-// u = 1/(√local_variance + epsilon)² per pixel: the square of the factor local normalization
-// (imaging::NormalizePatch with that epsilon) multiplied the pixel by.
-cv::Mat NormalizationFactorSquared(const cv::Mat& local_variance, float epsilon);
+// u = 1/(√local_variance + epsilon)²: the square of the factor local normalization
+// (imaging::NormalizePatch with that epsilon) multiplied a pixel by.
+inline float NormalizationFactorSquared(float local_variance, float epsilon) {
+  const float d = std::sqrt(std::max(local_variance, 0.0f)) + epsilon;
+  return 1.0f / (d * d);
+}
 
 // The fit over a sparse grid of the frame: `frame`, `inner`, `spans` and `view` (with its
-// one-pixel border) as LinearizeWholeFrame's arguments (tracking/dense_linearization.h), `u` of
-// the frame's size. The residuals t − gain·v (gain their least-squares contrast) are cut into
-// bins by u; the line through the bins' variances (robust: their medians) gives A and B. B < 0
-// is taken as 0, and A at least a tenth of the lowest bin's variance.
+// one-pixel border) as LinearizeWholeFrame's arguments (tracking/dense_linearization.h),
+// `local_variance` (the frame's size) and `epsilon` as the normalization's. The residuals t −
+// gain·v (gain their least-squares contrast) are cut into bins by u; the line through the bins'
+// variances (robust: their medians) gives A and B. B < 0 is taken as 0, and A at least a tenth of
+// the lowest bin's variance.
 ResidualNoise FitResidualNoise(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
-                               const std::vector<cv::Range>& spans, const cv::Mat& u);
+                               const std::vector<cv::Range>& spans, const cv::Mat& local_variance,
+                               float epsilon);
 
-// The relative precision of every pixel (CV_32F, u's size) under `noise`; empty when the fit has
-// no noise term (every pixel 1).
-cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& u);
+// The relative precision of every pixel (CV_32F, local_variance's size) under `noise`; empty,
+// and nothing computed, when the fit has no noise term (every pixel 1).
+cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& local_variance, float epsilon);
 
 }  // namespace fleetloc::tracking

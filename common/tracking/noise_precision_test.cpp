@@ -55,16 +55,18 @@ struct Scene {
 };
 
 struct Fitted {
-  cv::Mat normalized, u;
+  cv::Mat normalized, variance;
+  // u at a pixel of the frame.
+  float U(int y, int x) const {
+    return NormalizationFactorSquared(variance.at<float>(y, x), kEpsilon);
+  }
   ResidualNoise noise;
 };
 
 Fitted Fit(const Scene& scene, const cv::Mat& frame) {
   Fitted f;
-  cv::Mat variance;
-  f.normalized = imaging::NormalizePatch(frame, kWindow, kEpsilon, &variance);
-  f.u = NormalizationFactorSquared(variance, kEpsilon);
-  f.noise = FitResidualNoise(f.normalized, scene.View(), scene.inner, {}, f.u);
+  f.normalized = imaging::NormalizePatch(frame, kWindow, kEpsilon, &f.variance);
+  f.noise = FitResidualNoise(f.normalized, scene.View(), scene.inner, {}, f.variance, kEpsilon);
   return f;
 }
 
@@ -88,7 +90,7 @@ std::pair<double, double> StripVariance(const Scene& scene, const Fitted& f, int
       const double r = f.normalized.at<float>(scene.inner.y + y, scene.inner.x + x) -
                        gain * view.at<float>(y + 1, x + 1);
       r2 += r * r;
-      u += f.u.at<float>(scene.inner.y + y, scene.inner.x + x);
+      u += f.U(scene.inner.y + y, scene.inner.x + x);
       ++n;
     }
   }
@@ -108,10 +110,10 @@ TEST(NoisePrecision, FitsTheNoiseOfLowContrastPixels) {
   EXPECT_NEAR((f.noise.a + f.noise.b * low_u) / (f.noise.a + f.noise.b * high_u), low_r2 / high_r2,
               0.3 * low_r2 / high_r2);
   // The weights follow: a low-contrast pixel counts less than a high-contrast one.
-  const cv::Mat precision = ResidualPrecision(f.noise, f.u);
+  const cv::Mat precision = ResidualPrecision(f.noise, f.variance, kEpsilon);
   ASSERT_FALSE(precision.empty());
   EXPECT_NEAR(precision.at<float>(scene.inner.y + 100, scene.inner.x + 30),
-              f.noise.Precision(f.u.at<float>(scene.inner.y + 100, scene.inner.x + 30)), 1e-4);
+              f.noise.Precision(f.U(scene.inner.y + 100, scene.inner.x + 30)), 1e-4);
   EXPECT_LT(cv::mean(precision(cv::Rect(scene.inner.x, scene.inner.y, 60, 240)))[0],
             0.5 * cv::mean(precision(cv::Rect(scene.inner.x + 300, scene.inner.y, 60, 240)))[0]);
 }
@@ -127,7 +129,7 @@ TEST(NoisePrecision, BrightOccludersDoNotLowerTheOtherPixelsWeights) {
   }
   const Fitted f = Fit(scene, frame);
   EXPECT_EQ(f.noise.b, 0.0);
-  EXPECT_TRUE(ResidualPrecision(f.noise, f.u).empty());
+  EXPECT_TRUE(ResidualPrecision(f.noise, f.variance, kEpsilon).empty());
 }
 
 }  // namespace
