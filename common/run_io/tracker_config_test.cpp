@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 namespace fleetloc::run_io {
 namespace {
 
@@ -21,6 +23,18 @@ TEST(TrackerConfig, OverridesNestedOdometryModel) {
   ASSERT_TRUE(options.ok());
   EXPECT_EQ(options->max_templates, 32);
   EXPECT_DOUBLE_EQ(options->odometry.along_sigma_per_m, 0.02);
+}
+
+// The shipped examples (docs/formats.md) load and change what they say they change.
+TEST(TrackerConfig, ShippedExamplesLoad) {
+  const std::filesystem::path dir = FLEETLOC_SOURCE_DIR "/deploy/config/tracker";
+  const auto light = ReadTrackerOptions(dir / "light_640.json");
+  ASSERT_TRUE(light.ok()) << light.status().message();
+  EXPECT_LT(light->polish_max_frame_pixels, 640 * 480);
+  const auto precise = ReadTrackerOptions(dir / "precise_640.json");
+  ASSERT_TRUE(precise.ok()) << precise.status().message();
+  EXPECT_EQ(precise->direct.polish_max_level, 0);
+  EXPECT_GE(precise->polish_max_frame_pixels, 640 * 480);
 }
 
 TEST(TrackerConfig, RejectsUnknownWrongTypeAndOutOfRange) {
@@ -118,7 +132,7 @@ TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOn
   EXPECT_EQ(defaults.polish_min_frame_pixels, 1000000);
   EXPECT_EQ(defaults.direct.polish_max_level_pixels, 80000);
   EXPECT_EQ(defaults.direct.polish_max_level, 1);
-  EXPECT_EQ(defaults.polish_max_frame_pixels, 100000);  // 320×240 polishes every frame, not 640×480
+  EXPECT_EQ(defaults.polish_max_frame_pixels, 307200);  // 320×240 and 640×480 polish every frame
   auto bad = TrackerOptionsFromJson({{"polish_min_frame_pixels", -1}}, "t.json");
   EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
   EXPECT_NE(bad.status().message().find("polish_min_frame_pixels"), std::string::npos);

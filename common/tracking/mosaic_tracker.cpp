@@ -52,8 +52,8 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   state_ = LockState::kTracking;
   direct_first_ = false;
   template_failures_ = 0;
-  weak_templates_first_ = false;
-  frames_on_weak_templates_ = 0;
+  weak_first_frames_left_ = 0;
+  standard_template_misses_ = 0;
   view_blur_px_ = -1.0;
   frames_since_blur_ = 0;
 }
@@ -163,10 +163,11 @@ std::optional<PoseWithCovariance> MosaicTracker::Measure(const cv::Mat& frame,
     }
   }
   frames_since_templates_ = 0;
+  const bool weak_first = weak_first_frames_left_ > 0;
   const std::optional<PoseWithCovariance> template_fit =
-      MatchTemplates(frame, prior, radius_px, weak_templates_first_, stats);
+      MatchTemplates(frame, prior, radius_px, weak_first, stats);
   *templates_locked = template_fit.has_value();
-  ChooseTemplateSizeAfter(template_fit ? stats->template_size_px : 0);
+  ChooseTemplateSizeAfter(template_fit ? stats->template_size_px : 0, weak_first);
   std::optional<PoseWithCovariance> posterior =
       Decide(frame, prior, template_fit, direct_first, stats);
   template_failures_ = *templates_locked ? 0 : template_failures_ + 1;

@@ -101,7 +101,7 @@ class MosaicTracker : public FrameLocalizer {
       const geometry::PoseWithCovariance& prior, int frame_radius, const TemplateScale& scale,
       FrameResult* stats) const;
   int CoarseLevels(int frame_radius) const;
-  void ChooseTemplateSizeAfter(int locked_size_px);
+  void ChooseTemplateSizeAfter(int locked_size_px, bool weak_went_first);
   std::optional<geometry::PoseWithCovariance> AlignDirect(const cv::Mat& frame,
                                                           const geometry::PoseWithCovariance& prior,
                                                           const geometry::Pose2& start,
@@ -141,8 +141,10 @@ class MosaicTracker : public FrameLocalizer {
   bool direct_first_ = false;       // the last frame locked by dense alignment, not templates
   int frames_since_templates_ = 0;  // frames tracked by dense alignment alone since templates ran
   int template_failures_ = 0;       // frames in a row the templates were tried on and failed
-  bool weak_templates_first_ = false;  // the weak-floor template size locked the last frame
-  int frames_on_weak_templates_ = 0;
+  // Frames the weak-floor template size still goes first for, and the frames in a row the standard
+  // size was tried on and failed (ChooseTemplateSizeAfter).
+  int weak_first_frames_left_ = 0;
+  int standard_template_misses_ = 0;
   // The frame's blur against the mosaic as the polish last estimated it (< 0: not yet), and the
   // frames polished since (DirectAlignOptions::view_blur_every_frames).
   double view_blur_px_ = -1.0;

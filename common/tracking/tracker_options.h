@@ -271,13 +271,14 @@ struct TrackerOptions {
   // pixels at the polish level (DirectAligner::Polish: level 0 at 320×240, level 1 at 640×480,
   // direct.polish_max_level_pixels) and the polished fit taken when it validates and agrees (0:
   // never). At 320×240 it divides the camera RMS by 1.4–5 on every stress cell (the templates use
-  // a fifth of the pixels; docs/benchmarks.md, "Full-resolution polish"). At 640×480 (307200,
-  // deploy/config/tracker/polish_640.json) it lowered the camera RMS of 57 of the 60 stress cells
-  // by 5–75 % (none higher), with polished_max_templates templates and the polish at level 1, but
-  // took the textured floors' median frame from 1.3–1.8 to 1.9–2.8 ms, over their 2 ms budget:
-  // so by default 320×240 only, and at 640×480 the dense alignment's weak fits (polish_dense_*;
-  // docs/benchmarks.md, "Every 640×480 frame polished at level 1").
-  int polish_max_frame_pixels = 100000;
+  // a fifth of the pixels; docs/benchmarks.md, "Full-resolution polish"). At 640×480 (since
+  // session 48) it halves the camera RMS (57 of the 60 stress cells lower, none higher) and takes
+  // the `fast` cells from 3 to 10 of 12 under whole-frame ECC, for about 0.6 ms a frame: the
+  // textured floors' median frame 1.8–2.2 ms with polished_max_templates templates and the
+  // standard templates tried first again after a failure (ChooseTemplateSizeAfter).
+  // deploy/config/tracker/light_640.json (100000) keeps 640×480 unpolished, at about 1.3 ms
+  // (docs/benchmarks.md, "Every 640×480 frame polished by default").
+  int polish_max_frame_pixels = 307200;
   // A camera of at most polish_max_frame_pixels keeps at most this many standard templates (and
   // max_templates): polished, they need only bring the fit within the polish's reach and agree on
   // it; 10 and 14 gave the same camera RMS at 640×480 (every cell within 4 %), 28 cost 0.3 ms more
