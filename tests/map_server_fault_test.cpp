@@ -3,8 +3,8 @@
 // that version and the same job runs to completion. Killed while a vehicle asks for tiles, the
 // requests it missed are asked again once it is back, without waiting out a timeout per tile.
 #include <gtest/gtest.h>
-#include <signal.h>
 
+#include <csignal>
 #include <nlohmann/json.hpp>
 
 #include "changed_floor_patches.h"
@@ -197,6 +197,32 @@ TEST(MapServerFault, TilesAskedForWhileTheServerWasDownAreAskedAgainWhenItReturn
   }
   EXPECT_EQ(loader.stats().timeouts, 0);
   EXPECT_GE(loader.stats().reasked, static_cast<long long>(ahead.size()));
+}
+
+// A map server killed while a vehicle waits for one of its tiles: the wait ends once the tile's
+// server is known unreachable (here: 300 ms after the kill, as the agent's MapServerDirectory would
+// say after its health timeout), not after the whole tile timeout. Before, a frame that needed ten
+// tiles of a dead server stalled ten timeouts (20 s) before the agent could say so.
+TEST(MapServerFault, AWaitForATileEndsOnceItsServerIsKnownUnreachable) {
+  Scene scene;
+  testing::MapServerFixture server("map_server_fault_wait", scene.old_floor, kDomain);
+  auto client = transport::TileClient::Create(server.participant(), "agv-9");
+  ASSERT_TRUE(client.ok());
+  ASSERT_TRUE(Eventually([&] { return (*client)->RequestsMatched(); }));
+  const mosaic::MosaicLayout layout = server.layout();
+  transport::DdsTileLoader loader(client->get(), layout.mosaic_id, layout.tile_size_px,
+                                  std::chrono::seconds(30));
+  ASSERT_TRUE(loader.Load({0, 0, 0}).ok());
+  EXPECT_EQ(server.StopServer(SIGKILL), 128 + SIGKILL);
+  const auto silent_from = std::chrono::steady_clock::now() + std::chrono::milliseconds(300);
+  loader.SetReachability(
+      [&](const mosaic::TileKey&) { return std::chrono::steady_clock::now() < silent_from; });
+  const Result<cv::Mat> tile = loader.Load({0, 1, 1});
+  ASSERT_FALSE(tile.ok());
+  EXPECT_NE(tile.status().message().find("unreachable"), std::string::npos)
+      << tile.status().message();
+  EXPECT_EQ(loader.stats().unserved, 1);
+  EXPECT_EQ(loader.stats().timeouts, 0);
 }
 
 }  // namespace

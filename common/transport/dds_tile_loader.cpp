@@ -138,20 +138,24 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   if (!Ready(key)) {
     ++stats_.waited;
     if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
-    if (!reachable_(key)) {
-      ++stats_.unserved;
-      in_flight_.erase(key);  // ask again next time
-      return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");
-    }
+    if (!reachable_(key)) return Unserved(key);
     const auto deadline = Clock::now() + timeout_;
+    auto next_check = Clock::now() + kReachabilityCheck;
     while (!Ready(key)) {
       // Asked again when a stale answer came (no longer in flight) or the request seems lost.
-      if (NeedsAsking(key, Clock::now())) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
-      if (Clock::now() >= deadline) {
+      const Clock::time_point now = Clock::now();
+      if (NeedsAsking(key, now)) FLEETLOC_RETURN_IF_ERROR(Ask({key}));
+      if (now >= deadline) {
         ++stats_.timeouts;
         in_flight_.erase(key);  // ask again next time
         return Internal("tile " + mosaic::ToString(key) + ": no answer from the map server in " +
                         std::to_string(timeout_.count()) + " ms");
+      }
+      // A server that dies while a frame waits is given up on once its silence says so, not
+      // after a whole timeout per tile the frame still needs from it.
+      if (now >= next_check) {
+        if (!reachable_(key)) return Unserved(key);
+        next_check = now + kReachabilityCheck;
       }
       std::this_thread::sleep_for(std::chrono::microseconds(200));
       FLEETLOC_RETURN_IF_ERROR(Poll());
@@ -161,6 +165,12 @@ Result<cv::Mat> DdsTileLoader::Load(const mosaic::TileKey& key) {
   Result<cv::Mat> tile = std::move(it->second);
   arrived_.erase(it);  // the view's cache keeps it from now on
   return tile;
+}
+
+Status DdsTileLoader::Unserved(const mosaic::TileKey& key) {
+  ++stats_.unserved;
+  in_flight_.erase(key);  // ask again next time
+  return Internal("tile " + mosaic::ToString(key) + ": the map server is unreachable");
 }
 
 }  // namespace fleetloc::transport

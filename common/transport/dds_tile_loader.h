@@ -46,7 +46,7 @@ class DdsTileLoader {
   // Whether the map server answering for a tile is reachable now (with the mosaic split across
   // servers, each tile has its own). A missing tile whose server is known to be unreachable is
   // still asked for but not waited for: the tracker goes on from what it has instead of stalling
-  // a timeout per tile.
+  // a timeout per tile. A wait asks again every kReachabilityCheck.
   using Reachability = std::function<bool(const mosaic::TileKey&)>;
   void SetReachability(Reachability reachable) { reachable_ = std::move(reachable); }
   // The same for every tile (one map server serving them all).
@@ -76,6 +76,10 @@ class DdsTileLoader {
 
  private:
   using Clock = std::chrono::steady_clock;
+  // How often a wait asks again whether the tile's server is reachable.
+  static constexpr std::chrono::milliseconds kReachabilityCheck{100};
+  // A load given up on because the tile's server is unreachable (counted; asked again next time).
+  Status Unserved(const mosaic::TileKey& key);
   Status Ask(const std::vector<mosaic::TileKey>& keys);
   // Whether `key` should be (re)sent: not in flight, or its request presumed lost.
   bool NeedsAsking(const mosaic::TileKey& key, Clock::time_point now);

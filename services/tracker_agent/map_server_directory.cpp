@@ -35,6 +35,10 @@ void MapServerDirectory::Poll() {
     ranges_changed = true;
   }
   if (ranges_changed || owners_.ranges().empty()) uncovered_ = owners_.UncoveredTiles(layout_);
+  RefreshReachability();
+}
+
+void MapServerDirectory::RefreshReachability() {
   watch_->Poll();
   servers_.clear();
   std::vector<std::string> unreachable;
@@ -56,7 +60,8 @@ void MapServerDirectory::Poll() {
   unreachable_ = std::move(unreachable);
 }
 
-bool MapServerDirectory::Reachable(const mosaic::TileKey& key) const {
+bool MapServerDirectory::Reachable(const mosaic::TileKey& key) {
+  RefreshReachability();
   for (const std::string& owner : owners_.OwnersOf(key)) {
     if (std::find(unreachable_.begin(), unreachable_.end(), owner) == unreachable_.end())
       return true;

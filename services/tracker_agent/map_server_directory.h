@@ -26,8 +26,10 @@ class MapServerDirectory {
   // Takes new MosaicInfos and health reports; logs servers appearing and reachability changes.
   void Poll();
   // The tile's owner (any of them, where ranges overlap) is reachable: it reads our requests and
-  // reported health within the timeout. False for a tile no server owns.
-  bool Reachable(const mosaic::TileKey& key) const;
+  // reported health within the timeout. False for a tile no server owns. The health reports are
+  // taken first: the tile loader asks while a frame waits for a tile, and a server that died since
+  // the last Poll must not stall that frame a whole tile timeout for every tile it needs.
+  bool Reachable(const mosaic::TileKey& key);
   // Every server owning part of the mosaic is reachable (and there is at least one).
   bool AllReachable() const { return !servers_.empty() && unreachable_.empty(); }
   bool AnyReachable() const { return unreachable_.size() < servers_.size(); }
@@ -48,6 +50,9 @@ class MapServerDirectory {
 
   transport::TileClient* tiles_;
   std::unique_ptr<transport::ServiceWatch> watch_;
+  // Takes the servers' health reports; logs reachability changes.
+  void RefreshReachability();
+
   mosaic::MosaicLayout layout_;  // the grid coverage is counted on
   transport::ServiceWatch::Clock::duration timeout_;
   mosaic::TileOwners owners_;
