@@ -48,11 +48,11 @@ class MapServerDirectory {
                      transport::ServiceWatch::Clock::duration timeout)
       : tiles_(tiles), watch_(std::move(watch)), layout_(layout), timeout_(timeout) {}
 
-  transport::TileClient* tiles_;
-  std::unique_ptr<transport::ServiceWatch> watch_;
   // Takes the servers' health reports; logs reachability changes.
   void RefreshReachability();
 
+  transport::TileClient* tiles_;
+  std::unique_ptr<transport::ServiceWatch> watch_;
   mosaic::MosaicLayout layout_;  // the grid coverage is counted on
   transport::ServiceWatch::Clock::duration timeout_;
   mosaic::TileOwners owners_;
