@@ -30,6 +30,13 @@ TEST(JudgeStressCell, NamesEveryMissedTarget) {
   EXPECT_EQ(JudgeStressCell({Row("fleetloc", 0.99, 0.12, 2.5), Row("ecc", 1.0, 0.03, 40)},
                             "worn_asphalt", vga),
             "MISS: lock, rms, rms vs ecc, time");
+  // At 640×480 at most a tenth of ECC's median time where ECC locked frames.
+  EXPECT_EQ(JudgeStressCell({Row("fleetloc", 1.0, 0.05, 1.5), Row("ecc", 1.0, 0.06, 12)},
+                            "worn_asphalt", vga),
+            "MISS: time vs ecc");
+  EXPECT_EQ(JudgeStressCell({Row("fleetloc", 1.0, 0.05, 1.5), Row("ecc", 0.0, 0.0, 2)},
+                            "worn_asphalt", vga),
+            "PASS");
   // Only 640×480 frames are timed.
   EXPECT_EQ(JudgeStressCell({Row("fleetloc", 1.0, 0.05, 9.0)}, "worn_asphalt", {320, 240}), "PASS");
 }
