@@ -315,7 +315,8 @@ struct TrackerOptions {
   // frames start with the dense alignment; the templates are tried again after
   // retry_templates_frames frames. One failure alone does not switch: on a textured floor a
   // prediction far off its sigma fails the templates once, and ten dense frames after it cost
-  // 4 ms each (measured: fast runs over epoxy, 640×480, median 1.3 → 5.5 ms).
+  // 4 ms each (measured: fast runs over epoxy, 640×480, median 1.3 → 5.5 ms). It also bounds how
+  // many frames the weak-floor templates go first for (MosaicTracker::ChooseTemplateSizeAfter).
   int retry_templates_frames = 10;
   int direct_first_after_failures = 2;
   // Template and dense fits disagreeing by more than this (chi², 3 dof, on the sum of their
