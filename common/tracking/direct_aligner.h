@@ -11,12 +11,14 @@
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "geometry/camera_model.h"
 #include "geometry/pose2.h"
 #include "imaging/spectral_ncc.h"
 #include "tracking/dense_linearization.h"
+#include "tracking/noise_precision.h"
 #include "tracking/normalized_mosaic.h"
 #include "tracking/tracker_options.h"
 
@@ -37,6 +39,7 @@ struct DirectAlignment {
   double prior_chi2 = 0.0;
   double sigma_px = 0.0;      // image-only worst-direction position sigma, level-0 px
   double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
+  ResidualNoise noise;        // the residual noise the polish weighed its pixels by
   int points = 0;             // pixels used at the finest level
   int iterations = 0;         // Gauss–Newton iterations over all levels
   bool searched = false;      // the coarse exhaustive search ran
@@ -44,6 +47,15 @@ struct DirectAlignment {
   // Valid only once the full-resolution polish confirms it (a significant peak whose aligned
   // frame correlates below min_significant_correlation; see DirectAlignOptions).
   bool needs_polish = false;
+};
+
+// What the polish models of the camera beyond the frame itself: the frame's blur against the
+// view and its residual noise. Both are estimated from the frame when absent; both change slowly,
+// so a caller tracking a run estimates them every few frames (MosaicTracker, with
+// view_blur_every_frames).
+struct PolishModel {
+  double view_blur_px = -1.0;          // < 0: estimated
+  std::optional<ResidualNoise> noise;  // absent: fitted (when direct.noise_model)
 };
 
 class DirectAligner {
@@ -66,13 +78,15 @@ class DirectAligner {
   // validated dense fit that ended above level 0): a few Gauss–Newton steps over every pixel of
   // the frame at full resolution, with the same robust weights, prior and sandwich covariance.
   // Valid when it moved at most max_polish_shift_px, still correlates and pins the position; the
-  // validation of the pose itself stays the caller's (the fit it starts from). The view is blurred
-  // by `view_blur_px`, or (< 0) by the frame's blur estimated here when max_view_blur_px > 0; the
-  // blur used is in the result's view_blur_px. `confirming`: the fit is valid only once polished
-  // (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps. `level`: the
-  // pyramid level it works at (< 0: PolishLevel()).
+  // validation of the pose itself stays the caller's (the fit it starts from). `frame`: the
+  // camera's frame, or already its pyramid level `level` (each level area-averaged from the last,
+  // as cv::resize INTER_AREA halves). The view is blurred by model.view_blur_px, or (< 0) by the
+  // frame's blur estimated here when max_view_blur_px > 0; the pixels are weighed by model.noise,
+  // or by the noise fitted here. The result holds both as used. `confirming`: the fit is valid
+  // only once polished (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps.
+  // `level`: the pyramid level it works at (< 0: PolishLevel()).
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
-                         const geometry::Pose2& start, double view_blur_px = -1.0,
+                         const geometry::Pose2& start, const PolishModel& model = {},
                          bool confirming = false, int level = -1) const;
 
   // Levels of the frame pyramid this camera uses (coarsest = count − 1).

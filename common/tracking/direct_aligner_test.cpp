@@ -336,7 +336,7 @@ PolishTrials RunPolishTrials(Fixture& f, const DirectAligner& aligner, uint64 se
                       truth.y + rng.uniform(-max_off_m, max_off_m),
                       truth.theta + rng.uniform(-5e-4, 5e-4)};
     const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
-    const DirectAlignment fit = aligner.Polish(frame, prior, start, -1.0, confirming);
+    const DirectAlignment fit = aligner.Polish(frame, prior, start, {}, confirming);
     EXPECT_TRUE(fit.valid) << "trial " << k << ": " << fit.reason;
     start_sq += std::pow(CentreErrorPx(f.scene, start, base), 2);
     polished_sq += std::pow(CentreErrorPx(f.scene, fit.posterior.pose, base), 2);
@@ -394,6 +394,39 @@ TEST(DirectAligner, PolishWeighsLowContrastPixelsByTheirNoise) {
   }
   EXPECT_LT(std::sqrt(weighted_sq / 4), 0.92 * std::sqrt(equal_sq / 4))
       << std::sqrt(weighted_sq / 4) << " against " << std::sqrt(equal_sq / 4);
+}
+
+// The blur and noise a polish estimated, given back (as the tracker carries them over the next
+// frames), reproduce that polish; and the noise fitted to another frame of the same camera weighs
+// this one's pixels as its own fit does, to a few thousandths of a pixel.
+TEST(DirectAligner, APolishGivenTheModelItEstimatedLandsWhereItDid) {
+  Fixture f;
+  cv::RNG rng(5);
+  const Pose2 base = TrueBase();
+  const cv::Mat frame = NoisyLowContrastLeft(f.scene.Render(base, 1.0, 0.0), rng);
+  const cv::Mat other = NoisyLowContrastLeft(f.scene.Render(base, 1.0, 0.0), rng);
+  const Pose2 truth = base * f.scene.camera.mount;
+  const Pose2 start{truth.x + 6e-5, truth.y - 4e-5, truth.theta + 2e-4};
+  const PoseWithCovariance prior = Prior(f.scene, base, {0, 0, 0}, {0.002, 0.002, 0.01});
+  const DirectAlignment fitted = f.aligner.Polish(frame, prior, start);
+  ASSERT_TRUE(fitted.valid) << fitted.reason;
+  ASSERT_GT(fitted.noise.b, 0.0);  // this frame's low-contrast half is mostly noise
+  const DirectAlignment given =
+      f.aligner.Polish(frame, prior, start, {fitted.view_blur_px, fitted.noise});
+  ASSERT_TRUE(given.valid) << given.reason;
+  EXPECT_EQ(given.noise.b, fitted.noise.b);
+  EXPECT_EQ(given.view_blur_px, fitted.view_blur_px);
+  EXPECT_DOUBLE_EQ(given.posterior.pose.x, fitted.posterior.pose.x);
+  EXPECT_DOUBLE_EQ(given.posterior.pose.y, fitted.posterior.pose.y);
+  const DirectAlignment from_other = f.aligner.Polish(other, prior, start);
+  const DirectAlignment other_noise =
+      f.aligner.Polish(frame, prior, start, {fitted.view_blur_px, from_other.noise});
+  ASSERT_TRUE(other_noise.valid) << other_noise.reason;
+  ASSERT_NE(from_other.noise.b, fitted.noise.b);
+  EXPECT_EQ(other_noise.noise.b, from_other.noise.b);  // taken as given, not fitted again
+  EXPECT_LT(CentreErrorPx(f.scene, other_noise.posterior.pose, base) -
+                CentreErrorPx(f.scene, fitted.posterior.pose, base),
+            0.005);
 }
 
 // The polish at level 1 (direct.polish_max_level_pixels below the camera's pixels, as on a

@@ -44,14 +44,31 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
   return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height)).clone();
 }
 
-// Each pixel's residual precision under the noise fitted to the normalized frame's residuals
-// against `view` (see tracking/noise_precision.h); empty when the fit finds no noise term.
-cv::Mat FittedPrecision(const cv::Mat& normalized, const cv::Mat& view, const cv::Rect& inner,
-                        const std::vector<cv::Range>& spans, const cv::Mat& local_variance) {
-  constexpr float kEpsilon = NormalizedMosaic::kSpreadEpsilon;
-  return ResidualPrecision(
-      FitResidualNoise(normalized, view, inner, spans, local_variance, kEpsilon), local_variance,
-      kEpsilon);
+// `frame` (the camera's, or already its pyramid level `level`) at pyramid level `level`.
+cv::Mat AtLevel(const cv::Mat& frame, const geometry::CameraModel& camera, int level) {
+  cv::Mat at = frame;
+  if (frame.cols == camera.width_px && frame.rows == camera.height_px) {
+    for (int l = 0; l < level; ++l) at = direct_detail::Halved(at);
+  }
+  CV_Assert(at.cols == camera.width_px >> level && at.rows == camera.height_px >> level);
+  return at;
+}
+
+constexpr float kEpsilon = NormalizedMosaic::kSpreadEpsilon;
+
+// The pixels' precision under model.noise when given; an empty map (all alike) when the noise
+// model is off; none yet when it is to be fitted.
+std::optional<cv::Mat> GivenPrecision(bool noise_model, const PolishModel& model,
+                                      const cv::Mat& local_variance) {
+  if (!noise_model) return cv::Mat();
+  if (!model.noise) return std::nullopt;
+  return ResidualPrecision(*model.noise, local_variance, kEpsilon);
+}
+
+int SpanPixels(const std::vector<cv::Range>& spans) {
+  int pixels = 0;
+  for (const cv::Range& span : spans) pixels += std::max(0, span.end - span.start);
+  return pixels;
 }
 
 }  // namespace
@@ -88,19 +105,16 @@ int DirectAligner::PolishLevel(int max_level_pixels) const {
 
 // Every pixel of the frame at the polish level, from a pose already within a fraction of a pixel
 // (see DirectAligner::Polish).
-DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithCovariance& prior,
-                                      const Pose2& start, double view_blur_px, bool confirming,
+DirectAlignment DirectAligner::Polish(const cv::Mat& frame_in, const PoseWithCovariance& prior,
+                                      const Pose2& start, const PolishModel& model, bool confirming,
                                       int level) const {
   DirectAlignment out;
   if (level < 0) level = PolishLevel();
-  cv::Mat frame = full_frame;
-  for (int l = 0; l < level; ++l) frame = direct_detail::Halved(frame);
+  const cv::Mat frame = AtLevel(frame_in, camera_, level);
   const int b = mosaic_->MarginAt(level);
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
   const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
-  int points = 0;
-  for (const cv::Range& span : spans) points += std::max(0, span.end - span.start);
-  if (points < inner.area() / 4) {
+  if (SpanPixels(spans) < inner.area() / 4) {
     out.reason = "frame mostly outside the mosaic";
     return out;
   }
@@ -109,8 +123,8 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
-  double blur = std::max(0.0, view_blur_px);
-  if (view_blur_px < 0 && options_.max_view_blur_px > 0) {
+  double blur = std::max(0.0, model.view_blur_px);
+  if (model.view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
     const cv::Mat wide = PolishView(mosaic_, camera_, GrownBy(view_rect, m), start, level);
     blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
@@ -118,13 +132,17 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& full_frame, const PoseWithC
   }
   out.view_blur_px = blur;
   const int m = BlurMarginPx(blur);
-  // Each pixel's precision, fitted at the first pass's view; an empty map: all alike.
-  std::optional<cv::Mat> precision;
-  if (!options_.noise_model) precision.emplace();
+  // Each pixel's precision under the residual noise (see tracking/noise_precision.h), fitted at
+  // the first pass's view unless given; an empty map: all alike.
+  std::optional<cv::Mat> precision = GivenPrecision(options_.noise_model, model, local_variance);
+  if (model.noise) out.noise = *model.noise;
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
     const cv::Mat view =
         BlurredView(PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level), blur, m);
-    if (!precision) precision = FittedPrecision(normalized, view, inner, spans, local_variance);
+    if (!precision) {
+      out.noise = FitResidualNoise(normalized, view, inner, spans, local_variance, kEpsilon);
+      precision = ResidualPrecision(out.noise, local_variance, kEpsilon);
+    }
     Linearization lin = LinearizeWholeFrame(normalized, view, inner, spans, principal,
                                             options_.tukey_c, sigma, gain, *precision);
     InLevel0Pixels(level, &lin);

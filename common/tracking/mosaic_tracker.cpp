@@ -54,7 +54,7 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   template_failures_ = 0;
   weak_first_frames_left_ = 0;
   standard_template_misses_ = 0;
-  view_blur_px_ = -1.0;
+  polish_model_ = {};
   frames_since_blur_ = 0;
 }
 
@@ -124,11 +124,12 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
   result.search_radius_px = std::min(full_radius, options_.max_search_radius_px);
   // Steps 2–4: the frame measured against the mosaic around the prediction.
   bool templates_locked = false;
+  FramePyramid pyramid(frame);
   std::optional<PoseWithCovariance> posterior =
-      Measure(frame, prior, result.search_radius_px, &templates_locked, &result);
+      Measure(&pyramid, prior, result.search_radius_px, &templates_locked, &result);
   // The fit taken over every pixel at full resolution (docs/architecture.md, step 7c).
   if (posterior && ToPolish(templates_locked, result)) {
-    posterior = Polished(frame, prior, *posterior, &result);
+    posterior = Polished(&pyramid, prior, *posterior, &result);
   }
   if (posterior && result.direct_needs_polish && !result.polished) {
     result.direct = DirectUse::kRefused;
@@ -149,10 +150,11 @@ FrameResult MosaicTracker::Track(const cv::Mat& frame, double t, const Pose2& od
 // with, or nothing (coast). Where the templates failed on the last frame and the dense alignment
 // did not (a weak floor), the dense alignment goes first; every retry_templates_frames frames the
 // templates get another chance. `templates_locked`: the templates' fit was found.
-std::optional<PoseWithCovariance> MosaicTracker::Measure(const cv::Mat& frame,
+std::optional<PoseWithCovariance> MosaicTracker::Measure(FramePyramid* pyramid,
                                                          const PoseWithCovariance& prior,
                                                          int radius_px, bool* templates_locked,
                                                          FrameResult* stats) {
+  const cv::Mat frame = pyramid->frame();
   const bool direct_first =
       direct_first_ && frames_since_templates_ < options_.retry_templates_frames;
   if (direct_first) {
@@ -165,7 +167,7 @@ std::optional<PoseWithCovariance> MosaicTracker::Measure(const cv::Mat& frame,
   frames_since_templates_ = 0;
   const bool weak_first = weak_first_frames_left_ > 0;
   const std::optional<PoseWithCovariance> template_fit =
-      MatchTemplates(frame, prior, radius_px, weak_first, stats);
+      MatchTemplates(pyramid, prior, radius_px, weak_first, stats);
   *templates_locked = template_fit.has_value();
   ChooseTemplateSizeAfter(template_fit ? stats->template_size_px : 0, weak_first);
   std::optional<PoseWithCovariance> posterior =
@@ -256,23 +258,23 @@ bool MosaicTracker::Agree(const PoseWithCovariance& a, const PoseWithCovariance&
 // out that level's own model error. Measured at 320×240 on painted pavement 001 under `all`: every
 // polish refused by that test (χ² 21–30) was right (0.06–0.10 px from the truth) where the fit was
 // 0.41–0.79 px off (docs/benchmarks.md, "The polish's gates", session 35).
-PoseWithCovariance MosaicTracker::Polished(const cv::Mat& frame, const PoseWithCovariance& prior,
+PoseWithCovariance MosaicTracker::Polished(FramePyramid* pyramid, const PoseWithCovariance& prior,
                                            const PoseWithCovariance& fit, FrameResult* stats) {
   const auto t_polish = std::chrono::steady_clock::now();
-  const bool estimate_blur =
-      view_blur_px_ < 0 || ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
+  const bool estimate_model = polish_model_.view_blur_px < 0 ||
+                              ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
   // A camera that polishes every frame does so at direct.polish_max_level_pixels' level; one that
   // polishes only its weak dense fits, at polish_dense_max_level_pixels'.
   const int level =
       polish_ ? direct_.PolishLevel() : direct_.PolishLevel(options_.polish_dense_max_level_pixels);
-  const DirectAlignment polished =
-      direct_.Polish(frame, prior, fit.pose, estimate_blur ? -1.0 : view_blur_px_,
-                     stats->direct_needs_polish, level);
+  const DirectAlignment polished = direct_.Polish(pyramid->Level(level), prior, fit.pose,
+                                                  estimate_model ? PolishModel{} : polish_model_,
+                                                  stats->direct_needs_polish, level);
   stats->polish_ms += MsSince(t_polish);
   stats->view_blur_px = polished.view_blur_px;
   if (!polished.valid) return fit;
-  if (estimate_blur) {
-    view_blur_px_ = polished.view_blur_px;
+  if (estimate_model) {
+    polish_model_ = {polished.view_blur_px, polished.noise};
     frames_since_blur_ = 0;
   }
   stats->polished = true;

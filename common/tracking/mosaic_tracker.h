@@ -10,6 +10,7 @@
 #include "tracking/direct_aligner.h"
 #include "tracking/feature_selection.h"
 #include "tracking/frame_localizer.h"
+#include "tracking/frame_pyramid.h"
 #include "tracking/internal_estimate.h"
 #include "tracking/normalized_mosaic.h"
 #include "tracking/pose_update.h"
@@ -94,12 +95,11 @@ class MosaicTracker : public FrameLocalizer {
   static std::vector<PreparedSite> Inliers(const Measured& measured, const PoseUpdate& update);
   int FrameSearchRadius(const geometry::PoseWithCovariance& prior) const;
   std::optional<geometry::PoseWithCovariance> MatchTemplates(
-      const cv::Mat& frame, const geometry::PoseWithCovariance& prior, int frame_radius,
+      FramePyramid* pyramid, const geometry::PoseWithCovariance& prior, int frame_radius,
       bool weak_first, FrameResult* stats) const;
   std::optional<geometry::PoseWithCovariance> MatchTemplatesAt(
-      std::vector<cv::Mat>* pyramid, const cv::Mat& texture,
-      const geometry::PoseWithCovariance& prior, int frame_radius, const TemplateScale& scale,
-      FrameResult* stats) const;
+      FramePyramid* pyramid, const cv::Mat& texture, const geometry::PoseWithCovariance& prior,
+      int frame_radius, const TemplateScale& scale, FrameResult* stats) const;
   int CoarseLevels(int frame_radius) const;
   void ChooseTemplateSizeAfter(int locked_size_px, bool weak_went_first);
   std::optional<geometry::PoseWithCovariance> AlignDirect(const cv::Mat& frame,
@@ -112,7 +112,7 @@ class MosaicTracker : public FrameLocalizer {
   static bool PolishesEveryFrame(const TrackerOptions& options,
                                  const geometry::CameraModel& camera);
   bool Agree(const geometry::PoseWithCovariance& a, const geometry::PoseWithCovariance& b) const;
-  geometry::PoseWithCovariance Polished(const cv::Mat& frame,
+  geometry::PoseWithCovariance Polished(FramePyramid* pyramid,
                                         const geometry::PoseWithCovariance& prior,
                                         const geometry::PoseWithCovariance& fit,
                                         FrameResult* stats);
@@ -120,7 +120,7 @@ class MosaicTracker : public FrameLocalizer {
       const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
       const std::optional<geometry::PoseWithCovariance>& templates, bool direct_tried,
       FrameResult* stats) const;
-  std::optional<geometry::PoseWithCovariance> Measure(const cv::Mat& frame,
+  std::optional<geometry::PoseWithCovariance> Measure(FramePyramid* pyramid,
                                                       const geometry::PoseWithCovariance& prior,
                                                       int radius_px, bool* templates_locked,
                                                       FrameResult* stats);
@@ -145,9 +145,10 @@ class MosaicTracker : public FrameLocalizer {
   // size was tried on and failed (ChooseTemplateSizeAfter).
   int weak_first_frames_left_ = 0;
   int standard_template_misses_ = 0;
-  // The frame's blur against the mosaic as the polish last estimated it (< 0: not yet), and the
-  // frames polished since (DirectAlignOptions::view_blur_every_frames).
-  double view_blur_px_ = -1.0;
+  // The frame's blur against the mosaic and its residual noise as the polish last estimated them
+  // (blur < 0: not yet), and the frames polished since
+  // (DirectAlignOptions::view_blur_every_frames).
+  PolishModel polish_model_;
   int frames_since_blur_ = 0;
   LockState state_ = LockState::kLost;
 };

@@ -14,20 +14,6 @@
 #include "tracking/motion_model.h"
 
 namespace fleetloc::tracking {
-namespace {
-
-// The frame pyramid up to `level` (each level half the last, area-averaged).
-const cv::Mat& PyramidLevel(std::vector<cv::Mat>* pyramid, int level) {
-  while (static_cast<int>(pyramid->size()) <= level) {
-    const cv::Mat& last = pyramid->back();
-    cv::Mat next;
-    cv::resize(last, next, {last.cols / 2, last.rows / 2}, 0, 0, cv::INTER_AREA);
-    pyramid->push_back(next);
-  }
-  return (*pyramid)[level];
-}
-
-}  // namespace
 
 using geometry::Pose2;
 using geometry::PoseWithCovariance;
@@ -151,7 +137,7 @@ int MosaicTracker::FrameSearchRadius(const PoseWithCovariance& prior) const {
 // Steps 3–7 with templates: the preferred template size first, the other when it fails (a floor
 // too weak for the standard templates often locks with larger ones, far cheaper than the dense
 // alignment). The fit when at least min_inliers templates were kept.
-std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& frame,
+std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(FramePyramid* pyramid,
                                                                 const PoseWithCovariance& prior,
                                                                 int frame_radius, bool weak_first,
                                                                 FrameResult* stats) const {
@@ -160,16 +146,14 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
     const TemplateScale weak{options_.weak_template_size_px, options_.weak_template_size_px};
     scales.insert(weak_first ? scales.begin() : scales.end(), weak);
   }
-  std::vector<cv::Mat> pyramid{frame};
   // Texture on the half-resolution frame, at the candidate grid only; once for every size.
   const auto t_texture = std::chrono::steady_clock::now();
-  const cv::Mat texture = imaging::TextureScoreGrid(PyramidLevel(&pyramid, 1),
-                                                    std::max(1, options_.candidate_step_px / 2),
-                                                    options_.texture_window_px);
+  const cv::Mat texture = imaging::TextureScoreGrid(
+      pyramid->Level(1), std::max(1, options_.candidate_step_px / 2), options_.texture_window_px);
   stats->select_ms += MsSince(t_texture);
   for (const TemplateScale& scale : scales) {
     std::optional<PoseWithCovariance> fit =
-        MatchTemplatesAt(&pyramid, texture, prior, frame_radius, scale, stats);
+        MatchTemplatesAt(pyramid, texture, prior, frame_radius, scale, stats);
     if (fit) {
       stats->template_size_px = scale.size_px;
       return fit;
@@ -180,7 +164,7 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplates(const cv::Mat& f
 
 // One template size: selection, coarse-to-fine matching and the Kalman update.
 std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
-    std::vector<cv::Mat>* pyramid, const cv::Mat& texture, const PoseWithCovariance& prior,
+    FramePyramid* pyramid, const cv::Mat& texture, const PoseWithCovariance& prior,
     int frame_radius, const TemplateScale& scale, FrameResult* stats) const {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
@@ -200,9 +184,9 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
         sites.begin(), sites.begin() + std::min<size_t>(sites.size(), options_.coarse_templates));
     for (int level = coarse_levels; level >= 1 && !coarse_failed; --level) {
       const bool first = level == coarse_levels;
-      const Measured coarse = MatchSites(
-          Prepare(PyramidLevel(pyramid, level), coarse_sites, scale.coarse_size_px, level), center,
-          first ? 0 : options_.refine_search_radius_px, level);
+      const Measured coarse =
+          MatchSites(Prepare(pyramid->Level(level), coarse_sites, scale.coarse_size_px, level),
+                     center, first ? 0 : options_.refine_search_radius_px, level);
       const PoseUpdate coarse_update = Update(prior, coarse, level);
       stats->templates = std::max(stats->templates, static_cast<int>(coarse.matches.size()));
       coarse_failed = coarse_update.inliers < options_.min_inliers;
@@ -213,7 +197,7 @@ std::optional<PoseWithCovariance> MosaicTracker::MatchTemplatesAt(
   stats->coarse_ms += MsSince(t_coarse);
   const auto t_fine = Clock::now();
   std::vector<PreparedSite> fine_sites;
-  if (!coarse_failed) fine_sites = Prepare((*pyramid)[0], sites, scale.size_px, 0);
+  if (!coarse_failed) fine_sites = Prepare(pyramid->frame(), sites, scale.size_px, 0);
   Measured measured = MatchSites(fine_sites, center, fine_radius, 0);
   stats->templates = std::max(stats->templates, static_cast<int>(measured.matches.size()));
   PoseUpdate update = Update(prior, measured, 0);

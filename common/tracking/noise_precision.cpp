@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "imaging/simd.h"
 #include "tracking/dense_linearization.h"
 
 namespace fleetloc::tracking {
@@ -100,6 +101,22 @@ ResidualNoise FitResidualNoise(const cv::Mat& frame, const cv::Mat& view, const 
   return noise;
 }
 
+namespace {
+
+// c / (1 + k·u(x)) over a row, with u the normalization factor squared: c·d² / (d² + k), d the
+// pixel's spread plus epsilon. One loop the compiler vectorizes (0.36 M instructions a 320×240
+// level scalar, measured in session 48).
+FLEETLOC_VECTOR_CLONES void PrecisionRow(const float* local_variance, int n, float c, float k,
+                                         float epsilon, float* out) {
+  for (int x = 0; x < n; ++x) {
+    const float d = std::sqrt(std::max(local_variance[x], 0.0f)) + epsilon;
+    const float d2 = d * d;
+    out[x] = c * d2 / (d2 + k);
+  }
+}
+
+}  // namespace
+
 cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& local_variance,
                           float epsilon) {
   if (!(noise.b > 0) || !(noise.a > 0)) return cv::Mat();
@@ -108,11 +125,8 @@ cv::Mat ResidualPrecision(const ResidualNoise& noise, const cv::Mat& local_varia
   const float c = static_cast<float>(1.0 + noise.b / noise.a * noise.median_u);
   cv::Mat precision(local_variance.size(), CV_32F);
   for (int y = 0; y < precision.rows; ++y) {
-    const float* in = local_variance.ptr<float>(y);
-    float* out = precision.ptr<float>(y);
-    for (int x = 0; x < precision.cols; ++x) {
-      out[x] = c / (1.0f + k * NormalizationFactorSquared(in[x], epsilon));
-    }
+    PrecisionRow(local_variance.ptr<float>(y), precision.cols, c, k, epsilon,
+                 precision.ptr<float>(y));
   }
   return precision;
 }
