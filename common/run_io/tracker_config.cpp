@@ -24,6 +24,7 @@ FieldTable TrackerFields(tracking::TrackerOptions& o) {
           {"relative_texture", &o.relative_texture},
           {"texture_quantile", &o.texture_quantile},
           {"spread_sigma_px", &o.spread_sigma_px},
+          {"texture_cap_quantile", &o.texture_cap_quantile},
           {"normalize_window_px", &o.normalize_window_px},
           {"match_smoothing_sigma_px", &o.match_smoothing_sigma_px},
           {"min_peak_correlation", &o.min_peak_correlation},

@@ -49,6 +49,19 @@ TEST(TrackerConfig, RejectsUnknownWrongTypeAndOutOfRange) {
   EXPECT_NE(bad.status().message().find("template_size_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsTheTextureCapAndRefusesOneOutsideAQuantile) {
+  EXPECT_DOUBLE_EQ(TrackerOptionsFromJson(nlohmann::json::object(), "t.json")->texture_cap_quantile,
+                   0.5);
+  const auto off = TrackerOptionsFromJson({{"texture_cap_quantile", 0}}, "t.json");
+  ASSERT_TRUE(off.ok());
+  EXPECT_EQ(off->texture_cap_quantile, 0.0);
+  for (const double q : {-0.1, 1.0}) {
+    const auto bad = TrackerOptionsFromJson({{"texture_cap_quantile", q}}, "t.json");
+    EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput) << q;
+    EXPECT_NE(bad.status().message().find("texture_cap_quantile"), std::string::npos);
+  }
+}
+
 TEST(TrackerConfig, ReadsThePolishOptionsAndRefusesASinglePassBeyondTheConvergenceGate) {
   const auto options = TrackerOptionsFromJson(
       {{"polish_dense_max_frame_pixels", 0}, {"direct", {{"polish_single_pass_px", 0.2}}}},

@@ -72,6 +72,16 @@ double RelativeTextureThreshold(const cv::Mat& texture_grid, double quantile, do
   return std::max(floor, relative * *at);
 }
 
+void CapTexture(double quantile, std::vector<TemplateSite>* candidates) {
+  if (candidates->empty() || !(quantile > 0 && quantile < 1)) return;
+  std::vector<double> textures;
+  textures.reserve(candidates->size());
+  for (const TemplateSite& site : *candidates) textures.push_back(site.texture);
+  const auto at = textures.begin() + static_cast<long>(quantile * (textures.size() - 1));
+  std::nth_element(textures.begin(), at, textures.end());
+  for (TemplateSite& site : *candidates) site.texture = std::min(site.texture, *at);
+}
+
 std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidates, int max_sites,
                                       double spread_sigma_px, double min_separation_px) {
   std::vector<TemplateSite> chosen;

@@ -32,6 +32,11 @@ std::vector<TemplateSite> CandidateSites(const cv::Mat& texture_grid, int step_p
 double RelativeTextureThreshold(const cv::Mat& texture_grid, double quantile, double relative,
                                 double floor);
 
+// Every candidate's texture capped at the candidates' `quantile` texture (0 < quantile < 1; else
+// unchanged), so that above it the spread alone decides: the strongest texture of a frame is
+// often an occluder the mosaic does not have (debris, a tyre mark's edge), not the floor.
+void CapTexture(double quantile, std::vector<TemplateSite>* candidates);
+
 // Greedy selection: each pick maximizes texture × d² / (d² + 2σ²), d being the distance to
 // the nearest site already picked; sites closer than min_separation_px are never picked.
 std::vector<TemplateSite> SelectSites(const std::vector<TemplateSite>& candidates, int max_sites,

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace fleetloc::tracking {
 namespace {
 
@@ -71,6 +73,31 @@ TEST(SelectSites, NeverPicksOverlappingTemplates) {
   for (size_t i = 0; i < chosen.size(); ++i)
     for (size_t j = i + 1; j < chosen.size(); ++j)
       EXPECT_GE((chosen[i].center_px - chosen[j].center_px).norm(), 32.0);
+}
+
+// Debris across a third of a frame scores ten times the floor's texture: uncapped, every pick of
+// ten lands on it; capped at the candidates' median, the picks spread over the frame and most land
+// on the floor.
+TEST(CapTexture, AStrongOccluderNoLongerTakesEveryPick) {
+  std::vector<TemplateSite> c;
+  for (int y = 16; y < 480; y += 16) {
+    for (int x = 16; x < 640; x += 16) {
+      const bool debris = x < 213;  // the left third
+      c.push_back({{double(x), double(y)}, debris ? 100.0 + (x + y) % 7 : 10.0 + (x * y) % 3});
+    }
+  }
+  const auto on_floor = [](const std::vector<TemplateSite>& chosen) {
+    return std::count_if(chosen.begin(), chosen.end(),
+                         [](const TemplateSite& s) { return s.center_px.x() >= 213; });
+  };
+  EXPECT_EQ(on_floor(SelectSites(c, 10, 120.0, 48.0)), 0);
+  std::vector<TemplateSite> capped = c;
+  CapTexture(0.5, &capped);
+  for (size_t i = 0; i < c.size(); ++i) EXPECT_LE(capped[i].texture, c[i].texture);
+  EXPECT_GE(on_floor(SelectSites(capped, 10, 120.0, 48.0)), 6);
+  std::vector<TemplateSite> unchanged = c;
+  CapTexture(0.0, &unchanged);
+  EXPECT_EQ(unchanged[0].texture, c[0].texture);
 }
 
 }  // namespace

@@ -54,8 +54,11 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& texture, con
       {mosaic_in_frame, template_half + radius_px}};
   const double min_texture = RelativeTextureThreshold(
       texture, options_.texture_quantile, options_.relative_texture, options_.min_texture);
-  const std::vector<TemplateSite> candidates =
+  std::vector<TemplateSite> candidates =
       CandidateSites(texture, 2 * half_step, bounds, min_texture);
+  if (template_size_px == options_.template_size_px) {
+    CapTexture(options_.texture_cap_quantile, &candidates);
+  }
   // A small camera's frame, polished, needs only enough standard templates to bring its fit within
   // the polish's reach (the 2 ms budget at 640×480). Large cameras keep them all (at 1280×1024 the
   // cap raised 9 cells' camera RMS by 3–20 %), and so do the weak-floor templates (a weak floor's

@@ -138,6 +138,8 @@ Status ValidateTemplates(const TrackerOptions& o) {
   FLEETLOC_RETURN_IF_ERROR(Check(o.texture_quantile >= 0 && o.texture_quantile <= 1,
                                  "texture_quantile", "must be in [0, 1]"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.spread_sigma_px > 0, "spread_sigma_px", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(o.texture_cap_quantile >= 0 && o.texture_cap_quantile < 1,
+                                 "texture_cap_quantile", "must be in [0, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.min_peak_correlation > -1 && o.min_peak_correlation < 1,
                                  "min_peak_correlation", "must be in (-1, 1)"));
   FLEETLOC_RETURN_IF_ERROR(Check(o.max_ambiguity_ratio > 0 && o.max_ambiguity_ratio <= 1,
