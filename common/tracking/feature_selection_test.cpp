@@ -38,7 +38,8 @@ TEST(CandidateSites, ASiteMustFitEveryBound) {
   ASSERT_FALSE(sites.empty());
   double min_u = 1e9, max_u = 0;
   for (const auto& s : sites) {
-    min_u = std::min(min_u, s.center_px.x()), max_u = std::max(max_u, s.center_px.x());
+    min_u = std::min(min_u, s.center_px.x());
+    max_u = std::max(max_u, s.center_px.x());
     EXPECT_GE(s.center_px.y(), 60.0);  // the window needs 60 px inside the mosaic's top edge
   }
   EXPECT_EQ(min_u, 32.0);   // the frame's bound, not the mosaic's (−40)
@@ -58,6 +59,7 @@ TEST(RelativeTextureThreshold, FollowsTheFramesOwnTextureAboveTheFloor) {
 
 TEST(SelectSites, SpreadsPicksAcrossTheFrameInsteadOfClusteringOnTheBest) {
   std::vector<TemplateSite> c;
+  c.reserve(11);
   for (int i = 0; i < 10; ++i) c.push_back({{100.0 + 8 * i, 100.0}, 100.0 - i});  // a hot spot
   c.push_back({{500.0, 400.0}, 50.0});                                            // far, weaker
   const auto chosen = SelectSites(c, 2, 120.0, 32.0);
@@ -68,6 +70,7 @@ TEST(SelectSites, SpreadsPicksAcrossTheFrameInsteadOfClusteringOnTheBest) {
 
 TEST(SelectSites, NeverPicksOverlappingTemplates) {
   std::vector<TemplateSite> c;
+  c.reserve(50);
   for (int i = 0; i < 50; ++i) c.push_back({{8.0 * i, 0.0}, 1.0});
   const auto chosen = SelectSites(c, 50, 100.0, 32.0);
   for (size_t i = 0; i < chosen.size(); ++i)
