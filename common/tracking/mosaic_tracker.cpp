@@ -55,7 +55,7 @@ void MosaicTracker::Reset(const PoseWithCovariance& base_in_map, const Pose2& od
   weak_first_frames_left_ = 0;
   standard_template_misses_ = 0;
   polish_model_ = {};
-  frames_since_blur_ = 0;
+  frames_since_model_ = 0;
 }
 
 int MosaicTracker::WarmUp(const PoseWithCovariance& base_in_map, int max_tiles) {
@@ -262,7 +262,7 @@ PoseWithCovariance MosaicTracker::Polished(FramePyramid* pyramid, const PoseWith
                                            const PoseWithCovariance& fit, FrameResult* stats) {
   const auto t_polish = std::chrono::steady_clock::now();
   const bool estimate_model = polish_model_.view_blur_px < 0 ||
-                              ++frames_since_blur_ >= options_.direct.view_blur_every_frames;
+                              ++frames_since_model_ >= options_.direct.view_blur_every_frames;
   // A camera that polishes every frame does so at direct.polish_max_level_pixels' level; one that
   // polishes only its weak dense fits, at polish_dense_max_level_pixels'.
   const int level =
@@ -275,7 +275,7 @@ PoseWithCovariance MosaicTracker::Polished(FramePyramid* pyramid, const PoseWith
   if (!polished.valid) return fit;
   if (estimate_model) {
     polish_model_ = {polished.view_blur_px, polished.noise};
-    frames_since_blur_ = 0;
+    frames_since_model_ = 0;
   }
   stats->polished = true;
   return polished.posterior;

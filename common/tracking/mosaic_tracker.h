@@ -149,7 +149,7 @@ class MosaicTracker : public FrameLocalizer {
   // (blur < 0: not yet), and the frames polished since
   // (DirectAlignOptions::view_blur_every_frames).
   PolishModel polish_model_;
-  int frames_since_blur_ = 0;
+  int frames_since_model_ = 0;
   LockState state_ = LockState::kLost;
 };
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
 #include "imaging/fast_patch.h"
 #include "timing/elapsed.h"
@@ -56,6 +55,8 @@ std::vector<TemplateSite> MosaicTracker::ChooseSites(const cv::Mat& texture, con
       texture, options_.texture_quantile, options_.relative_texture, options_.min_texture);
   std::vector<TemplateSite> candidates =
       CandidateSites(texture, 2 * half_step, bounds, min_texture);
+  // Debris and marks, the strongest texture of an occluded frame, must not take every standard
+  // pick (texture_cap_quantile); a weak floor's few strong sites are its best.
   if (template_size_px == options_.template_size_px) {
     CapTexture(options_.texture_cap_quantile, &candidates);
   }
