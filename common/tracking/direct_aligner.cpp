@@ -9,7 +9,6 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
 #include "tracking/direct_aligner_parts.h"
 
@@ -53,12 +52,6 @@ double CornerSigmaPx(const geometry::CameraModel& camera, const PoseWithCovarian
                      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues().maxCoeff());
   }
   return std::sqrt(worst) / camera.resolution_m;
-}
-
-cv::Mat Halved(const cv::Mat& image) {
-  cv::Mat half;
-  cv::resize(image, half, {image.cols / 2, image.rows / 2}, 0, 0, cv::INTER_AREA);
-  return half;
 }
 
 }  // namespace direct_detail

@@ -27,8 +27,6 @@ geometry::Pose2 ApplyStep(const geometry::Pose2& pose, const Eigen::Vector3d& q_
                           double resolution_m);
 // Largest 1-sigma displacement (level-0 px) over the frame corners under `covariance`.
 double CornerSigmaPx(const geometry::CameraModel& camera, const geometry::PoseWithCovariance& pose);
-// The next pyramid level of `image`: half its size, pixel areas averaged (as the mosaic's).
-cv::Mat Halved(const cv::Mat& image);
 
 }  // namespace direct_detail
 

@@ -17,6 +17,7 @@
 #include "tracking/direct_aligner.h"
 #include "tracking/direct_aligner_parts.h"
 #include "tracking/frame_mosaic_warp.h"
+#include "tracking/frame_pyramid.h"
 
 namespace fleetloc::tracking {
 
@@ -222,9 +223,9 @@ PointSet ChoosePoints(const cv::Mat& t, const cv::Mat& occluded, int border, int
 std::vector<DirectAligner::Level> DirectAligner::BuildLevels(const cv::Mat& frame, int finest,
                                                              int coarsest) const {
   std::vector<Level> levels(coarsest + 1);
-  cv::Mat image = frame;
+  FramePyramid pyramid(frame);
   for (int l = 0; l <= coarsest; ++l) {
-    if (l > 0) image = direct_detail::Halved(image);
+    const cv::Mat image = pyramid.Level(l);
     Level& level = levels[l];
     level.level = l;
     if (l < finest) continue;

@@ -9,6 +9,7 @@
 #include "tracking/direct_aligner.h"
 #include "tracking/direct_aligner_parts.h"
 #include "tracking/frame_mosaic_warp.h"
+#include "tracking/frame_pyramid.h"
 #include "tracking/noise_precision.h"
 #include "tracking/predicted_view.h"
 #include "tracking/view_blur.h"
@@ -48,7 +49,7 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
 cv::Mat AtLevel(const cv::Mat& frame, const geometry::CameraModel& camera, int level) {
   cv::Mat at = frame;
   if (frame.cols == camera.width_px && frame.rows == camera.height_px) {
-    for (int l = 0; l < level; ++l) at = direct_detail::Halved(at);
+    at = FramePyramid(frame).Level(level);
   }
   CV_Assert(at.cols == camera.width_px >> level && at.rows == camera.height_px >> level);
   return at;
