@@ -90,7 +90,8 @@ struct DirectAligner::LevelWarp {
                             source.texels.ptr<float>(y0 + 1) + 4 * x0, bx - x0, by - y0, sample);
       const Eigen::Vector2f g = to_frame * Eigen::Vector2f(sample[1], sample[2]);
       views.value[i] = sample[0];
-      views.gx[i] = g.x() * scale, views.gy[i] = g.y() * scale;
+      views.gx[i] = g.x() * scale;
+      views.gy[i] = g.y() * scale;
       views.seen[i] = 1.0f;
     }
     return views;
