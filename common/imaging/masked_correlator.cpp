@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "base/status.h"
+#include "imaging/dft_size.h"
+#include "imaging/simd.h"
 
 namespace fleetloc::imaging {
 namespace {
@@ -97,14 +99,25 @@ cv::Mat RowPrefixSumsOfSquares(const cv::Mat& image) {
   return sums;
 }
 
+// out[x] += ends[x] − begins[x]: one run's sums added at a row of placements.
+FLEETLOC_VECTOR_CLONES
+void AddRunSums(const float* ends, const float* begins, int n, float* out) {
+  for (int x = 0; x < n; ++x) out[x] += ends[x] - begins[x];
+}
+
 // Σ M·I² at every placement in `valid`: per run of the mask, the difference of two shifted
-// views of the row prefix sums (whole-map vector operations, no transform).
+// views of the row prefix sums (no transform), a row of placements at a time so that the row
+// stays in cache while every run is added (the whole map once per run was 20 % of the fine
+// dense search's sweep at 1280×1024; the same sums in the same order).
 cv::Mat MaskedEnergy(const cv::Mat& row_sums_sq, const cv::Mat& mask, cv::Size valid) {
-  cv::Mat energy = cv::Mat::zeros(valid, CV_32F), run_sum;
-  for (const Run& r : RunsOf(mask)) {
-    cv::subtract(row_sums_sq(cv::Rect(cv::Point(r.end, r.row), valid)),
-                 row_sums_sq(cv::Rect(cv::Point(r.begin, r.row), valid)), run_sum);
-    energy += run_sum;
+  const std::vector<Run> runs = RunsOf(mask);
+  cv::Mat energy = cv::Mat::zeros(valid, CV_32F);
+  for (int y = 0; y < valid.height; ++y) {
+    float* out = energy.ptr<float>(y);
+    for (const Run& r : runs) {
+      const float* sums = row_sums_sq.ptr<float>(y + r.row);
+      AddRunSums(sums + r.end, sums + r.begin, valid.width, out);
+    }
   }
   return energy;
 }
@@ -157,8 +170,7 @@ MaskedCorrelator::MaskedCorrelator(const cv::Mat& image, int zero_border_px)
                  ZeroBorder(image, zero_border_px));
   // A cyclic correlation of this length reads, past the image's end, only the zero border at
   // its start (and the image's own end is zero as far as it is left out).
-  dft_size_ = {cv::getOptimalDFTSize(image.cols - zero_border_px),
-               cv::getOptimalDFTSize(image.rows - zero_border_px)};
+  dft_size_ = EvenDftSize({image.cols - zero_border_px, image.rows - zero_border_px});
   spectrum_ = Spectrum(image, dft_size_);
   row_sums_sq_ = RowPrefixSumsOfSquares(image);
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "imaging/dft_size.h"
 #include "imaging/fast_patch.h"
 
 namespace fleetloc::imaging {
@@ -20,9 +21,7 @@ constexpr double kMultiplyAddsPerTransformedPixel = 60.0;
 }  // namespace
 
 SpectralNcc::SpectralNcc(const cv::Mat& templ, cv::Size view_size)
-    : templ_size_(templ.size()),
-      view_size_(view_size),
-      dft_size_(cv::getOptimalDFTSize(view_size.width), cv::getOptimalDFTSize(view_size.height)) {
+    : templ_size_(templ.size()), view_size_(view_size), dft_size_(EvenDftSize(view_size)) {
   CV_Assert(templ.type() == CV_32F && view_size.width >= templ.cols &&
             view_size.height >= templ.rows);
   cv::Scalar mean, deviation;

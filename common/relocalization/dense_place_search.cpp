@@ -106,6 +106,8 @@ Status Validate(const DensePlaceSearchOptions& o) {
     return InvalidInput("dense place search: sweep_heading_step_factor must be in [1, 4]");
   if (o.refine_heading_steps < 1 || o.refine_heading_steps > 8)
     return InvalidInput("dense place search: refine_heading_steps must be 1..8");
+  if (o.refine_sweep_heading_stride < 1 || o.refine_sweep_heading_stride > 4)
+    return InvalidInput("dense place search: refine_sweep_heading_stride must be 1..4");
   if (o.normalize_window_px < 3 || o.normalize_window_px % 2 == 0)
     return InvalidInput("dense place search: normalize_window_px must be odd and >= 3");
   if (!(o.clip > 0.5 && o.clip <= 10.0))
@@ -192,6 +194,11 @@ int DensePlaceSearch::heading_steps(SweepLevel level) const {
   return steps + steps % 2;
 }
 
+double DensePlaceSearch::SweepWork(SweepLevel level, int stride) const {
+  const int pairs = (heading_steps(level) / 2 + stride - 1) / stride;
+  return static_cast<double>(sweep_size(level).area()) * pairs;
+}
+
 double DensePlaceSearch::sweep_heading_rad(int k, SweepLevel level) const {
   return -M_PI + 2 * M_PI * k / heading_steps(level);
 }
@@ -259,8 +266,8 @@ Eigen::Vector2d DensePlaceSearch::SweepPixel(const Eigen::Vector2d& map_xy,
 }
 
 void DensePlaceSearch::Sweep(const cv::Mat& frame,
-                             const std::function<void(const SweepMap&)>& visit,
-                             SweepLevel level) const {
+                             const std::function<void(const SweepMap&)>& visit, SweepLevel level,
+                             int stride) const {
   const cv::Mat normalized = NormalizedFrame(frame, level);
   const int half = heading_steps(level) / 2;
   // One heading pair a stripe, then visited in heading order (as one stripe would).
@@ -269,15 +276,16 @@ void DensePlaceSearch::Sweep(const cv::Mat& frame,
     int suppress_px = 0;
   };
   std::vector<PairMaps> batch(options_.threads);
-  for (int first = 0; first < half; first += options_.threads) {
-    const int count = std::min(options_.threads, half - first);
+  const int pairs = (half + stride - 1) / stride;
+  for (int first = 0; first < pairs; first += options_.threads) {
+    const int count = std::min(options_.threads, pairs - first);
     InParallel(count, options_.threads, [&](int i) {
       PairMaps& m = batch[i];
-      m.suppress_px = ScoresAtAndTurned(normalized, sweep_heading_rad(first + i, level), level,
-                                        &m.centred, &m.turned);
+      m.suppress_px = ScoresAtAndTurned(normalized, sweep_heading_rad((first + i) * stride, level),
+                                        level, &m.centred, &m.turned);
     });
     for (int i = 0; i < count; ++i) {
-      const int k = first + i;
+      const int k = (first + i) * stride;
       if (batch[i].suppress_px == 0) continue;
       visit({k, sweep_heading_rad(k, level), batch[i].centred, batch[i].suppress_px});
       visit({k + half, sweep_heading_rad(k + half, level), batch[i].turned, batch[i].suppress_px});
@@ -297,26 +305,33 @@ void DensePlaceSearch::AppendCoarsePeaks(cv::Mat scores, double theta, int suppr
 }
 
 std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
-    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
+    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also,
+    SweepLevel sweep) const {
   std::vector<DensePeak> peaks;
-  Sweep(frame, [&](const SweepMap& map) {
-    if (also) also(map);
-    AppendCoarsePeaks(map.scores.clone(), map.theta, map.suppress_px, &peaks);
-  });
+  Sweep(
+      frame,
+      [&](const SweepMap& map) {
+        if (also) also(map);
+        AppendCoarsePeaks(map.scores.clone(), map.theta, map.suppress_px, &peaks, sweep);
+      },
+      sweep, sweep == SweepLevel::kRefine ? options_.refine_sweep_heading_stride : 1);
   std::sort(peaks.begin(), peaks.end(),
             [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
   return peaks;
 }
 
-std::vector<DensePeak> DensePlaceSearch::Search(
-    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also) const {
+std::vector<DensePeak> DensePlaceSearch::Search(const cv::Mat& frame,
+                                                const std::function<void(const SweepMap&)>& also,
+                                                SweepLevel sweep) const {
   FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
                  frame.rows == camera_.height_px);
   const std::vector<DensePeak> coarse =
-      DistinctBest(CoarsePeaks(frame, also), options_.coarse_peaks);
+      DistinctBest(CoarsePeaks(frame, also, sweep), options_.coarse_peaks);
+  // A peak of the refine level's own sweep is within a pixel of its place there.
+  const int radius_px = sweep == SweepLevel::kRefine ? 2 : 4;
   std::vector<DensePeak> refined(coarse.size());
   InParallel(static_cast<int>(coarse.size()), options_.threads,
-             [&](int i) { refined[i] = Refine(frame, coarse[i]); });
+             [&](int i) { refined[i] = Refine(frame, coarse[i], radius_px); });
   return DistinctBest(std::move(refined), options_.max_peaks);
 }
 

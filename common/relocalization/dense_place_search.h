@@ -32,6 +32,9 @@ struct DensePlaceSearchOptions {
   // default 2 covers twice the largest heading error of the default sweep).
   double sweep_heading_step_factor = 1.0;
   int refine_heading_steps = 2;
+  // Search's sweep of the refine level itself (SweepLevel::kRefine) visits every this-many-th of
+  // that level's headings; the refinement's ± refine_heading_steps must cover half of it.
+  int refine_sweep_heading_stride = 1;
   int normalize_window_px = 7;  // local mean and deviation window at both levels, odd
   double clip = 2.5;            // normalized values are clipped to ±this
   int coarse_peaks = 12;        // distinct peaks of the heading search refined
@@ -79,8 +82,9 @@ class DensePlaceSearch {
     const cv::Mat& scores;
     int suppress_px = 2;
   };
+  // `stride` > 1 visits every stride-th heading pair only (k a multiple of it, and k + steps / 2).
   void Sweep(const cv::Mat& frame, const std::function<void(const SweepMap&)>& visit,
-             SweepLevel level = SweepLevel::kCoarse) const;
+             SweepLevel level = SweepLevel::kCoarse, int stride = 1) const;
   // One heading of a sweep: `frame` reduced to the level and normalized, then its map at any θ
   // (the SweepMap layout; returns its suppress_px, 0 when the frame does not fit the mosaic).
   cv::Mat NormalizedFrame(const cv::Mat& frame, SweepLevel level) const;
@@ -93,11 +97,17 @@ class DensePlaceSearch {
   Eigen::Vector2d SweepPixel(const Eigen::Vector2d& map_xy, SweepLevel level) const;
 
   // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
-  // `also`, when given, sees every map of the coarse sweep (the multi-frame search reuses it).
+  // `also`, when given, sees every map of the sweep (the multi-frame search reuses it). `sweep`:
+  // the level whose heading sweep gives the peaks Refine refines; kRefine sweeps the refine level
+  // itself, at its own heading step (about 8 times the coarse sweep's work), for a floor whose
+  // detail is gone one level coarser.
   std::vector<DensePeak> Search(const cv::Mat& frame,
-                                const std::function<void(const SweepMap&)>& also = {}) const;
+                                const std::function<void(const SweepMap&)>& also = {},
+                                SweepLevel sweep = SweepLevel::kCoarse) const;
 
   int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;  // even
+  // A sweep's work: the level's padded pixels × the heading pairs it transforms (with `stride`).
+  double SweepWork(SweepLevel level, int stride = 1) const;
   double sweep_heading_rad(int k, SweepLevel level = SweepLevel::kCoarse) const;
   cv::Size sweep_size(SweepLevel level = SweepLevel::kCoarse) const;
   double sweep_resolution_m(SweepLevel level = SweepLevel::kCoarse) const;
@@ -111,8 +121,10 @@ class DensePlaceSearch {
                          std::vector<DensePeak>* peaks,
                          SweepLevel level = SweepLevel::kCoarse) const;
 
-  // The best pose one level finer within ±2 heading steps and ±4 pixels of `coarse`.
-  DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse) const;
+  // The best pose one level finer within ± refine_heading_steps heading steps and ± radius_px
+  // pixels of `coarse` (4: a coarse peak's pixel is two of the finer level's; a peak of the
+  // refine level's own sweep needs less).
+  DensePeak Refine(const cv::Mat& frame, const DensePeak& coarse, int radius_px = 4) const;
 
   // The best place distinct from `first` (the first frame's camera) for the newest of `frames`
   // (frame i's camera is first ⊕ motions[i], motions[0] the identity; the same count), with the
@@ -141,7 +153,8 @@ class DensePlaceSearch {
   struct Level;
   DensePlaceSearch(const geometry::CameraModel& camera, const DensePlaceSearchOptions& options);
   std::vector<DensePeak> CoarsePeaks(const cv::Mat& frame,
-                                     const std::function<void(const SweepMap&)>& also) const;
+                                     const std::function<void(const SweepMap&)>& also,
+                                     SweepLevel sweep) const;
   const Level& LevelOf(SweepLevel level) const;
 
   geometry::CameraModel camera_;

@@ -34,7 +34,8 @@ Eigen::Vector2d SubPixel(const cv::Mat& scores, cv::Point at) {
 
 }  // namespace
 
-DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse) const {
+DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse,
+                                   int radius_px) const {
   const Level& f = *fine_;
   cv::Mat small;
   cv::resize(frame, small, cv::Size(frame.cols >> f.level, frame.rows >> f.level), 0, 0,
@@ -42,15 +43,14 @@ DensePeak DensePlaceSearch::Refine(const cv::Mat& frame, const DensePeak& coarse
   const cv::Mat normalized = NormalizeClipped(small, options_.normalize_window_px, options_.clip);
   const Eigen::Vector2d centre_ground =
       camera_.PixelToGround({0.5 * camera_.width_px, 0.5 * camera_.height_px});
-  constexpr int kRadius = 4;  // fine pixels searched around the coarse peak
   DensePeak best{coarse.camera_in_map, -2.0};
   for (int j = -options_.refine_heading_steps; j <= options_.refine_heading_steps; ++j) {
     const double theta = coarse.camera_in_map.theta + j * f.heading_step_rad;
     const Template t = RotatedFrame(normalized, FrameToMosaic(camera_, f.geo, theta));
     const Eigen::Vector2d at = f.geo.MapToPixel(coarse.camera_in_map * centre_ground);
-    const cv::Point corner(static_cast<int>(std::lround(at.x() - t.centre.x())) - kRadius,
-                           static_cast<int>(std::lround(at.y() - t.centre.y())) - kRadius);
-    const cv::Rect area(corner, t.pixels.size() + cv::Size(2 * kRadius, 2 * kRadius));
+    const cv::Point corner(static_cast<int>(std::lround(at.x() - t.centre.x())) - radius_px,
+                           static_cast<int>(std::lround(at.y() - t.centre.y())) - radius_px);
+    const cv::Rect area(corner, t.pixels.size() + cv::Size(2 * radius_px, 2 * radius_px));
     if ((area & cv::Rect(0, 0, f.normalized.cols, f.normalized.rows)) != area) continue;
     cv::Mat scores;
     imaging::MatchAtFewPlacements(f.normalized(area), t.pixels, t.mask, &scores);

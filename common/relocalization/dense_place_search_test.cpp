@@ -192,6 +192,31 @@ TEST(DensePlaceSearch, AWiderSweepStepSweepsHalfTheHeadingsAndStillFindsCleanFra
   EXPECT_GE(found, 3);
 }
 
+TEST(DensePlaceSearch, ASweepWithAStrideVisitsEveryStrideThHeadingAndItsTurn) {
+  const cv::Mat photo = PlainConcrete();
+  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  const geometry::CameraModel camera = SmallCamera();
+  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+  ASSERT_TRUE(search.ok()) << search.status().message();
+  const DensePlaceSearch& dense = **search;
+  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
+  std::mt19937_64 rng(17);
+  const cv::Mat frame =
+      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  using Level = DensePlaceSearch::SweepLevel;
+  const int half = dense.heading_steps(Level::kRefine) / 2;
+  std::vector<int> expected, visited;
+  for (int k = 0; k < half; k += 3) expected.insert(expected.end(), {k, k + half});
+  dense.Sweep(
+      frame,
+      [&](const DensePlaceSearch::SweepMap& map) {
+        visited.push_back(map.k);
+        EXPECT_NEAR(map.theta, dense.sweep_heading_rad(map.k, Level::kRefine), 1e-12);
+      },
+      Level::kRefine, 3);
+  EXPECT_EQ(visited, expected);
+}
+
 TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
   const cv::Mat photo = PlainConcrete();
   mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});

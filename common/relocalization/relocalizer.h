@@ -6,6 +6,7 @@
 // small covariance; the pose the tracker confirms with most inliers, unambiguously, is returned.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -79,8 +80,20 @@ struct RelocalizerOptions {
   // correlate 0.10–0.15 with seconds at 0.3–0.45 of them, which 0.12 refused in 3 of 10 trials
   // (docs/benchmarks.md, session 45).
   bool dense_fine_search = true;
-  DensePlaceSearchOptions dense_fine{.min_short_side_px = 96, .heading_step_scale = 2.0};
+  DensePlaceSearchOptions dense_fine{
+      .min_short_side_px = 96, .heading_step_scale = 2.0, .refine_sweep_heading_stride = 3};
   double dense_fine_min_correlation = 0.09;
+  // When the fine dense search finds nothing and saw no clear twin, its refine level swept
+  // itself at that level's heading step (DensePlaceSearch::Search with SweepLevel::kRefine), under
+  // the same gate. At 1280×1024 (sweep 8 mm/px, refine 4 mm/px) on polished concrete 024 under
+  // dust and painted pavement 001 under every effect, the truth refined at 4 mm/px correlates
+  // 0.11–0.18 where the 8 mm/px sweep's best is a noise peak at 0.04–0.06: the coarser sweep
+  // never offered it (docs/benchmarks.md, issue 17, session 48).
+  bool dense_fine_refine_sweep = true;
+  // It runs only when the attempt's time so far plus its predicted time (the fine search's own,
+  // scaled by SweepWork) stays within this: on a floor twice as large (the stress bench's repeated
+  // layouts) it would take the attempt past 1 s for a pose that is then refused as ambiguous.
+  double dense_attempt_budget_ms = 800;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
   // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
   // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
@@ -115,6 +128,8 @@ struct Relocalization {
   // The fine dense search, when it ran (after the dense search): its best and second peaks.
   bool dense_fine = false;
   double dense_fine_best = 0, dense_fine_second = 0;
+  bool dense_fine_refine_sweep = false;  // the fine search swept its refine level (its peaks above)
+  double dense_fine_refine_sweep_predicted_ms = 0;  // when it was considered (run or not)
   // The multi-frame search, when it ran: frames combined, its best and second peaks (mean
   // correlations), and whether the accepted pose came from it.
   int trajectory_frames = 0;
@@ -191,6 +206,13 @@ class Relocalizer {
   // The dense place search and the verification of its best peak, then the fine one when that
   // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
+  // The fine dense search of `frame` with the peaks of the `sweep` level's heading sweep.
+  void FineRelocalize(const cv::Mat& frame, DensePlaceSearch::SweepLevel sweep,
+                      Relocalization* out);
+  // Whether the fine search's refine-level sweep fits the attempt's budget, `fine_ms` the fine
+  // search's own time and `dense_start` the dense searches' start (see RelocalizerOptions).
+  bool RefineSweepFits(double fine_ms, std::chrono::steady_clock::time_point dense_start,
+                       Relocalization* out) const;
   // Accepts the best of `peaks` (poses of `frame`'s camera, from `search`) when it correlates
   // min_correlation, the second reaches at most max_second_ratio of it and a tracker cycle
   // confirms it.
@@ -202,7 +224,8 @@ class Relocalizer {
   std::vector<DensePeak> SearchDense(
       const DensePlaceSearch& search, const cv::Mat& frame,
       const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
-      Relocalization* out);
+      Relocalization* out,
+      DensePlaceSearch::SweepLevel sweep = DensePlaceSearch::SweepLevel::kCoarse);
   void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).

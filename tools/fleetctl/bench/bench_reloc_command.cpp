@@ -26,6 +26,34 @@ void AddStressOptions(CLI::App* cmd, bench::RelocStressArgs& st) {
       ->delimiter(',');
 }
 
+// The fine dense search's options (issue 17), for measuring them.
+void AddFineSearchOptions(CLI::App* cmd, relocalization::RelocalizerOptions& r) {
+  cmd->add_option("--fine-sweep-step-factor", r.dense_fine.sweep_heading_step_factor,
+                  "The fine dense search's sweep heading step, times its default")
+      ->check(CLI::Range(1.0, 4.0))
+      ->capture_default_str();
+  cmd->add_option("--fine-refine-heading-steps", r.dense_fine.refine_heading_steps,
+                  "Refine-level heading steps either side the fine dense search refines over")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str();
+  cmd->add_option("--fine-min-correlation", r.dense_fine_min_correlation,
+                  "The fine dense search's best peak must correlate at least this much")
+      ->check(CLI::Range(0.01, 0.99))
+      ->capture_default_str();
+  cmd->add_option("--fine-refine-sweep", r.dense_fine_refine_sweep,
+                  "When the fine dense search finds nothing, sweep its refine level itself "
+                  "(true/false)")
+      ->capture_default_str();
+  cmd->add_option("--attempt-budget-ms", r.dense_attempt_budget_ms,
+                  "The refine-level sweep runs only when the attempt stays within this (ms)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--fine-refine-sweep-stride", r.dense_fine.refine_sweep_heading_stride,
+                  "The fine search's refine-level sweep visits every this-many-th heading")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+}
+
 }  // namespace
 
 void RegisterBenchRelocCommand(CLI::App& bench, Status* result) {
@@ -57,20 +85,7 @@ void RegisterBenchRelocCommand(CLI::App& bench, Status* result) {
                   "on 2 stripes; results do not depend on it)")
       ->check(CLI::Range(1, 2))
       ->capture_default_str();
-  cmd->add_option("--fine-sweep-step-factor",
-                  args->trials.relocalizer.dense_fine.sweep_heading_step_factor,
-                  "The fine dense search's sweep heading step, times its default")
-      ->check(CLI::Range(1.0, 4.0))
-      ->capture_default_str();
-  cmd->add_option("--fine-refine-heading-steps",
-                  args->trials.relocalizer.dense_fine.refine_heading_steps,
-                  "Refine-level heading steps either side the fine dense search refines over")
-      ->check(CLI::Range(1, 8))
-      ->capture_default_str();
-  cmd->add_option("--fine-min-correlation", args->trials.relocalizer.dense_fine_min_correlation,
-                  "The fine dense search's best peak must correlate at least this much")
-      ->check(CLI::Range(0.01, 0.99))
-      ->capture_default_str();
+  AddFineSearchOptions(cmd, args->trials.relocalizer);
   cmd->add_flag("--trajectory-refine-level", args->trials.relocalizer.trajectory_refine_level,
                 "Sum the frames' heading sweeps at the dense search's refine level (slower)");
   cmd->add_option("--trajectory-max-mb", args->trials.relocalizer.trajectory_max_mb,

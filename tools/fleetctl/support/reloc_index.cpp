@@ -20,8 +20,11 @@ nlohmann::json RelocalizationJson(const relocalization::Relocalization& r) {
                                       r.dense_ms + r.trajectory_ms}}}};
   if (r.dense) json["dense"] = {{"best", r.dense_best}, {"second", r.dense_second}};
   if (r.dense_fine) {
-    json["dense_fine"] = {
-        {"best", r.dense_fine_best}, {"second", r.dense_fine_second}, {"ms", r.dense_fine_ms}};
+    json["dense_fine"] = {{"best", r.dense_fine_best},
+                          {"second", r.dense_fine_second},
+                          {"ms", r.dense_fine_ms},
+                          {"refine_sweep", r.dense_fine_refine_sweep},
+                          {"refine_sweep_predicted_ms", r.dense_fine_refine_sweep_predicted_ms}};
   }
   if (r.twin_checked) {
     json["twin"] = {{"own", r.twin_own},
