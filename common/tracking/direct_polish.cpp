@@ -42,7 +42,7 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
   if (level == 0) return RenderNormalizedView(mosaic, rect, warp, 0);
   const int n = mosaic->MarginAt(level);
   const cv::Mat view = RenderAreaAveragedView(mosaic->source(), GrownBy(rect, n), warp, level);
-  return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height)).clone();
+  return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height));
 }
 
 // `frame` (the camera's, or already its pyramid level `level`) at pyramid level `level`.

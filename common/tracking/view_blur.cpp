@@ -15,7 +15,7 @@ int BlurMarginPx(double max_sigma_px) {
 
 cv::Mat BlurredView(const cv::Mat& view, double sigma_px, int margin_px) {
   const cv::Rect kept(margin_px, margin_px, view.cols - 2 * margin_px, view.rows - 2 * margin_px);
-  if (sigma_px <= 0) return view(kept).clone();
+  if (sigma_px <= 0) return view(kept);  // shares view's pixels: read, never written
   const int r = BlurMarginPx(sigma_px);
   CV_Assert(r <= margin_px);
   return imaging::GaussianBlurInterior(

@@ -17,8 +17,8 @@ namespace fleetloc::tracking {
 // Margin (px) a view needs around the pixels it keeps to be blurred by up to `max_sigma_px`.
 int BlurMarginPx(double max_sigma_px);
 
-// `view` (CV_32F) blurred by a Gaussian of `sigma_px` (0: unchanged) with `margin_px` cut from
-// every side; the margin must be ≥ BlurMarginPx(sigma_px).
+// `view` (CV_32F) blurred by a Gaussian of `sigma_px` (0: unchanged, a header on view's own
+// pixels) with `margin_px` cut from every side; the margin must be ≥ BlurMarginPx(sigma_px).
 cv::Mat BlurredView(const cv::Mat& view, double sigma_px, int margin_px);
 
 // The Gaussian blur (px, 0 to max_sigma_px) under which `view` correlates best with `frame`

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "imaging/correlation.h"
+#include "imaging/dft_size.h"
 #include "imaging/fast_patch.h"
 #include "imaging/normalize.h"
 #include "imaging/resample.h"
@@ -232,6 +233,26 @@ BENCHMARK(BM_CoarseSearchSpectralNccRepeat)
     ->Arg(10)
     ->Arg(16)
     ->Unit(benchmark::kMicrosecond);
+
+// OpenCV's real forward transform of a W × 400 image at getOptimalDFTSize(W), which may be odd,
+// and at imaging::EvenDftSize(W), what the FFT correlators pad to (W: the fine dense search's
+// refine level of the stress bench's pavement at 1280×1024, 622 → 625 or 640; 366 → 375 or 384).
+void RealDft(benchmark::State& state, int width) {
+  cv::Mat image(400, width, CV_32F), spectrum;
+  cv::randu(image, -1.0, 1.0);
+  for (auto _ : state) {
+    cv::dft(image, spectrum);
+    benchmark::DoNotOptimize(spectrum.data);
+  }
+}
+void BM_RealDftOptimalLength(benchmark::State& state) {
+  RealDft(state, cv::getOptimalDFTSize(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_RealDftOptimalLength)->Arg(366)->Arg(622)->Unit(benchmark::kMillisecond);
+void BM_RealDftEvenLength(benchmark::State& state) {
+  RealDft(state, imaging::EvenDftSize(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_RealDftEvenLength)->Arg(366)->Arg(622)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace fleetloc
