@@ -106,8 +106,11 @@ Status Validate(const DensePlaceSearchOptions& o) {
     return InvalidInput("dense place search: sweep_heading_step_factor must be in [1, 4]");
   if (o.refine_heading_steps < 1 || o.refine_heading_steps > 8)
     return InvalidInput("dense place search: refine_heading_steps must be 1..8");
-  if (o.refine_sweep_heading_stride < 1 || o.refine_sweep_heading_stride > 4)
-    return InvalidInput("dense place search: refine_sweep_heading_stride must be 1..4");
+  if (o.refine_sweep_heading_stride < 1 || o.refine_sweep_heading_stride > 4 ||
+      o.refine_sweep_heading_stride > 2 * o.refine_heading_steps)
+    return InvalidInput(
+        "dense place search: refine_sweep_heading_stride must be 1..4 and at most twice "
+        "refine_heading_steps");
   if (o.normalize_window_px < 3 || o.normalize_window_px % 2 == 0)
     return InvalidInput("dense place search: normalize_window_px must be odd and >= 3");
   if (!(o.clip > 0.5 && o.clip <= 10.0))

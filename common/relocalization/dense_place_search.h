@@ -33,7 +33,8 @@ struct DensePlaceSearchOptions {
   double sweep_heading_step_factor = 1.0;
   int refine_heading_steps = 2;
   // Search's sweep of the refine level itself (SweepLevel::kRefine) visits every this-many-th of
-  // that level's headings; the refinement's ± refine_heading_steps must cover half of it.
+  // that level's headings; the refinement's ± refine_heading_steps must cover half of it
+  // (checked).
   int refine_sweep_heading_stride = 1;
   int normalize_window_px = 7;  // local mean and deviation window at both levels, odd
   double clip = 2.5;            // normalized values are clipped to ±this
@@ -99,8 +100,8 @@ class DensePlaceSearch {
   // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
   // `also`, when given, sees every map of the sweep (the multi-frame search reuses it). `sweep`:
   // the level whose heading sweep gives the peaks Refine refines; kRefine sweeps the refine level
-  // itself, at its own heading step (about 8 times the coarse sweep's work), for a floor whose
-  // detail is gone one level coarser.
+  // itself, every refine_sweep_heading_stride-th of its headings (at every one, about 8 times the
+  // coarse sweep's work), for a floor whose detail is gone one level coarser.
   std::vector<DensePeak> Search(const cv::Mat& frame,
                                 const std::function<void(const SweepMap&)>& also = {},
                                 SweepLevel sweep = SweepLevel::kCoarse) const;

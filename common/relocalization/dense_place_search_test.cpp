@@ -230,6 +230,10 @@ TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
   options.refine_heading_steps = 0;
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
   options = DensePlaceSearchOptions{};
+  options.refine_sweep_heading_stride = 3;
+  options.refine_heading_steps = 1;  // would miss headings 1.5 steps from a swept one
+  EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
+  options = DensePlaceSearchOptions{};
   options.threads = 3;  // the vehicles' CPUs are small
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());
   options = DensePlaceSearchOptions{};

@@ -84,11 +84,12 @@ struct RelocalizerOptions {
       .min_short_side_px = 96, .heading_step_scale = 2.0, .refine_sweep_heading_stride = 3};
   double dense_fine_min_correlation = 0.09;
   // When the fine dense search finds nothing and saw no clear twin, its refine level swept
-  // itself at that level's heading step (DensePlaceSearch::Search with SweepLevel::kRefine), under
-  // the same gate. At 1280×1024 (sweep 8 mm/px, refine 4 mm/px) on polished concrete 024 under
-  // dust and painted pavement 001 under every effect, the truth refined at 4 mm/px correlates
-  // 0.11–0.18 where the 8 mm/px sweep's best is a noise peak at 0.04–0.06: the coarser sweep
-  // never offered it (docs/benchmarks.md, issue 17, session 48).
+  // itself at every dense_fine.refine_sweep_heading_stride-th of that level's headings
+  // (DensePlaceSearch::Search with SweepLevel::kRefine; 3: all of them took 1.3–2.4 s an attempt
+  // at 1280×1024), under the same gate. At 1280×1024 (sweep 8 mm/px, refine 4 mm/px) on polished
+  // concrete 024 under dust and painted pavement 001 under every effect, the truth refined at 4
+  // mm/px correlates 0.11–0.18 where the 8 mm/px sweep's best is a noise peak at 0.04–0.06: the
+  // coarser sweep never offered it (docs/benchmarks.md, issue 17, session 48).
   bool dense_fine_refine_sweep = true;
   // It runs only when the attempt's time so far plus its predicted time (the fine search's own,
   // scaled by SweepWork) stays within this: on a floor twice as large (the stress bench's repeated
