@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
@@ -31,6 +32,14 @@ Errors ErrorOf(const DensePeak& peak, const geometry::Pose2& base, const geometr
   const geometry::Pose2 truth = base * c.mount;
   return {std::hypot(peak.camera_in_map.x - truth.x, peak.camera_in_map.y - truth.y),
           std::abs(geometry::WrapAngle(peak.camera_in_map.theta - truth.theta))};
+}
+
+// One clean frame of `floor` at a random full-frame pose drawn with `seed`.
+cv::Mat FrameAtARandomPose(mosaic::ImageRasterSource* floor, const geometry::CameraModel& camera,
+                           std::uint64_t seed) {
+  sim::CameraRenderer renderer(floor, camera, sim::RenderOptions{}, 5);
+  std::mt19937_64 rng(seed);
+  return renderer.Render(sim::RandomFullFramePose(floor->layout(), camera, rng), {0, 0}, 0).image;
 }
 
 TEST(DensePlaceSearch, FindsRandomPosesOnPlainConcreteWithinTwoMillimetresAndOneDegree) {
@@ -95,10 +104,7 @@ TEST(DensePlaceSearch, TheSweepsTurnedHeadingsEqualHeadingsComputedAlone) {
   const DensePlaceSearch& dense = **search;
   const int steps = dense.heading_steps();
   ASSERT_EQ(steps % 2, 0);
-  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
-  std::mt19937_64 rng(11);
-  const cv::Mat frame =
-      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  const cv::Mat frame = FrameAtARandomPose(&floor, camera, 11);
   const cv::Mat normalized = dense.NormalizedFrame(frame, DensePlaceSearch::SweepLevel::kCoarse);
   int visited = 0;
   dense.Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
@@ -133,10 +139,7 @@ TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
   ASSERT_EQ((*serial)->options().threads, 1);
   const int threads_before = cv::getNumThreads();
   cv::setNumThreads(2);
-  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
-  std::mt19937_64 rng(13);
-  const cv::Mat frame =
-      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  const cv::Mat frame = FrameAtARandomPose(&floor, camera, 13);
   // Every map, in the same order, bit for bit.
   std::vector<std::pair<int, cv::Mat>> serial_maps;
   (*serial)->Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
@@ -199,10 +202,7 @@ TEST(DensePlaceSearch, ASweepWithAStrideVisitsEveryStrideThHeadingAndItsTurn) {
   auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
   ASSERT_TRUE(search.ok()) << search.status().message();
   const DensePlaceSearch& dense = **search;
-  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 5);
-  std::mt19937_64 rng(17);
-  const cv::Mat frame =
-      renderer.Render(sim::RandomFullFramePose(floor.layout(), camera, rng), {0, 0}, 0).image;
+  const cv::Mat frame = FrameAtARandomPose(&floor, camera, 17);
   using Level = DensePlaceSearch::SweepLevel;
   const int half = dense.heading_steps(Level::kRefine) / 2;
   std::vector<int> expected, visited;

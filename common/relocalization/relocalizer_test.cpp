@@ -39,6 +39,13 @@ Scene MossScene() {
   return {mosaic::ImageRasterSource(photo, {0.0, photo.rows * kResolutionM, kResolutionM}), camera};
 }
 
+// A found pose within 2 mm and 0.5° of the truth.
+void ExpectNearTruth(const geometry::Pose2& pose, const geometry::Pose2& truth, int trial) {
+  EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
+  EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180)
+      << "trial " << trial;
+}
+
 TEST(Relocalizer, FindsRandomPosesAndHeadingsOnARealFloorWithinTwoMillimetres) {
   Scene scene = MossScene();
   const Result<PlaceIndex> index = PlaceIndex::Build(scene.floor, PlaceIndexOptions{});
@@ -148,9 +155,7 @@ TEST(Relocalizer, TheFeaturesOnAFloorThatRepeatsItselfAreAmbiguousNeverAWrongPos
     }
     if (!r->found) continue;
     ++across_found;
-    const geometry::Pose2 pose = r->base_in_map.pose;
-    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
-    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+    ExpectNearTruth(r->base_in_map.pose, truth, trial);
   }
   EXPECT_GE(across_found, 3);
 }
@@ -189,9 +194,7 @@ TEST(Relocalizer, WithoutAnIndexTheDenseSearchFindsPosesOnPlainConcrete) {
         (*relocalizer)->Relocalize(renderer.Render(truth, {0, 0}, trial).image);
     ASSERT_TRUE(r.ok()) << r.status().message();
     if (!r->found) continue;
-    const geometry::Pose2 pose = r->base_in_map.pose;
-    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
-    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+    ExpectNearTruth(r->base_in_map.pose, truth, trial);
     ++correct;
   }
   EXPECT_GE(correct, 5);
@@ -222,9 +225,7 @@ TEST(Relocalizer, TheFineDenseSearchFindsPosesOnDustyPolishedConcrete) {
     ASSERT_TRUE(r.ok());
     EXPECT_TRUE(r->dense_fine) << "trial " << trial;
     if (!r->found) continue;
-    const geometry::Pose2 pose = r->base_in_map.pose;
-    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
-    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+    ExpectNearTruth(r->base_in_map.pose, truth, trial);
     EXPECT_LE(r->dense_fine_second, 0.6 * r->dense_fine_best);
     ++correct;
   }
@@ -296,9 +297,7 @@ TEST(Relocalizer, TheRefineLevelSweepFindsWhatTheFineSweepMissesAt1280x1024) {
     found_before += fine->found;
     swept += r->dense_fine_refine_sweep;
     if (!r->found) continue;
-    const geometry::Pose2 pose = r->base_in_map.pose;
-    EXPECT_LT(std::hypot(pose.x - truth.x, pose.y - truth.y), 0.002) << "trial " << trial;
-    EXPECT_LT(std::abs(geometry::WrapAngle(pose.theta - truth.theta)), 0.5 * M_PI / 180);
+    ExpectNearTruth(r->base_in_map.pose, truth, trial);
     ++correct;
   }
   // Measured: the fine search alone found 1 of 4; with the sweep 4 of 4, 3 of them from the sweep
