@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -112,6 +113,11 @@ TEST(Relocalizer, BadOptionsAndMismatchedCameraAreRejected) {
   RelocalizerOptions options;
   options.clustering.radius_m = -1;
   EXPECT_FALSE(Relocalizer::Create(&*index, &scene.floor, scene.camera, options).ok());
+  options = RelocalizerOptions{};
+  options.dense_attempt_budget_ms = std::nan("");
+  const auto no_budget = Relocalizer::Create(&*index, &scene.floor, scene.camera, options);
+  ASSERT_FALSE(no_budget.ok());
+  EXPECT_NE(no_budget.status().message().find("dense_attempt_budget_ms"), std::string::npos);
   geometry::CameraModel coarse = scene.camera;
   coarse.resolution_m = 0.001;
   const auto mismatched = Relocalizer::Create(&*index, &scene.floor, coarse, RelocalizerOptions{});
