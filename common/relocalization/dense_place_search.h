@@ -136,6 +136,21 @@ class DensePlaceSearch {
                         const std::vector<geometry::Pose2>& motions,
                         const geometry::Pose2& first) const;
 
+  // How well `frame` fits its camera at `own` and at `rival` where the mosaic's views from the
+  // two differ: the refine level's normalized mosaic seen from each pose, in the normalized
+  // frame's pixels; the pixels inside the mosaic whose local mean squared difference (the
+  // normalization's window) reaches differing_mean_square; the masked correlation of the frame
+  // with each view there (Σ F·V / √(Σ F² · Σ V²)), and those pixels' share of the frame. A place
+  // whose twin is a copy of part of the frame (a cloned patch) is told from it by the rest; an
+  // exact twin leaves nothing (share 0, correlations 0).
+  struct TwinContrast {
+    double own = 0, rival = 0, share = 0;
+    int pixels = 0;  // where the views differ (share × the frame's pixels at the level)
+  };
+  TwinContrast ContrastTwins(const cv::Mat& frame, const geometry::Pose2& own,
+                             const geometry::Pose2& rival,
+                             double differing_mean_square = 0.5) const;
+
   // Whether `peak` is distinct (see below) from every one of `kept`; the best n of `peaks` that
   // are distinct from each other, best first.
   bool Distinct(const DensePeak& peak, const std::vector<DensePeak>& kept) const;

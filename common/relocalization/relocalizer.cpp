@@ -48,6 +48,12 @@ Status Validate(const RelocalizerOptions& options) {
     return InvalidInput("relocalizer: dense_min_correlation must be in (0, 1)");
   if (!(options.dense_max_second_ratio > 0.0 && options.dense_max_second_ratio < 1.0))
     return InvalidInput("relocalizer: dense_max_second_ratio must be in (0, 1)");
+  if (!(options.twin_contrast_min_share > 0.0 && options.twin_contrast_min_share <= 1.0))
+    return InvalidInput("relocalizer: twin_contrast_min_share must be in (0, 1]");
+  if (!(options.twin_contrast_max_ratio > 0.0 && options.twin_contrast_max_ratio < 1.0))
+    return InvalidInput("relocalizer: twin_contrast_max_ratio must be in (0, 1)");
+  if (!(options.twin_contrast_min_sigmas >= 2.0 && options.twin_contrast_min_sigmas <= 20.0))
+    return InvalidInput("relocalizer: twin_contrast_min_sigmas must be in [2, 20]");
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense));
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense_fine));
   if (!(options.dense_fine_min_correlation > 0.0 && options.dense_fine_min_correlation < 1.0))

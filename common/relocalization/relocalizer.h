@@ -66,6 +66,23 @@ struct RelocalizerOptions {
   DensePlaceSearchOptions dense;
   double dense_min_correlation = 0.2;
   double dense_max_second_ratio = 0.6;
+  // A dense best whose rivals reach dense_max_second_ratio of it is still accepted (then verified
+  // by the tracker) when it is told from each of them where the mosaic's views from the two
+  // differ (DensePlaceSearch::ContrastTwins): those pixels make at least twin_contrast_min_share
+  // of the frame, the best correlates there at least the gate's minimum, the rival at most
+  // twin_contrast_max_ratio of it, and the best beats the rival by twin_contrast_min_sigmas
+  // standard deviations of the correlation of unrelated images over those N pixels, 2 / √N (the
+  // normalized levels' neighbouring pixels are alike over about 2 px: N / 4 independent ones).
+  // A floor photograph with a cloned patch has a twin for every frame partly over the patch; the
+  // rest of the frame tells them apart. An exact twin leaves no such pixels and stays ambiguous.
+  // Measured on the stress bench at 320×240 (worn asphalt g8's cloned patch; plain concrete b1
+  // and r1, whose similar places look alike over part of the frame): 40 poses accepted, all
+  // right, the best 0.34–0.72 where the views differ (18–64 % of the frame), the rival 0.02–0.22
+  // and at most 0.38 of it.
+  bool twin_contrast = true;
+  double twin_contrast_min_share = 0.15;
+  double twin_contrast_max_ratio = 0.5;
+  double twin_contrast_min_sigmas = 4;
   // The fine dense search (issue 17, dust): when the dense search finds nothing and saw no clear
   // twin, the same search one pyramid level finer (refine level 2 mm/px at 640×480 instead of 4)
   // at twice the heading step, under the same gate but its own minimum correlation. Under 30 %
@@ -143,6 +160,10 @@ struct Relocalization {
   bool twin_checked = false;
   double twin_own = 0, twin_correlation = 0;
   int twin_inliers = 0;
+  // Dense rivals told apart from the best where the views differ (see twin_contrast), and the
+  // contrast with the last one tried: the best's and the rival's correlation there, its share.
+  int twins_told_apart = 0;
+  DensePlaceSearch::TwinContrast twin_contrast;
   double detect_ms = 0, match_ms = 0, cluster_ms = 0, verify_ms = 0, dense_ms = 0;
   double trajectory_ms = 0, twin_ms = 0;
   double dense_fine_ms = 0;  // part of dense_ms
@@ -229,6 +250,10 @@ class Relocalizer {
       DensePlaceSearch::SweepLevel sweep = DensePlaceSearch::SweepLevel::kCoarse);
   void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
+  // Whether the best of `peaks` is told apart from every rival that reaches the gate's second
+  // ratio of it (see twin_contrast); *out (may be null) records the contrasts and the reason.
+  bool TwinsToldApart(const DensePlaceSearch& search, const cv::Mat& frame,
+                      const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out) const;
   // The multi-frame search once the frame has joined the trajectory (see Relocalize).
   void TrajectoryRelocalize(const cv::Mat& frame, Relocalization* out);
   // Refuses the trajectory's found pose as ambiguous when, placed on its best distinct

@@ -52,7 +52,7 @@ void Relocalizer::AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat
     out->reason += ": " + scores + ", too weak";
     return;
   }
-  if (second > gate.max_second_ratio * best) {
+  if (second > gate.max_second_ratio * best && !TwinsToldApart(search, frame, peaks, gate, out)) {
     out->ambiguous = true;
     out->reason += ": ambiguous, " + scores;
     return;
@@ -77,6 +77,34 @@ void Relocalizer::AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat
   }
 }
 
+bool Relocalizer::TwinsToldApart(const DensePlaceSearch& search, const cv::Mat& frame,
+                                 const std::vector<DensePeak>& peaks, Gate gate,
+                                 Relocalization* out) const {
+  if (!options_.twin_contrast) return false;
+  int told_apart = 0;
+  for (std::size_t i = 1; i < peaks.size(); ++i) {
+    if (peaks[i].correlation <= gate.max_second_ratio * peaks[0].correlation) continue;
+    const DensePlaceSearch::TwinContrast c =
+        search.ContrastTwins(frame, peaks[0].camera_in_map, peaks[i].camera_in_map);
+    if (out != nullptr) out->twin_contrast = c;
+    const double sigma = c.pixels > 0 ? 2.0 / std::sqrt(c.pixels) : 1.0;
+    if (c.share < options_.twin_contrast_min_share || c.own < gate.min_correlation ||
+        c.rival > options_.twin_contrast_max_ratio * c.own ||
+        c.own - c.rival < options_.twin_contrast_min_sigmas * sigma) {
+      return false;
+    }
+    ++told_apart;
+  }
+  if (out == nullptr) return true;
+  out->twins_told_apart += told_apart;
+  out->reason += ": " + std::to_string(told_apart) +
+                 " rival(s) told apart where the views differ (" +
+                 std::to_string(out->twin_contrast.own) + " against " +
+                 std::to_string(out->twin_contrast.rival) + " over " +
+                 std::to_string(std::lround(100 * out->twin_contrast.share)) + " % of the frame)";
+  return true;
+}
+
 std::vector<DensePeak> Relocalizer::SearchDense(
     const DensePlaceSearch& search, const cv::Mat& frame,
     const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
@@ -85,9 +113,10 @@ std::vector<DensePeak> Relocalizer::SearchDense(
   // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
   // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
   // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
-  // correlations over the whole floor).
+  // correlations over the whole floor), its rivals told apart or not.
   if (peaks.size() >= 1 && peaks[0].correlation >= gate.min_correlation &&
-      (peaks.size() < 2 || peaks[1].correlation <= gate.max_second_ratio * peaks[0].correlation)) {
+      (peaks.size() < 2 || peaks[1].correlation <= gate.max_second_ratio * peaks[0].correlation ||
+       TwinsToldApart(search, frame, peaks, gate, nullptr))) {
     peaks.push_back(search.Alternative({frame}, {geometry::Pose2{}}, peaks[0].camera_in_map));
     peaks = search.DistinctBest(std::move(peaks), search.options().max_peaks);
   }

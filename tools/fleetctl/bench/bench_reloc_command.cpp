@@ -52,6 +52,14 @@ void AddFineSearchOptions(CLI::App* cmd, relocalization::RelocalizerOptions& r) 
                   "The fine search's refine-level sweep visits every this-many-th heading")
       ->check(CLI::Range(1, 4))
       ->capture_default_str();
+  cmd->add_option("--fine-coarse-peaks", r.dense_fine.coarse_peaks,
+                  "Distinct peaks of the fine dense search's sweep it refines")
+      ->check(CLI::Range(4, 100))
+      ->capture_default_str();
+  cmd->add_option("--twin-contrast", r.twin_contrast,
+                  "Accept a dense best told from its rivals where the mosaic's views differ "
+                  "(true/false)")
+      ->capture_default_str();
 }
 
 }  // namespace

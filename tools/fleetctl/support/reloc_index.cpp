@@ -32,6 +32,13 @@ nlohmann::json RelocalizationJson(const relocalization::Relocalization& r) {
                     {"inliers", r.twin_inliers},
                     {"ms", r.twin_ms}};
   }
+  if (r.twin_contrast.share > 0) {
+    json["twin_contrast"] = {{"told_apart", r.twins_told_apart},
+                             {"own", r.twin_contrast.own},
+                             {"rival", r.twin_contrast.rival},
+                             {"share", r.twin_contrast.share},
+                             {"pixels", r.twin_contrast.pixels}};
+  }
   if (r.trajectory_frames > 0) {
     json["trajectory"] = {{"frames", r.trajectory_frames},
                           {"best", r.trajectory_best},

@@ -194,6 +194,21 @@ nlohmann::json Accepted(const std::vector<RelocTrial>& trials) {
   return accepted;
 }
 
+// [correct, the best's correlation where the views differ, the last rival's, those pixels' share
+// of the frame and their count at the level] of every accepted pose whose dense rivals were told
+// apart (twin_contrast).
+nlohmann::json ToldApart(const std::vector<RelocTrial>& trials) {
+  nlohmann::json told_apart = nlohmann::json::array();
+  for (const RelocTrial& t : trials) {
+    if (!t.found) continue;
+    const relocalization::Relocalization& r = t.runs[t.accepted_run];
+    if (r.twins_told_apart == 0) continue;
+    told_apart.push_back({t.correct, r.twin_contrast.own, r.twin_contrast.rival,
+                          r.twin_contrast.share, r.twin_contrast.pixels});
+  }
+  return told_apart;
+}
+
 // [correct, error m, error °, own dense correlation, twin's, twin's tracker inliers, refused by
 // the self-similarity report] of every refused feature pose.
 nlohmann::json RefusedTwins(const std::vector<RelocTrial>& trials) {
@@ -270,6 +285,7 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"failures", Failures(trials)},
                           {"accepted", Accepted(trials)},
                           {"refused_twins", RefusedTwins(trials)},
+                          {"told_apart", ToldApart(trials)},
                           {"stage_ms_p50",
                            {{"detect", replay::Percentile(detect, 50)},
                             {"match", replay::Percentile(match, 50)},
