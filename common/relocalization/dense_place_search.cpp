@@ -308,8 +308,8 @@ void DensePlaceSearch::AppendCoarsePeaks(cv::Mat scores, double theta, int suppr
 }
 
 std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
-    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also,
-    SweepLevel sweep) const {
+    const cv::Mat& frame, const std::function<void(const SweepMap&)>& also, SweepLevel sweep,
+    int stride) const {
   std::vector<DensePeak> peaks;
   Sweep(
       frame,
@@ -317,7 +317,7 @@ std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
         if (also) also(map);
         AppendCoarsePeaks(map.scores.clone(), map.theta, map.suppress_px, &peaks, sweep);
       },
-      sweep, sweep == SweepLevel::kRefine ? options_.refine_sweep_heading_stride : 1);
+      sweep, stride);
   std::sort(peaks.begin(), peaks.end(),
             [](const DensePeak& a, const DensePeak& b) { return a.correlation > b.correlation; });
   return peaks;
@@ -325,11 +325,15 @@ std::vector<DensePeak> DensePlaceSearch::CoarsePeaks(
 
 std::vector<DensePeak> DensePlaceSearch::Search(const cv::Mat& frame,
                                                 const std::function<void(const SweepMap&)>& also,
-                                                SweepLevel sweep) const {
+                                                SweepLevel sweep, int refine_stride) const {
   FLEETLOC_CHECK(frame.type() == CV_8UC1 && frame.cols == camera_.width_px &&
                  frame.rows == camera_.height_px);
+  FLEETLOC_CHECK(refine_stride >= 0 && refine_stride <= 2 * options_.refine_heading_steps);
+  int stride = 1;
+  if (sweep == SweepLevel::kRefine)
+    stride = refine_stride > 0 ? refine_stride : options_.refine_sweep_heading_stride;
   const std::vector<DensePeak> coarse =
-      DistinctBest(CoarsePeaks(frame, also, sweep), options_.coarse_peaks);
+      DistinctBest(CoarsePeaks(frame, also, sweep, stride), options_.coarse_peaks);
   // A peak of the refine level's own sweep is within a pixel of its place there.
   const int radius_px = sweep == SweepLevel::kRefine ? 2 : 4;
   std::vector<DensePeak> refined(coarse.size());

@@ -100,11 +100,13 @@ class DensePlaceSearch {
   // Up to max_peaks distinct poses of `frame` (CV_8UC1, the camera's size: checked), best first.
   // `also`, when given, sees every map of the sweep (the multi-frame search reuses it). `sweep`:
   // the level whose heading sweep gives the peaks Refine refines; kRefine sweeps the refine level
-  // itself, every refine_sweep_heading_stride-th of its headings (at every one, about 8 times the
-  // coarse sweep's work), for a floor whose detail is gone one level coarser.
+  // itself, every `refine_stride`-th of its headings (0: refine_sweep_heading_stride; at every
+  // one, about 8 times the coarse sweep's work), for a floor whose detail is gone one level
+  // coarser.
   std::vector<DensePeak> Search(const cv::Mat& frame,
                                 const std::function<void(const SweepMap&)>& also = {},
-                                SweepLevel sweep = SweepLevel::kCoarse) const;
+                                SweepLevel sweep = SweepLevel::kCoarse,
+                                int refine_stride = 0) const;
 
   int heading_steps(SweepLevel level = SweepLevel::kCoarse) const;  // even
   // A sweep's work: the level's padded pixels × the heading pairs it transforms (with `stride`).
@@ -170,7 +172,7 @@ class DensePlaceSearch {
   DensePlaceSearch(const geometry::CameraModel& camera, const DensePlaceSearchOptions& options);
   std::vector<DensePeak> CoarsePeaks(const cv::Mat& frame,
                                      const std::function<void(const SweepMap&)>& also,
-                                     SweepLevel sweep) const;
+                                     SweepLevel sweep, int stride) const;
   const Level& LevelOf(SweepLevel level) const;
 
   geometry::CameraModel camera_;

@@ -27,8 +27,8 @@ View ViewAt(const cv::Mat& normalized, int pad_px, const geometry::Geotransform&
   const Eigen::Vector2d at = geo.MapToPixel(camera_in_map * centre_ground);
   // Index coordinates (centres at integers): mosaic = L·(frame + ½ − c_f) + at − ½.
   const Eigen::Vector2d half(0.5 * size.width, 0.5 * size.height);
-  const Eigen::Vector2d offset = l * (Eigen::Vector2d(0.5, 0.5) - half) + at -
-                                 Eigen::Vector2d(0.5, 0.5);
+  const Eigen::Vector2d offset =
+      l * (Eigen::Vector2d(0.5, 0.5) - half) + at - Eigen::Vector2d(0.5, 0.5);
   const cv::Matx23d m(l(0, 0), l(0, 1), offset.x(), l(1, 0), l(1, 1), offset.y());
   View v;
   cv::warpAffine(normalized, v.pixels, m, size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
@@ -57,9 +57,10 @@ double CorrelationWithin(const cv::Mat& f, const cv::Mat& v, const cv::Mat& mask
 
 }  // namespace
 
-DensePlaceSearch::TwinContrast DensePlaceSearch::ContrastTwins(
-    const cv::Mat& frame, const geometry::Pose2& own, const geometry::Pose2& rival,
-    double differing_mean_square) const {
+DensePlaceSearch::TwinContrast DensePlaceSearch::ContrastTwins(const cv::Mat& frame,
+                                                               const geometry::Pose2& own,
+                                                               const geometry::Pose2& rival,
+                                                               double differing_mean_square) const {
   const Level& f = *fine_;
   const cv::Mat normalized = NormalizedFrame(frame, SweepLevel::kRefine);
   const View a = ViewAt(f.normalized, f.pad_px, f.geo, camera_, own, normalized.size());

@@ -58,6 +58,8 @@ Status Validate(const RelocalizerOptions& options) {
   FLEETLOC_RETURN_IF_ERROR(Validate(options.dense_fine));
   if (!(options.dense_fine_min_correlation > 0.0 && options.dense_fine_min_correlation < 1.0))
     return InvalidInput("relocalizer: dense_fine_min_correlation must be in (0, 1)");
+  if (options.dense_fine_refine_sweep_finest_stride < 1)
+    return InvalidInput("relocalizer: dense_fine_refine_sweep_finest_stride must be >= 1");
   if (!(options.dense_attempt_budget_ms >= 0.0))
     return InvalidInput("relocalizer: dense_attempt_budget_ms must be >= 0");
   if (options.trajectory_frames < 1 || options.trajectory_frames > 20)

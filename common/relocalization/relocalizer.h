@@ -101,9 +101,9 @@ struct RelocalizerOptions {
       .min_short_side_px = 96, .heading_step_scale = 2.0, .refine_sweep_heading_stride = 3};
   double dense_fine_min_correlation = 0.09;
   // When the fine dense search finds nothing and saw no clear twin, its refine level swept
-  // itself at every dense_fine.refine_sweep_heading_stride-th of that level's headings
-  // (DensePlaceSearch::Search with SweepLevel::kRefine; 3: all of them took 1.3–2.4 s an attempt
-  // at 1280×1024), under the same gate. At 1280×1024 (sweep 8 mm/px, refine 4 mm/px) on polished
+  // itself at every 2nd or 3rd of that level's headings (DensePlaceSearch::Search with
+  // SweepLevel::kRefine and a stride, see below; all of them took 1.3–2.4 s an attempt at
+  // 1280×1024), under the same gate. At 1280×1024 (sweep 8 mm/px, refine 4 mm/px) on polished
   // concrete 024 under dust and painted pavement 001 under every effect, the truth refined at 4
   // mm/px correlates 0.11–0.18 where the 8 mm/px sweep's best is a noise peak at 0.04–0.06: the
   // coarser sweep never offered it (docs/benchmarks.md, issue 17, session 48).
@@ -111,7 +111,11 @@ struct RelocalizerOptions {
   // It runs only when the attempt's time so far plus its predicted time (the fine search's own,
   // scaled by SweepWork) stays within this: on a floor twice as large (the stress bench's repeated
   // layouts) it would take the attempt past 1 s for a pose that is then refused as ambiguous.
+  // It sweeps at the finest stride from dense_fine_refine_sweep_finest_stride to
+  // dense_fine.refine_sweep_heading_stride that fits: painted pavement 001 at 1280×1024 under
+  // dust, where every 3rd heading misses the truth in 3 of 5 frames, every 2nd finds it.
   double dense_attempt_budget_ms = 800;
+  int dense_fine_refine_sweep_finest_stride = 2;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
   // the dense heading sweeps of up to trajectory_frames frames (1: off) whose cameras stay within
   // trajectory_max_travel_m of the first are combined (TrajectoryPlaceSearch); the newest frame's
@@ -147,6 +151,7 @@ struct Relocalization {
   bool dense_fine = false;
   double dense_fine_best = 0, dense_fine_second = 0;
   bool dense_fine_refine_sweep = false;  // the fine search swept its refine level (its peaks above)
+  int dense_fine_refine_sweep_stride = 0;           // at every this-many-th heading
   double dense_fine_refine_sweep_predicted_ms = 0;  // when it was considered (run or not)
   // The multi-frame search, when it ran: frames combined, its best and second peaks (mean
   // correlations), and whether the accepted pose came from it.
@@ -228,13 +233,15 @@ class Relocalizer {
   // The dense place search and the verification of its best peak, then the fine one when that
   // found nothing and saw no clear twin (see RelocalizerOptions).
   void DenseRelocalize(const cv::Mat& frame, Relocalization* out);
-  // The fine dense search of `frame` with the peaks of the `sweep` level's heading sweep.
-  void FineRelocalize(const cv::Mat& frame, DensePlaceSearch::SweepLevel sweep,
-                      Relocalization* out);
-  // Whether the fine search's refine-level sweep fits the attempt's budget, `fine_ms` the fine
-  // search's own time and `dense_start` the dense searches' start (see RelocalizerOptions).
-  bool RefineSweepFits(double fine_ms, std::chrono::steady_clock::time_point dense_start,
-                       Relocalization* out) const;
+  // The fine dense search of `frame` with the peaks of the `sweep` level's heading sweep (of the
+  // refine level: every `refine_stride`-th heading, 0 for the options').
+  void FineRelocalize(const cv::Mat& frame, DensePlaceSearch::SweepLevel sweep, Relocalization* out,
+                      int refine_stride = 0);
+  // The finest heading stride at which the fine search's refine-level sweep fits the attempt's
+  // budget (0: none does), `fine_ms` the fine search's own time and `dense_start` the dense
+  // searches' start (see RelocalizerOptions).
+  int RefineSweepStride(double fine_ms, std::chrono::steady_clock::time_point dense_start,
+                        Relocalization* out) const;
   // Accepts the best of `peaks` (poses of `frame`'s camera, from `search`) when it correlates
   // min_correlation, the second reaches at most max_second_ratio of it and a tracker cycle
   // confirms it.
@@ -247,7 +254,8 @@ class Relocalizer {
       const DensePlaceSearch& search, const cv::Mat& frame,
       const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
       Relocalization* out,
-      DensePlaceSearch::SweepLevel sweep = DensePlaceSearch::SweepLevel::kCoarse);
+      DensePlaceSearch::SweepLevel sweep = DensePlaceSearch::SweepLevel::kCoarse,
+      int refine_stride = 0);
   void AcceptDensePeaks(const DensePlaceSearch& search, const cv::Mat& frame,
                         const std::vector<DensePeak>& peaks, Gate gate, Relocalization* out);
   // Whether the best of `peaks` is told apart from every rival that reaches the gate's second

@@ -108,8 +108,8 @@ bool Relocalizer::TwinsToldApart(const DensePlaceSearch& search, const cv::Mat& 
 std::vector<DensePeak> Relocalizer::SearchDense(
     const DensePlaceSearch& search, const cv::Mat& frame,
     const std::function<void(const DensePlaceSearch::SweepMap&)>& feed, Gate gate,
-    Relocalization* out, DensePlaceSearch::SweepLevel sweep) {
-  std::vector<DensePeak> peaks = search.Search(frame, feed, sweep);
+    Relocalization* out, DensePlaceSearch::SweepLevel sweep, int refine_stride) {
+  std::vector<DensePeak> peaks = search.Search(frame, feed, sweep, refine_stride);
   // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
   // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
   // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
@@ -140,40 +140,49 @@ void Relocalizer::DenseRelocalize(const cv::Mat& frame, Relocalization* out) {
   if (!out->found && !out->ambiguous && dense_fine_) {
     const auto fine_start = std::chrono::steady_clock::now();
     FineRelocalize(frame, DensePlaceSearch::SweepLevel::kCoarse, out);
-    if (!out->found && !out->ambiguous && options_.dense_fine_refine_sweep &&
-        RefineSweepFits(MsSince(fine_start), start, out)) {
-      FineRelocalize(frame, DensePlaceSearch::SweepLevel::kRefine, out);
-      out->dense_fine_refine_sweep = true;
+    if (!out->found && !out->ambiguous && options_.dense_fine_refine_sweep) {
+      const int stride = RefineSweepStride(MsSince(fine_start), start, out);
+      if (stride > 0) {
+        FineRelocalize(frame, DensePlaceSearch::SweepLevel::kRefine, out, stride);
+        out->dense_fine_refine_sweep = true;
+        out->dense_fine_refine_sweep_stride = stride;
+      }
     }
     out->dense_fine_ms = MsSince(fine_start);
   }
   out->dense_ms = MsSince(start);
 }
 
-bool Relocalizer::RefineSweepFits(double fine_ms, std::chrono::steady_clock::time_point dense_start,
-                                  Relocalization* out) const {
+int Relocalizer::RefineSweepStride(double fine_ms,
+                                   std::chrono::steady_clock::time_point dense_start,
+                                   Relocalization* out) const {
   using Level = DensePlaceSearch::SweepLevel;
   const DensePlaceSearch& fine = *dense_fine_;
-  const double predicted_ms =
-      fine_ms * fine.SweepWork(Level::kRefine, fine.options().refine_sweep_heading_stride) /
-      fine.SweepWork(Level::kCoarse);
-  out->dense_fine_refine_sweep_predicted_ms = predicted_ms;
   const double spent_ms =
       out->detect_ms + out->match_ms + out->cluster_ms + out->verify_ms + MsSince(dense_start);
-  if (spent_ms + predicted_ms <= options_.dense_attempt_budget_ms) return true;
-  out->reason += "; no refine-level sweep (" + std::to_string(std::lround(predicted_ms)) +
+  const int coarsest = fine.options().refine_sweep_heading_stride;
+  for (int stride = std::min(options_.dense_fine_refine_sweep_finest_stride, coarsest);
+       stride <= coarsest; ++stride) {
+    const double predicted_ms =
+        fine_ms * fine.SweepWork(Level::kRefine, stride) / fine.SweepWork(Level::kCoarse);
+    out->dense_fine_refine_sweep_predicted_ms = predicted_ms;
+    if (spent_ms + predicted_ms <= options_.dense_attempt_budget_ms) return stride;
+  }
+  out->reason += "; no refine-level sweep (" +
+                 std::to_string(std::lround(out->dense_fine_refine_sweep_predicted_ms)) +
                  " ms predicted after " + std::to_string(std::lround(spent_ms)) + " ms)";
-  return false;
+  return 0;
 }
 
 void Relocalizer::FineRelocalize(const cv::Mat& frame, DensePlaceSearch::SweepLevel sweep,
-                                 Relocalization* out) {
+                                 Relocalization* out, int refine_stride) {
   out->reason += sweep == DensePlaceSearch::SweepLevel::kCoarse
                      ? "; fine dense peaks"
                      : "; fine dense peaks swept at the refine level";
-  const std::vector<DensePeak> fine = SearchDense(
-      *dense_fine_, frame, {},
-      {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out, sweep);
+  const std::vector<DensePeak> fine =
+      SearchDense(*dense_fine_, frame, {},
+                  {options_.dense_fine_min_correlation, options_.dense_max_second_ratio}, out,
+                  sweep, refine_stride);
   out->dense_fine = true;
   out->dense_fine_best = fine.empty() ? 0.0 : fine[0].correlation;
   out->dense_fine_second = fine.size() < 2 ? 0.0 : fine[1].correlation;

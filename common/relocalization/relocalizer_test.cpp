@@ -120,6 +120,9 @@ TEST(Relocalizer, BadOptionsAndMismatchedCameraAreRejected) {
   ASSERT_FALSE(no_budget.ok());
   EXPECT_NE(no_budget.status().message().find("dense_attempt_budget_ms"), std::string::npos);
   options = RelocalizerOptions{};
+  options.dense_fine_refine_sweep_finest_stride = 0;
+  EXPECT_FALSE(Relocalizer::Create(&*index, &scene.floor, scene.camera, options).ok());
+  options = RelocalizerOptions{};
   options.twin_contrast_max_ratio = 1.0;  // a rival as good as the best would be told apart
   const auto no_contrast = Relocalizer::Create(&*index, &scene.floor, scene.camera, options);
   ASSERT_FALSE(no_contrast.ok());
@@ -272,10 +275,12 @@ TEST(Relocalizer, AFrameOfAnotherFloorIsNeverFoundByTheFineSearch) {
     EXPECT_FALSE(r->found) << "trial " << trial << ": " << r->reason;
     EXPECT_TRUE(r->dense_fine) << "trial " << trial;
     EXPECT_TRUE(r->dense_fine_refine_sweep) << "trial " << trial << ": " << r->reason;
+    EXPECT_EQ(r->dense_fine_refine_sweep_stride, always.dense_fine_refine_sweep_finest_stride);
     const Result<Relocalization> u = (*unswept)->Relocalize(frame);
     ASSERT_TRUE(u.ok());
     EXPECT_FALSE(u->found);
     EXPECT_FALSE(u->dense_fine_refine_sweep);
+    EXPECT_EQ(u->dense_fine_refine_sweep_stride, 0);
     EXPECT_GT(u->dense_fine_refine_sweep_predicted_ms, 0.0);
     EXPECT_NE(u->reason.find("no refine-level sweep"), std::string::npos) << u->reason;
   }

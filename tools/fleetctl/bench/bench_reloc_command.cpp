@@ -49,7 +49,11 @@ void AddFineSearchOptions(CLI::App* cmd, relocalization::RelocalizerOptions& r) 
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
   cmd->add_option("--fine-refine-sweep-stride", r.dense_fine.refine_sweep_heading_stride,
-                  "The fine search's refine-level sweep visits every this-many-th heading")
+                  "The fine search's refine-level sweep visits at least every this-many-th heading")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  cmd->add_option("--fine-refine-sweep-finest-stride", r.dense_fine_refine_sweep_finest_stride,
+                  "The refine-level sweep's finest stride, when its time fits the budget")
       ->check(CLI::Range(1, 4))
       ->capture_default_str();
   cmd->add_option("--fine-coarse-peaks", r.dense_fine.coarse_peaks,

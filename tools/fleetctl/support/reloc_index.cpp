@@ -24,6 +24,7 @@ nlohmann::json RelocalizationJson(const relocalization::Relocalization& r) {
                           {"second", r.dense_fine_second},
                           {"ms", r.dense_fine_ms},
                           {"refine_sweep", r.dense_fine_refine_sweep},
+                          {"refine_sweep_stride", r.dense_fine_refine_sweep_stride},
                           {"refine_sweep_predicted_ms", r.dense_fine_refine_sweep_predicted_ms}};
   }
   if (r.twin_checked) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <opencv2/core/utility.hpp>
 #include <random>
 
@@ -152,12 +153,13 @@ Result<RelocTrial> RunTrial(const std::shared_ptr<mosaic::TileStore>& store,
   return out;
 }
 
-// Every trial that ended without a correct pose, with what the relocalizer saw.
-nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
+// Every trial `chosen` keeps, with what the relocalizer saw.
+nlohmann::json TrialsJson(const std::vector<RelocTrial>& trials,
+                          const std::function<bool(const RelocTrial&)>& chosen) {
   nlohmann::json failures = nlohmann::json::array();
   for (std::size_t i = 0; i < trials.size(); ++i) {
     const RelocTrial& t = trials[i];
-    if (t.correct) continue;
+    if (!chosen(t)) continue;
     nlohmann::json runs = nlohmann::json::array();
     for (const relocalization::Relocalization& r : t.runs)
       runs.push_back(fleetctl::RelocalizationJson(r));
@@ -166,6 +168,7 @@ nlohmann::json Failures(const std::vector<RelocTrial>& trials) {
                         {"error_m", t.error_m},
                         {"error_rad", t.error_rad},
                         {"at_repeated_place", t.at_repeated_place},
+                        {"time_to_pose_ms", t.time_to_pose_s * 1e3},
                         {"attempts", runs}});
   }
   return failures;
@@ -271,28 +274,32 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"p95", replay::Percentile(v, 95)},
                           {"max", replay::Percentile(v, 100)}};
   };
-  nlohmann::json stats = {{"trials", trials.size()},
-                          {"correct", correct},
-                          {"success_rate", correct / n},
-                          {"correct_within_target", within},
-                          {"success_rate_within_target", within / n},
-                          {"wrong_pose", wrong},
-                          {"not_found", not_found},
-                          {"not_found_at_repeated_place", repeated},
-                          {"time_to_correct_pose_ms", pct(to_pose_ms)},
-                          {"attempt_ms", pct(attempt_ms)},
-                          {"attempts", attempt_ms.size()},
-                          {"failures", Failures(trials)},
-                          {"accepted", Accepted(trials)},
-                          {"refused_twins", RefusedTwins(trials)},
-                          {"told_apart", ToldApart(trials)},
-                          {"stage_ms_p50",
-                           {{"detect", replay::Percentile(detect, 50)},
-                            {"match", replay::Percentile(match, 50)},
-                            {"verify", replay::Percentile(verify, 50)},
-                            {"dense", replay::Percentile(dense, 50)},
-                            {"dense_fine", replay::Percentile(dense_fine, 50)},
-                            {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  nlohmann::json stats = {
+      {"trials", trials.size()},
+      {"correct", correct},
+      {"success_rate", correct / n},
+      {"correct_within_target", within},
+      {"success_rate_within_target", within / n},
+      {"wrong_pose", wrong},
+      {"not_found", not_found},
+      {"not_found_at_repeated_place", repeated},
+      {"time_to_correct_pose_ms", pct(to_pose_ms)},
+      {"attempt_ms", pct(attempt_ms)},
+      {"attempts", attempt_ms.size()},
+      {"failures", TrialsJson(trials, [](const RelocTrial& t) { return !t.correct; })},
+      {"late",
+       TrialsJson(trials,
+                  [&](const RelocTrial& t) { return t.correct && t.time_to_pose_s > s.target_s; })},
+      {"accepted", Accepted(trials)},
+      {"refused_twins", RefusedTwins(trials)},
+      {"told_apart", ToldApart(trials)},
+      {"stage_ms_p50",
+       {{"detect", replay::Percentile(detect, 50)},
+        {"match", replay::Percentile(match, 50)},
+        {"verify", replay::Percentile(verify, 50)},
+        {"dense", replay::Percentile(dense, 50)},
+        {"dense_fine", replay::Percentile(dense_fine, 50)},
+        {"trajectory", replay::Percentile(trajectory, 50)}}}};
   if (!trials.empty()) {
     const relocalization::Relocalizer::DenseMemory& m = trials.front().memory;
     stats["dense_memory_bytes"] = {
