@@ -247,6 +247,18 @@ AttemptTimes TimesOf(const std::vector<RelocTrial>& trials) {
   return a;
 }
 
+// The trials and accepted poses worth reading one by one (see RelocTrialStats).
+nlohmann::json TrialLists(const std::vector<RelocTrial>& trials, double target_s) {
+  return {{"failures", TrialsJson(trials, [](const RelocTrial& t) { return !t.correct; })},
+          {"late", TrialsJson(trials,
+                              [&](const RelocTrial& t) {
+                                return t.correct && t.time_to_pose_s > target_s;
+                              })},
+          {"accepted", Accepted(trials)},
+          {"refused_twins", RefusedTwins(trials)},
+          {"told_apart", ToldApart(trials)}};
+}
+
 }  // namespace
 
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s) {
@@ -274,32 +286,25 @@ nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const Relo
                           {"p95", replay::Percentile(v, 95)},
                           {"max", replay::Percentile(v, 100)}};
   };
-  nlohmann::json stats = {
-      {"trials", trials.size()},
-      {"correct", correct},
-      {"success_rate", correct / n},
-      {"correct_within_target", within},
-      {"success_rate_within_target", within / n},
-      {"wrong_pose", wrong},
-      {"not_found", not_found},
-      {"not_found_at_repeated_place", repeated},
-      {"time_to_correct_pose_ms", pct(to_pose_ms)},
-      {"attempt_ms", pct(attempt_ms)},
-      {"attempts", attempt_ms.size()},
-      {"failures", TrialsJson(trials, [](const RelocTrial& t) { return !t.correct; })},
-      {"late",
-       TrialsJson(trials,
-                  [&](const RelocTrial& t) { return t.correct && t.time_to_pose_s > s.target_s; })},
-      {"accepted", Accepted(trials)},
-      {"refused_twins", RefusedTwins(trials)},
-      {"told_apart", ToldApart(trials)},
-      {"stage_ms_p50",
-       {{"detect", replay::Percentile(detect, 50)},
-        {"match", replay::Percentile(match, 50)},
-        {"verify", replay::Percentile(verify, 50)},
-        {"dense", replay::Percentile(dense, 50)},
-        {"dense_fine", replay::Percentile(dense_fine, 50)},
-        {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  nlohmann::json stats = {{"trials", trials.size()},
+                          {"correct", correct},
+                          {"success_rate", correct / n},
+                          {"correct_within_target", within},
+                          {"success_rate_within_target", within / n},
+                          {"wrong_pose", wrong},
+                          {"not_found", not_found},
+                          {"not_found_at_repeated_place", repeated},
+                          {"time_to_correct_pose_ms", pct(to_pose_ms)},
+                          {"attempt_ms", pct(attempt_ms)},
+                          {"attempts", attempt_ms.size()},
+                          {"stage_ms_p50",
+                           {{"detect", replay::Percentile(detect, 50)},
+                            {"match", replay::Percentile(match, 50)},
+                            {"verify", replay::Percentile(verify, 50)},
+                            {"dense", replay::Percentile(dense, 50)},
+                            {"dense_fine", replay::Percentile(dense_fine, 50)},
+                            {"trajectory", replay::Percentile(trajectory, 50)}}}};
+  stats.update(TrialLists(trials, s.target_s));
   if (!trials.empty()) {
     const relocalization::Relocalizer::DenseMemory& m = trials.front().memory;
     stats["dense_memory_bytes"] = {

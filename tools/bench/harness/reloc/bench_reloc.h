@@ -77,8 +77,9 @@ Result<std::vector<RelocTrial>> RunRelocTrials(const std::shared_ptr<mosaic::Til
                                                const RelocTrialSettings& settings);
 
 // The trials' counts (correct, within target_s, wrong, not found, of those not found the ones at
-// a place the floor repeats), time percentiles, every
-// failed trial with what the relocalizer saw, and the gate margins of every accepted pose.
+// a place the floor repeats), time percentiles, every failed trial and every trial found after
+// target_s with what the relocalizer saw, the gate margins of every accepted pose, and the
+// contrasts of every pose accepted after its rivals were told apart.
 nlohmann::json RelocTrialStats(const std::vector<RelocTrial>& trials, const RelocTrialSettings& s);
 
 }  // namespace fleetloc::bench
