@@ -112,8 +112,10 @@ struct RelocalizerOptions {
   // scaled by SweepWork) stays within this: on a floor twice as large (the stress bench's repeated
   // layouts) it would take the attempt past 1 s for a pose that is then refused as ambiguous.
   // It sweeps at the finest stride from dense_fine_refine_sweep_finest_stride to
-  // dense_fine.refine_sweep_heading_stride that fits: painted pavement 001 at 1280×1024 under
-  // dust, where every 3rd heading misses the truth in 3 of 5 frames, every 2nd finds it.
+  // dense_fine.refine_sweep_heading_stride that fits: on painted pavement 001 at 1280×1024 under
+  // dust and under every effect, every 3rd heading missed the truth in all three frames of one
+  // trial and the first two of another; every 2nd found both on their first frame
+  // (docs/benchmarks.md, session 51).
   double dense_attempt_budget_ms = 800;
   int dense_fine_refine_sweep_finest_stride = 2;
   // Multi-frame relocalization (issue 17; Relocalize with odometry): when one frame gives no pose,
