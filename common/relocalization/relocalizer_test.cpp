@@ -419,6 +419,38 @@ TEST(Relocalizer, AFramePartlyOverAClonedPatchIsToldFromItsCopy) {
   EXPECT_TRUE(r->ambiguous) << r->reason;
 }
 
+// The same floor, but what tells a frame's place from the patch's copy is hidden: the frames are
+// taken where the floor around the patch (or around its copy) is covered by a plain grey sheet,
+// so only the copied part shows. Nothing can tell the two apart: never a pose, and no wrong one.
+TEST(Relocalizer, AFrameWhoseDifferenceFromTheCopyIsCoveredIsRefused) {
+  PlainScene scene = PlainConcreteScene();
+  const testing::ClonedPatch cloned = testing::WithClonedPatch(scene.photo);
+  const int rows = cloned.photo.rows;
+  mosaic::ImageRasterSource floor(cloned.photo, {0.0, rows * kResolutionM, kResolutionM});
+  auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
+  ASSERT_TRUE(relocalizer.ok());
+  constexpr int kSide = testing::ClonedPatch::kSidePx;
+  for (const int corner : {testing::ClonedPatch::kFromPx, testing::ClonedPatch::kToPx}) {
+    cv::Mat covered(cloned.photo.size(), CV_8UC1, cv::Scalar(128));
+    const cv::Rect patch(corner, corner, kSide, kSide);
+    cloned.photo(patch).copyTo(covered(patch));
+    mosaic::ImageRasterSource seen(covered, {0.0, rows * kResolutionM, kResolutionM});
+    sim::CameraRenderer renderer(&seen, scene.camera, sim::RenderOptions{}, 24);
+    const geometry::Pose2 truth =
+        testing::CameraCentredAt(scene.camera, corner + 50, corner + 200, rows, 0.0) *
+        scene.camera.mount.Inverse();
+    const Result<Relocalization> r =
+        (*relocalizer)->Relocalize(renderer.Render(truth, {0, 0}, 1).image);
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r->found) << "patch at " << corner << ": " << r->reason;
+    EXPECT_TRUE(r->ambiguous) << "patch at " << corner << ": " << r->reason;
+    EXPECT_EQ(r->twins_told_apart, 0) << r->reason;
+    // The contrast ran over the covered third and found nothing of either place there.
+    EXPECT_GT(r->twin_contrast.share, 0.15);
+    EXPECT_LT(std::abs(r->twin_contrast.own), 0.1);
+  }
+}
+
 // Base poses of a 3-frame drive (40 mm steps, turning 0.05 rad a step) inside the left 0.3 m of
 // the floor, with odometry 2 % long.
 struct Drive {
