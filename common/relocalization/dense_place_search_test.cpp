@@ -20,9 +20,23 @@
 namespace fleetloc::relocalization {
 namespace {
 
+using testing::GeoOf;
 using testing::kResolutionM;
 using testing::PlainConcrete;
 using testing::SmallCamera;
+
+// A photograph as a floor and the dense search over it with the default options and the small
+// camera (null, after a test failure, when the search refuses the floor).
+struct DefaultSearch {
+  explicit DefaultSearch(const cv::Mat& photo) : floor(photo, GeoOf(photo)) {
+    auto created = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
+    EXPECT_TRUE(created.ok()) << created.status().message();
+    if (created.ok()) search = std::move(*created);
+  }
+  mosaic::ImageRasterSource floor;
+  geometry::CameraModel camera = SmallCamera();
+  std::unique_ptr<DensePlaceSearch> search;
+};
 
 struct Errors {
   double m = 0, rad = 0;
@@ -43,19 +57,17 @@ cv::Mat FrameAtARandomPose(mosaic::ImageRasterSource* floor, const geometry::Cam
 }
 
 TEST(DensePlaceSearch, FindsRandomPosesOnPlainConcreteWithinTwoMillimetresAndOneDegree) {
-  const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
-  const geometry::CameraModel camera = SmallCamera();
-  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
-  ASSERT_TRUE(search.ok()) << search.status().message();
-  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 3);
+  DefaultSearch s(PlainConcrete());
+  ASSERT_NE(s.search, nullptr);
+  const DensePlaceSearch& search = *s.search;
+  const geometry::CameraModel& camera = s.camera;
+  sim::CameraRenderer renderer(&s.floor, camera, sim::RenderOptions{}, 3);
   std::mt19937_64 rng(7);
   const int kTrials = 12;
   int found = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
-    const geometry::Pose2 truth = sim::RandomFullFramePose(floor.layout(), camera, rng);
-    const std::vector<DensePeak> peaks =
-        (*search)->Search(renderer.Render(truth, {0, 0}, trial).image);
+    const geometry::Pose2 truth = sim::RandomFullFramePose(s.floor.layout(), camera, rng);
+    const std::vector<DensePeak> peaks = search.Search(renderer.Render(truth, {0, 0}, trial).image);
     ASSERT_GE(peaks.size(), 2u);
     const Errors e = ErrorOf(peaks[0], truth, camera);
     found += e.m < 0.002 && e.rad < M_PI / 180;
@@ -70,7 +82,7 @@ TEST(DensePlaceSearch, AFloorMadeOfOnePhotoTwiceGivesTwoEqualPeaksOneCopyApart) 
   const cv::Mat photo = PlainConcrete();
   cv::Mat twice;
   cv::hconcat(photo, photo, twice);
-  mosaic::ImageRasterSource floor(twice, {0.0, twice.rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(twice, GeoOf(twice));
   const geometry::CameraModel camera = SmallCamera();
   auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
   ASSERT_TRUE(search.ok()) << search.status().message();
@@ -96,15 +108,13 @@ TEST(DensePlaceSearch, AFloorMadeOfOnePhotoTwiceGivesTwoEqualPeaksOneCopyApart) 
 // the ones a heading computed alone gives (the same samples of the frame; warpAffine's fixed-point
 // positions may round apart), with the same best place.
 TEST(DensePlaceSearch, TheSweepsTurnedHeadingsEqualHeadingsComputedAlone) {
-  const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
-  const geometry::CameraModel camera = SmallCamera();
-  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
-  ASSERT_TRUE(search.ok()) << search.status().message();
-  const DensePlaceSearch& dense = **search;
+  DefaultSearch s(PlainConcrete());
+  ASSERT_NE(s.search, nullptr);
+  const DensePlaceSearch& dense = *s.search;
+  const geometry::CameraModel& camera = s.camera;
   const int steps = dense.heading_steps();
   ASSERT_EQ(steps % 2, 0);
-  const cv::Mat frame = FrameAtARandomPose(&floor, camera, 11);
+  const cv::Mat frame = FrameAtARandomPose(&s.floor, camera, 11);
   const cv::Mat normalized = dense.NormalizedFrame(frame, DensePlaceSearch::SweepLevel::kCoarse);
   int visited = 0;
   dense.Sweep(frame, [&](const DensePlaceSearch::SweepMap& map) {
@@ -129,7 +139,7 @@ TEST(DensePlaceSearch, TheSweepsTurnedHeadingsEqualHeadingsComputedAlone) {
 // relocalizer's default, docs/benchmarks.md 2026-11-26 session 31).
 TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
   const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(photo, GeoOf(photo));
   const geometry::CameraModel camera = SmallCamera();
   DensePlaceSearchOptions two_stripes;
   two_stripes.threads = 2;
@@ -170,7 +180,7 @@ TEST(DensePlaceSearch, TwoStripesSweepSearchAndFindAlternativesExactlyAsOne) {
 
 TEST(DensePlaceSearch, AWiderSweepStepSweepsHalfTheHeadingsAndStillFindsCleanFrames) {
   const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(photo, GeoOf(photo));
   const geometry::CameraModel camera = SmallCamera();
   auto standard = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
   DensePlaceSearchOptions options;
@@ -196,13 +206,11 @@ TEST(DensePlaceSearch, AWiderSweepStepSweepsHalfTheHeadingsAndStillFindsCleanFra
 }
 
 TEST(DensePlaceSearch, ASweepWithAStrideVisitsEveryStrideThHeadingAndItsTurn) {
-  const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
-  const geometry::CameraModel camera = SmallCamera();
-  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
-  ASSERT_TRUE(search.ok()) << search.status().message();
-  const DensePlaceSearch& dense = **search;
-  const cv::Mat frame = FrameAtARandomPose(&floor, camera, 17);
+  DefaultSearch s(PlainConcrete());
+  ASSERT_NE(s.search, nullptr);
+  const DensePlaceSearch& dense = *s.search;
+  const geometry::CameraModel& camera = s.camera;
+  const cv::Mat frame = FrameAtARandomPose(&s.floor, camera, 17);
   using Level = DensePlaceSearch::SweepLevel;
   const int half = dense.heading_steps(Level::kRefine) / 2;
   std::vector<int> expected, visited;
@@ -225,12 +233,11 @@ TEST(DensePlaceSearch, ASweepWithAStrideVisitsEveryStrideThHeadingAndItsTurn) {
 // and 0.51–0.55 at 1 mm or 1° off.
 TEST(DensePlaceSearch, ATwinThatCopiesPartOfTheFrameIsToldApartByTheRest) {
   const testing::ClonedPatch cloned = testing::WithClonedPatch(PlainConcrete());
-  mosaic::ImageRasterSource floor(cloned.photo,
-                                  {0.0, cloned.photo.rows * kResolutionM, kResolutionM});
-  const geometry::CameraModel camera = SmallCamera();
-  auto search = DensePlaceSearch::Create(floor, camera, DensePlaceSearchOptions{});
-  ASSERT_TRUE(search.ok()) << search.status().message();
-  sim::CameraRenderer renderer(&floor, camera, sim::RenderOptions{}, 6);
+  DefaultSearch s(cloned.photo);
+  ASSERT_NE(s.search, nullptr);
+  const DensePlaceSearch& search = *s.search;
+  const geometry::CameraModel& camera = s.camera;
+  sim::CameraRenderer renderer(&s.floor, camera, sim::RenderOptions{}, 6);
   const int rows = cloned.photo.rows;
   const auto twin_of = [&](const geometry::Pose2& p) {
     return geometry::Pose2{p.x + cloned.offset_m.x(), p.y + cloned.offset_m.y(), p.theta};
@@ -238,37 +245,36 @@ TEST(DensePlaceSearch, ATwinThatCopiesPartOfTheFrameIsToldApartByTheRest) {
   constexpr int kFrom = testing::ClonedPatch::kFromPx;
   const geometry::Pose2 partly = testing::CameraCentredAt(camera, kFrom + 50, kFrom + 200, rows, 0);
   const cv::Mat frame = renderer.Render(partly * camera.mount.Inverse(), {0, 0}, 1).image;
-  const DensePlaceSearch::TwinContrast c = (*search)->ContrastTwins(frame, partly, twin_of(partly));
+  const DensePlaceSearch::TwinContrast c = search.ContrastTwins(frame, partly, twin_of(partly));
   EXPECT_GT(c.share, 0.2);
   EXPECT_LT(c.share, 0.45);
   EXPECT_GT(c.own, 0.3);
   EXPECT_LT(c.rival, 0.3 * c.own);
   const DensePlaceSearch::TwinContrast reversed =
-      (*search)->ContrastTwins(frame, twin_of(partly), partly);
+      search.ContrastTwins(frame, twin_of(partly), partly);
   EXPECT_NEAR(reversed.own, c.rival, 1e-9);
   EXPECT_NEAR(reversed.rival, c.own, 1e-9);
 
   const geometry::Pose2 inside =
       testing::CameraCentredAt(camera, kFrom + 200, kFrom + 200, rows, 0.4);
   const cv::Mat inner = renderer.Render(inside * camera.mount.Inverse(), {0, 0}, 2).image;
-  EXPECT_LT((*search)->ContrastTwins(inner, inside, twin_of(inside)).share, 0.02);
+  EXPECT_LT(search.ContrastTwins(inner, inside, twin_of(inside)).share, 0.02);
 
   const geometry::Pose2 elsewhere = testing::CameraCentredAt(camera, 800, 200, rows, 1.0);
-  const DensePlaceSearch::TwinContrast unrelated =
-      (*search)->ContrastTwins(frame, partly, elsewhere);
+  const DensePlaceSearch::TwinContrast unrelated = search.ContrastTwins(frame, partly, elsewhere);
   EXPECT_GT(unrelated.share, 0.9);
   EXPECT_GT(unrelated.own, 0.5);
   EXPECT_LT(std::abs(unrelated.rival), 0.1);
   // The views line up with the frame: 1 mm or 1° off, the frame fits its place less well.
   for (const geometry::Pose2& off : {geometry::Pose2{0.001, 0, 0}, geometry::Pose2{0, -0.001, 0},
                                      geometry::Pose2{0, 0, M_PI / 180}}) {
-    EXPECT_LT((*search)->ContrastTwins(frame, partly * off, elsewhere).own, unrelated.own - 0.05);
+    EXPECT_LT(search.ContrastTwins(frame, partly * off, elsewhere).own, unrelated.own - 0.05);
   }
 }
 
 TEST(DensePlaceSearch, RefusesBadOptionsAndAMosaicTooLargeForIt) {
   const cv::Mat photo = PlainConcrete();
-  mosaic::ImageRasterSource floor(photo, {0.0, photo.rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(photo, GeoOf(photo));
   DensePlaceSearchOptions options;
   options.normalize_window_px = 4;
   EXPECT_FALSE(DensePlaceSearch::Create(floor, SmallCamera(), options).ok());

@@ -113,7 +113,8 @@ std::vector<DensePeak> Relocalizer::SearchDense(
   // The coarse peaks are near noise on weak floors: the best's twin on a floor that repeats
   // itself need not be among them (3 single-frame wrong poses on the repeated stress floors).
   // Searched at the refine level only for a best the gate would accept (it costs 5 refine-level
-  // correlations over the whole floor), its rivals told apart or not.
+  // correlations over the whole floor), its rivals told apart or not. AcceptDensePeaks tells the
+  // rivals apart again with the alternative among them.
   if (peaks.size() >= 1 && peaks[0].correlation >= gate.min_correlation &&
       (peaks.size() < 2 || peaks[1].correlation <= gate.max_second_ratio * peaks[0].correlation ||
        TwinsToldApart(search, frame, peaks, gate, nullptr))) {

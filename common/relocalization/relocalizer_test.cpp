@@ -370,15 +370,22 @@ TEST(Relocalizer, AFloorThatRepeatsItselfIsAmbiguousNeverAWrongPose) {
   }
 }
 
+// Plain concrete g4 with its cloned patch (test_floors.h) and the 320×240 camera.
+struct ClonedFloor {
+  PlainScene scene = PlainConcreteScene();
+  testing::ClonedPatch cloned = testing::WithClonedPatch(scene.photo);
+};
+
 // A floor photograph with a cloned patch (test_floors.h): a frame two thirds over the patch is
 // found, told from the copy by the third off it, and refused as ambiguous without that contrast;
 // a frame wholly inside the patch is ambiguous either way. Measured: the found place correlates
 // 0.67–0.75 where the views differ (23–45 % of the frame), the copy −0.02–0.07 there.
 TEST(Relocalizer, AFramePartlyOverAClonedPatchIsToldFromItsCopy) {
-  PlainScene scene = PlainConcreteScene();
-  const testing::ClonedPatch cloned = testing::WithClonedPatch(scene.photo);
+  const ClonedFloor c;
+  const PlainScene& scene = c.scene;
+  const testing::ClonedPatch& cloned = c.cloned;
   const int rows = cloned.photo.rows;
-  mosaic::ImageRasterSource floor(cloned.photo, {0.0, rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(cloned.photo, testing::GeoOf(cloned.photo));
   RelocalizerOptions without;
   without.twin_contrast = false;
   auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
@@ -423,10 +430,11 @@ TEST(Relocalizer, AFramePartlyOverAClonedPatchIsToldFromItsCopy) {
 // taken where the floor around the patch (or around its copy) is covered by a plain grey sheet,
 // so only the copied part shows. Nothing can tell the two apart: never a pose, and no wrong one.
 TEST(Relocalizer, AFrameWhoseDifferenceFromTheCopyIsCoveredIsRefused) {
-  PlainScene scene = PlainConcreteScene();
-  const testing::ClonedPatch cloned = testing::WithClonedPatch(scene.photo);
+  const ClonedFloor c;
+  const PlainScene& scene = c.scene;
+  const testing::ClonedPatch& cloned = c.cloned;
   const int rows = cloned.photo.rows;
-  mosaic::ImageRasterSource floor(cloned.photo, {0.0, rows * kResolutionM, kResolutionM});
+  mosaic::ImageRasterSource floor(cloned.photo, testing::GeoOf(cloned.photo));
   auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
   ASSERT_TRUE(relocalizer.ok());
   constexpr int kSide = testing::ClonedPatch::kSidePx;
@@ -434,7 +442,7 @@ TEST(Relocalizer, AFrameWhoseDifferenceFromTheCopyIsCoveredIsRefused) {
     cv::Mat covered(cloned.photo.size(), CV_8UC1, cv::Scalar(128));
     const cv::Rect patch(corner, corner, kSide, kSide);
     cloned.photo(patch).copyTo(covered(patch));
-    mosaic::ImageRasterSource seen(covered, {0.0, rows * kResolutionM, kResolutionM});
+    mosaic::ImageRasterSource seen(covered, testing::GeoOf(covered));
     sim::CameraRenderer renderer(&seen, scene.camera, sim::RenderOptions{}, 24);
     const geometry::Pose2 truth =
         testing::CameraCentredAt(scene.camera, corner + 50, corner + 200, rows, 0.0) *

@@ -22,6 +22,11 @@ inline cv::Mat PlainConcrete() {
   return photo;
 }
 
+// A floor photograph's geotransform: kResolutionM a pixel, the origin at its top-left corner.
+inline geometry::Geotransform GeoOf(const cv::Mat& photo) {
+  return {0.0, photo.rows * kResolutionM, kResolutionM};
+}
+
 inline geometry::CameraModel SmallCamera() {
   return sim::DefaultSimCameraModel(320, 240, kResolutionM);
 }
