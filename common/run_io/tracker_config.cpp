@@ -71,6 +71,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"polish_max_level_pixels", &d.polish_max_level_pixels},
           {"polish_max_level", &d.polish_max_level},
           {"min_significant_peak_z", &d.min_significant_peak_z},
+          {"min_tentative_peak_z", &d.min_tentative_peak_z},
           {"min_significant_correlation", &d.min_significant_correlation},
           {"min_polished_significant_correlation", &d.min_polished_significant_correlation},
           {"min_polish_correlation", &d.min_polish_correlation},

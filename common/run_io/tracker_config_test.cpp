@@ -135,6 +135,17 @@ TEST(TrackerConfig, ReadsTheHeadingProbesWindowAndRefusesANegativeOne) {
   EXPECT_NE(bad.status().message().find("direct.heading_probe_px"), std::string::npos);
 }
 
+TEST(TrackerConfig, ReadsTheTentativePeakFloorAndRefusesANegativeOne) {
+  const auto options =
+      TrackerOptionsFromJson({{"direct", {{"min_tentative_peak_z", 0}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->direct.min_tentative_peak_z, 0.0);
+  EXPECT_EQ(tracking::TrackerOptions{}.direct.min_tentative_peak_z, 4.0);
+  const auto bad = TrackerOptionsFromJson({{"direct", {{"min_tentative_peak_z", -1}}}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.min_tentative_peak_z"), std::string::npos);
+}
+
 TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOnes) {
   const auto options = TrackerOptionsFromJson(
       {{"polish_min_frame_pixels", 0}, {"direct", {{"polish_max_level_pixels", 0}}}}, "t.json");

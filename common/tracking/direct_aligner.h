@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -158,7 +159,22 @@ class DirectAligner {
   SearchHit ClimbHeadingsOverWholeWindows(const Level& level, const imaging::SpectralNcc& frame_ncc,
                                           const geometry::Pose2& start, int r, double step,
                                           int steps, const SearchHit& at_start,
-                                          int* searches) const;
+                                          std::map<int, SearchHit> hits, int* searches) const;
+  SearchHit ClimbHeadingsFromTentativePeak(const Level& level,
+                                           const imaging::SpectralNcc& frame_ncc,
+                                           const geometry::Pose2& start, int r, double step,
+                                           int steps, const SearchHit& at_start,
+                                           int* searches) const;
+  // The end of a heading climb probed near a peak (ClimbProbedHeadings): the heading step (0: the
+  // climb stayed), the probe's peak in its ±heading_probe_px surface, its pose and correlation.
+  struct ProbedHeading {
+    int k = 0;
+    cv::Point at;
+    geometry::Pose2 pose;
+    double correlation = 0.0;
+  };
+  ProbedHeading ClimbProbedHeadings(const Level& level, const imaging::SpectralNcc& frame_ncc,
+                                    double step, int steps, const SearchHit& at_start) const;
   static SearchHit TurnedHit(const SearchHit& at_start, const geometry::Pose2& pose,
                              double correlation);
   geometry::Pose2 PoseAtShift(const Level& level, const geometry::Pose2& pose,

@@ -92,6 +92,8 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
+      Check(d.min_tentative_peak_z >= 0, "direct.min_tentative_peak_z", "must be >= 0 (0: off)"));
+  FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_polished_significant_correlation > -1 &&
                 d.min_polished_significant_correlation <= d.min_significant_correlation,
             "direct.min_polished_significant_correlation",

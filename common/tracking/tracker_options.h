@@ -133,6 +133,12 @@ struct DirectAlignOptions {
   // only the heading it ends at is searched over the whole window (DirectAligner::ClimbHeadings);
   // 0: every heading over the whole window.
   int heading_probe_px = 2;
+  // A predicted heading's peak below min_significant_peak_z but at least this (0: never) may be
+  // the frame's place or chance: the climb probes near it all the same, then searches the whole
+  // window at the heading it ends at, and goes on over whole windows unless that window's peak is
+  // the probed one (DirectAligner::ClimbHeadingsFromTentativePeak). Two whole windows instead of
+  // three or four where the peak was the place.
+  double min_tentative_peak_z = 4.0;
   // A peak at the predicted heading that is significant (min_significant_peak_z) and distinct
   // (second peak ≤ max_distinct_peak_ratio of it) ends the search there: the alignment fits the
   // rest of the turn (docs/benchmarks.md, "Significant peaks end the heading search").
