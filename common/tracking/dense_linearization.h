@@ -83,6 +83,7 @@ struct PointSet {
 // (and the others 0).
 struct PointViews {
   std::vector<float> value, gx, gy, seen;
+  PointViews() = default;
   explicit PointViews(size_t n) : value(n), gx(n), gy(n), seen(n) {}
 };
 

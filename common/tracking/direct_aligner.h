@@ -127,7 +127,8 @@ class DirectAligner {
   Source ReadSource(const Level& level, const geometry::Pose2& pose) const;
   struct LevelWarp;
   Linearization Linearize(const Level& level, const MosaicBlock& source,
-                          const geometry::Pose2& pose, double sigma, double gain) const;
+                          const geometry::Pose2& pose, double sigma, double gain,
+                          PointViews* views) const;
   void Combine(const Linearization& fit, const geometry::PoseWithCovariance& prior,
                const geometry::Pose2& pose, DirectAlignment* out) const;
   int SearchLevel(double sigma_px) const;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "tracking/dense_linearization.h"
@@ -274,11 +275,12 @@ DirectAligner::Source DirectAligner::ReadSource(const Level& level, const Pose2&
 // estimated from the residuals' MAD; gain ≤ 0: the least-squares contrast), with the fit's
 // quality and the per-block scores the sandwich covariance needs.
 Linearization DirectAligner::Linearize(const Level& level, const MosaicBlock& source,
-                                       const Pose2& pose, double sigma, double gain) const {
+                                       const Pose2& pose, double sigma, double gain,
+                                       PointViews* views) const {
   const LevelWarp warp(
       FrameMosaicWarp::For(pose, camera_, mosaic_->layout().geo).AtLevel(level.level), level.level);
-  return LinearizePoints(level.points, warp.Views(source, level.points), options_.tukey_c, sigma,
-                         gain);
+  warp.Views(source, level.points, views);
+  return LinearizePoints(level.points, *views, options_.tukey_c, sigma, gain);
 }
 
 // Robust MAP Gauss–Newton at one level from `pose`: the level's final pose, its linearization
@@ -287,10 +289,13 @@ Pose2 DirectAligner::AlignLevel(const Level& level, const PoseWithCovariance& pr
                                 double tolerance_px, int* iterations, Linearization* final_fit,
                                 bool fit_gain) const {
   const Source source = ReadSource(level, pose);
-  return GaussNewton([&](const Pose2& at, double sigma,
-                         double gain) { return Linearize(level, *source, at, sigma, gain); },
-                     level.level, options_.max_iterations, prior, pose, tolerance_px, iterations,
-                     final_fit, fit_gain);
+  PointViews views;  // every iteration's, in one set of arrays
+  return GaussNewton(
+      [&](const Pose2& at, double sigma, double gain) {
+        return Linearize(level, *source, at, sigma, gain, &views);
+      },
+      level.level, options_.max_iterations, prior, pose, tolerance_px, iterations, final_fit,
+      fit_gain);
 }
 
 // Up to `max_iterations` maximum a posteriori steps from `pose`, each from `linearize` at the
