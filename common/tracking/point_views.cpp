@@ -75,8 +75,10 @@ __attribute__((target("avx2"))) void SampleEightsAvx2(const PointWarp& w, const 
   alignas(32) int x0[8], y0[8], inside[8];
   for (size_t i = 0; i < end; i += 8) {
     const __m256 u = _mm256_loadu_ps(points.u.data() + i), v = _mm256_loadu_ps(points.v.data() + i);
-    const __m256 mx = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l00, u), _mm256_mul_ps(l01, v)), ox);
-    const __m256 my = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l10, u), _mm256_mul_ps(l11, v)), oy);
+    const __m256 mx =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l00, u), _mm256_mul_ps(l01, v)), ox);
+    const __m256 my =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(l10, u), _mm256_mul_ps(l11, v)), oy);
     __m256 in = _mm256_and_ps(
         _mm256_and_ps(_mm256_cmp_ps(mx, half, _CMP_GE_OQ), _mm256_cmp_ps(my, half, _CMP_GE_OQ)),
         _mm256_and_ps(_mm256_cmp_ps(mx, max_x, _CMP_LE_OQ), _mm256_cmp_ps(my, max_y, _CMP_LE_OQ)));
@@ -104,8 +106,10 @@ __attribute__((target("avx2"))) void SampleEightsAvx2(const PointWarp& w, const 
       s2[k] = s[2];
     }
     const __m256 g1 = _mm256_load_ps(s1), g2 = _mm256_load_ps(s2);
-    const __m256 gx = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(t00, g1), _mm256_mul_ps(t01, g2)), scale);
-    const __m256 gy = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(t10, g1), _mm256_mul_ps(t11, g2)), scale);
+    const __m256 gx =
+        _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(t00, g1), _mm256_mul_ps(t01, g2)), scale);
+    const __m256 gy =
+        _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(t10, g1), _mm256_mul_ps(t11, g2)), scale);
     _mm256_storeu_ps(views->value.data() + i, _mm256_load_ps(s0));
     _mm256_storeu_ps(views->gx.data() + i, _mm256_and_ps(gx, in));
     _mm256_storeu_ps(views->gy.data() + i, _mm256_and_ps(gy, in));
