@@ -44,6 +44,10 @@ TEST(CliEndToEnd, SimulatedRunOverImportedPhotoTracksToATenthOfAPixel) {
   EXPECT_EQ(summary["frames"], 60);
   EXPECT_GE(summary["lock_rate"].get<double>(), 0.95);
   EXPECT_LT(summary["error"]["camera_position_rms_px"].get<double>(), 0.1);
+  // The time over the frames tracked: every frame here, so within the spread of all frames.
+  const nlohmann::json& ms = summary["ms_per_frame"];
+  EXPECT_GT(ms["median_locked"].get<double>(), 0.0);
+  EXPECT_LE(ms["median_locked"].get<double>(), ms["p95"].get<double>());
 
   const std::vector<std::string> lines = Lines(ReadWhole(poses));
   ASSERT_EQ(lines.size(), 61u);

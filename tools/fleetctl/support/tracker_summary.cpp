@@ -4,19 +4,29 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <string>
+#include <vector>
 
 namespace fleetloc::fleetctl {
 
 nlohmann::json TrackSummary(const run_io::Run& run, const replay::ReplayResult& replayed) {
   const std::vector<double>& ms = replayed.cycle_ms;
   std::map<std::string, int> counts;
-  for (const auto& p : replayed.poses) ++counts[p.status];
+  std::vector<double> locked_ms;  // the frames the method located: its time to do the job
+  for (size_t i = 0; i < replayed.poses.size(); ++i) {
+    const std::string& status = replayed.poses[i].status;
+    ++counts[status];
+    if ((status == "tracking" || status == "relocalized") && i < ms.size()) {
+      locked_ms.push_back(ms[i]);
+    }
+  }
   nlohmann::json j;
   j["frames"] = replayed.poses.size();
   j["ms_per_frame"] = {
       {"median", replay::Percentile(ms, 50)},
       {"p95", replay::Percentile(ms, 95)},
-      {"mean", ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size()}};
+      {"mean", ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size()},
+      {"median_locked", replay::Percentile(locked_ms, 50)}};
   j["status_counts"] = counts;
   const double locked = counts["tracking"] + counts["relocalized"];
   j["lock_rate"] = replayed.poses.empty() ? 0.0 : locked / replayed.poses.size();

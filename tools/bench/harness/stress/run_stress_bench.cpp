@@ -105,9 +105,11 @@ std::string JudgeStressCell(const std::vector<BenchRow>& rows, const std::string
   if (size.width == 640 && size.height == 480) {
     const double median_ms = Number(f, "ms_per_frame", "median");
     if (median_ms > (PlainClass(floor_class) ? 4.0 : 2.0)) misses.emplace_back("time");
-    // At least 10× faster than ECC where ECC locked frames (its median over the frames it ran).
+    // At least 10× faster than ECC where ECC locked frames, against its median over those frames:
+    // an ECC that gives up on a frame within milliseconds (worn asphalt b1 under `fast`: 77 % of
+    // the frames, median 2.6 ms over all of them) has not registered it faster.
     if (ecc && Number(ecc->summary, nullptr, "lock_rate") > 0 &&
-        Number(ecc->summary, "ms_per_frame", "median") < 10.0 * median_ms) {
+        Number(ecc->summary, "ms_per_frame", "median_locked") < 10.0 * median_ms) {
       misses.emplace_back("time vs ecc");
     }
   }
