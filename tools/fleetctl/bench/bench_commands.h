@@ -24,4 +24,8 @@ void RegisterBenchSupervisorAbuseCommand(CLI::App& bench, Status* result);
 void RegisterBenchRemapCommand(CLI::App& bench, Status* result);
 void RegisterBenchPatchFloodCommand(CLI::App& bench, Status* result);
 
+// `--timing-replays N` (1–20) into `replays`: the tracker benchmarks' replays of fleetloc per run,
+// each frame's time the least of them (bench::BenchSettings::timing_replays).
+void AddTimingReplaysOption(CLI::App* command, int* replays);
+
 }  // namespace fleetloc::fleetctl

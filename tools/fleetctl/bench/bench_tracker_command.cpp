@@ -35,6 +35,7 @@ void AddTrackerOptions(CLI::App* tracker, bench::TrackerBenchArgs* a) {
       ->add_option("--peer-frames", s.peer_frames,
                    "Peers replay only the first N frames (0: all; SIFT is slow)")
       ->check(CLI::Range(0, 1000000));
+  AddTimingReplaysOption(tracker, &s.timing_replays);
 }
 
 }  // namespace
@@ -46,6 +47,15 @@ void RegisterBenchTrackerCommand(CLI::App& bench, Status* result) {
   tracker->option_defaults()->always_capture_default();
   AddTrackerOptions(tracker, args.get());
   tracker->callback([args, result] { *result = bench::RunTrackerBench(*args); });
+}
+
+void AddTimingReplaysOption(CLI::App* command, int* replays) {
+  command
+      ->add_option("--timing-replays", *replays,
+                   "fleetloc replays each run N times (the same poses each time); a frame's time "
+                   "is the least of its N")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 20));
 }
 
 }  // namespace fleetloc::fleetctl

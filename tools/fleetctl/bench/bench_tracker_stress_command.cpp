@@ -18,6 +18,7 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
   s.frames = 150;
   s.peer_frames = 20;
   s.methods = {"fleetloc", "ecc", "orb", "sift"};
+  s.timing_replays = 3;
   stress->add_option("--manifest", args->manifest,
                      "Floors manifest (default: data/stress_floors/floors.json)");
   stress->add_option("--split", args->split, "tuning, holdout or all")
@@ -35,6 +36,7 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
       ->check(CLI::Range(0, 1000000));
   stress->add_option("--methods", s.methods, "fleetloc and peers (ecc, orb, sift, phase)")
       ->delimiter(',');
+  AddTimingReplaysOption(stress, &s.timing_replays);
   stress->add_option("--seed", s.seed, "Simulation seed");
   stress->add_option("--work-dir", args->work_dir, "Scaled floors, mosaics and runs");
   stress->add_option("--json", args->json, "Write every number to this JSON file");

@@ -12,12 +12,11 @@ BenchRow Row(const std::string& label, double lock_rate, double camera_rms_px, d
              double median_locked_ms = -1.0) {
   BenchRow row;
   row.replay.label = label;
-  row.summary = {
-      {"lock_rate", lock_rate},
-      {"error", {{"false_locks", 0}, {"camera_position_rms_px", camera_rms_px}}},
-      {"ms_per_frame",
-       {{"median", median_ms},
-        {"median_locked", median_locked_ms < 0 ? median_ms : median_locked_ms}}}};
+  row.summary = {{"lock_rate", lock_rate},
+                 {"error", {{"false_locks", 0}, {"camera_position_rms_px", camera_rms_px}}},
+                 {"ms_per_frame",
+                  {{"median", median_ms},
+                   {"median_locked", median_locked_ms < 0 ? median_ms : median_locked_ms}}}};
   return row;
 }
 

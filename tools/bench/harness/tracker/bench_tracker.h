@@ -33,7 +33,16 @@ struct BenchSettings {
   sim::RenderOptions render;            // camera effects (default: `fleetctl sim`'s)
   sim::RouteShape route = sim::RouteShape::kFigureEight;
   tracking::TrackerOptions tracker;  // fleetloc's options (`--tracker-config`; default: defaults)
+  // fleetloc replays the run this many times, each with a new tracker, and each frame's time is
+  // the least of its replays: what the frame costs without the host's other tenants (this VM's
+  // timings jump by up to 2× for seconds at a time). The poses must be the same every time.
+  int timing_replays = 1;
 };
+
+// Folds a further replay of the same run into `first`: each frame's time the least of the two.
+// Internal when its poses (status and pose, NaN equal to NaN) or frame count differ from the
+// first's.
+Status TakeLeastTimes(const replay::ReplayResult& again, replay::ReplayResult* first);
 
 // Reads `path` (tracker options JSON, as `fleetctl track --config`) into settings->tracker; an
 // empty path keeps the defaults.
