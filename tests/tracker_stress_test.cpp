@@ -84,6 +84,17 @@ void CheckOnlyCell(const nlohmann::json& cells, double min_lock_rate, double max
   EXPECT_LE(f["error"]["camera_position_rms_px"].get<double>(), max_camera_rms_px);
 }
 
+// The one tuning cell of `floor_class` under `condition` at `size` run by the bench into `work` and
+// checked as CheckOnlyCell; the directory of its mosaic and run, `floor_dir` (the bench's name
+// for the floor).
+fs::path CheckedCell(const fs::path& work, const std::string& floor_class,
+                     const std::string& condition, const std::string& size,
+                     const std::string& floor_dir, double min_lock_rate, double max_camera_rms_px) {
+  CheckOnlyCell(RunCellsIn(work, floor_class, "tuning", condition, size), min_lock_rate,
+                max_camera_rms_px);
+  return work / size / condition / floor_dir;
+}
+
 TEST_P(TrackerStress, TuningFloorsTrackThroughDustAndThroughFastMotion) {
   CheckCells(RunCells(GetParam().floor_class, "tuning", "dusty,fast"),
              GetParam().max_camera_rms_px);
@@ -232,9 +243,8 @@ TEST(TrackerStressFastFrames, EveryFrameIsPolishedAtLevel1At640x480) {
 // frames after every such failure, they located 20 of these 30 frames at twice the cost.
 TEST(TrackerStressTexturedFloor, AFrameTheStandardTemplatesFailOnDoesNotSwitchTheFloorToWeak) {
   const fs::path work = fs::temp_directory_path() / "stress_test_standard_templates_back";
-  const nlohmann::json cells = RunCellsIn(work, "painted_lines", "tuning", "marks", "640x480");
-  CheckOnlyCell(cells, 1.0, 0.05);
-  const fs::path cell = work / "640x480" / "marks" / "painted_lines_pavement001_x2_png";
+  const fs::path cell = CheckedCell(work, "painted_lines", "marks", "640x480",
+                                    "painted_lines_pavement001_x2_png", 1.0, 0.05);
   const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<std::string> sizes =
@@ -251,9 +261,8 @@ TEST(TrackerStressTexturedFloor, AFrameTheStandardTemplatesFailOnDoesNotSwitchTh
 // frames.
 TEST(TrackerStressTexturedFloor, DebrisDoesNotTakeEveryStandardTemplate) {
   const fs::path work = fs::temp_directory_path() / "stress_test_debris_templates";
-  const nlohmann::json cells = RunCellsIn(work, "painted_lines", "tuning", "dusty", "640x480");
-  CheckOnlyCell(cells, 1.0, 0.05);
-  const fs::path cell = work / "640x480" / "dusty" / "painted_lines_pavement001_x2_png";
+  const fs::path cell = CheckedCell(work, "painted_lines", "dusty", "640x480",
+                                    "painted_lines_pavement001_x2_png", 1.0, 0.05);
   const auto standard_frames = [&](const std::string& config) {
     const CommandResult r = TrackWithFramesOut(cell, work, config);
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -350,9 +359,8 @@ void ExpectHeadingProbesClimbLikeWholeWindows(const fs::path& cell, const fs::pa
 // climb over whole windows.
 TEST(TrackerStressTexturedFloor, ATentativePeakIsClimbedByProbesAndConfirmedByOneWindow) {
   const fs::path work = fs::temp_directory_path() / "stress_test_tentative_peak";
-  const nlohmann::json cells = RunCellsIn(work, "painted_lines", "tuning", "all", "640x480");
-  CheckOnlyCell(cells, 0.95, 0.1);
-  const fs::path cell = work / "640x480" / "all" / "painted_lines_pavement001_x2_png";
+  const fs::path cell = CheckedCell(work, "painted_lines", "all", "640x480",
+                                    "painted_lines_pavement001_x2_png", 0.95, 0.1);
   const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ExpectTheSamePosesWithFewerSearches(cell, work, ReadWhole(work / "frames.csv"),
@@ -366,9 +374,8 @@ TEST(TrackerStressTexturedFloor, ATentativePeakIsClimbedByProbesAndConfirmedByOn
 // alignment located is polished here (frames-out `polished`).
 TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
   const fs::path work = fs::temp_directory_path() / "stress_test_dense_polish_640";
-  const nlohmann::json cells = RunCellsIn(work, "polished_concrete", "tuning", "all", "640x480");
-  CheckOnlyCell(cells, 0.95, 0.15);
-  const fs::path cell = work / "640x480" / "all" / "polished_concrete_024_x2_png";
+  const fs::path cell = CheckedCell(work, "polished_concrete", "all", "640x480",
+                                    "polished_concrete_024_x2_png", 0.95, 0.15);
   const CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string frames = ReadWhole(work / "frames.csv");
@@ -405,9 +412,8 @@ TEST(TrackerStressWeakFloor, PlainestFloorsDenseFitsArePolishedAt640x480) {
 // with the old rule (0.3) no frame tracked at all.
 TEST(TrackerStressWeakFloor, PlainestFloorAt320x240LocksWhereThePolishConfirmsTheFit) {
   const fs::path work = fs::temp_directory_path() / "stress_test_confirming_polish_320";
-  const nlohmann::json cells = RunCellsIn(work, "polished_concrete", "tuning", "all", "320x240");
-  CheckOnlyCell(cells, 0.95, 0.25);
-  const fs::path cell = work / "320x240" / "all" / "polished_concrete_024_png";
+  const fs::path cell = CheckedCell(work, "polished_concrete", "all", "320x240",
+                                    "polished_concrete_024_png", 0.95, 0.25);
   CommandResult r = TrackWithFramesOut(cell, work);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string frames = ReadWhole(work / "frames.csv");

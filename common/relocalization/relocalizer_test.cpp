@@ -370,10 +370,12 @@ TEST(Relocalizer, AFloorThatRepeatsItselfIsAmbiguousNeverAWrongPose) {
   }
 }
 
-// Plain concrete g4 with its cloned patch (test_floors.h) and the 320×240 camera.
+// Plain concrete g4 with its cloned patch (test_floors.h) as the floor, and the 320×240 camera.
 struct ClonedFloor {
   PlainScene scene = PlainConcreteScene();
   testing::ClonedPatch cloned = testing::WithClonedPatch(scene.photo);
+  int rows = cloned.photo.rows;
+  mosaic::ImageRasterSource floor{cloned.photo, testing::GeoOf(cloned.photo)};
 };
 
 // A floor photograph with a cloned patch (test_floors.h): a frame two thirds over the patch is
@@ -381,11 +383,10 @@ struct ClonedFloor {
 // a frame wholly inside the patch is ambiguous either way. Measured: the found place correlates
 // 0.67–0.75 where the views differ (23–45 % of the frame), the copy −0.02–0.07 there.
 TEST(Relocalizer, AFramePartlyOverAClonedPatchIsToldFromItsCopy) {
-  const ClonedFloor c;
+  ClonedFloor c;
   const PlainScene& scene = c.scene;
-  const testing::ClonedPatch& cloned = c.cloned;
-  const int rows = cloned.photo.rows;
-  mosaic::ImageRasterSource floor(cloned.photo, testing::GeoOf(cloned.photo));
+  const int rows = c.rows;
+  mosaic::ImageRasterSource& floor = c.floor;
   RelocalizerOptions without;
   without.twin_contrast = false;
   auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
@@ -430,11 +431,11 @@ TEST(Relocalizer, AFramePartlyOverAClonedPatchIsToldFromItsCopy) {
 // taken where the floor around the patch (or around its copy) is covered by a plain grey sheet,
 // so only the copied part shows. Nothing can tell the two apart: never a pose, and no wrong one.
 TEST(Relocalizer, AFrameWhoseDifferenceFromTheCopyIsCoveredIsRefused) {
-  const ClonedFloor c;
+  ClonedFloor c;
   const PlainScene& scene = c.scene;
   const testing::ClonedPatch& cloned = c.cloned;
-  const int rows = cloned.photo.rows;
-  mosaic::ImageRasterSource floor(cloned.photo, testing::GeoOf(cloned.photo));
+  const int rows = c.rows;
+  mosaic::ImageRasterSource& floor = c.floor;
   auto relocalizer = Relocalizer::Create(nullptr, &floor, scene.camera, RelocalizerOptions{});
   ASSERT_TRUE(relocalizer.ok());
   constexpr int kSide = testing::ClonedPatch::kSidePx;
