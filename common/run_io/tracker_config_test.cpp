@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace fleetloc::run_io {
 namespace {
@@ -144,6 +147,22 @@ TEST(TrackerConfig, ReadsTheTentativePeakFloorAndRefusesANegativeOne) {
   const auto bad = TrackerOptionsFromJson({{"direct", {{"min_tentative_peak_z", -1}}}}, "t.json");
   EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
   EXPECT_NE(bad.status().message().find("direct.min_tentative_peak_z"), std::string::npos);
+}
+
+TEST(TrackerConfig, ReadsThePolishsWideWindowAndRefusesANegativeOneOrNoMargin) {
+  const auto options = TrackerOptionsFromJson(
+      {{"direct", {{"polish_wide_window_px", 0}, {"polish_wide_window_max_sigma_ratio", 0.8}}}},
+      "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->direct.polish_wide_window_px, 0);
+  EXPECT_EQ(options->direct.polish_wide_window_max_sigma_ratio, 0.8);
+  EXPECT_EQ(tracking::TrackerOptions{}.direct.polish_wide_window_px, 15);
+  for (const auto& [key, value] : std::vector<std::pair<std::string, double>>{
+           {"polish_wide_window_px", -1}, {"polish_wide_window_max_sigma_ratio", 0}}) {
+    const auto bad = TrackerOptionsFromJson({{"direct", {{key, value}}}}, "t.json");
+    EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput) << key;
+    EXPECT_NE(bad.status().message().find("direct." + key), std::string::npos) << key;
+  }
 }
 
 TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOnes) {

@@ -40,6 +40,7 @@ struct DirectAlignment {
   double prior_chi2 = 0.0;
   double sigma_px = 0.0;      // image-only worst-direction position sigma, level-0 px
   double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
+  int window_px = 0;          // the polish's normalization window (level-0 px)
   ResidualNoise noise;        // the residual noise the polish weighed its pixels by
   int points = 0;             // pixels used at the finest level
   int iterations = 0;         // Gauss–Newton iterations over all levels
@@ -57,6 +58,9 @@ struct DirectAlignment {
 struct PolishModel {
   double view_blur_px = -1.0;          // < 0: estimated
   std::optional<ResidualNoise> noise;  // absent: fitted (when direct.noise_model)
+  // The normalization window above level 0 (level-0 px); < 0: the more precise of the mosaic's
+  // and direct.polish_wide_window_px.
+  int window_px = -1;
 };
 
 class DirectAligner {
@@ -85,7 +89,9 @@ class DirectAligner {
   // frame's blur estimated here when max_view_blur_px > 0; the pixels are weighed by model.noise,
   // or by the noise fitted here. The result holds both as used. `confirming`: the fit is valid
   // only once polished (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps.
-  // `level`: the pyramid level it works at (< 0: PolishLevel()).
+  // `level`: the pyramid level it works at (< 0: PolishLevel()). Above level 0 the frame and the
+  // view are normalized over model.window_px, or polished over both candidate windows and the
+  // more precise fit taken (see DirectAlignOptions::polish_wide_window_px).
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
                          const geometry::Pose2& start, const PolishModel& model = {},
                          bool confirming = false, int level = -1) const;
@@ -134,6 +140,9 @@ class DirectAligner {
   int SearchLevel(double sigma_px) const;
   const char* Verdict(const DirectAlignment& fit, bool prediction_confirms,
                       double min_significant_correlation) const;
+  DirectAlignment PolishOverWindow(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
+                                   const geometry::Pose2& start, const PolishModel& model,
+                                   bool confirming, int level, int window_px) const;
   const char* PolishRefusal(const DirectAlignment& polished, const Linearization& fit,
                             const geometry::Pose2& pose, const geometry::PoseWithCovariance& prior,
                             const geometry::Pose2& start) const;

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "geometry/convex_polygon.h"
+#include "imaging/fast_patch.h"
 #include "tracking/dense_linearization.h"
 #include "tracking/direct_aligner.h"
 #include "tracking/direct_aligner_parts.h"
@@ -23,26 +24,34 @@ using geometry::PoseWithCovariance;
 
 namespace {
 
-// The normalized mosaic view of `rect` (pixels of `level`) from `pose`. Above level 0 it is the
-// frame's own steps: the mosaic averaged over each pixel's 2^level square of level-0 pixels
-// (RenderAreaAveragedView), then normalized at `level`. The mosaic's own coarser levels were
-// averaged on the mosaic's pixel grid and subsampled: when the frame's grid runs parallel to it (a
-// vehicle driving along the mosaic's axes), their aliasing differs from the frame's by an amount
-// that depends on the sub-pixel phase between the grids, and the fit is pulled towards the
-// mosaic's pixels (0.08 px at 1280×1024 measured, against 0.002 at other headings). Normalized at
-// level 0 before averaging, the view's local contrast differed from the frame's (clean worn asphalt
-// g8 at 1280×1024: 0.0035 px RMS, 0.0007 by the frame's steps). Until session 45 the view was
-// rendered at level 0 and averaged down (4^level times the samples: a fifth of a 640×480 frame's
-// time on concrete under `all`); the average over a square aligned with the mosaic is the same to
-// float rounding at the headings where the grids run parallel, and a turned square of the same
-// centre and size elsewhere (docs/benchmarks.md, session 45).
+// `image` (pixels of `level`) normalized over `window` level pixels; at level 0 as the mosaic's
+// tiles are (its window and smoothing).
+cv::Mat NormalizedAt(const NormalizedMosaic& mosaic, const cv::Mat& image, int level, int window,
+                     cv::Mat* local_variance = nullptr) {
+  if (level == 0) return mosaic.Normalize(image, 0, local_variance);
+  return imaging::NormalizePatch(image, window, NormalizedMosaic::kSpreadEpsilon, local_variance);
+}
+
+// The normalized mosaic view of `rect` (pixels of `level`) from `pose`, normalized over `window`.
+// Above level 0 it is the frame's own steps: the mosaic averaged over each pixel's 2^level square
+// of level-0 pixels (RenderAreaAveragedView), then normalized at `level`. The mosaic's own coarser
+// levels were averaged on the mosaic's pixel grid and subsampled: when the frame's grid runs
+// parallel to it (a vehicle driving along the mosaic's axes), their aliasing differs from the
+// frame's by an amount that depends on the sub-pixel phase between the grids, and the fit is pulled
+// towards the mosaic's pixels (0.08 px at 1280×1024 measured, against 0.002 at other headings).
+// Normalized at level 0 before averaging, the view's local contrast differed from the frame's
+// (clean worn asphalt g8 at 1280×1024: 0.0035 px RMS, 0.0007 by the frame's steps). Until session
+// 45 the view was rendered at level 0 and averaged down (4^level times the samples: a fifth of a
+// 640×480 frame's time on concrete under `all`); the average over a square aligned with the mosaic
+// is the same to float rounding at the headings where the grids run parallel, and a turned square
+// of the same centre and size elsewhere (docs/benchmarks.md, session 45).
 cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera,
-                   const cv::Rect& rect, const Pose2& pose, int level) {
+                   const cv::Rect& rect, const Pose2& pose, int level, int window) {
   const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera, mosaic->layout().geo);
   if (level == 0) return RenderNormalizedView(mosaic, rect, warp, 0);
-  const int n = mosaic->MarginAt(level);
+  const int n = window / 2 + 1;
   const cv::Mat view = RenderAreaAveragedView(mosaic->source(), GrownBy(rect, n), warp, level);
-  return mosaic->Normalize(view, level)(cv::Rect(n, n, rect.width, rect.height));
+  return NormalizedAt(*mosaic, view, level, window)(cv::Rect(n, n, rect.width, rect.height));
 }
 
 // `frame` (the camera's, or already its pyramid level `level`) at pyramid level `level`.
@@ -105,14 +114,40 @@ int DirectAligner::PolishLevel(int max_level_pixels) const {
 }
 
 // Every pixel of the frame at the polish level, from a pose already within a fraction of a pixel
-// (see DirectAligner::Polish).
-DirectAlignment DirectAligner::Polish(const cv::Mat& frame_in, const PoseWithCovariance& prior,
+// (see DirectAligner::Polish): over the window `model` gives, or over each candidate window, taking
+// the wide window's fit when valid and more precise by polish_wide_window_max_sigma_ratio.
+DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
                                       const Pose2& start, const PolishModel& model, bool confirming,
                                       int level) const {
-  DirectAlignment out;
   if (level < 0) level = PolishLevel();
+  const int local = mosaic_->WindowAt(0), wide = options_.polish_wide_window_px;
+  if (level == 0 || (model.window_px < 0 && wide <= local)) {
+    return PolishOverWindow(frame, prior, start, model, confirming, level, local);
+  }
+  if (model.window_px >= 0) {
+    return PolishOverWindow(frame, prior, start, model, confirming, level, model.window_px);
+  }
+  DirectAlignment over_local =
+      PolishOverWindow(frame, prior, start, model, confirming, level, local);
+  DirectAlignment over_wide = PolishOverWindow(frame, prior, start, model, confirming, level, wide);
+  const bool wide_better =
+      over_wide.valid &&
+      (!over_local.valid ||
+       over_wide.sigma_px < options_.polish_wide_window_max_sigma_ratio * over_local.sigma_px);
+  return wide_better ? over_wide : over_local;
+}
+
+// The polish with the frame and the view normalized over `window_px` (level-0 px; the mosaic's at
+// level 0, where the view comes from its normalized tiles).
+DirectAlignment DirectAligner::PolishOverWindow(const cv::Mat& frame_in,
+                                                const PoseWithCovariance& prior, const Pose2& start,
+                                                const PolishModel& model, bool confirming,
+                                                int level, int window_px) const {
+  DirectAlignment out;
+  out.window_px = window_px;
   const cv::Mat frame = AtLevel(frame_in, camera_, level);
-  const int b = mosaic_->MarginAt(level);
+  const int window = NormalizedMosaic::WindowAt(window_px, level);
+  const int b = level == 0 ? mosaic_->MarginAt(0) : window / 2 + 1;
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
   const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
   if (SpanPixels(spans) < inner.area() / 4) {
@@ -120,14 +155,14 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame_in, const PoseWithCov
     return out;
   }
   cv::Mat local_variance;
-  const cv::Mat normalized = mosaic_->Normalize(frame, level, &local_variance);
+  const cv::Mat normalized = NormalizedAt(*mosaic_, frame, level, window, &local_variance);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
   double blur = std::max(0.0, model.view_blur_px);
   if (model.view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
-    const cv::Mat wide = PolishView(mosaic_, camera_, GrownBy(view_rect, m), start, level);
+    const cv::Mat wide = PolishView(mosaic_, camera_, GrownBy(view_rect, m), start, level, window);
     blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
                         options_.view_blur_step_px, options_.tukey_c);
   }
@@ -138,8 +173,8 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame_in, const PoseWithCov
   std::optional<cv::Mat> precision = GivenPrecision(options_.noise_model, model, local_variance);
   if (model.noise) out.noise = *model.noise;
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
-    const cv::Mat view =
-        BlurredView(PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level), blur, m);
+    const cv::Mat view = BlurredView(
+        PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level, window), blur, m);
     if (!precision) {
       out.noise = FitResidualNoise(normalized, view, inner, spans, local_variance, kEpsilon);
       precision = ResidualPrecision(out.noise, local_variance, kEpsilon);

@@ -32,7 +32,11 @@ class NormalizedMosaic {
   cv::Mat ReadBlock(int level, const cv::Rect& rect);
   // Normalizes the tile now unless it is cached: true when it did (ahead-of-use work).
   bool Prepare(const mosaic::TileKey& key);
-  int WindowAt(int level) const { return std::max(5, (window_level0_px_ >> level) | 1); }
+  int WindowAt(int level) const { return WindowAt(window_level0_px_, level); }
+  // A window of `window_level0_px` at level 0 scaled to `level` (odd, at least 5).
+  static int WindowAt(int window_level0_px, int level) {
+    return std::max(5, (window_level0_px >> level) | 1);
+  }
   const mosaic::MosaicLayout& layout() const { return mosaic_->layout(); }
   mosaic::RasterSource* source() const { return mosaic_; }  // the mosaic's own pixels
   mosaic::TileCache& cache() { return *cache_; }

@@ -93,6 +93,10 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
       Check(d.min_significant_peak_z > 0, "direct.min_significant_peak_z", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_tentative_peak_z >= 0, "direct.min_tentative_peak_z", "must be >= 0 (0: off)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.polish_wide_window_px >= 0, "direct.polish_wide_window_px",
+                                 "must be >= 0 (0: the mosaic's window only)"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.polish_wide_window_max_sigma_ratio > 0,
+                                 "direct.polish_wide_window_max_sigma_ratio", "must be > 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_polished_significant_correlation > -1 &&
                 d.min_polished_significant_correlation <= d.min_significant_correlation,

@@ -100,6 +100,19 @@ struct DirectAlignOptions {
   // the rest within 2 %; `fast` frames 5–11 % lower on 7 of 12 floors (docs/benchmarks.md,
   // session 47).
   bool noise_model = true;
+  // Above level 0 the polish normalizes the frame and the view over the mosaic's window
+  // (normalize_window_px) or over this wider one (level-0 px, scaled per level alike; 0: the
+  // mosaic's always), whichever gives the more precise fit (the smaller image-only position
+  // sigma), chosen on the frames the blur is estimated on and kept in between. A wider window
+  // averages the noise of noisy frames over more pixels and keeps a coarse texture's broader
+  // contrast; a local one keeps occluders' and vignetting's effects local. Measured at 1280×1024
+  // (docs/benchmarks.md, session 53).
+  int polish_wide_window_px = 15;
+  // The wide window's fit is taken only when its position sigma is below this share of the local
+  // one's: the sigma counts the noise, not the pull a wider window gives strong edges (painted
+  // lines, an occluder's rim) over more pixels. Set on the tuning floors (docs/benchmarks.md,
+  // session 53).
+  double polish_wide_window_max_sigma_ratio = 0.93;
   double max_view_blur_px = 2.5;
   double view_blur_step_px = 0.5;
   // The estimate costs a blur and a pass per step (≈ 2.5 ms per 320×240 frame): it is made on
