@@ -42,11 +42,13 @@ TEST(SupervisorStale, AVehicleThatStopsPublishingIsStaleEverywhere) {
     return status == 200 && ready.value("ready", false);
   })) << Get(http, "/readyz").dump();
 
+  // Pose and health are two topics: the pose may be in before the health (health null).
+  json fleet;
   ASSERT_TRUE(testing::Eventually([&] {
     vehicle.Publish(0.5);
-    return Get(http, "/api/fleet")["summary"].value("tracking", 0) == 1;
+    fleet = Get(http, "/api/fleet");
+    return fleet["summary"].value("tracking", 0) == 1 && fleet["vehicles"][0]["health"].is_object();
   })) << supervisor.log();
-  json fleet = Get(http, "/api/fleet");
   EXPECT_EQ(fleet["vehicles"][0]["health"]["level"], "ok") << fleet.dump();
   const std::string url = "http://127.0.0.1:" + std::to_string(supervisor.port());
   testing::CommandResult live = testing::RunFleetctl("status --json --supervisor " + url);
