@@ -121,11 +121,11 @@ DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovari
                                       int level) const {
   if (level < 0) level = PolishLevel();
   const int local = mosaic_->WindowAt(0), wide = options_.polish_wide_window_px;
-  if (level == 0 || (model.window_px < 0 && wide <= local)) {
-    return PolishOverWindow(frame, prior, start, model, confirming, level, local);
-  }
-  if (model.window_px >= 0) {
+  if (level > 0 && model.window_px >= 0) {
     return PolishOverWindow(frame, prior, start, model, confirming, level, model.window_px);
+  }
+  if (level == 0 || wide <= local) {
+    return PolishOverWindow(frame, prior, start, model, confirming, level, local);
   }
   DirectAlignment over_local =
       PolishOverWindow(frame, prior, start, model, confirming, level, local);
