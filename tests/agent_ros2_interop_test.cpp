@@ -41,8 +41,8 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   const cv::Mat floor = cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                                    cv::IMREAD_GRAYSCALE);
   testing::MapServerFixture server("agent_ros2_interop", floor, kDomain);
-  const double start = std::ceil(camera_io::HostNow() + 4.0);
-  auto drive_ptr = testing::PlanDrive(floor, 0.0005, 40, 10.0, start, 2.0, 1000.0, 21);
+  double start = 0.0;
+  auto drive_ptr = testing::PlanDriveAhead(floor, 0.0005, 40, 21, &start);
   live_sim::PlannedDrive& drive = *drive_ptr;
   const fs::path& dir = server.dir();
   ASSERT_TRUE(run_io::WriteCameraJson(dir / "camera.json", drive.camera()).ok());
@@ -53,7 +53,10 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
     for (const geometry::StampedPose& s : drive.odometry())
       odometry << s.t << "," << s.pose.x << "," << s.pose.y << "," << s.pose.theta << "\n";
   }
-  const nlohmann::json config = testing::AravisAgentConfig("agv-21", kDomain, dir);
+  nlohmann::json config = testing::AravisAgentConfig("agv-21", kDomain, dir);
+  // A frame cut as the stream opens (a third of runs here, on a quiet host) is a drop named for
+  // issue_hold_s: 1 s, so that the diagnostics read OK for most of the 4 s drive after it.
+  config["live"] = {{"issue_hold_s", 1.0}};
   std::ofstream(dir / "agent.json") << config.dump(2);
   runtime::ChildProcess agent = testing::StartDaemon(
       "tracker_agent", {"--config", (dir / "agent.json").string()}, (dir / "agent.log").string());
@@ -125,10 +128,13 @@ TEST(AgentRos2Interop, AFastDdsNavStackFeedsOdometryAndReadsPoseTfAndDiagnostics
   EXPECT_GE(composed, 35);
   // Diagnostics: the agent's summary status, OK while tracking.
   int ok_reports = 0;
+  std::map<std::string, int> reports;  // level and name: how many, for the failure message
   for (const auto& row : ReadCsvRows(dir / "diagnostics.csv")) {
+    if (row.size() >= 3) ++reports[row[1] + " " + row[2]];
     if (row.size() >= 3 && row[2] == "fleetloc/agv-21" && row[1] == "0") ++ok_reports;
   }
-  EXPECT_GE(ok_reports, 5);
+  EXPECT_GE(ok_reports, 5) << ::testing::PrintToString(reports) << "\n"
+                           << testing::ReadWhole(dir / "diagnostics.csv").substr(0, 3000) << log;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,6 +28,24 @@ inline std::unique_ptr<live_sim::PlannedDrive> PlanDrive(const cv::Mat& floor, d
                                               frame_delay_s, speed_px_s, seed);
   if (!drive.ok()) ADD_FAILURE() << drive.status().message(), std::abort();
   return std::move(drive).value();
+}
+
+// A drive of a 2 s lead (standing still) planned to start on the camera's 100 ms grid a few
+// seconds ahead, time for an agent to start and match. Its frames are rendered in the planning; on
+// a loaded host that took most of those seconds (CI under other load, session 54), and such a
+// drive is planned again further ahead. Its start in *start_t.
+inline std::unique_ptr<live_sim::PlannedDrive> PlanDriveAhead(const cv::Mat& floor,
+                                                              double resolution_m, int frames,
+                                                              uint64_t seed, double* start_t) {
+  constexpr double kMinAheadS = 3.0;
+  std::unique_ptr<live_sim::PlannedDrive> drive;
+  for (double ahead_s = 4.0; !drive || *start_t - camera_io::HostNow() < kMinAheadS; ahead_s *= 2) {
+    if (ahead_s > 40.0)
+      ADD_FAILURE() << "planning a drive takes longer than its lead", std::abort();
+    *start_t = std::ceil(camera_io::HostNow() + ahead_s);
+    drive = PlanDrive(floor, resolution_m, frames, 10.0, *start_t, 2.0, 1000.0, seed);
+  }
+  return drive;
 }
 
 inline std::unique_ptr<live_sim::OdometryPublisher> PublishOdometry(

@@ -1,4 +1,4 @@
-// Live stream bookkeeping: verdicts, silence, recent trouble.
+// Live stream bookkeeping: verdicts, silence, recent trouble, counts that rose lately.
 #include "timing/stream_watch.h"
 
 namespace fleetloc::timing {
@@ -26,6 +26,12 @@ bool StreamWatch::Stale(double host_s) const {
 
 bool StreamWatch::Recent(SampleVerdict verdict, double host_s) const {
   return host_s - last_bad_host_s_[static_cast<int>(verdict)] <= hold_s_;
+}
+
+bool CountWatch::Recent(long long count, double host_s) {
+  if (count > last_count_) rose_host_s_ = host_s;
+  last_count_ = count;
+  return host_s - rose_host_s_ <= hold_s_;
 }
 
 const char* VerdictName(SampleVerdict verdict) {

@@ -38,6 +38,23 @@ class StreamWatch {
   long long counts_[3] = {0, 0, 0};
 };
 
+// A running count of trouble (packets lost, frames dropped, tile waits timed out) turned into an
+// issue that holds for `hold_s` after the count last rose and then clears, as StreamWatch's
+// per-sample issues do: a packet lost an hour ago is no longer news. The count itself stays in the
+// health figures and the log.
+class CountWatch {
+ public:
+  explicit CountWatch(double hold_s) : hold_s_(hold_s) {}
+  // The count as of host time `host_s`: whether it rose within the last hold_s. A count lower
+  // than the last one (its source restarted) is taken as the new base.
+  bool Recent(long long count, double host_s);
+
+ private:
+  double hold_s_;
+  long long last_count_ = 0;
+  double rose_host_s_ = -1e300;
+};
+
 // "ok", "not_finite", "back_in_time".
 const char* VerdictName(SampleVerdict verdict);
 

@@ -34,5 +34,17 @@ TEST(StreamWatch, BackwardsAndNotFiniteSamplesAreNamedAndClearAfterTheHold) {
   EXPECT_FALSE(watch.Recent(SampleVerdict::kNotFinite, 102.4));
 }
 
+TEST(CountWatch, ACountThatRoseIsNamedForTheHoldThenClearsUntilItRisesAgain) {
+  CountWatch watch(2.0);
+  EXPECT_FALSE(watch.Recent(0, 100.0));  // nothing yet
+  EXPECT_TRUE(watch.Recent(1, 100.5));   // one packet lost
+  EXPECT_TRUE(watch.Recent(1, 102.5));   // held
+  EXPECT_FALSE(watch.Recent(1, 102.6));  // cleared: the same count since 100.5
+  EXPECT_TRUE(watch.Recent(3, 110.0));   // risen again
+  EXPECT_FALSE(watch.Recent(3, 112.1));
+  EXPECT_FALSE(watch.Recent(0, 113.0));  // its source restarted: the new base, not a rise
+  EXPECT_TRUE(watch.Recent(1, 113.1));
+}
+
 }  // namespace
 }  // namespace fleetloc::timing

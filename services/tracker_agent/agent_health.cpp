@@ -9,7 +9,7 @@
 namespace fleetloc::tracker_agent {
 
 void AgentHealth::Fill(const Inputs& in, fleetloc_VehicleHealth* h,
-                       std::vector<fleetloc_HealthIssue>* issues) const {
+                       std::vector<fleetloc_HealthIssue>* issues) {
   FillFigures(in, h);
   ListIssues(in, issues);
   h->level = fleetloc_HEALTH_OK;
@@ -38,7 +38,7 @@ void AgentHealth::FillFigures(const Inputs& in, fleetloc_VehicleHealth* h) const
   transport::SetBounded(h->last_error, last_error());
 }
 
-void AgentHealth::ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>* issues) const {
+void AgentHealth::ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>* issues) {
   const long long dropped = dropped_frames() + in.input_dropped;
   issues->clear();
   auto add = [&](const char* name, fleetloc_HealthLevel level, const std::string& message) {
@@ -61,7 +61,7 @@ void AgentHealth::ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>
             ? std::string("tracking from the tile cache")
             : in.unreachable_servers + ": their tiles from the cache only");
   }
-  if (in.loader.timeouts > 0) {
+  if (timeouts_watch_.Recent(in.loader.timeouts, in.host_s)) {
     add("tile_timeouts", fleetloc_HEALTH_WARN,
         std::to_string(in.loader.timeouts) + " tile waits timed out");
   }
@@ -80,9 +80,9 @@ void AgentHealth::ListIssues(const Inputs& in, std::vector<fleetloc_HealthIssue>
     add(issue.name.c_str(), issue.error ? fleetloc_HEALTH_ERROR : fleetloc_HEALTH_WARN,
         issue.message);
   }
-  if (dropped > 0)
+  if (dropped_watch_.Recent(dropped, in.host_s))
     add("camera_frame_drops", fleetloc_HEALTH_WARN, std::to_string(dropped) + " frames dropped");
-  if (in.patch_outbox_dropped > 0) {
+  if (outbox_watch_.Recent(in.patch_outbox_dropped, in.host_s)) {
     add("patch_outbox_full", fleetloc_HEALTH_WARN,
         std::to_string(in.patch_outbox_dropped) +
             " patches dropped from the full outbox (oldest, lowest quality)");

@@ -21,7 +21,8 @@ LiveInput::LiveInput(const AgentConfig& config, const run_io::CameraFile& camera
                                 : cv::Size(camera.model.width_px, camera.model.height_px)),
       opener_(std::move(opener)),
       odometry_watch_(config.live.odometry_stale_s, config.live.issue_hold_s),
-      camera_watch_(config.live.camera_stall_s, config.live.issue_hold_s) {}
+      camera_watch_(config.live.camera_stall_s, config.live.issue_hold_s),
+      packet_loss_watch_(config.live.issue_hold_s) {}
 
 LiveInput::CameraOpener LiveInput::OpenerFor(const AgentConfig& config) {
   if (config.source == "aravis") {
@@ -293,7 +294,7 @@ std::vector<InputIssue> LiveInput::Issues() const {
   }
   const long long lost = closed_stats_.lost_packets + camera_stats_.lost_packets;
   const long long resent = closed_stats_.resent_packets + camera_stats_.resent_packets;
-  if (lost > 0 || resent > 0) {
+  if (packet_loss_watch_.Recent(lost + resent, now)) {
     issues.push_back(
         {"camera_packet_loss", false,
          std::to_string(lost) + " packets lost, " + std::to_string(resent) + " resent"});

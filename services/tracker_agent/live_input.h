@@ -76,6 +76,7 @@ class LiveInput : public VehicleInput {
   double last_drop_log_ = 0;             // host time of the last log line about a camera drop
   camera_io::CameraStats camera_stats_;  // of the open camera, plus those closed before
   camera_io::CameraStats closed_stats_;
+  mutable timing::CountWatch packet_loss_watch_;  // lost + resent packets (Issues() updates it)
   std::atomic<bool> stop_{false};
   std::thread camera_thread_;
   std::thread closer_;  // closes a camera the camera thread gave up on (one at a time)

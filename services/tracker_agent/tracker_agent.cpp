@@ -86,6 +86,8 @@ void TrackerAgent::PumpBetweenEvents() {
 void TrackerAgent::PublishHealth() {
   AgentHealth::Inputs in;
   in.vehicle_id = config_.vehicle_id;
+  in.host_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   in.patch_outbox = static_cast<size_t>(patches_->waiting());
   in.position_update = core_->position_update() ? &core_->position_update()->stats() : nullptr;
   in.patch_outbox_dropped = patches_->dropped();

@@ -53,7 +53,8 @@ class TrackerAgent {
   const AgentHealth& health() const { return health_; }
 
  private:
-  explicit TrackerAgent(const AgentConfig& config) : config_(config) {}
+  explicit TrackerAgent(const AgentConfig& config)
+      : config_(config), health_(config.live.issue_hold_s) {}
   // One input event to the localization core.
   void HandleEvent(const InputEvent& event);
   // After each event: tile updates, reachability, tile decoding and warm-up, the place index,
