@@ -26,7 +26,10 @@ inline std::unique_ptr<live_sim::PlannedDrive> PlanDrive(const cv::Mat& floor, d
                                                          uint64_t seed) {
   auto drive = live_sim::PlannedDrive::Create(floor, resolution_m, frames, rate_hz, start_t,
                                               frame_delay_s, speed_px_s, seed);
-  if (!drive.ok()) ADD_FAILURE() << drive.status().message(), std::abort();
+  if (!drive.ok()) {
+    ADD_FAILURE() << drive.status().message();
+    std::abort();
+  }
   return std::move(drive).value();
 }
 
@@ -40,8 +43,10 @@ inline std::unique_ptr<live_sim::PlannedDrive> PlanDriveAhead(const cv::Mat& flo
   constexpr double kMinAheadS = 3.0;
   std::unique_ptr<live_sim::PlannedDrive> drive;
   for (double ahead_s = 4.0; !drive || *start_t - camera_io::HostNow() < kMinAheadS; ahead_s *= 2) {
-    if (ahead_s > 40.0)
-      ADD_FAILURE() << "planning a drive takes longer than its lead", std::abort();
+    if (ahead_s > 40.0) {
+      ADD_FAILURE() << "planning a drive takes longer than its lead";
+      std::abort();
+    }
     *start_t = std::ceil(camera_io::HostNow() + ahead_s);
     drive = PlanDrive(floor, resolution_m, frames, 10.0, *start_t, 2.0, 1000.0, seed);
   }
@@ -52,7 +57,10 @@ inline std::unique_ptr<live_sim::OdometryPublisher> PublishOdometry(
     const transport::Participant& p, const std::vector<geometry::StampedPose>& samples,
     live_sim::OdometryPublisher::Mangle mangle = nullptr, double min_gap_s = 0.0) {
   auto publisher = live_sim::OdometryPublisher::Create(p, samples, std::move(mangle), min_gap_s);
-  if (!publisher.ok()) ADD_FAILURE() << publisher.status().message(), std::abort();
+  if (!publisher.ok()) {
+    ADD_FAILURE() << publisher.status().message();
+    std::abort();
+  }
   return std::move(publisher).value();
 }
 
