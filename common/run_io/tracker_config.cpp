@@ -82,6 +82,7 @@ FieldTable DirectFields(tracking::DirectAlignOptions& d) {
           {"noise_model", &d.noise_model},
           {"polish_wide_window_px", &d.polish_wide_window_px},
           {"polish_wide_window_max_sigma_ratio", &d.polish_wide_window_max_sigma_ratio},
+          {"polish_unsmoothed_max_sigma_ratio", &d.polish_unsmoothed_max_sigma_ratio},
           {"max_view_blur_px", &d.max_view_blur_px},
           {"view_blur_step_px", &d.view_blur_step_px},
           {"view_blur_every_frames", &d.view_blur_every_frames},

@@ -165,6 +165,19 @@ TEST(TrackerConfig, ReadsThePolishsWideWindowAndRefusesANegativeOneOrNoMargin) {
   }
 }
 
+TEST(TrackerConfig, ReadsThePolishsUnsmoothedRatioAndRefusesANegativeOne) {
+  const auto options =
+      TrackerOptionsFromJson({{"direct", {{"polish_unsmoothed_max_sigma_ratio", 0}}}}, "t.json");
+  ASSERT_TRUE(options.ok());
+  EXPECT_EQ(options->direct.polish_unsmoothed_max_sigma_ratio, 0.0);
+  EXPECT_EQ(tracking::TrackerOptions{}.direct.polish_unsmoothed_max_sigma_ratio, 1.1);
+  const auto bad =
+      TrackerOptionsFromJson({{"direct", {{"polish_unsmoothed_max_sigma_ratio", -0.5}}}}, "t.json");
+  EXPECT_EQ(bad.status().code(), StatusCode::kInvalidInput);
+  EXPECT_NE(bad.status().message().find("direct.polish_unsmoothed_max_sigma_ratio"),
+            std::string::npos);
+}
+
 TEST(TrackerConfig, ReadsThePolishLevelAndLargeCameraOptionsAndRefusesNegativeOnes) {
   const auto options = TrackerOptionsFromJson(
       {{"polish_min_frame_pixels", 0}, {"direct", {{"polish_max_level_pixels", 0}}}}, "t.json");

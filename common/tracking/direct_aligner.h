@@ -41,6 +41,7 @@ struct DirectAlignment {
   double sigma_px = 0.0;      // image-only worst-direction position sigma, level-0 px
   double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
   int window_px = 0;          // the polish's normalization window (level-0 px)
+  bool unsmoothed = false;    // a level-0 polish normalized without the matching's smoothing
   ResidualNoise noise;        // the residual noise the polish weighed its pixels by
   int points = 0;             // pixels used at the finest level
   int iterations = 0;         // Gauss–Newton iterations over all levels
@@ -61,6 +62,17 @@ struct PolishModel {
   // The normalization window above level 0 (level-0 px); < 0: the more precise of the mosaic's
   // and direct.polish_wide_window_px.
   int window_px = -1;
+  // At level 0, whether the frame and the view are normalized without the matching's smoothing
+  // (match_smoothing_sigma_px); absent: the more precise
+  // (direct.polish_unsmoothed_max_sigma_ratio).
+  std::optional<bool> unsmoothed;
+};
+
+// How a polish normalizes the frame and the view: over `window_px` (level-0 px), and at level 0
+// with the matching's smoothing (from the mosaic's normalized tiles) unless `unsmoothed`.
+struct PolishNormalization {
+  int window_px = 0;
+  bool unsmoothed = false;
 };
 
 class DirectAligner {
@@ -91,7 +103,9 @@ class DirectAligner {
   // only once polished (DirectAlignment::needs_polish), and gets confirm_polish_iterations steps.
   // `level`: the pyramid level it works at (< 0: PolishLevel()). Above level 0 the frame and the
   // view are normalized over model.window_px, or polished over both candidate windows and the
-  // more precise fit taken (see DirectAlignOptions::polish_wide_window_px).
+  // more precise fit taken (see DirectAlignOptions::polish_wide_window_px). At level 0 they are
+  // normalized with the matching's smoothing or without it as model.unsmoothed says, or both ways
+  // and the more precise fit taken (DirectAlignOptions::polish_unsmoothed_max_sigma_ratio).
   DirectAlignment Polish(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
                          const geometry::Pose2& start, const PolishModel& model = {},
                          bool confirming = false, int level = -1) const;
@@ -142,7 +156,11 @@ class DirectAligner {
                       double min_significant_correlation) const;
   DirectAlignment PolishOverWindow(const cv::Mat& frame, const geometry::PoseWithCovariance& prior,
                                    const geometry::Pose2& start, const PolishModel& model,
-                                   bool confirming, int level, int window_px) const;
+                                   bool confirming, int level,
+                                   PolishNormalization normalization) const;
+  void FinishPolish(const Linearization& fit, const geometry::PoseWithCovariance& prior,
+                    const geometry::Pose2& start, const geometry::Pose2& pose,
+                    DirectAlignment* out) const;
   const char* PolishRefusal(const DirectAlignment& polished, const Linearization& fit,
                             const geometry::Pose2& pose, const geometry::PoseWithCovariance& prior,
                             const geometry::Pose2& start) const;

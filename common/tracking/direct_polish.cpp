@@ -24,11 +24,11 @@ using geometry::PoseWithCovariance;
 
 namespace {
 
-// `image` (pixels of `level`) normalized over `window` level pixels; at level 0 as the mosaic's
-// tiles are (its window and smoothing).
-cv::Mat NormalizedAt(const NormalizedMosaic& mosaic, const cv::Mat& image, int level, int window,
-                     cv::Mat* local_variance = nullptr) {
-  if (level == 0) return mosaic.Normalize(image, 0, local_variance);
+// `image` (pixels of `level`) normalized over `window` level pixels; `as_tiles` (level 0 only):
+// as the mosaic's tiles are (its window and the matching's smoothing).
+cv::Mat NormalizedAt(const NormalizedMosaic& mosaic, const cv::Mat& image, int window,
+                     bool as_tiles, cv::Mat* local_variance = nullptr) {
+  if (as_tiles) return mosaic.Normalize(image, 0, local_variance);
   return imaging::NormalizePatch(image, window, NormalizedMosaic::kSpreadEpsilon, local_variance);
 }
 
@@ -44,14 +44,22 @@ cv::Mat NormalizedAt(const NormalizedMosaic& mosaic, const cv::Mat& image, int l
 // 45 the view was rendered at level 0 and averaged down (4^level times the samples: a fifth of a
 // 640×480 frame's time on concrete under `all`); the average over a square aligned with the mosaic
 // is the same to float rounding at the headings where the grids run parallel, and a turned square
-// of the same centre and size elsewhere (docs/benchmarks.md, session 45).
+// of the same centre and size elsewhere (docs/benchmarks.md, session 45). `as_tiles` (level 0
+// only): from the mosaic's normalized tiles instead.
 cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera,
-                   const cv::Rect& rect, const Pose2& pose, int level, int window) {
+                   const cv::Rect& rect, const Pose2& pose, int level, int window, bool as_tiles) {
   const FrameMosaicWarp warp = FrameMosaicWarp::For(pose, camera, mosaic->layout().geo);
-  if (level == 0) return RenderNormalizedView(mosaic, rect, warp, 0);
+  if (as_tiles) return RenderNormalizedView(mosaic, rect, warp, 0);
   const int n = window / 2 + 1;
   const cv::Mat view = RenderAreaAveragedView(mosaic->source(), GrownBy(rect, n), warp, level);
-  return NormalizedAt(*mosaic, view, level, window)(cv::Rect(n, n, rect.width, rect.height));
+  return NormalizedAt(*mosaic, view, window, false)(cv::Rect(n, n, rect.width, rect.height));
+}
+
+// Whether to take `alternative` over `usual`: valid, and its position sigma below `max_ratio` of
+// the usual fit's (or the usual fit not valid).
+bool MorePrecise(const DirectAlignment& alternative, const DirectAlignment& usual,
+                 double max_ratio) {
+  return alternative.valid && (!usual.valid || alternative.sigma_px < max_ratio * usual.sigma_px);
 }
 
 // `frame` (the camera's, or already its pyramid level `level`) at pyramid level `level`.
@@ -114,40 +122,47 @@ int DirectAligner::PolishLevel(int max_level_pixels) const {
 }
 
 // Every pixel of the frame at the polish level, from a pose already within a fraction of a pixel
-// (see DirectAligner::Polish): over the window `model` gives, or over each candidate window, taking
-// the wide window's fit when valid and more precise by polish_wide_window_max_sigma_ratio.
+// (see DirectAligner::Polish). Above level 0: over the window `model` gives, or over each candidate
+// window, taking the wide window's fit when valid and more precise by
+// polish_wide_window_max_sigma_ratio. At level 0: normalized as `model` gives, or both ways, taking
+// the fit without the matching's smoothing when more precise by polish_unsmoothed_max_sigma_ratio.
 DirectAlignment DirectAligner::Polish(const cv::Mat& frame, const PoseWithCovariance& prior,
                                       const Pose2& start, const PolishModel& model, bool confirming,
                                       int level) const {
   if (level < 0) level = PolishLevel();
   const int local = mosaic_->WindowAt(0), wide = options_.polish_wide_window_px;
-  if (level > 0 && model.window_px >= 0) {
-    return PolishOverWindow(frame, prior, start, model, confirming, level, model.window_px);
+  const auto over = [&](int window_px, bool unsmoothed) {
+    return PolishOverWindow(frame, prior, start, model, confirming, level, {window_px, unsmoothed});
+  };
+  if (level == 0) {
+    const double ratio = options_.polish_unsmoothed_max_sigma_ratio;
+    if (model.unsmoothed || ratio <= 0) return over(local, model.unsmoothed.value_or(false));
+    DirectAlignment smoothed = over(local, false), unsmoothed = over(local, true);
+    return MorePrecise(unsmoothed, smoothed, ratio) ? unsmoothed : smoothed;
   }
-  if (level == 0 || wide <= local) {
-    return PolishOverWindow(frame, prior, start, model, confirming, level, local);
-  }
-  DirectAlignment over_local =
-      PolishOverWindow(frame, prior, start, model, confirming, level, local);
-  DirectAlignment over_wide = PolishOverWindow(frame, prior, start, model, confirming, level, wide);
-  const bool wide_better =
-      over_wide.valid &&
-      (!over_local.valid ||
-       over_wide.sigma_px < options_.polish_wide_window_max_sigma_ratio * over_local.sigma_px);
-  return wide_better ? over_wide : over_local;
+  if (model.window_px >= 0) return over(model.window_px, false);
+  if (wide <= local) return over(local, false);
+  DirectAlignment over_local = over(local, false), over_wide = over(wide, false);
+  return MorePrecise(over_wide, over_local, options_.polish_wide_window_max_sigma_ratio)
+             ? over_wide
+             : over_local;
 }
 
-// The polish with the frame and the view normalized over `window_px` (level-0 px; the mosaic's at
-// level 0, where the view comes from its normalized tiles).
+// The polish with the frame and the view normalized as `normalization` says: over its window
+// (level-0 px; the mosaic's at level 0), and at level 0 with the matching's smoothing (the view
+// from the mosaic's normalized tiles) unless `unsmoothed`.
 DirectAlignment DirectAligner::PolishOverWindow(const cv::Mat& frame_in,
                                                 const PoseWithCovariance& prior, const Pose2& start,
                                                 const PolishModel& model, bool confirming,
-                                                int level, int window_px) const {
+                                                int level,
+                                                PolishNormalization normalization) const {
   DirectAlignment out;
-  out.window_px = window_px;
+  out.window_px = normalization.window_px;
+  out.unsmoothed = level == 0 && normalization.unsmoothed;
+  const bool as_tiles = level == 0 && !normalization.unsmoothed;
   const cv::Mat frame = AtLevel(frame_in, camera_, level);
-  const int window = NormalizedMosaic::WindowAt(window_px, level);
-  const int b = level == 0 ? mosaic_->MarginAt(0) : window / 2 + 1;
+  const int window = NormalizedMosaic::WindowAt(normalization.window_px, level);
+  const int b = as_tiles ? mosaic_->MarginAt(0) : window / 2 + 1;
   const cv::Rect inner(b, b, frame.cols - 2 * b, frame.rows - 2 * b);
   const std::vector<cv::Range> spans = SpansInMosaic(start, inner, level);
   if (SpanPixels(spans) < inner.area() / 4) {
@@ -155,15 +170,17 @@ DirectAlignment DirectAligner::PolishOverWindow(const cv::Mat& frame_in,
     return out;
   }
   cv::Mat local_variance;
-  const cv::Mat normalized = NormalizedAt(*mosaic_, frame, level, window, &local_variance);
+  const cv::Mat normalized = NormalizedAt(*mosaic_, frame, window, as_tiles, &local_variance);
   const cv::Rect view_rect(inner.x - 1, inner.y - 1, inner.width + 2, inner.height + 2);
   const Eigen::Vector2d principal = Eigen::Vector2d(camera_.cx_px, camera_.cy_px) / (1 << level);
   // The view blurred to the frame's blur, estimated at the start (see tracking/view_blur.h).
+  const auto view_at = [&](const Pose2& pose, int margin) {
+    return PolishView(mosaic_, camera_, GrownBy(view_rect, margin), pose, level, window, as_tiles);
+  };
   double blur = std::max(0.0, model.view_blur_px);
   if (model.view_blur_px < 0 && options_.max_view_blur_px > 0) {
     const int m = BlurMarginPx(options_.max_view_blur_px);
-    const cv::Mat wide = PolishView(mosaic_, camera_, GrownBy(view_rect, m), start, level, window);
-    blur = BestViewBlur(normalized, wide, m, inner, spans, options_.max_view_blur_px,
+    blur = BestViewBlur(normalized, view_at(start, m), m, inner, spans, options_.max_view_blur_px,
                         options_.view_blur_step_px, options_.tukey_c);
   }
   out.view_blur_px = blur;
@@ -173,8 +190,7 @@ DirectAlignment DirectAligner::PolishOverWindow(const cv::Mat& frame_in,
   std::optional<cv::Mat> precision = GivenPrecision(options_.noise_model, model, local_variance);
   if (model.noise) out.noise = *model.noise;
   const auto linearize = [&](const Pose2& pose, double sigma, double gain) {
-    const cv::Mat view = BlurredView(
-        PolishView(mosaic_, camera_, GrownBy(view_rect, m), pose, level, window), blur, m);
+    const cv::Mat view = BlurredView(view_at(pose, m), blur, m);
     if (!precision) {
       out.noise = FitResidualNoise(normalized, view, inner, spans, local_variance, kEpsilon);
       precision = ResidualPrecision(out.noise, local_variance, kEpsilon);
@@ -190,13 +206,21 @@ DirectAlignment DirectAligner::PolishOverWindow(const cv::Mat& frame_in,
                   confirming ? options_.confirm_polish_iterations : options_.polish_iterations,
                   prior, start, options_.converged_px, &out.iterations, &fit, options_.fit_contrast,
                   options_.polish_single_pass_px);
-  out.points = fit.points;
-  out.correlation = out.coarse_correlation = fit.correlation;
-  out.inlier_fraction = fit.inlier_fraction;
-  Combine(fit, prior, pose, &out);
-  out.reason = PolishRefusal(out, fit, pose, prior, start);
-  out.valid = out.reason[0] == '\0';
+  FinishPolish(fit, prior, start, pose, &out);
   return out;
+}
+
+// A polish's result from its final linearization `fit` at `pose`: the fit's figures, the
+// posterior, and whether it is taken.
+void DirectAligner::FinishPolish(const Linearization& fit, const PoseWithCovariance& prior,
+                                 const Pose2& start, const Pose2& pose,
+                                 DirectAlignment* out) const {
+  out->points = fit.points;
+  out->correlation = out->coarse_correlation = fit.correlation;
+  out->inlier_fraction = fit.inlier_fraction;
+  Combine(fit, prior, pose, out);
+  out->reason = PolishRefusal(*out, fit, pose, prior, start);
+  out->valid = out->reason[0] == '\0';
 }
 
 // Why a polish from `start` that ended at `pose` (`fit`: its final linearization, `polished`: its

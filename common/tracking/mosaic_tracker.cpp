@@ -274,7 +274,8 @@ PoseWithCovariance MosaicTracker::Polished(FramePyramid* pyramid, const PoseWith
   stats->view_blur_px = polished.view_blur_px;
   if (!polished.valid) return fit;
   if (estimate_model) {
-    polish_model_ = {polished.view_blur_px, polished.noise, polished.window_px};
+    polish_model_ = {polished.view_blur_px, polished.noise, polished.window_px,
+                     polished.unsmoothed};
     frames_since_model_ = 0;
   }
   stats->polished = true;

@@ -97,6 +97,8 @@ Status ValidateDirectSearch(const DirectAlignOptions& d) {
                                  "must be >= 0 (0: the mosaic's window only)"));
   FLEETLOC_RETURN_IF_ERROR(Check(d.polish_wide_window_max_sigma_ratio > 0,
                                  "direct.polish_wide_window_max_sigma_ratio", "must be > 0"));
+  FLEETLOC_RETURN_IF_ERROR(Check(d.polish_unsmoothed_max_sigma_ratio >= 0,
+                                 "direct.polish_unsmoothed_max_sigma_ratio", "must be >= 0"));
   FLEETLOC_RETURN_IF_ERROR(
       Check(d.min_polished_significant_correlation > -1 &&
                 d.min_polished_significant_correlation <= d.min_significant_correlation,

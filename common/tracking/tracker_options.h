@@ -113,6 +113,15 @@ struct DirectAlignOptions {
   // lines, an occluder's rim) over more pixels. Set on the tuning floors (docs/benchmarks.md,
   // session 53).
   double polish_wide_window_max_sigma_ratio = 0.93;
+  // At level 0 (320×240) the mosaic's normalized tiles are smoothed for the template matching
+  // (match_smoothing_sigma_px), and the polish's view comes from them. The polish also normalizes
+  // the frame and the view without that smoothing, on the frames the blur is estimated on, and
+  // takes that fit (and keeps it in between) when its position sigma is below this multiple of the
+  // smoothed fit's; 0: always the smoothed. Above 1 because the smoothed fit's sigma is the lower
+  // one even where its error is the higher (the smoothing correlates neighbouring residuals).
+  // Without the smoothing, clean and lightly occluded frames fit closer; under heavy dust and blur
+  // the smoothed fit is the better one. Set on the tuning floors (docs/benchmarks.md, session 54).
+  double polish_unsmoothed_max_sigma_ratio = 1.1;
   double max_view_blur_px = 2.5;
   double view_blur_step_px = 0.5;
   // The estimate costs a blur and a pass per step (≈ 2.5 ms per 320×240 frame): it is made on
