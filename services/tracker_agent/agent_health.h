@@ -20,8 +20,9 @@ namespace fleetloc::tracker_agent {
 class AgentHealth : public HealthCounters {
  public:
   // An issue about a count (frames dropped, tile waits timed out, patches dropped) is named for
-  // `issue_hold_s` after the count last rose (timing::CountWatch); the counts stay in the figures.
-  explicit AgentHealth(double issue_hold_s = 5.0)
+  // `issue_hold_s` (the agent's live.issue_hold_s) after the count last rose (timing::CountWatch);
+  // the counts stay in the figures.
+  explicit AgentHealth(double issue_hold_s)
       : dropped_watch_(issue_hold_s), timeouts_watch_(issue_hold_s), outbox_watch_(issue_hold_s) {}
 
   struct Inputs {
