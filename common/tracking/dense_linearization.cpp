@@ -37,6 +37,19 @@ void InLevel0Pixels(int level, Linearization* lin) {
   lin->h = s * lin->h * s;
   lin->g = s * lin->g;
   lin->score_spread = s * lin->score_spread * s;
+  lin->robust_curvature /= double(1 << level) * (1 << level);
+}
+
+Eigen::Matrix3d SandwichPlusIndependent(const Linearization& fit, const Eigen::Matrix3d& h_inv) {
+  return h_inv * fit.score_spread * h_inv + fit.sigma * fit.sigma * h_inv;
+}
+
+Eigen::Matrix3d ImageCovariance(const Linearization& fit, const Eigen::Matrix3d& h_inv) {
+  if (!fit.robust_curvature_summed) return SandwichPlusIndependent(fit, h_inv);
+  const Eigen::Matrix3d sandwich = h_inv * fit.score_spread * h_inv;
+  const double share =
+      std::clamp(fit.robust_curvature / (fit.h(0, 0) + fit.h(1, 1)), kMinCurvatureShare, 1.0);
+  return sandwich / (share * share);
 }
 
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
@@ -104,10 +117,16 @@ double RobustScale(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& in
 struct RowSums {
   float h00 = 0, h01 = 0, h02 = 0, h11 = 0, h12 = 0, h22 = 0;
   float sw = 0, st = 0, sv = 0, stt = 0, svv = 0, stv = 0;
-  float inliers = 0;
+  float inliers = 0, robust_curvature = 0;
 };
 
-enum RowSum { kH00, kH01, kH02, kH11, kH12, kH22, kSw, kSt, kSv, kStt, kSvv, kStv, kIn, kSums };
+// clang-format off
+enum RowSum {
+  kH00, kH01, kH02, kH11, kH12, kH22,  // the normal equations
+  kSw, kSt, kSv, kStt, kSvv, kStv,     // the correlation sums
+  kIn, kPsi, kSums                     // inliers, Σ p·ψ′·(j0² + j1²); the count
+};
+// clang-format on
 
 // One pixel's terms added to lane sums `acc[sum]`. `p`: the pixels' precisions. The Tukey weight
 // is of the residual in units of its own spread (√p·r); the normal equations take p times it.
@@ -144,6 +163,8 @@ inline void AddPixel(const float* t, const float* p, const float* up, const floa
   acc[kSvv * stride] += w * v * v;
   acc[kStv * stride] += w * t[x] * v;
   acc[kIn * stride] += inlier;
+  // ψ′ = (1 − a)(1 − 5a) under the cut-off (negative past a = 1/5), 0 beyond it, as b is.
+  acc[kPsi * stride] += b * (1.0f - 5.0f * a) * p[x] * (j0 * j0 + j1 * j1);
 }
 
 // `t`, `p`: the frame row and its precisions from the span's first pixel; `up`, `mid`, `down`: the
@@ -177,7 +198,7 @@ __attribute__((target_clones("avx2", "default"))) RowSums SumRow(
     for (int k = 0; k < kLanes; ++k) sums[s] += lanes[s][k];
   }
   return {sums[kH00], sums[kH01], sums[kH02], sums[kH11], sums[kH12], sums[kH22], sums[kSw],
-          sums[kSt],  sums[kSv],  sums[kStt], sums[kSvv], sums[kStv], sums[kIn]};
+          sums[kSt],  sums[kSv],  sums[kStt], sums[kSvv], sums[kStv], sums[kIn],  sums[kPsi]};
 }
 
 // Σ of each of the three score rows over [0, n), in one pass (built for AVX2 as well, as SumRow).
@@ -208,6 +229,7 @@ void AddRowSums(const RowSums& s, Linearization* lin, CorrelationSums* c, double
   c->svv += s.svv;
   c->stv += s.stv;
   *inliers += s.inliers;
+  lin->robust_curvature += s.robust_curvature;
 }
 
 }  // namespace
@@ -231,6 +253,7 @@ Linearization LinearizeWholeFrame(const cv::Mat& frame, const cv::Mat& view, con
     if (span.end > span.start) lin.points += span.end - span.start;
   }
   if (lin.points < 3) return lin;
+  lin.robust_curvature_summed = true;
   lin.gain = gain > 0 ? gain : SparseGain(frame, view, inner, spans, precision);
   lin.sigma = sigma > 0 ? sigma : RobustScale(frame, view, inner, spans, precision, lin.gain);
   const std::vector<float> uniform(precision.empty() ? inner.width : 0, 1.0f);

@@ -25,6 +25,11 @@ struct Linearization {
   double gain = 1.0, next_gain = 1.0;
   double correlation = 0.0, inlier_fraction = 0.0;
   int points = 0;
+  // Σ p·ψ′·(j0² + j1²), ψ′ the slope of the Tukey influence ψ at each pixel's residual: the robust
+  // loss's own curvature over the translation, where h weighs each pixel by w = ψ/r instead. Summed
+  // by the whole-frame linearization only (`robust_curvature_summed`).
+  double robust_curvature = 0.0;
+  bool robust_curvature_summed = false;
 };
 
 // Weighted sums of the frame values t and mosaic values v, for the weighted correlation.
@@ -60,6 +65,25 @@ void FinishLinearization(const CorrelationSums& c, double inliers,
 
 // Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
 // n/(n − 1) over the n blocks that have pixels.
+// The image-only covariance of the step q (level-0 px, px, rad) from `fit` and h⁻¹.
+// A whole-frame fit takes the M-estimator's sandwich A⁻¹·M·A⁻¹: M the spread of the blocks'
+// score sums (honest where residuals correlate within a block: blur, occluders, normalization
+// windows), A the robust loss's curvature. A is h scaled by the share robust_curvature / (h00 +
+// h11), one number instead of a second matrix: the share is 0.80–0.84 on every stress frame
+// (Gaussian residuals give 0.83 at the Tukey cut-off of 4.685 sigmas), clamped at
+// kMinCurvatureShare. h⁻¹·M·h⁻¹ alone understates the spread by that share squared; with σ²·h⁻¹
+// added, as before session 55, it overstated it (the 640×480 stress poses' NEES about 1 for 3 dof).
+// The point linearization of the coarse-to-fine alignment keeps h⁻¹·M·h⁻¹ + σ²·h⁻¹: its
+// validation thresholds (max_sigma_px, the prediction's χ², the agreement test) were set on it.
+Eigen::Matrix3d ImageCovariance(const Linearization& fit, const Eigen::Matrix3d& h_inv);
+inline constexpr double kMinCurvatureShare = 0.25;
+
+// h⁻¹·M·h⁻¹ + σ²·h⁻¹: the sandwich plus the independent-residual term. The coarse-to-fine
+// alignment's covariance, and the figure the polish's window and smoothing choices compare (their
+// ratios were set on it: it weighs a fit's raw residual noise, which the matching's smoothing
+// lowers, against its correlated spread, which the smoothing raises).
+Eigen::Matrix3d SandwichPlusIndependent(const Linearization& fit, const Eigen::Matrix3d& h_inv);
+
 // A linearization over the pixels of pyramid level `level` (its Jacobian's translation columns per
 // level pixel) re-expressed per level-0 pixel, the unit of the pose steps: those columns divided
 // by 2^level.

@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 namespace fleetloc::tracking {
 namespace {
@@ -168,6 +169,59 @@ void AllPixels(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
 
 // The sparse levels' sums (LinearizePoints) over every pixel are the whole-frame sums, with an
 // occluder, a fitted gain and an estimated scale: one set of equations, two layouts.
+// Mean over `trials` noisy frames of the fitted shift's squared error in the sigmas of the
+// covariance `covariance(fit, h⁻¹)` claims for it: 2 (two dof) when that covariance is honest. The
+// noise is Gaussian, blurred by `blur_px` (0: none) and scaled to `noise_sigma`. Each fit takes
+// three robust Gauss–Newton steps from the truth, the claim from the last linearization, as the
+// polish does; the view at a shift e is its first-order expansion v − e·∇v (the errors are
+// hundredths of a pixel), so the test renders the texture once.
+template <typename Covariance>
+double MeanPositionNees(double noise_sigma, double blur_px, int trials, Covariance covariance) {
+  const WaveTexture texture;
+  const cv::Rect inner(10, 10, 180, 140);
+  const cv::Mat clean = texture.Render({200, 160}, {0, 0});
+  const cv::Mat view = ShiftedView(texture, inner, {0, 0});
+  cv::Mat gx, gy;
+  cv::Sobel(view, gx, CV_32F, 1, 0, 3, 1.0 / 8);
+  cv::Sobel(view, gy, CV_32F, 0, 1, 3, 1.0 / 8);
+  cv::RNG rng(11);
+  double sum = 0;
+  for (int i = 0; i < trials; ++i) {
+    cv::Mat noise(clean.size(), CV_32F);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+    if (blur_px > 0) cv::GaussianBlur(noise, noise, {}, blur_px);
+    cv::Scalar mean, deviation;
+    cv::meanStdDev(noise, mean, deviation);
+    const cv::Mat frame = clean + noise * (noise_sigma / deviation[0]);
+    cv::Point2d e(0, 0);
+    Linearization fit;
+    for (int step = 0; step < 3; ++step) {
+      const cv::Mat shifted = view - e.x * gx - e.y * gy;
+      fit = LinearizeWholeFrame(frame, shifted, inner, {}, {100.0, 80.0}, 4.685, 0.0, 1.0);
+      const Eigen::Vector3d q = Step(fit);
+      e += cv::Point2d(-q.y(), -q.x());
+    }
+    const Eigen::Vector2d error(-e.y, -e.x);  // in q's axes
+    const Eigen::Matrix3d claimed = covariance(fit, fit.h.inverse());
+    sum += error.dot(claimed.topLeftCorner<2, 2>().inverse() * error);
+  }
+  return sum / trials;
+}
+
+// The whole-frame fit's covariance is the M-estimator's sandwich: honest under white noise and
+// under noise correlated over neighbouring pixels (a blur), which the blocks' score spread counts.
+// The sandwich plus the independent-residual term, the covariance before session 55, claims
+// nearly twice the spread of the white-noise fits.
+TEST(ImageCovariance, AWholeFrameFitsCovarianceMatchesTheSpreadOfItsEstimates) {
+  const double white = MeanPositionNees(0.3, 0.0, 300, ImageCovariance);
+  const double blurred = MeanPositionNees(0.3, 1.5, 300, ImageCovariance);
+  const double sum = MeanPositionNees(0.3, 0.0, 300, SandwichPlusIndependent);
+  EXPECT_NEAR(white, 2.0, 0.4);  // measured 2.28; the sandwich alone gives 3.33
+  EXPECT_GT(blurred, 1.6);       // measured 2.47: the blocks' edges cut a little of the correlation
+  EXPECT_LT(blurred, 2.8);
+  EXPECT_LT(sum, 1.4);  // measured 1.24
+}
+
 TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
   const WaveTexture texture;
   const cv::Rect inner(10, 10, 180, 140);

@@ -239,10 +239,20 @@ const char* DirectAligner::Verdict(const DirectAlignment& fit, bool prediction_c
              : "weak fit the prediction does not confirm";
 }
 
-// The image's own estimate and honest covariance from the finest level's linearization, fused
-// with the prediction. The covariance is the sandwich H⁻¹·M·H⁻¹ over blocks of the frame (M: the
-// spread of the blocks' score sums), which stays honest when residuals are correlated over
-// occluders, blur or normalization windows, plus the independent-residual term σ²·H⁻¹.
+namespace {
+
+// The worst-direction position sigma of a covariance of q.
+double WorstPositionSigma(const Eigen::Matrix3d& cov_q) {
+  return std::sqrt(
+      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov_q.topLeftCorner<2, 2>())
+                        .eigenvalues()
+                        .maxCoeff()));
+}
+
+}  // namespace
+
+// The image's own estimate and covariance from the finest level's linearization (see
+// ImageCovariance in tracking/dense_linearization.h), fused with the prediction.
 void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& prior,
                             const Pose2& pose, DirectAlignment* out) const {
   const double res = camera_.resolution_m;
@@ -256,7 +266,7 @@ void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& 
   }
   const Eigen::Matrix3d h_inv = h.solve(Eigen::Matrix3d::Identity());
   const Eigen::Vector3d q_image = -h_inv * fit.g;  // image-only optimum, from `pose`
-  const Eigen::Matrix3d cov_q = h_inv * fit.score_spread * h_inv + fit.sigma * fit.sigma * h_inv;
+  const Eigen::Matrix3d cov_q = ImageCovariance(fit, h_inv);
   const Eigen::Matrix3d info_q = cov_q.inverse();
   const Eigen::Matrix3d bs = RotationBlock(pose) * to_px;
   const Eigen::Matrix3d prior_information = prior.covariance.inverse();
@@ -267,10 +277,8 @@ void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& 
   const Eigen::Matrix3d image_cov = bs * cov_q * bs.transpose();
   out->measurement = {ApplyStep(pose, q_image, res), image_cov};
   out->posterior = {ApplyStep(pose, q, res), (image_cov.inverse() + prior_information).inverse()};
-  out->sigma_px = std::sqrt(
-      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov_q.topLeftCorner<2, 2>())
-                        .eigenvalues()
-                        .maxCoeff()));
+  out->sigma_px = WorstPositionSigma(cov_q);
+  out->comparison_sigma_px = WorstPositionSigma(SandwichPlusIndependent(fit, h_inv));
   const Eigen::Vector3d innovation = Difference(out->measurement.pose, prior.pose);
   out->prior_chi2 = innovation.dot((prior.covariance + image_cov).ldlt().solve(innovation));
   if (!out->posterior.pose.ToVector().allFinite() || !out->posterior.covariance.allFinite()) {

@@ -38,7 +38,10 @@ struct DirectAlignment {
   // deviations (0 when no search ran).
   double peak_z = 0.0;
   double prior_chi2 = 0.0;
-  double sigma_px = 0.0;      // image-only worst-direction position sigma, level-0 px
+  double sigma_px = 0.0;  // image-only worst-direction position sigma, level-0 px
+  // The same from h⁻¹·M·h⁻¹ + σ²·h⁻¹, which the polish's choices compare (SandwichPlusIndependent
+  // in tracking/dense_linearization.h).
+  double comparison_sigma_px = 0.0;
   double view_blur_px = 0.0;  // the polish's estimate of the frame's blur against the view
   int window_px = 0;          // the polish's normalization window (level-0 px)
   bool unsmoothed = false;    // a level-0 polish normalized without the matching's smoothing

@@ -55,11 +55,12 @@ cv::Mat PolishView(NormalizedMosaic* mosaic, const geometry::CameraModel& camera
   return NormalizedAt(*mosaic, view, window, false)(cv::Rect(n, n, rect.width, rect.height));
 }
 
-// Whether to take `alternative` over `usual`: valid, and its position sigma below `max_ratio` of
+// Whether to take `alternative` over `usual`: valid, and its comparison sigma below `max_ratio` of
 // the usual fit's (or the usual fit not valid).
 bool MorePrecise(const DirectAlignment& alternative, const DirectAlignment& usual,
                  double max_ratio) {
-  return alternative.valid && (!usual.valid || alternative.sigma_px < max_ratio * usual.sigma_px);
+  return alternative.valid &&
+         (!usual.valid || alternative.comparison_sigma_px < max_ratio * usual.comparison_sigma_px);
 }
 
 // `frame` (the camera's, or already its pyramid level `level`) at pyramid level `level`.

@@ -103,10 +103,10 @@ struct DirectAlignOptions {
   // Above level 0 the polish normalizes the frame and the view over the mosaic's window
   // (normalize_window_px) or over this wider one (level-0 px, scaled per level alike; 0: the
   // mosaic's always), whichever gives the more precise fit (the smaller image-only position
-  // sigma), chosen on the frames the blur is estimated on and kept in between. A wider window
-  // averages the noise of noisy frames over more pixels and keeps a coarse texture's broader
-  // contrast; a local one keeps occluders' and vignetting's effects local. Measured at 1280×1024
-  // (docs/benchmarks.md, session 53).
+  // sigma by DirectAlignment::comparison_sigma_px), chosen on the frames the blur is estimated on
+  // and kept in between. A wider window averages the noise of noisy frames over more pixels and
+  // keeps a coarse texture's broader contrast; a local one keeps occluders' and vignetting's
+  // effects local. Measured at 1280×1024 (docs/benchmarks.md, session 53).
   int polish_wide_window_px = 15;
   // The wide window's fit is taken only when its position sigma is below this share of the local
   // one's: the sigma counts the noise, not the pull a wider window gives strong edges (painted
@@ -116,9 +116,11 @@ struct DirectAlignOptions {
   // At level 0 (320×240) the mosaic's normalized tiles are smoothed for the template matching
   // (match_smoothing_sigma_px), and the polish's view comes from them. The polish also normalizes
   // the frame and the view without that smoothing, on the frames the blur is estimated on, and
-  // takes that fit (and keeps it in between) when its position sigma is below this multiple of the
-  // smoothed fit's; 0: always the smoothed. Above 1 because the smoothed fit's sigma is the lower
-  // one even where its error is the higher (the smoothing correlates neighbouring residuals).
+  // takes that fit (and keeps it in between) when its comparison sigma is below this multiple of
+  // the smoothed fit's; 0: always the smoothed. Above 1 because the smoothed fit's comparison sigma
+  // is the lower one even where its error is the higher (its σ²·h⁻¹ term counts the residuals the
+  // smoothing lowers; session 55: compared by the reported covariance instead, at 1.0 and 1.1
+  // painted pavement 001 `all` rose 0.085 → 0.13 px, at 0.9 the clean frames' gain was lost).
   // Without the smoothing, clean and lightly occluded frames fit closer; under heavy dust and blur
   // the smoothed fit is the better one. Set on the tuning floors (docs/benchmarks.md, session 54).
   double polish_unsmoothed_max_sigma_ratio = 1.1;
