@@ -155,7 +155,8 @@ void AllPixels(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
     for (int k : by_block[b]) {
       const int x = k % inner.width, y = k / inner.width;
       const size_t i = points->value.size();
-      points->u.push_back(x + 0.5f), points->v.push_back(y + 0.5f);
+      points->u.push_back(x + 0.5f);
+      points->v.push_back(y + 0.5f);
       points->value.push_back(frame.at<float>(inner.y + y, inner.x + x));
       points->du0.push_back(static_cast<float>(inner.x + x + 0.5 - principal.x));
       points->dv0.push_back(static_cast<float>(inner.y + y + 0.5 - principal.y));
@@ -252,7 +253,8 @@ TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
   EXPECT_LT((sparse.score_spread - whole.score_spread).norm(), 1e-4 * whole.score_spread.norm());
   // Unseen pixels add nothing: half the pixels unseen, half the points.
   for (size_t i = 0; i < views.seen.size(); i += 2) {
-    views.seen[i] = 0.0f, views.value[i] = views.gx[i] = views.gy[i] = 0.0f;
+    views.seen[i] = 0.0f;
+    views.value[i] = views.gx[i] = views.gy[i] = 0.0f;
   }
   EXPECT_EQ(LinearizePoints(points, views, 4.685, 0.0, 0.0).points, inner.area() / 2);
 }
