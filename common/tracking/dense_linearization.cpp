@@ -47,9 +47,18 @@ Eigen::Matrix3d SandwichPlusIndependent(const Linearization& fit, const Eigen::M
 Eigen::Matrix3d ImageCovariance(const Linearization& fit, const Eigen::Matrix3d& h_inv) {
   if (!fit.robust_curvature_summed) return SandwichPlusIndependent(fit, h_inv);
   const Eigen::Matrix3d sandwich = h_inv * fit.score_spread * h_inv;
-  const double share =
+  double share =
       std::clamp(fit.robust_curvature / (fit.h(0, 0) + fit.h(1, 1)), kMinCurvatureShare, 1.0);
+  if (fit.secant_curvature > 0) share = std::clamp(fit.secant_curvature, share, 2 * share);
   return sandwich / (share * share);
+}
+
+double SecantCurvature(const Linearization& first, const Linearization& last,
+                       const Eigen::Vector3d& step) {
+  const Eigen::Vector2d s = step.head<2>();
+  const double predicted = s.dot(first.h.topLeftCorner<2, 2>() * s);
+  if (s.norm() < kMinSecantStepPx || !(predicted > 0)) return 0.0;
+  return (last.g - first.g).head<2>().dot(s) / predicted;
 }
 
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,

@@ -223,6 +223,43 @@ TEST(ImageCovariance, AWholeFrameFitsCovarianceMatchesTheSpreadOfItsEstimates) {
   EXPECT_LT(sum, 1.4);  // measured 1.24
 }
 
+// The view's central differences understate its change with the pose (the texture's finest
+// waves are 5 px long), so a Gauss–Newton step overshoots; the secant between the linearizations
+// at the step's two ends measures by how much: the first step's length over the true shift.
+TEST(SecantCurvature, MeasuresByHowMuchTheJacobianUnderstatesTheViewsChange) {
+  const WaveTexture texture;
+  const cv::Mat frame = texture.Render({200, 160}, {0, 0});
+  const cv::Rect inner(10, 10, 180, 140);
+  const cv::Point2d shift(0.3, -0.2);
+  const Linearization start = LinearizeWholeFrame(frame, ShiftedView(texture, inner, shift), inner,
+                                                  {}, {100.0, 80.0}, 4.685, 0.0, 1.0);
+  const Linearization truth = LinearizeWholeFrame(frame, ShiftedView(texture, inner, {0, 0}), inner,
+                                                  {}, {100.0, 80.0}, 4.685, 0.0, 1.0);
+  const Eigen::Vector3d step = Step(start);
+  const Eigen::Vector3d moved(-shift.y, -shift.x, 0.0);  // the true step, in q's axes
+  const double secant = SecantCurvature(start, truth, moved);
+  EXPECT_GT(secant, 1.03);  // measured 1.056
+  EXPECT_NEAR(secant, step.head<2>().norm() / moved.head<2>().norm(), 0.03);
+  EXPECT_EQ(SecantCurvature(start, truth, 0.5 * kMinSecantStepPx * moved / moved.norm()), 0.0);
+}
+
+// The covariance takes the secant's curvature between the ψ′ share and twice it.
+TEST(ImageCovariance, TakesTheSecantsCurvatureWithinTwiceTheShare) {
+  Linearization fit;
+  fit.h = Eigen::Matrix3d::Identity();
+  fit.score_spread = Eigen::Matrix3d::Identity();
+  fit.robust_curvature = 1.6;  // a share of 0.8 of h's translation trace, 2
+  fit.robust_curvature_summed = true;
+  const Eigen::Matrix3d h_inv = Eigen::Matrix3d::Identity();
+  EXPECT_NEAR(ImageCovariance(fit, h_inv)(0, 0), 1 / (0.8 * 0.8), 1e-12);
+  fit.secant_curvature = 1.1;
+  EXPECT_NEAR(ImageCovariance(fit, h_inv)(0, 0), 1 / (1.1 * 1.1), 1e-12);
+  fit.secant_curvature = 0.5;
+  EXPECT_NEAR(ImageCovariance(fit, h_inv)(0, 0), 1 / (0.8 * 0.8), 1e-12);
+  fit.secant_curvature = 3.0;
+  EXPECT_NEAR(ImageCovariance(fit, h_inv)(0, 0), 1 / (1.6 * 1.6), 1e-12);
+}
+
 TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
   const WaveTexture texture;
   const cv::Rect inner(10, 10, 180, 140);

@@ -312,10 +312,13 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
   // The frame's contrast against the view: estimated at the first iteration, then re-fitted with
   // each iteration's robust weights (see kMinGain in dense_linearization.h); 1 when not fitted.
   double gain = fit_gain ? 0.0 : 1.0;
+  Linearization first;
+  Eigen::Vector3d moved = Eigen::Vector3d::Zero();
   for (int it = 0; it < max_iterations; ++it) {
     ++*iterations;
     const Linearization lin = linearize(pose, sigma, gain);
     if (lin.points < 3) break;
+    if (it == 0) first = lin;
     sigma = lin.sigma;
     if (fit_gain) gain = lin.next_gain;
     const Eigen::Vector3d q = MapStep(lin, pose, prior);
@@ -325,9 +328,16 @@ Pose2 DirectAligner::GaussNewton(const LinearizeAt& linearize, int level, int ma
       return pose;
     }
     pose = ApplyStep(pose, q, camera_.resolution_m);
+    moved += q;
     if (StepPx(q, level) < tolerance_px) break;
   }
-  if (final_fit != nullptr) *final_fit = linearize(pose, sigma, gain);
+  if (final_fit != nullptr) {
+    *final_fit = linearize(pose, sigma, gain);
+    // Above level 0 only: see ImageCovariance in tracking/dense_linearization.h.
+    if (final_fit->robust_curvature_summed && level > 0) {
+      final_fit->secant_curvature = SecantCurvature(first, *final_fit, moved);
+    }
+  }
   return pose;
 }
 
