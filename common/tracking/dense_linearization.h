@@ -66,8 +66,6 @@ void FinishLinearization(const CorrelationSums& c, double inliers,
                          const std::vector<Eigen::Vector3d>& block_scores,
                          const std::vector<int>& block_counts, Linearization* lin);
 
-// Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
-// n/(n − 1) over the n blocks that have pixels.
 // The image-only covariance of the step q (level-0 px, px, rad) from `fit` and h⁻¹.
 // A whole-frame fit takes the M-estimator's sandwich A⁻¹·M·A⁻¹: M the spread of the blocks'
 // score sums (honest where residuals correlate within a block: blur, occluders, normalization
@@ -108,6 +106,8 @@ Eigen::Matrix3d SandwichPlusIndependent(const Linearization& fit, const Eigen::M
 // by 2^level.
 void InLevel0Pixels(int level, Linearization* lin);
 
+// Spread of the blocks' score sums about their share (by pixel count) of `total`, scaled by
+// n/(n − 1) over the n blocks that have pixels.
 Eigen::Matrix3d ScoreSpread(const std::vector<Eigen::Vector3d>& block_scores,
                             const std::vector<int>& block_counts, const Eigen::Vector3d& total);
 

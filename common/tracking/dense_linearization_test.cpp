@@ -168,8 +168,6 @@ void AllPixels(const cv::Mat& frame, const cv::Mat& view, const cv::Rect& inner,
   }
 }
 
-// The sparse levels' sums (LinearizePoints) over every pixel are the whole-frame sums, with an
-// occluder, a fitted gain and an estimated scale: one set of equations, two layouts.
 // Mean over `trials` noisy frames of the fitted shift's squared error in the sigmas of the
 // covariance `covariance(fit, h⁻¹)` claims for it: 2 (two dof) when that covariance is honest. The
 // noise is Gaussian, blurred by `blur_px` (0: none) and scaled to `noise_sigma`. Each fit takes
@@ -260,6 +258,8 @@ TEST(ImageCovariance, TakesTheSecantsCurvatureWithinTwiceTheShare) {
   EXPECT_NEAR(ImageCovariance(fit, h_inv)(0, 0), 1 / (1.6 * 1.6), 1e-12);
 }
 
+// The sparse levels' sums (LinearizePoints) over every pixel are the whole-frame sums, with an
+// occluder, a fitted gain and an estimated scale: one set of equations, two layouts.
 TEST(LinearizePoints, OverEveryPixelAgreesWithTheWholeFrame) {
   const WaveTexture texture;
   const cv::Rect inner(10, 10, 180, 140);
