@@ -278,7 +278,10 @@ void DirectAligner::Combine(const Linearization& fit, const PoseWithCovariance& 
   out->measurement = {ApplyStep(pose, q_image, res), image_cov};
   out->posterior = {ApplyStep(pose, q, res), (image_cov.inverse() + prior_information).inverse()};
   out->sigma_px = WorstPositionSigma(cov_q);
-  out->comparison_sigma_px = WorstPositionSigma(SandwichPlusIndependent(fit, h_inv));
+  // The two differ only for a whole-frame fit (ImageCovariance).
+  out->comparison_sigma_px = fit.robust_curvature_summed
+                                 ? WorstPositionSigma(SandwichPlusIndependent(fit, h_inv))
+                                 : out->sigma_px;
   const Eigen::Vector3d innovation = Difference(out->measurement.pose, prior.pose);
   out->prior_chi2 = innovation.dot((prior.covariance + image_cov).ldlt().solve(innovation));
   if (!out->posterior.pose.ToVector().allFinite() || !out->posterior.covariance.allFinite()) {
