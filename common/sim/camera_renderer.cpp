@@ -141,7 +141,8 @@ RenderedFrame CameraRenderer::Render(const geometry::Pose2& base_in_map,
     }
   }
   const SensorDraw draw = DrawSensor(options_, rng);
-  frame.image = ApplySensor(floor(frame_rect), shading, draw, options_, rng);
+  frame.image = JpegRoundTrip(ApplySensor(floor(frame_rect), shading, draw, options_, rng),
+                              options_.jpeg_quality);
   frame.gain = draw.gain;
   frame.bias_dn = draw.bias_dn;
   return frame;

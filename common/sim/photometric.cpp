@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <opencv2/core/hal/intrin.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -185,6 +186,14 @@ cv::Mat ApplySensor(const cv::Mat& radiance, const cv::Mat& shading, const Senso
     signal.convertTo(out.row(v), CV_8UC1, 1.0, draw.bias_dn);  // rounds and saturates
   }
   return out;
+}
+
+cv::Mat JpegRoundTrip(const cv::Mat& frame, int quality) {
+  CV_Assert(frame.type() == CV_8UC1 && quality >= 0 && quality <= 100);
+  if (quality == 0) return frame;
+  std::vector<uchar> encoded;
+  CV_Assert(cv::imencode(".jpg", frame, encoded, {cv::IMWRITE_JPEG_QUALITY, quality}));
+  return cv::imdecode(encoded, cv::IMREAD_GRAYSCALE);
 }
 
 }  // namespace fleetloc::sim

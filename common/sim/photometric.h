@@ -45,4 +45,8 @@ int MarginForBlur(double sigma_px, const Eigen::Vector2d& displacement_px);
 cv::Mat ApplySensor(const cv::Mat& radiance, const cv::Mat& shading, const SensorDraw& draw,
                     const RenderOptions& options, cv::RNG& rng);
 
+// The 8-bit frame JPEG-encoded at `quality` (1..100) and decoded again (in memory): a streaming
+// camera's compression. The frame itself for quality 0.
+cv::Mat JpegRoundTrip(const cv::Mat& frame, int quality);
+
 }  // namespace fleetloc::sim

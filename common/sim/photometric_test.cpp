@@ -1,10 +1,14 @@
-// Tests for the photometric effects: blur kernels, light and vignetting fields, sensor response.
+// Tests for the photometric effects: blur kernels, light and vignetting fields, sensor response,
+// JPEG compression.
 #include "sim/photometric.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <string>
+
+#include "sim/sim_options.h"
 
 namespace fleetloc::sim {
 namespace {
@@ -107,6 +111,68 @@ TEST(ApplySensor, NoiseHasTheConfiguredReadAndShotVariance) {
     // Variance 4 + 0.1 · level, plus 1/12 from rounding to whole grey levels.
     EXPECT_NEAR(stddev[0], std::sqrt(4.0 + 0.1 * level + 1.0 / 12.0), 0.1) << level;
   }
+}
+
+// A textured 8-bit frame: noise blurred to a grain of a few pixels, about 40 DN of contrast.
+cv::Mat TexturedFrame() {
+  cv::Mat noise(240, 320, CV_32FC1);
+  cv::RNG(7).fill(noise, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::GaussianBlur(noise, noise, {0, 0}, 1.5);
+  cv::Mat frame;
+  noise.convertTo(frame, CV_8UC1, 40.0 / 0.19, 128.0);
+  return frame;
+}
+
+// Mean |a − b| over the frame.
+double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  return cv::mean(d)[0];
+}
+
+TEST(JpegRoundTrip, LeavesTheFrameAtQuality0AndLosesMoreAtLowerQuality) {
+  const cv::Mat frame = TexturedFrame();
+  EXPECT_EQ(JpegRoundTrip(frame, 0).data, frame.data);
+  const double at95 = MeanAbsDifference(JpegRoundTrip(frame, 95), frame);
+  const double at70 = MeanAbsDifference(JpegRoundTrip(frame, 70), frame);
+  const double at30 = MeanAbsDifference(JpegRoundTrip(frame, 30), frame);
+  EXPECT_GT(at95, 0.1);
+  EXPECT_LT(at95, at70);
+  EXPECT_LT(at70, at30);
+  EXPECT_LT(at70, 10.0);  // a degraded frame, not a different one
+}
+
+// The error a JPEG adds jumps across the 8 × 8 blocks' edges: between columns 8k − 1 and 8k it
+// changes more than between neighbours inside a block.
+TEST(JpegRoundTrip, ItsErrorJumpsAtTheEightPixelBlocksEdges) {
+  const cv::Mat frame = TexturedFrame();
+  cv::Mat error;
+  cv::subtract(JpegRoundTrip(frame, 50), frame, error, cv::noArray(), CV_32F);
+  double across = 0, inside = 0;
+  int n_across = 0, n_inside = 0;
+  for (int y = 0; y < error.rows; ++y) {
+    for (int x = 1; x < error.cols; ++x) {
+      const double jump = std::abs(error.at<float>(y, x) - error.at<float>(y, x - 1));
+      if (x % 8 == 0) {
+        across += jump;
+        ++n_across;
+      } else {
+        inside += jump;
+        ++n_inside;
+      }
+    }
+  }
+  EXPECT_GT(across / n_across, 1.3 * inside / n_inside);
+}
+
+TEST(JpegRoundTrip, AQualityOutside0To100IsRefusedByTheOptionsCheck) {
+  SimOptions options;
+  for (const int quality : {-1, 101}) {
+    options.render.jpeg_quality = quality;
+    EXPECT_NE(Validate(options).message().find("jpeg_quality"), std::string::npos) << quality;
+  }
+  options.render.jpeg_quality = 70;
+  EXPECT_TRUE(Validate(options).ok());
 }
 
 }  // namespace

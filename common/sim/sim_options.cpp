@@ -101,6 +101,7 @@ void CheckRender(const RenderOptions& r, Checker* c) {
   c->Range("bias_min_dn", r.bias_min_dn, -255.0, 255.0);
   c->Range("bias_max_dn", r.bias_max_dn, -255.0, 255.0);
   c->Ordered("bias_min_dn", r.bias_min_dn, "bias_max_dn", r.bias_max_dn);
+  c->Range("jpeg_quality", r.jpeg_quality, 0, 100);
 }
 
 }  // namespace
@@ -131,6 +132,7 @@ RenderOptions CleanRenderOptions(RenderOptions o) {
   o.response_gamma = 1.0;
   o.response_s_curve = 0.0;
   o.bias_min_dn = o.bias_max_dn = 0.0;
+  o.jpeg_quality = 0;
   return o;
 }
 

@@ -89,6 +89,9 @@ struct RenderOptions {
   double response_s_curve = 0.25;  // blend weight of smoothstep, 0..1
   double bias_min_dn = -8.0;       // per-frame bias (black level) in [min, max]
   double bias_max_dn = 8.0;
+  // The camera's compression: each frame JPEG-encoded at this quality (1..100) and decoded, as a
+  // camera that streams JPEG (MJPEG) delivers it, with its 8 × 8 block artifacts; 0: none.
+  int jpeg_quality = 0;
 };
 
 // A kidnapped vehicle: at `at_s` after the start it is picked up and set down `jump_fraction` of

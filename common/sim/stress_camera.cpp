@@ -21,6 +21,28 @@ RenderOptions MarksEffects() {
   return r;
 }
 
+// Another camera (held out: never used while tuning): it streams JPEG (quality 70, 8 × 8 block
+// artifacts), its lens is a little out of focus (σ 1 px) and vignettes 35 %, its response curve is
+// harder (γ 0.6, S-curve 0.6), and its exposure is long enough for the floor to sweep about 4 px
+// (the caller's: it depends on the speed). Read noise 2.5 DN, gain ±15 %, bias ±10 DN.
+RenderOptions OtherCameraEffects() {
+  RenderOptions r;
+  r.dust_fraction = 0.0;
+  r.jpeg_quality = 70;
+  r.blur_sigma_px = 1.0;
+  r.vignetting_corner_loss = 0.35;
+  r.lighting_amplitude = 0.1;
+  r.response_gamma = 0.6;
+  r.response_s_curve = 0.6;
+  r.noise_sigma_dn = 2.5;
+  r.shot_noise_dn = 0.15;
+  r.gain_min = 0.85;
+  r.gain_max = 1.15;
+  r.bias_min_dn = -10.0;
+  r.bias_max_dn = 10.0;
+  return r;
+}
+
 }  // namespace
 
 bool StressConditionIsFast(const std::string& condition) {
@@ -33,6 +55,7 @@ RouteShape StressConditionRoute(const std::string& condition) {
 
 std::optional<RenderOptions> StressCameraEffects(const std::string& condition) {
   if (condition == "marks") return MarksEffects();
+  if (condition == "camera") return OtherCameraEffects();
   if (condition == "aisles") return StressCameraEffects("clean");
   if (condition != "clean" && !StressConditionIsFast(condition) && condition != "dusty")
     return std::nullopt;

@@ -2,7 +2,8 @@
 // stress suite"), shared by `fleetctl bench tracker-stress`, `fleetctl bench reloc --stress` and
 // the tests that need the same frames: clean, fast (short exposure, noise, gain jitter), dusty
 // (dust, vignetting, uneven light, lens blur), all (fast and dusty), marks (held out: tyre
-// marks, debris, the vehicle's shadow) and aisles (clean frames along a route parallel to the
+// marks, debris, the vehicle's shadow), camera (held out: another camera — JPEG, defocus, a
+// harder response curve, motion blur) and aisles (clean frames along a route parallel to the
 // mosaic's axes).
 #pragma once
 

@@ -255,6 +255,9 @@ void AddRenderOptions(CLI::App* sim, SimArgs* a) {
   sim->add_option("--shot-noise", o.shot_noise_dn, "Shot-noise variance per DN of signal");
   sim->add_option("--gamma", o.response_gamma, "Camera response exponent");
   sim->add_option("--s-curve", o.response_s_curve, "Camera response S-curve weight (0..1)");
+  sim->add_option(
+      "--jpeg-quality", o.jpeg_quality,
+      "JPEG-encode each frame at this quality, as a streaming camera (1..100; 0: none)");
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ void AddStressOptions(CLI::App* cmd, bench::RelocStressArgs& st) {
       ->delimiter(',');
   cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');
   cmd->add_option("--conditions", st.conditions,
-                  "Camera conditions: clean, fast, dusty, all, marks (with --stress)")
+                  "Camera conditions: clean, fast, dusty, all, marks, camera (with --stress)")
       ->delimiter(',');
   cmd->add_option("--layouts", st.layouts,
                   "single (the floor alone) and/or repeated (the floor twice side by side; "

@@ -28,7 +28,7 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
   stress->add_option("--sizes", args->sizes, "Frame sizes WIDTHxHEIGHT")->delimiter(',');
   stress
       ->add_option("--conditions", args->conditions,
-                   "clean, fast, dusty, all, marks (default: these five); aisles")
+                   "clean, fast, dusty, all, marks, camera (default: these six); aisles")
       ->delimiter(',');
   stress->add_option("--frames", s.frames, "Frames per cell")->check(CLI::Range(1, 1000000));
   stress

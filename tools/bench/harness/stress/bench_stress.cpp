@@ -90,7 +90,7 @@ fs::path DefaultStressManifest() {
 }
 
 const std::vector<std::string>& StressConditionNames() {
-  static const std::vector<std::string> kNames{"clean", "fast", "dusty", "all", "marks"};
+  static const std::vector<std::string> kNames{"clean", "fast", "dusty", "all", "marks", "camera"};
   return kNames;
 }
 
@@ -98,15 +98,16 @@ Status ApplyStressCondition(const std::string& name, BenchSettings* s) {
   const std::optional<sim::RenderOptions> effects = sim::StressCameraEffects(name);
   if (!effects) {
     return InvalidInput("--conditions: unknown condition '" + name +
-                        "' (known: clean, fast, dusty, all, marks, aisles)");
+                        "' (known: clean, fast, dusty, all, marks, camera, aisles)");
   }
-  const bool fast = sim::StressConditionIsFast(name);
-  // Frames 1/3 of a width apart, or 1.25 widths (no overlap in any direction of travel).
-  s->speed_px_s = s->rate_hz * s->width_px * (fast ? 1.25 : 1.0 / 3.0);
+  const bool fast = sim::StressConditionIsFast(name), other_camera = name == "camera";
+  // Frames 1/3 of a width apart, 0.6 widths (another camera), or 1.25 widths (no overlap in any
+  // direction of travel).
+  s->speed_px_s = s->rate_hz * s->width_px * (fast ? 1.25 : other_camera ? 0.6 : 1.0 / 3.0);
   s->render = *effects;
   s->route = sim::StressConditionRoute(name);
-  // A short exposure: the floor moves about 1 px during it.
-  s->render.exposure_s = fast ? 1.0 / s->speed_px_s : 0.0;
+  // A short exposure: the floor moves about 1 px during it; another camera's about 4 px.
+  s->render.exposure_s = fast ? 1.0 / s->speed_px_s : other_camera ? 4.0 / s->speed_px_s : 0.0;
   return Status::Ok();
 }
 

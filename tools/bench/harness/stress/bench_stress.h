@@ -33,7 +33,8 @@ Result<std::vector<StressFloor>> ReadStressManifest(const std::filesystem::path&
 // data/stress_floors/floors.json of the source tree (beside the build, else the compiled-in one).
 std::filesystem::path DefaultStressManifest();
 
-// The default conditions: "clean", "fast", "dusty", "all", "marks". "aisles" is asked for by name.
+// The default conditions: "clean", "fast", "dusty", "all", "marks", "camera". "aisles" is asked for
+// by name.
 const std::vector<std::string>& StressConditionNames();
 
 // The run settings of a condition for frames of width × height (speed scales with the frame):
@@ -45,7 +46,10 @@ const std::vector<std::string>& StressConditionNames();
 //  all:   fast and dusty at once;
 //  marks: held out of tuning — other occluders: tyre marks over 12 % of the floor, hard-edged
 //         debris over 5 %, the vehicle's shadow over 30 % of the frame (60 % darker), vignetting
-//         30 %, uneven light ±20 %, gain jitter ±20 %.
+//         30 %, uneven light ±20 %, gain jitter ±20 %;
+//  camera: held out of tuning — another camera: frames 0.6 widths apart with ~4 px of motion
+//         blur, JPEG quality 70, defocus σ 1 px, vignetting 35 %, a harder response curve
+//         (γ 0.6, S-curve 0.6), read noise 2.5 DN, gain ±15 %, bias ±10 DN.
 // InvalidInput for an unknown name.
 Status ApplyStressCondition(const std::string& name, BenchSettings* settings);
 
