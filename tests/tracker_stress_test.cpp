@@ -122,6 +122,20 @@ INSTANTIATE_TEST_SUITE_P(
                       ClassCase{"worn_asphalt", 0.1}),
     [](const auto& param_info) { return std::string(param_info.param.floor_class); });
 
+// The fresh floors: photographs of another source (SuperTuxKart's textures), first run as they
+// came. Each holds lock through dust and through fast motion within its class's target (0.15 px on
+// the plain classes, 0.1 on the textured ones).
+TEST(TrackerStressFresh, FreshFloorsTrackThroughDustAndThroughFastMotion) {
+  const nlohmann::json cells = RunCells(
+      "plain_concrete,polished_concrete,painted_lines,worn_asphalt", "fresh", "dusty,fast");
+  ASSERT_EQ(cells.size(), 8u);
+  for (const nlohmann::json& cell : cells) {
+    const std::string floor_class = cell["class"].get<std::string>();
+    const bool plain = floor_class == "plain_concrete" || floor_class == "polished_concrete";
+    CheckCells(nlohmann::json::array({cell}), plain ? 0.15 : 0.1);
+  }
+}
+
 // Small frames under fast motion and dust at once (320×240, `all`): in the run's sharp turns the
 // right dense fit lies beyond the odometry model's χ² bound for a strong fit, and only its clear
 // coarse peak tells it is right (before, those frames coasted: lock 0.93 over these 30 frames).
@@ -461,6 +475,14 @@ TEST(TrackerStressBadInput, MissingOrMalformedManifestIsRejected) {
       RunFleetctl("bench tracker-stress --manifest " + Quote((dir / "bad.json").string()));
   EXPECT_EQ(no_split.exit_code, 2);
   EXPECT_NE(no_split.err.find("split"), std::string::npos) << no_split.err;
+  for (const char* split : {"all", "seen"}) {  // "all" selects splits, it is not one
+    std::ofstream(dir / "split.json")
+        << R"([{"file": "x.png", "class": "a", "split": ")" << split << R"("}])";
+    const CommandResult bad_split =
+        RunFleetctl("bench tracker-stress --manifest " + Quote((dir / "split.json").string()));
+    EXPECT_EQ(bad_split.exit_code, 2) << split;
+    EXPECT_NE(bad_split.err.find("\"fresh\""), std::string::npos) << bad_split.err;
+  }
   std::ofstream(dir / "escape.json")
       << R"([{"file": "../etc/passwd", "class": "a", "split": "tuning"}])";
   const CommandResult escape =

@@ -12,8 +12,8 @@ namespace {
 // The options of --stress runs.
 void AddStressOptions(CLI::App* cmd, bench::RelocStressArgs& st) {
   cmd->add_option("--manifest", st.manifest, "Stress floors manifest (with --stress)");
-  cmd->add_option("--split", st.split, "tuning, holdout or all (with --stress)")
-      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
+  cmd->add_option("--split", st.split, "tuning, holdout, fresh or all (with --stress)")
+      ->check(CLI::IsMember({"tuning", "holdout", "fresh", "all"}));
   cmd->add_option("--classes", st.classes, "Floor classes (with --stress; default: all)")
       ->delimiter(',');
   cmd->add_option("--sizes", st.sizes, "Frame sizes WIDTHxHEIGHT (with --stress)")->delimiter(',');

@@ -21,8 +21,8 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
   s.timing_replays = 3;
   stress->add_option("--manifest", args->manifest,
                      "Floors manifest (default: data/stress_floors/floors.json)");
-  stress->add_option("--split", args->split, "tuning, holdout or all")
-      ->check(CLI::IsMember({"tuning", "holdout", "all"}));
+  stress->add_option("--split", args->split, "tuning, holdout, fresh or all")
+      ->check(CLI::IsMember({"tuning", "holdout", "fresh", "all"}));
   stress->add_option("--classes", args->classes, "Floor classes to run (default: all)")
       ->delimiter(',');
   stress->add_option("--sizes", args->sizes, "Frame sizes WIDTHxHEIGHT")->delimiter(',');

@@ -214,10 +214,10 @@ Status RunRelocStress(const RelocStressArgs& args) {
   std::vector<FrameSize> sizes;
   FLEETLOC_RETURN_IF_ERROR(CheckArgs(args, &sizes));
   nlohmann::json cells = nlohmann::json::array();
-  for (const std::string split : {"tuning", "holdout"}) {
+  for (const auto& [name, role] : StressSplits()) {
+    const std::string split = name;
     if (args.split != "all" && args.split != split) continue;
-    std::printf("\n== %s floors (%s)\n", split.c_str(),
-                split == "holdout" ? "never used while tuning" : "used while tuning");
+    std::printf("\n== %s floors (%s)\n", name, role);
     PrintHeader();
     for (const StressFloor& floor : *floors) {
       if (!Selected(floor, args, split)) continue;

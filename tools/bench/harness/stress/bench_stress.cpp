@@ -26,7 +26,6 @@ Status BadEntry(const fs::path& manifest, size_t index, const std::string& why) 
 
 Result<StressFloor> ParseEntry(const nlohmann::json& entry, const fs::path& manifest,
                                size_t index) {
-  static const std::set<std::string> kSplits{"tuning", "holdout"};
   if (!entry.is_object()) return BadEntry(manifest, index, "must be an object");
   for (const char* key : {"file", "class", "split"}) {
     if (!entry.contains(key) || !entry[key].is_string() || entry[key].get<std::string>().empty()) {
@@ -37,8 +36,8 @@ Result<StressFloor> ParseEntry(const nlohmann::json& entry, const fs::path& mani
   floor.file = entry["file"].get<std::string>();
   floor.floor_class = entry["class"].get<std::string>();
   floor.split = entry["split"].get<std::string>();
-  if (!kSplits.count(floor.split)) {
-    return BadEntry(manifest, index, R"('split' must be "tuning" or "holdout")");
+  if (!IsStressSplitOrAll(floor.split) || floor.split == "all") {
+    return BadEntry(manifest, index, R"('split' must be "tuning", "holdout" or "fresh")");
   }
   if (fs::path(floor.file).filename() != fs::path(floor.file)) {
     return BadEntry(manifest, index, "'file' must name a file beside the manifest");
@@ -87,6 +86,19 @@ fs::path DefaultStressManifest() {
       exe.parent_path().parent_path().parent_path() / "data/stress_floors/floors.json";
   if (!ec && fs::is_regular_file(beside, ec)) return beside;
   return fs::path(FLEETLOC_SOURCE_DIR) / "data/stress_floors/floors.json";
+}
+
+const std::vector<StressSplit>& StressSplits() {
+  static const std::vector<StressSplit> kSplits{
+      {"tuning", "used while tuning"},
+      {"holdout", "never used while tuning"},
+      {"fresh", "another source's photographs, never looked at before their first run"}};
+  return kSplits;
+}
+
+bool IsStressSplitOrAll(const std::string& split) {
+  return split == "all" || std::any_of(StressSplits().begin(), StressSplits().end(),
+                                       [&](const StressSplit& s) { return split == s.name; });
 }
 
 const std::vector<std::string>& StressConditionNames() {

@@ -15,8 +15,21 @@ namespace fleetloc::bench {
 // One manifest entry.
 struct StressFloor {
   std::filesystem::path image;
-  std::string file, floor_class, split;  // split: "tuning" or "holdout"
+  std::string file, floor_class, split;  // split: one of StressSplits()' names
 };
+
+// A manifest split: its name and what its floors were used for.
+struct StressSplit {
+  const char* name;
+  const char* role;
+};
+
+// "tuning" (used while tuning), "holdout" (never used while tuning) and "fresh" (photographs of
+// another source, added on 2026-12-08 and first run as they came), in the order reports list them.
+const std::vector<StressSplit>& StressSplits();
+
+// Whether `split` names a manifest split or is "all".
+bool IsStressSplitOrAll(const std::string& split);
 
 // A frame size of the suite, "WIDTHxHEIGHT".
 struct FrameSize {

@@ -137,10 +137,9 @@ Status RunTrackerStressBench(TrackerStressBenchArgs& args) {
     FLEETLOC_RETURN_IF_ERROR(ApplyStressCondition(c, &probe));
   cv::setNumThreads(1);  // every method on one core
   nlohmann::json cells = nlohmann::json::array();
-  for (const char* split : {"tuning", "holdout"}) {
+  for (const auto& [split, role] : StressSplits()) {
     if (args.split != "all" && args.split != split) continue;
-    std::printf("\n== %s floors (%s)\n", split,
-                std::string(split) == "holdout" ? "never used while tuning" : "used while tuning");
+    std::printf("\n== %s floors (%s)\n", split, role);
     PrintHeader();
     for (const StressFloor& floor : *floors) {
       if (floor.split != split) continue;
