@@ -36,7 +36,7 @@ Result<StressFloor> ParseEntry(const nlohmann::json& entry, const fs::path& mani
   floor.file = entry["file"].get<std::string>();
   floor.floor_class = entry["class"].get<std::string>();
   floor.split = entry["split"].get<std::string>();
-  if (!IsStressSplitOrAll(floor.split) || floor.split == "all") {
+  if (!IsStressSplit(floor.split)) {
     return BadEntry(manifest, index, R"('split' must be "tuning", "holdout" or "fresh")");
   }
   if (fs::path(floor.file).filename() != fs::path(floor.file)) {
@@ -96,9 +96,9 @@ const std::vector<StressSplit>& StressSplits() {
   return kSplits;
 }
 
-bool IsStressSplitOrAll(const std::string& split) {
-  return split == "all" || std::any_of(StressSplits().begin(), StressSplits().end(),
-                                       [&](const StressSplit& s) { return split == s.name; });
+bool IsStressSplit(const std::string& split) {
+  return std::any_of(StressSplits().begin(), StressSplits().end(),
+                     [&](const StressSplit& s) { return split == s.name; });
 }
 
 const std::vector<std::string>& StressConditionNames() {

@@ -28,8 +28,8 @@ struct StressSplit {
 // another source, added on 2026-12-08 and first run as they came), in the order reports list them.
 const std::vector<StressSplit>& StressSplits();
 
-// Whether `split` names a manifest split or is "all".
-bool IsStressSplitOrAll(const std::string& split);
+// Whether `split` names a manifest split ("all", which selects them all, is not one).
+bool IsStressSplit(const std::string& split);
 
 // A frame size of the suite, "WIDTHxHEIGHT".
 struct FrameSize {
