@@ -1,9 +1,10 @@
 // Regression test per stress floor class (issue 15), through `fleetctl bench tracker-stress`:
 // short runs over the real photographs of data/stress_floors at 640×480, in the dusty and the
-// fast conditions (each alone) and, on the holdout floors, the held-out marks and camera
-// conditions, checked against ground truth (lock rate, no false lock, camera-centre RMS). The
-// thresholds are looser than the benchmark's targets only where a 30-frame run cannot resolve them
-// (lock rate); a false lock is never tolerated. Also the command's bad input.
+// fast conditions (each alone), on the holdout floors the held-out marks and camera conditions,
+// and on the fresh floors (another source's photographs) dusty and fast, checked against ground
+// truth (lock rate, no false lock, camera-centre RMS). The thresholds are looser than the
+// benchmark's targets only where a 30-frame run cannot resolve them (lock rate); a false lock is
+// never tolerated. Also the command's bad input.
 #include <gtest/gtest.h>
 
 #include <algorithm>
