@@ -13,7 +13,7 @@ void RegisterBenchTrackerStressCommand(CLI::App& bench, Status* result) {
   CLI::App* stress = bench.add_subcommand(
       "tracker-stress",
       "The tracker and its peers on the stress floors (data/stress_floors) at several frame "
-      "sizes and camera conditions; holdout floors reported apart");
+      "sizes and camera conditions; each split (tuning, holdout, fresh) reported apart");
   bench::BenchSettings& s = args->settings;
   s.frames = 150;
   s.peer_frames = 20;
