@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "live_vehicle.h"
 #include "map_server_fixture.h"
@@ -28,6 +29,7 @@ using testing::Eventually;
 constexpr uint32_t kDomain = 127;      // 122 is the supervisor OpenAPI test's
 constexpr uint32_t kJpegDomain = 129;  // this file's two tests may run side by side
 constexpr int kFrames = 30;
+constexpr double kPx = 0.0005;  // the drive's resolution, m per pixel
 
 // A drive over the demo floor written as a run (frames, odometry, initial pose) under `dir`.
 struct DriveRun {
@@ -37,7 +39,7 @@ struct DriveRun {
 
 DriveRun WriteDriveRun(const cv::Mat& floor, const fs::path& run_dir) {
   const double start = 1000.0;  // the run's own clock: PTS 0 is its first frame
-  DriveRun out{testing::PlanDrive(floor, 0.0005, kFrames, 10.0, start, 0.5, 1000.0, 22), {}};
+  DriveRun out{testing::PlanDrive(floor, kPx, kFrames, 10.0, start, 0.5, 1000.0, 22), {}};
   live_sim::PlannedDrive& drive = *out.drive;
   fs::create_directories(run_dir / "frames");
   run_io::Run& run = out.run;
@@ -92,7 +94,7 @@ std::map<double, geometry::Pose2> AgentPoses(testing::MapServerFixture& server, 
   std::map<double, geometry::Pose2> poses;
   EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 30));
   {
-    auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, 0.0005);
+    auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, kPx);
     EXPECT_TRUE(Eventually([&] { return odometry->done(); }, 20));
   }
   // The run's initial pose, at its first frame; then the frames appear for the pipeline.
@@ -122,6 +124,17 @@ std::optional<geometry::Pose2> PoseAt(const std::map<double, geometry::Pose2>& p
   return it->second;  // frame 0's tracked pose replaced the initial one
 }
 
+// `fleetctl track`'s poses over the drive's run, as written (no codec in between).
+Result<std::vector<run_io::PoseRecord>> OfflinePoses(testing::MapServerFixture& server,
+                                                     const DriveRun& d) {
+  const fs::path offline = server.dir() / "poses.csv";
+  EXPECT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
+                                 d.run.dir.string() + " --out " + offline.string())
+                .exit_code,
+            0);
+  return run_io::ReadPosesCsv(offline);
+}
+
 cv::Mat DemoFloor() {
   return cv::imread(FLEETLOC_SOURCE_DIR "/deploy/demo/floors/rock_dirt_2048.png",
                     cv::IMREAD_GRAYSCALE);
@@ -131,21 +144,15 @@ TEST(AgentGstreamer, AMultifilesrcPipelineTracksLikeTheOfflineTracker) {
   const cv::Mat floor = DemoFloor();
   testing::MapServerFixture server("agent_gstreamer", floor, kDomain);
   const DriveRun d = WriteDriveRun(floor, server.dir() / "run");
-  const fs::path offline = server.dir() / "poses.csv";
-  ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
-                                 d.run.dir.string() + " --out " + offline.string())
-                .exit_code,
-            0);
-  auto expected = run_io::ReadPosesCsv(offline);
+  const auto expected = OfflinePoses(server, d);
   ASSERT_TRUE(expected.ok());
   const std::map<double, geometry::Pose2> poses = AgentPoses(server, d, "");
-  const double px = 0.0005;
   int matched = 0;
   for (const run_io::PoseRecord& row : *expected) {
     const std::optional<geometry::Pose2> pose = PoseAt(poses, row.t);
     ASSERT_TRUE(pose) << "no pose at t=" << row.t << ", have " << ::testing::PrintToString(poses);
-    EXPECT_NEAR(pose->x, row.pose.x, 0.01 * px) << "t=" << row.t;
-    EXPECT_NEAR(pose->y, row.pose.y, 0.01 * px) << "t=" << row.t;
+    EXPECT_NEAR(pose->x, row.pose.x, 0.01 * kPx) << "t=" << row.t;
+    EXPECT_NEAR(pose->y, row.pose.y, 0.01 * kPx) << "t=" << row.t;
     EXPECT_NEAR(pose->theta, row.pose.theta, 1e-6) << "t=" << row.t;
     EXPECT_EQ(row.status, "tracking");
     ++matched;
@@ -160,25 +167,19 @@ TEST(AgentGstreamer, AJpegStreamingCameraTracksWithinATenthOfAPixel) {
   const cv::Mat floor = DemoFloor();
   testing::MapServerFixture server("agent_gstreamer_jpeg", floor, kJpegDomain);
   const DriveRun d = WriteDriveRun(floor, server.dir() / "run");
-  const fs::path offline = server.dir() / "poses.csv";
-  ASSERT_EQ(testing::RunFleetctl("track --mosaic " + server.mosaic_path() + " --run " +
-                                 d.run.dir.string() + " --out " + offline.string())
-                .exit_code,
-            0);
-  auto uncompressed = run_io::ReadPosesCsv(offline);
+  const auto uncompressed = OfflinePoses(server, d);
   ASSERT_TRUE(uncompressed.ok());
   const std::map<double, geometry::Pose2> poses =
       AgentPoses(server, d, "videoconvert ! jpegenc quality=70 ! jpegdec ! ");
-  const double px = 0.0005;
   double most_moved = 0;  // by the compression: the largest change from the uncompressed frames'
   for (const run_io::PoseRecord& row : *uncompressed) {
     const std::optional<geometry::Pose2> pose = PoseAt(poses, row.t);
     ASSERT_TRUE(pose) << "no pose at t=" << row.t;
     const geometry::Pose2 truth = d.drive->TruthAt(row.t);
-    EXPECT_LT(std::hypot(pose->x - truth.x, pose->y - truth.y), 0.1 * px) << "t=" << row.t;
+    EXPECT_LT(std::hypot(pose->x - truth.x, pose->y - truth.y), 0.1 * kPx) << "t=" << row.t;
     most_moved = std::max(most_moved, std::hypot(pose->x - row.pose.x, pose->y - row.pose.y));
   }
-  EXPECT_GT(most_moved, 0.005 * px);  // the frames went through the codec (0.013 px here)
+  EXPECT_GT(most_moved, 0.005 * kPx);  // the frames went through the codec (0.013 px here)
 }
 
 }  // namespace
