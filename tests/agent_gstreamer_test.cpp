@@ -94,7 +94,7 @@ std::map<double, geometry::Pose2> AgentPoses(testing::MapServerFixture& server, 
   std::map<double, geometry::Pose2> poses;
   EXPECT_TRUE(Eventually([&] { return init_writer->MatchedReaders() > 0; }, 30));
   {
-    auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, kPx);
+    auto odometry = testing::PublishOdometry(p, run.odometry, nullptr, 0.0005);
     EXPECT_TRUE(Eventually([&] { return odometry->done(); }, 20));
   }
   // The run's initial pose, at its first frame; then the frames appear for the pipeline.
